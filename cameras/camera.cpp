@@ -1,0 +1,65 @@
+#include "cameras/camera.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.h"
+#include "core/sampling.h"
+
+namespace penumbra {
+
+ThinLensCamera::ThinLensCamera(const ThinLensCameraParams& p) {
+    auto toWorld = Transform::lookAt(p.lookFrom, p.lookAt, p.up);
+    if (!toWorld) throw InputError("camera: look_from, look_at and up must span a view (got a degenerate look-at)");
+    if (!(p.verticalFovDegrees > 0.0f && p.verticalFovDegrees < 180.0f))
+        throw InputError("camera: fov must lie in (0, 180) degrees");
+    if (p.filmWidth <= 0 || p.filmHeight <= 0) throw InputError("camera: film resolution must be positive");
+    cameraToWorld_ = *toWorld;
+    halfHeight_ = std::tan(0.5f * p.verticalFovDegrees * kPi / 180.0f);
+    halfWidth_ = halfHeight_ * float(p.filmWidth) / float(p.filmHeight);
+    invWidth_ = 1.0f / float(p.filmWidth);
+    invHeight_ = 1.0f / float(p.filmHeight);
+    if (!(p.apertureRadius >= 0.0f)) throw InputError("camera: the aperture radius must be >= 0");
+    if (p.apertureBlades != 0 && p.apertureBlades < 3) throw InputError("camera: an aperture needs 0 or >= 3 blades");
+    apertureRadius_ = p.apertureRadius;
+    apertureBlades_ = p.apertureBlades;
+    apertureRotation_ = p.apertureRotationDegrees * kPi / 180.0f;
+    focusDistance_ = p.focusDistance > 0.0f ? p.focusDistance : length(p.lookAt - p.lookFrom);
+    shutterOpen_ = p.shutterOpen;
+    shutterClose_ = p.shutterClose;
+}
+
+Vec2f ThinLensCamera::sampleAperture(Vec2f u) const {
+    if (apertureBlades_ < 3) return sampleUniformDiskConcentric(u);
+    // Uniform on a regular polygon: the blade's triangle (centre, vertex i, vertex i + 1) is
+    // picked by u.x, whose remainder is reused, so strata stay compact.
+    const float scaled = u.x * float(apertureBlades_);
+    const int blade = std::min(int(scaled), apertureBlades_ - 1);
+    const Vec2f b = sampleUniformTriangle({scaled - float(blade), u.y});
+    const float angle0 = apertureRotation_ + 2.0f * kPi * float(blade) / float(apertureBlades_);
+    const float angle1 = apertureRotation_ + 2.0f * kPi * float(blade + 1) / float(apertureBlades_);
+    const Vec2f v0{std::cos(angle0), std::sin(angle0)}, v1{std::cos(angle1), std::sin(angle1)};
+    return v0 * b.x + v1 * b.y;  // the centre has weight 1 - b.x - b.y and is the origin
+}
+
+Ray ThinLensCamera::generateRay(Vec2f filmPosition, Vec2f lensSample, float timeSample) const {
+    // Point on the image plane at z = 1 in camera space (+x right, +y up, +z forward).
+    const Vec3f onImagePlane{(2.0f * filmPosition.x * invWidth_ - 1.0f) * halfWidth_,
+                             (1.0f - 2.0f * filmPosition.y * invHeight_) * halfHeight_, 1.0f};
+    Vec3f origin{0.0f, 0.0f, 0.0f};
+    Vec3f direction = onImagePlane;
+    if (apertureRadius_ > 0.0f) {
+        // Every ray through the lens converges on the focus plane where the pinhole ray meets it.
+        const Vec2f lens = sampleAperture(lensSample) * apertureRadius_;
+        const Vec3f focusPoint = onImagePlane * focusDistance_;
+        origin = {lens.x, lens.y, 0.0f};
+        direction = focusPoint - origin;
+    }
+    Ray ray;
+    ray.origin = cameraToWorld_.applyPoint(origin);
+    ray.direction = normalize(cameraToWorld_.applyVector(direction));
+    ray.time = shutterOpen_ + (shutterClose_ - shutterOpen_) * timeSample;
+    return ray;
+}
+
+}  // namespace penumbra

@@ -1,0 +1,50 @@
+// The thin-lens camera (Cook et al. 1984; pbrt's PerspectiveCamera): rays leave a point on a
+// circular lens and pass through the point of the focus plane that the film position images to.
+// With a zero aperture it is a pinhole camera. The aperture is a disk, or a regular polygon whose
+// vertices lie on the aperture radius (the shape of out-of-focus highlights).
+#pragma once
+
+#include "core/ray.h"
+#include "core/transform.h"
+#include "core/vec.h"
+
+namespace penumbra {
+
+struct ThinLensCameraParams {
+    Vec3f lookFrom, lookAt, up;
+    float verticalFovDegrees = 40.0f;
+    float apertureRadius = 0.0f;
+    float focusDistance = 0.0f;  // 0: |lookAt - lookFrom|
+    int apertureBlades = 0;      // 0: a circular aperture; >= 3: a regular polygon (shaped bokeh)
+    float apertureRotationDegrees = 0.0f;
+    float shutterOpen = 0.0f, shutterClose = 0.0f;
+    int filmWidth = 1, filmHeight = 1;
+};
+
+class ThinLensCamera {
+public:
+    // Parameters are validated by the scene loader; throws InputError on degenerate ones anyway.
+    explicit ThinLensCamera(const ThinLensCameraParams& params);
+
+    // filmPosition in raster space: x to the right, y down, (0, 0) the top-left corner of the
+    // image and (width, height) the bottom-right. lensSample and timeSample are uniform in [0, 1).
+    Ray generateRay(Vec2f filmPosition, Vec2f lensSample, float timeSample) const;
+
+    const Transform& cameraToWorld() const { return cameraToWorld_; }
+
+private:
+    // A point on the unit aperture (disk or polygon) from a uniform 2D sample.
+    Vec2f sampleAperture(Vec2f u) const;
+
+    Transform cameraToWorld_;
+    float halfHeight_ = 1.0f;  // of the image plane at z = 1
+    float halfWidth_ = 1.0f;
+    float apertureRadius_ = 0.0f;
+    int apertureBlades_ = 0;
+    float apertureRotation_ = 0.0f;  // radians
+    float focusDistance_ = 1.0f;
+    float shutterOpen_ = 0.0f, shutterClose_ = 0.0f;
+    float invWidth_ = 1.0f, invHeight_ = 1.0f;
+};
+
+}  // namespace penumbra

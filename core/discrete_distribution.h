@@ -1,0 +1,50 @@
+// Choosing one of n items with probability proportional to a weight (lights by power).
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+namespace penumbra {
+
+class DiscreteDistribution {
+public:
+    DiscreteDistribution() = default;
+    // Negative or non-finite weights count as 0. All-zero weights make an empty distribution.
+    explicit DiscreteDistribution(const std::vector<double>& weights) {
+        double total = 0.0;
+        cdf_.reserve(weights.size());
+        for (double w : weights) {
+            total += (w > 0.0 && w < 1e300) ? w : 0.0;
+            cdf_.push_back(total);
+        }
+        if (!(total > 0.0)) {
+            cdf_.clear();
+            return;
+        }
+        probabilities_.resize(weights.size());
+        for (size_t i = 0; i < weights.size(); ++i) {
+            cdf_[i] /= total;
+            probabilities_[i] = float((weights[i] > 0.0 && weights[i] < 1e300) ? weights[i] / total : 0.0);
+        }
+        cdf_.back() = 1.0;
+    }
+
+    bool empty() const { return cdf_.empty(); }
+    size_t size() const { return cdf_.size(); }
+    float probability(size_t index) const { return probabilities_[index]; }
+
+    // The item whose CDF interval contains u (u in [0, 1)); never an item of zero probability.
+    uint32_t sample(float u) const {
+        const auto it = std::upper_bound(cdf_.begin(), cdf_.end(), double(u));
+        size_t index = std::min(size_t(it - cdf_.begin()), cdf_.size() - 1);
+        while (probabilities_[index] == 0.0f && index > 0) --index;  // only reachable through rounding
+        return uint32_t(index);
+    }
+
+private:
+    std::vector<double> cdf_;
+    std::vector<float> probabilities_;
+};
+
+}  // namespace penumbra

@@ -1,0 +1,23 @@
+#include "core/error.h"
+
+namespace penumbra {
+
+std::string SourceLocation::describe() const {
+    std::string out = file;
+    if (line > 0) {
+        out += ":" + std::to_string(line);
+        if (column > 0) out += ":" + std::to_string(column);
+    }
+    if (!jsonPointer.empty()) out += (out.empty() ? "" : ": ") + jsonPointer;
+    return out;
+}
+
+static std::string composeMessage(const SourceLocation& where, const std::string& message) {
+    const std::string place = where.describe();
+    return place.empty() ? message : place + ": " + message;
+}
+
+InputError::InputError(SourceLocation where, const std::string& message)
+    : std::runtime_error(composeMessage(where, message)), where_(std::move(where)), message_(message) {}
+
+}  // namespace penumbra

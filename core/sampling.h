@@ -1,0 +1,83 @@
+// Warps from the unit square to the domains the renderer samples, with their densities.
+#pragma once
+
+#include <cmath>
+#include <numbers>
+
+#include "core/vec.h"
+
+namespace penumbra {
+
+inline constexpr float kPi = std::numbers::pi_v<float>;
+inline constexpr float kInvPi = std::numbers::inv_pi_v<float>;
+
+// Shirley-Chiu concentric map: uniform on the unit disk, low distortion (keeps stratification).
+inline Vec2f sampleUniformDiskConcentric(Vec2f u) {
+    const float ox = 2.0f * u.x - 1.0f, oy = 2.0f * u.y - 1.0f;
+    if (ox == 0.0f && oy == 0.0f) return {0.0f, 0.0f};
+    float r, theta;
+    if (std::abs(ox) > std::abs(oy)) {
+        r = ox;
+        theta = (kPi / 4.0f) * (oy / ox);
+    } else {
+        r = oy;
+        theta = kPi / 2.0f - (kPi / 4.0f) * (ox / oy);
+    }
+    return {r * std::cos(theta), r * std::sin(theta)};
+}
+
+// Cosine-weighted direction on the +z hemisphere (Malley's method); pdf = cos(theta) / pi.
+inline Vec3f sampleCosineHemisphere(Vec2f u) {
+    const Vec2f d = sampleUniformDiskConcentric(u);
+    const float z = std::sqrt(std::max(0.0f, 1.0f - d.x * d.x - d.y * d.y));
+    return {d.x, d.y, z};
+}
+inline float cosineHemispherePdf(float cosTheta) { return cosTheta > 0.0f ? cosTheta * kInvPi : 0.0f; }
+
+inline Vec3f sampleUniformSphere(Vec2f u) {
+    const float z = 1.0f - 2.0f * u.x;
+    const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
+    const float phi = 2.0f * kPi * u.y;
+    return {r * std::cos(phi), r * std::sin(phi), z};
+}
+inline constexpr float uniformSpherePdf() { return 1.0f / (4.0f * kPi); }
+
+// Uniform direction in the cone around +z with cos(half-angle) = cosThetaMax.
+inline Vec3f sampleUniformCone(Vec2f u, float cosThetaMax) {
+    const float cosTheta = (1.0f - u.x) + u.x * cosThetaMax;
+    const float sinTheta = std::sqrt(std::max(0.0f, 1.0f - cosTheta * cosTheta));
+    const float phi = 2.0f * kPi * u.y;
+    return {sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta};
+}
+inline float uniformConePdf(float cosThetaMax) { return 1.0f / (2.0f * kPi * (1.0f - cosThetaMax)); }
+
+// Uniform barycentrics (b1, b2) on a triangle; b0 = 1 - b1 - b2. Heitz's low-distortion mapping
+// ("A Low-Distortion Map Between Triangle and Square", 2019), which keeps strata compact.
+inline Vec2f sampleUniformTriangle(Vec2f u) {
+    float b0, b1;
+    if (u.x < u.y) {
+        b0 = u.x / 2.0f;
+        b1 = u.y - b0;
+    } else {
+        b1 = u.y / 2.0f;
+        b0 = u.x - b1;
+    }
+    return {b0, b1};
+}
+
+// Tent (triangle) filter of the given radius, sampled by inverting its CDF; used for filter
+// importance sampling, so every sample has weight 1.
+inline float sampleTent(float u, float radius) {
+    if (u < 0.5f) return radius * (std::sqrt(2.0f * u) - 1.0f);
+    return radius * (1.0f - std::sqrt(2.0f - 2.0f * u));
+}
+
+// Veach's power heuristic with beta = 2, in double so that squares of very large or very small
+// densities neither overflow nor vanish.
+inline float powerHeuristic(float pdfA, float pdfB) {
+    if (std::isinf(pdfA)) return 1.0f;
+    const double a = double(pdfA) * pdfA, b = double(pdfB) * pdfB;
+    return (a + b) > 0.0 ? float(a / (a + b)) : 0.0f;
+}
+
+}  // namespace penumbra

@@ -1,0 +1,72 @@
+// The lights of a scene as one closed set: emitting triangles, emitting spheres, point lights and
+// the constant background. Next-event estimation picks one light with probability proportional
+// to its power, then a point on it (triangles by area, spheres by the solid angle they subtend).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "core/discrete_distribution.h"
+#include "core/rgb.h"
+#include "core/vec.h"
+#include "renderer/surface_interaction.h"
+#include "scenes/scene.h"
+
+namespace penumbra {
+
+enum class LightType : uint8_t { Triangle, Sphere, Point, Background };
+
+struct Light {
+    LightType type = LightType::Point;
+    Rgb radiance;            // area lights and background: emitted radiance; point: intensity
+    bool twoSided = false;   // area lights
+    Vec3f p0, p1, p2;        // triangle vertices
+    Vec3f normal;            // triangle front normal (unit)
+    float area = 0;          // triangle area
+    Vec3f center;            // sphere centre or point-light position
+    float radius = 0;        // sphere radius
+};
+
+struct LightSample {
+    Vec3f direction;   // unit, from the reference point towards the light
+    float distance;    // to the sampled point; infinity for the background
+    Vec3f point;       // sampled point on the light (for area lights)
+    Vec3f lightNormal; // front normal at the sampled point (area lights)
+    Rgb radiance;      // arriving along -direction (intensity / distance^2 for point lights)
+    float pdf;         // solid-angle density including the light choice; choice probability for deltas
+    bool isDelta;
+};
+
+class LightSet {
+public:
+    LightSet() = default;
+    explicit LightSet(const Scene& scene);
+
+    bool empty() const { return choice_.empty(); }
+    size_t size() const { return lights_.size(); }
+
+    std::optional<LightSample> sample(Vec3f reference, float uChoice, Vec2f uPoint) const;
+
+    // Emitted radiance leaving a surface point towards `towardsViewer` (0 for non-emitters).
+    Rgb emitted(const SurfaceInteraction& si, Vec3f towardsViewer) const;
+    Rgb background() const { return background_; }
+
+    // Density with which sample() from `reference` would have produced the emitter point `si`
+    // (solid angle, light choice included): the MIS weight of a BSDF-sampled hit.
+    float pdfOfHit(Vec3f reference, const SurfaceInteraction& si) const;
+    float pdfOfBackground() const;
+
+private:
+    int32_t lightIndexOf(uint32_t geomId, uint32_t primId) const;
+    float solidAnglePdf(const Light& light, Vec3f reference, Vec3f point) const;
+
+    std::vector<Light> lights_;
+    DiscreteDistribution choice_;
+    std::vector<int32_t> meshFirstLight_;    // per mesh: index of its first triangle light, or -1
+    std::vector<int32_t> sphereLight_;       // per sphere: its light index, or -1
+    int32_t backgroundLight_ = -1;
+    Rgb background_;
+};
+
+}  // namespace penumbra

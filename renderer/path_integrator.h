@@ -1,0 +1,159 @@
+// The unidirectional path tracer: at each vertex, next-event estimation towards one light chosen
+// by power, combined by multiple importance sampling (power heuristic) with the BSDF-sampled
+// continuation; Russian roulette after a configurable depth.
+//
+// Russian roulette: from bounce `rouletteStartDepth` on, a path continues with probability
+// q = min(1, max channel of its throughput) and its throughput is divided by q when it does, so the
+// estimator stays unbiased and paths carrying little energy end early.
+//
+// The integrator is a template over the traversal backend so that the per-ray calls are direct
+// (the backends are `final`), never virtual.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "core/ray.h"
+#include "core/frame.h"
+#include "core/ray_offset.h"
+#include "core/sampler.h"
+#include "materials/material.h"
+#include "renderer/lights.h"
+#include "renderer/surface_interaction.h"
+#include "scenes/scene.h"
+
+namespace penumbra {
+
+struct RayCounters {
+    uint64_t primary = 0, extension = 0, shadow = 0;
+    uint64_t total() const { return primary + extension + shadow; }
+    RayCounters& operator+=(const RayCounters& o) {
+        primary += o.primary;
+        extension += o.extension;
+        shadow += o.shadow;
+        return *this;
+    }
+};
+
+struct IntegratorContext {
+    const Scene* scene = nullptr;
+    const LightSet* lights = nullptr;
+    const std::vector<Material>* materials = nullptr;
+    int maxDepth = 64;
+    int rouletteStartDepth = 3;
+};
+
+namespace detail {
+
+// A ray leaving `si` in direction `direction`, offset off the surface on that side.
+inline Ray spawnRay(const SurfaceInteraction& si, Vec3f direction, float time) {
+    const Vec3f side = dot(direction, si.geometricNormal) >= 0.0f ? si.geometricNormal : -si.geometricNormal;
+    Ray ray;
+    ray.origin = offsetRayOrigin(si.position, side);
+    ray.direction = direction;
+    ray.time = time;
+    return ray;
+}
+
+// A shadow ray from `si` to a point on a light; both ends are moved off their surfaces, so the
+// segment [0, 1) of the unnormalized direction may be tested in full.
+inline Ray spawnShadowRay(const SurfaceInteraction& si, const LightSample& ls, float time) {
+    const Vec3f side = dot(ls.direction, si.geometricNormal) >= 0.0f ? si.geometricNormal : -si.geometricNormal;
+    Ray ray;
+    ray.origin = offsetRayOrigin(si.position, side);
+    ray.time = time;
+    if (std::isinf(ls.distance)) {
+        ray.direction = ls.direction;
+        return ray;
+    }
+    Vec3f target = ls.point;
+    if (!ls.isDelta) target = offsetRayOrigin(ls.point, faceForward(ls.lightNormal, -ls.direction));
+    ray.direction = target - ray.origin;
+    ray.tfar = 1.0f - 0x1p-20f;
+    return ray;
+}
+
+}  // namespace detail
+
+// Radiance arriving along `ray` (a camera ray) for the sample `sample`.
+template <typename Accel>
+Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, const PixelSample& sample,
+                     RayCounters& rays) {
+    const LightSet& lights = *ctx.lights;
+    Rgb radiance(0.0f), throughput(1.0f);
+    float previousBsdfPdf = 0.0f;
+    bool previousWasDelta = true;  // the camera vertex: emitters seen directly get full weight
+    Vec3f previousPosition = ray.origin;
+    ++rays.primary;
+
+    for (uint32_t bounce = 0;; ++bounce) {
+        Hit hit;
+        if (!accel.intersect(ray, hit)) {
+            const Rgb background = lights.background();
+            if (!background.isBlack()) {
+                const float weight =
+                    previousWasDelta ? 1.0f : powerHeuristic(previousBsdfPdf, lights.pdfOfBackground());
+                radiance += throughput * background * weight;
+            }
+            break;
+        }
+        const SurfaceInteraction si = makeSurfaceInteraction(*ctx.scene, ray, hit);
+        const Vec3f wo = -normalize(ray.direction);
+
+        // Emission seen by the previous vertex's BSDF sample, weighted against NEE.
+        const Rgb emitted = lights.emitted(si, wo);
+        if (!emitted.isBlack()) {
+            const float weight = previousWasDelta ? 1.0f : powerHeuristic(previousBsdfPdf, lights.pdfOfHit(previousPosition, si));
+            radiance += throughput * emitted * weight;
+        }
+        if (int(bounce) >= ctx.maxDepth) break;
+
+        const Material& material = (*ctx.materials)[si.material];
+        const Frame frame = Frame::fromNormal(si.shadingNormal);
+        const Vec3f woLocal = frame.toLocal(wo);
+        const bool woAbove = dot(wo, si.geometricNormal) > 0.0f;
+
+        // Next-event estimation.
+        if (!lights.empty() && !material.isPurelySpecular()) {
+            const auto ls = lights.sample(si.position, sample.get1D(Dim::LightChoice, bounce),
+                                          sample.get2D(Dim::LightPosition, bounce));
+            // Reflection only: the light must be on wo's side of the geometric surface, which keeps
+            // shading normals from leaking light through it.
+            if (ls && !ls->radiance.isBlack() && (dot(ls->direction, si.geometricNormal) > 0.0f) == woAbove) {
+                const Vec3f wiLocal = frame.toLocal(ls->direction);
+                const Rgb f = material.eval(woLocal, wiLocal) * std::abs(wiLocal.z);
+                if (!f.isBlack()) {
+                    ++rays.shadow;
+                    if (!accel.occluded(detail::spawnShadowRay(si, *ls, ray.time))) {
+                        const float weight = ls->isDelta ? 1.0f : powerHeuristic(ls->pdf, material.pdf(woLocal, wiLocal));
+                        radiance += throughput * f * ls->radiance * (weight / ls->pdf);
+                    }
+                }
+            }
+        }
+
+        // Continue the path by sampling the BSDF.
+        const auto bs = material.sample(woLocal, sample.get1D(Dim::BsdfLobe, bounce),
+                                        sample.get2D(Dim::BsdfDirection, bounce));
+        if (!bs) break;
+        const Vec3f wi = frame.toWorld(bs->wi);
+        if ((dot(wi, si.geometricNormal) > 0.0f) != woAbove) break;  // reflection crossing the surface
+        throughput *= bs->weight;
+        if (throughput.isBlack()) break;
+        previousBsdfPdf = bs->pdf;
+        previousWasDelta = bs->isDelta;
+        previousPosition = si.position;
+
+        if (int(bounce) + 1 >= ctx.rouletteStartDepth) {
+            const float survival = std::min(1.0f, throughput.maxComponent());
+            if (sample.get1D(Dim::RussianRoulette, bounce) >= survival) break;
+            throughput *= 1.0f / survival;
+        }
+        ray = detail::spawnRay(si, wi, ray.time);
+        ++rays.extension;
+    }
+    return radiance;
+}
+
+}  // namespace penumbra

@@ -1,0 +1,183 @@
+#include "renderer/render.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <mutex>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "cameras/camera.h"
+#include "core/error.h"
+#include "scenes/bvh_accelerator.h"
+#include "scenes/embree_accelerator.h"
+
+namespace penumbra {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+constexpr size_t kMaxNonFiniteExamples = 8;
+
+std::vector<Material> buildMaterials(const Scene& scene) {
+    std::vector<Material> materials;
+    materials.reserve(scene.materials.size());
+    for (const MaterialDesc& desc : scene.materials) {
+        Material m;
+        switch (desc.kind) {
+            case MaterialKind::Lambert:
+                m.type = MaterialType::Lambert;
+                m.lambert.albedo = desc.albedo;
+                break;
+        }
+        materials.push_back(m);
+    }
+    return materials;
+}
+
+ThinLensCamera buildCamera(const Scene& scene) {
+    const CameraDesc& c = scene.camera;
+    ThinLensCameraParams p;
+    p.lookFrom = c.lookFrom;
+    p.lookAt = c.lookAt;
+    p.up = c.up;
+    p.verticalFovDegrees = c.verticalFovDegrees;
+    p.apertureRadius = c.apertureRadius;
+    p.focusDistance = c.focusDistance;
+    p.apertureBlades = c.apertureBlades;
+    p.apertureRotationDegrees = c.apertureRotationDegrees;
+    p.shutterOpen = c.shutterOpen;
+    p.shutterClose = c.shutterClose;
+    p.filmWidth = scene.film.width;
+    p.filmHeight = scene.film.height;
+    return ThinLensCamera(p);
+}
+
+// Offset of a sample from the pixel centre, drawn from the reconstruction filter.
+Vec2f sampleFilterOffset(const FilmDesc& film, Vec2f u) {
+    switch (film.filter) {
+        case FilterKind::Box: return {(2.0f * u.x - 1.0f) * film.filterRadius, (2.0f * u.y - 1.0f) * film.filterRadius};
+        case FilterKind::Tent: return {sampleTent(u.x, film.filterRadius), sampleTent(u.y, film.filterRadius)};
+    }
+    return {0.0f, 0.0f};
+}
+
+struct TileResult {
+    RayCounters rays;
+    uint64_t samples = 0;
+    uint64_t nonFinite = 0;
+    std::vector<NonFiniteSample> examples;
+};
+
+template <typename Accel>
+TileResult renderTile(const Accel& accel, const Scene& scene, const ThinLensCamera& camera,
+                      const IntegratorContext& ctx, const PixelWindow& tile, uint32_t firstSample,
+                      uint32_t endSample, Film& film) {
+    TileResult result;
+    for (int y = tile.y0; y < tile.y1; ++y)
+        for (int x = tile.x0; x < tile.x1; ++x) {
+            PixelSums& pixel = film.at(x, y);
+            const uint64_t pixelIndex = uint64_t(y) * uint64_t(scene.film.width) + uint64_t(x);
+            for (uint32_t s = firstSample; s < endSample; ++s) {
+                const PixelSample sample(scene.settings.sampler, scene.settings.seed, pixelIndex, s);
+                const Vec2f offset = sampleFilterOffset(scene.film, sample.get2D(Dim::Pixel));
+                const Vec2f filmPosition{float(x) + 0.5f + offset.x, float(y) + 0.5f + offset.y};
+                const Ray ray = camera.generateRay(filmPosition, sample.get2D(Dim::Lens), sample.get1D(Dim::Time));
+                Rgb radiance = estimateRadiance(accel, ctx, ray, sample, result.rays);
+                if (!radiance.isFinite()) {
+                    ++result.nonFinite;
+                    if (result.examples.size() < kMaxNonFiniteExamples) result.examples.push_back({x, y, s});
+                    radiance = Rgb(0.0f);
+                }
+                pixel.add(radiance, 1.0f);
+                ++result.samples;
+            }
+        }
+    return result;
+}
+
+template <typename Accel>
+RenderStats renderWith(const Accel& accel, const Scene& scene, const RenderOptions& options, Film& film) {
+    const ThinLensCamera camera = buildCamera(scene);
+    const LightSet lights(scene);
+    const std::vector<Material> materials = buildMaterials(scene);
+    IntegratorContext ctx;
+    ctx.scene = &scene;
+    ctx.lights = &lights;
+    ctx.materials = &materials;
+    ctx.maxDepth = scene.integrator.maxDepth;
+    ctx.rouletteStartDepth = scene.integrator.rouletteStartDepth;
+
+    const PixelWindow window = options.crop.value_or(PixelWindow{0, scene.film.width, 0, scene.film.height});
+    const uint32_t endSample = options.endSample ? options.endSample : uint32_t(scene.film.samplesPerPixel);
+    const int tileSize = std::max(1, options.tileSize);
+    std::vector<PixelWindow> tiles;
+    for (int y = window.y0; y < window.y1; y += tileSize)
+        for (int x = window.x0; x < window.x1; x += tileSize)
+            tiles.push_back({x, std::min(x + tileSize, window.x1), y, std::min(y + tileSize, window.y1)});
+
+    std::vector<TileResult> results(tiles.size());
+    std::atomic<size_t> tilesDone{0};
+    std::mutex progressMutex;
+    const auto start = Clock::now();
+    auto renderRange = [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t i = range.begin(); i != range.end(); ++i) {
+            results[i] = renderTile(accel, scene, camera, ctx, tiles[i], options.firstSample, endSample, film);
+            const size_t done = ++tilesDone;
+            if (options.progress) {
+                std::lock_guard lock(progressMutex);
+                options.progress(done, tiles.size());
+            }
+        }
+    };
+    const int threads = options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
+    tbb::task_arena arena(threads);
+    arena.execute([&] { tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), renderRange); });
+
+    RenderStats stats;
+    stats.renderSeconds = std::chrono::duration<double>(Clock::now() - start).count();
+    // Tiles are merged in their fixed order, so the reported examples do not depend on scheduling.
+    for (const TileResult& r : results) {
+        stats.rays += r.rays;
+        stats.samples += r.samples;
+        stats.nonFiniteCount += r.nonFinite;
+        for (const auto& e : r.examples)
+            if (stats.nonFiniteExamples.size() < kMaxNonFiniteExamples) stats.nonFiniteExamples.push_back(e);
+    }
+    return stats;
+}
+
+}  // namespace
+
+RenderStats render(const Scene& scene, const RenderOptions& options, Film& film) {
+    if (film.width() != scene.film.width || film.height() != scene.film.height)
+        throw InputError("render: the film's size does not match the scene's resolution");
+    if (options.crop) {
+        const PixelWindow& c = *options.crop;
+        if (c.x0 < 0 || c.y0 < 0 || c.x1 > scene.film.width || c.y1 > scene.film.height || c.x0 >= c.x1 || c.y0 >= c.y1)
+            throw InputError("--crop: the window must lie inside the image and not be empty");
+    }
+    const auto buildStart = Clock::now();
+    switch (options.accelerator) {
+        case AcceleratorKind::Embree: {
+            const EmbreeAccelerator accel(scene);
+            const double buildSeconds = std::chrono::duration<double>(Clock::now() - buildStart).count();
+            RenderStats stats = renderWith(accel, scene, options, film);
+            stats.buildSeconds = buildSeconds;
+            return stats;
+        }
+        case AcceleratorKind::Bvh: {
+            const BvhAccelerator accel(scene);
+            const double buildSeconds = std::chrono::duration<double>(Clock::now() - buildStart).count();
+            RenderStats stats = renderWith(accel, scene, options, film);
+            stats.buildSeconds = buildSeconds;
+            return stats;
+        }
+    }
+    throw InputError("render: unknown accelerator");
+}
+
+}  // namespace penumbra

@@ -1,0 +1,98 @@
+// The bounding volume hierarchy of our own traversal backend (scenes/bvh_accelerator.h) and its
+// builder: a binned surface-area-heuristic (SAH) build in the manner of Wald, "On fast Construction
+// of SAH-based Bounding Volume Hierarchies" (IEEE Symposium on Interactive Ray Tracing, 2007),
+// parallel over subtrees with TBB. The result depends only on the input, never on the number of
+// threads or on scheduling: every subtree owns a fixed range of primitives and of node slots.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <new>
+#include <vector>
+
+#include "core/vec.h"
+
+namespace penumbra {
+
+// An axis-aligned box; the default is empty (lower > upper) and absorbs whatever is added to it.
+struct Bounds3f {
+    Vec3f lower{std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity(),
+                std::numeric_limits<float>::infinity()};
+    Vec3f upper{-std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(),
+                -std::numeric_limits<float>::infinity()};
+
+    void extend(Vec3f p) {
+        lower = min(lower, p);
+        upper = max(upper, p);
+    }
+    void extend(const Bounds3f& b) {
+        lower = min(lower, b.lower);
+        upper = max(upper, b.upper);
+    }
+    bool isEmpty() const { return lower.x > upper.x || lower.y > upper.y || lower.z > upper.z; }
+    Vec3f centroid() const { return (lower + upper) * 0.5f; }
+    // Half the surface area: the SAH only uses ratios of areas.
+    float halfArea() const {
+        if (isEmpty()) return 0.0f;
+        const Vec3f d = upper - lower;
+        return d.x * d.y + d.y * d.z + d.z * d.x;
+    }
+};
+
+// One node in 32 bytes. The two children of an interior node are siblings in the array, at
+// `offset` and `offset + 1`, and every such pair starts on a 64-byte boundary: traversal tests
+// both children's boxes at their parent, and they arrive in one cache line. Pairs are laid out
+// depth first (a subtree's pairs follow its root's). A leaf's primitives are
+// [offset, offset + count) of the primitive order. The root is node 0; node 1 is padding.
+struct alignas(32) BvhNode {
+    float bounds[6];       // lower x, y, z, then upper x, y, z
+    uint32_t offset = 0;   // interior: index of the first child; leaf: first primitive
+    uint16_t count = 0;    // primitives in a leaf; 0 marks an interior node
+    uint8_t axis = 0;      // split axis of an interior node
+    uint8_t reserved = 0;  // room for flags (e.g. motion-blurred subtrees)
+
+    bool isLeaf() const { return count > 0; }
+};
+static_assert(sizeof(BvhNode) == 32, "BVH nodes are meant to be 32 bytes");
+
+// Allocates with a given alignment (the node array wants cache-line alignment).
+template <typename T, size_t Alignment>
+struct AlignedAllocator {
+    using value_type = T;
+    template <typename U>
+    struct rebind {
+        using other = AlignedAllocator<U, Alignment>;
+    };
+    AlignedAllocator() = default;
+    template <typename U>
+    AlignedAllocator(const AlignedAllocator<U, Alignment>&) {}
+    T* allocate(size_t n) { return static_cast<T*>(::operator new(n * sizeof(T), std::align_val_t(Alignment))); }
+    void deallocate(T* p, size_t) { ::operator delete(p, std::align_val_t(Alignment)); }
+    template <typename U>
+    bool operator==(const AlignedAllocator<U, Alignment>&) const { return true; }
+};
+
+using BvhNodeArray = std::vector<BvhNode, AlignedAllocator<BvhNode, 64>>;
+
+struct BvhBuildSettings {
+    int maxLeafSize = 4;
+    // SAH costs, relative to one primitive intersection: a leaf of n primitives costs n, an
+    // interior node traversalCost + (area-weighted children). Ours tests both child boxes at
+    // once, about the price of one watertight triangle test.
+    float traversalCost = 1.0f;
+};
+
+struct BvhBuildResult {
+    BvhNodeArray nodes;                     // nodes[0] is the root; empty when there are no primitives
+    std::vector<uint32_t> primitiveOrder;   // leaf order -> index into the input bounds
+    int maxDepth = 0;                       // root is depth 0
+};
+
+// The tree is at most this deep (root at depth 0), so traversal fits a fixed stack of this size.
+inline constexpr int kBvhMaxDepth = 64;
+
+// Builds over the given primitive boxes (each one non-empty and finite).
+BvhBuildResult buildBvh(const std::vector<Bounds3f>& primitiveBounds, const BvhBuildSettings& settings = {});
+
+}  // namespace penumbra

@@ -1,0 +1,26 @@
+// The Embree backend: every Embree call of penumbra lives in embree_accelerator.cpp.
+#pragma once
+
+#include <embree3/rtcore.h>
+
+#include "scenes/accelerator.h"
+
+namespace penumbra {
+
+class EmbreeAccelerator final : public Accelerator {
+public:
+    explicit EmbreeAccelerator(const Scene& scene);
+    ~EmbreeAccelerator() override;
+    EmbreeAccelerator(const EmbreeAccelerator&) = delete;
+    EmbreeAccelerator& operator=(const EmbreeAccelerator&) = delete;
+
+    std::string_view name() const override { return "embree"; }
+    bool intersect(const Ray& ray, Hit& hit) const override;
+    bool occluded(const Ray& ray) const override;
+
+private:
+    RTCDevice device_ = nullptr;
+    RTCScene scene_ = nullptr;
+};
+
+}  // namespace penumbra

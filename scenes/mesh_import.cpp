@@ -1,0 +1,608 @@
+#include "scenes/mesh_import.h"
+
+#include <assimp/scene.h>
+#include <fmt/format.h>
+#include <tiny_obj_loader.h>
+#include <zlib.h>
+
+#include <algorithm>
+#include <assimp/Importer.hpp>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <optional>
+#include <sstream>
+#include <unordered_map>
+
+#include "core/error.h"
+
+namespace penumbra {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// Shared helpers
+
+[[noreturn]] void fail(const std::string& file, const std::string& message) {
+    throw InputError(SourceLocation{file, 0, 0, ""}, message);
+}
+
+[[noreturn]] void failAt(const std::string& file, int line, int column, const std::string& message) {
+    throw InputError(SourceLocation{file, line, column, ""}, message);
+}
+
+// Parses a whole token as a number ("nan" and "inf" included); false when it is not one.
+bool parseNumber(std::string_view token, double& value) {
+    if (token.size() > 1 && token[0] == '+') token.remove_prefix(1);  // from_chars rejects '+'
+    const char* end = token.data() + token.size();
+    const auto result = std::from_chars(token.data(), end, value);
+    if (result.ptr != end) return false;
+    if (result.ec == std::errc::result_out_of_range) {
+        value = std::strtod(std::string(token).c_str(), nullptr);  // +-inf or (almost) 0
+        return true;
+    }
+    return result.ec == std::errc();
+}
+
+bool parseInteger(std::string_view token, int64_t& value) {
+    if (token.size() > 1 && token[0] == '+') token.remove_prefix(1);
+    const char* end = token.data() + token.size();
+    const auto result = std::from_chars(token.data(), end, value);
+    return result.ec == std::errc() && result.ptr == end;
+}
+
+bool isFiniteFloat(double value) { return std::isfinite(float(value)); }
+
+struct Token {
+    std::string_view text;
+    int column;  // 1-based
+};
+
+// Splits a line at spaces, tabs and carriage returns.
+std::vector<Token> tokenize(std::string_view line) {
+    std::vector<Token> tokens;
+    size_t pos = 0;
+    while (true) {
+        pos = line.find_first_not_of(" \t\r", pos);
+        if (pos == std::string_view::npos) break;
+        const size_t end = std::min(line.find_first_of(" \t\r", pos), line.size());
+        tokens.push_back({line.substr(pos, end - pos), int(pos) + 1});
+        pos = end;
+    }
+    return tokens;
+}
+
+std::string readPlainFile(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) fail(path.string(), "cannot open the file for reading");
+    std::ostringstream contents;
+    contents << in.rdbuf();
+    return contents.str();
+}
+
+// Decompresses a whole gzip file in memory (zlib reads an uncompressed file unchanged).
+std::string readGzipFile(const fs::path& path) {
+    gzFile gz = gzopen(path.string().c_str(), "rb");
+    if (!gz) fail(path.string(), "cannot open the file for reading");
+    std::string out;
+    std::vector<char> buffer(1 << 20);
+    int n = 0;
+    while ((n = gzread(gz, buffer.data(), unsigned(buffer.size()))) > 0) out.append(buffer.data(), size_t(n));
+    // A truncated stream reads as a short file; zlib reports it through gzerror and gzclose.
+    int code = Z_OK;
+    const std::string reason = gzerror(gz, &code);
+    const int closed = gzclose(gz);
+    if (n < 0 || code != Z_OK || closed != Z_OK)
+        fail(path.string(), "cannot decompress the gzip data: " +
+                                (n < 0 || code != Z_OK ? reason : "the compressed stream is truncated"));
+    return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// OBJ
+
+// Checks what tinyobjloader would accept silently (it reads "abc" as 0, skips faces with bad
+// indices): every number parses, vertices are finite, faces have 3+ corners whose indices exist.
+void validateObj(std::string_view text, const std::string& file) {
+    enum Kind { Position, TexCoord, Normal };
+    static const char* const kindName[] = {"vertex", "texture coordinate", "normal"};
+    static const char* const kindPlural[] = {"vertices", "texture coordinates", "normals"};
+    int64_t count[3] = {0, 0, 0};  // elements of each kind defined so far
+    struct ForwardIndex {          // a positive index beyond what was defined so far: checked at the end
+        int line, column;
+        int64_t index;
+        Kind kind;
+    };
+    std::vector<ForwardIndex> forward;
+
+    int lineNumber = 0;
+    for (size_t start = 0; start < text.size();) {
+        const size_t end = std::min(text.find('\n', start), text.size());
+        std::string_view line = text.substr(start, end - start);
+        start = end + 1;
+        ++lineNumber;
+        line = line.substr(0, line.find('#'));
+        const std::vector<Token> tokens = tokenize(line);
+        if (tokens.empty()) continue;
+        const std::string_view keyword = tokens[0].text;
+
+        if (keyword == "v" || keyword == "vt" || keyword == "vn") {
+            const Kind kind = keyword == "v" ? Position : keyword == "vt" ? TexCoord : Normal;
+            // v: x y z [w] or x y z r g b; vt: u [v [w]]; vn: x y z.
+            const size_t minCount = kind == TexCoord ? 1 : 3, maxCount = kind == Position ? 6 : 3;
+            const size_t numbers = tokens.size() - 1;
+            ++count[kind];
+            if (numbers < minCount || numbers > maxCount)
+                failAt(file, lineNumber, tokens[0].column,
+                       fmt::format("expected {} to {} numbers after '{}', found {}", minCount, maxCount,
+                                   keyword, numbers));
+            for (size_t i = 1; i < tokens.size(); ++i) {
+                double value = 0;
+                if (!parseNumber(tokens[i].text, value))
+                    failAt(file, lineNumber, tokens[i].column,
+                           fmt::format("expected a number, found '{}'", tokens[i].text));
+                if (!isFiniteFloat(value))
+                    failAt(file, lineNumber, tokens[i].column,
+                           fmt::format("{} {} has a non-finite coordinate ({})", kindName[kind], count[kind],
+                                       tokens[i].text));
+            }
+        } else if (keyword == "f") {
+            if (tokens.size() < 4)
+                failAt(file, lineNumber, tokens[0].column,
+                       fmt::format("a face needs at least 3 vertices, found {}", tokens.size() - 1));
+            for (size_t c = 1; c < tokens.size(); ++c) {
+                const Token& corner = tokens[c];
+                // v, v/vt, v//vn or v/vt/vn
+                std::vector<std::string_view> parts;
+                for (size_t pos = 0;;) {
+                    const size_t slash = std::min(corner.text.find('/', pos), corner.text.size());
+                    parts.push_back(corner.text.substr(pos, slash - pos));
+                    if (slash == corner.text.size()) break;
+                    pos = slash + 1;
+                }
+                bool wellFormed = parts.size() <= 3 && !parts[0].empty() && !parts.back().empty();
+                for (size_t k = 0; wellFormed && k < parts.size(); ++k) {
+                    if (parts[k].empty()) continue;  // the uv of v//vn
+                    int64_t index = 0;
+                    if (!parseInteger(parts[k], index)) {
+                        wellFormed = false;
+                        break;
+                    }
+                    const Kind kind = k == 0 ? Position : k == 1 ? TexCoord : Normal;
+                    if (index == 0)
+                        failAt(
+                            file, lineNumber, corner.column,
+                            fmt::format("{} index 0 is invalid (OBJ indices count from 1)", kindName[kind]));
+                    if (index < 0 && count[kind] + index < 0)
+                        failAt(file, lineNumber, corner.column,
+                               fmt::format("relative {} index {} is out of range: only {} {} come before it",
+                                           kindName[kind], index, count[kind], kindPlural[kind]));
+                    if (index > count[kind]) forward.push_back({lineNumber, corner.column, index, kind});
+                }
+                if (!wellFormed)
+                    failAt(file, lineNumber, corner.column,
+                           fmt::format("expected a face corner of indices 'v', 'v/vt', 'v//vn' or 'v/vt/vn', "
+                                       "found '{}'",
+                                       corner.text));
+            }
+        }
+        // Other statements (o, g, s, usemtl, mtllib, l, p, ...) do not affect the triangles.
+    }
+    for (const ForwardIndex& f : forward)
+        if (f.index > count[f.kind])
+            failAt(file, f.line, f.column,
+                   fmt::format("{} index {} is out of range: the file has {} {}", kindName[f.kind], f.index,
+                               count[f.kind], kindPlural[f.kind]));
+}
+
+struct CornerKey {
+    int position, texCoord, normal;
+    bool operator==(const CornerKey&) const = default;
+};
+
+struct CornerKeyHash {
+    size_t operator()(const CornerKey& k) const {
+        return std::hash<uint64_t>()((uint64_t(uint32_t(k.position)) << 32) ^
+                                     (uint64_t(uint32_t(k.texCoord)) << 16) ^ uint64_t(uint32_t(k.normal)));
+    }
+};
+
+}  // namespace
+
+TriangleMesh importObj(std::string_view text, const std::string& file) {
+    validateObj(text, file);
+
+    tinyobj::attrib_t attrib;
+    std::vector<tinyobj::shape_t> shapes;
+    std::vector<tinyobj::material_t> materials;
+    std::string warnings, errors;
+    std::istringstream stream{std::string(text)};
+    // No material reader: materials come from the scene file, so mtllib lines are ignored.
+    if (!tinyobj::LoadObj(&attrib, &shapes, &materials, &warnings, &errors, &stream, nullptr,
+                          /*triangulate=*/true, /*default_vcols_fallback=*/false))
+        fail(file, "cannot read the OBJ file: " + errors);
+
+    std::vector<tinyobj::index_t> corners;  // three per triangle
+    for (const tinyobj::shape_t& shape : shapes) {
+        size_t offset = 0;
+        for (unsigned char n : shape.mesh.num_face_vertices) {
+            if (n == 3)
+                corners.insert(corners.end(), &shape.mesh.indices[offset], &shape.mesh.indices[offset + 3]);
+            offset += n;
+        }
+    }
+    if (corners.empty()) fail(file, "the file contains no triangles (no 'f' lines)");
+
+    // Normals and uvs are per corner in OBJ; keep them only where every corner has one.
+    const bool hasNormals =
+        std::all_of(corners.begin(), corners.end(), [](auto& c) { return c.normal_index >= 0; });
+    const bool hasUvs =
+        std::all_of(corners.begin(), corners.end(), [](auto& c) { return c.texcoord_index >= 0; });
+
+    TriangleMesh mesh;
+    mesh.name = fs::path(file).filename().string();
+    auto position = [&](int i) {
+        return Vec3f{attrib.vertices[3 * i], attrib.vertices[3 * i + 1], attrib.vertices[3 * i + 2]};
+    };
+    if (!hasNormals && !hasUvs) {
+        // Positions alone: the file's vertices and indices are used as they are.
+        mesh.positions.resize(attrib.vertices.size() / 3);
+        for (size_t i = 0; i < mesh.positions.size(); ++i) mesh.positions[i] = position(int(i));
+        for (const auto& c : corners) mesh.indices.push_back(uint32_t(c.vertex_index));
+        return mesh;
+    }
+    // One vertex per distinct (position, uv, normal) combination, as a single index buffer needs.
+    std::unordered_map<CornerKey, uint32_t, CornerKeyHash> vertexOf;
+    for (const auto& c : corners) {
+        const CornerKey key{c.vertex_index, hasUvs ? c.texcoord_index : -1, hasNormals ? c.normal_index : -1};
+        auto [it, inserted] = vertexOf.try_emplace(key, uint32_t(mesh.positions.size()));
+        if (inserted) {
+            mesh.positions.push_back(position(key.position));
+            if (hasNormals) {
+                const size_t n = size_t(key.normal);
+                const Vec3f normal{attrib.normals[3 * n], attrib.normals[3 * n + 1],
+                                   attrib.normals[3 * n + 2]};
+                if (!(length(normal) > 0.0f))
+                    fail(file, fmt::format("normal {} has zero length, so it has no direction", n + 1));
+                mesh.normals.push_back(normalize(normal));
+            }
+            if (hasUvs)
+                mesh.uvs.push_back({attrib.texcoords[2 * size_t(key.texCoord)],
+                                    attrib.texcoords[2 * size_t(key.texCoord) + 1]});
+        }
+        mesh.indices.push_back(it->second);
+    }
+    return mesh;
+}
+
+// ---------------------------------------------------------------------------------------------
+// PLY
+
+namespace {
+
+enum class PlyFormat { Ascii, BinaryLittleEndian, BinaryBigEndian };
+
+struct PlyProperty {
+    std::string name;
+    int size = 0;  // bytes of a value (of each item, for lists)
+    bool isList = false;
+    int countSize = 0;  // lists: bytes of the item count
+    bool countSigned = false;
+};
+
+struct PlyElement {
+    std::string name;
+    uint64_t count = 0;
+    std::vector<PlyProperty> properties;
+};
+
+struct PlyHeader {
+    PlyFormat format = PlyFormat::Ascii;
+    std::vector<PlyElement> elements;
+    size_t bodyOffset = 0;  // first byte after end_header's line
+    int bodyLine = 0;       // line number of that byte (ASCII)
+};
+
+// Size in bytes of a PLY scalar type, 0 when the name is not a type.
+int plyTypeSize(std::string_view type, bool& isSigned) {
+    struct Entry {
+        std::string_view name;
+        int size;
+        bool isSigned;
+    };
+    static constexpr Entry types[] = {
+        {"char", 1, true},  {"int8", 1, true},    {"uchar", 1, false},  {"uint8", 1, false},
+        {"short", 2, true}, {"int16", 2, true},   {"ushort", 2, false}, {"uint16", 2, false},
+        {"int", 4, true},   {"int32", 4, true},   {"uint", 4, false},   {"uint32", 4, false},
+        {"float", 4, true}, {"float32", 4, true}, {"double", 8, true},  {"float64", 8, true}};
+    for (const Entry& e : types)
+        if (e.name == type) {
+            isSigned = e.isSigned;
+            return e.size;
+        }
+    return 0;
+}
+
+PlyHeader parsePlyHeader(std::string_view bytes, const std::string& file) {
+    PlyHeader header;
+    bool sawFormat = false;
+    int lineNumber = 0;
+    size_t start = 0;
+    while (true) {
+        if (start >= bytes.size())
+            fail(file, "the PLY header is incomplete: no 'end_header' line (is the file truncated?)");
+        const size_t end = std::min(bytes.find('\n', start), bytes.size());
+        const std::vector<Token> tokens = tokenize(bytes.substr(start, end - start));
+        start = end + 1;
+        ++lineNumber;
+        auto failHere = [&](const std::string& message) { failAt(file, lineNumber, 1, message); };
+
+        if (lineNumber == 1) {
+            if (tokens.size() != 1 || tokens[0].text != "ply")
+                failHere("not a PLY file: expected 'ply' on the first line");
+            continue;
+        }
+        if (tokens.empty()) continue;
+        const std::string_view keyword = tokens[0].text;
+        if (keyword == "comment" || keyword == "obj_info") continue;
+        if (keyword == "end_header") break;
+        if (keyword == "format") {
+            if (tokens.size() != 3 || tokens[2].text != "1.0")
+                failHere(
+                    "expected 'format ascii 1.0', 'format binary_little_endian 1.0' or 'format "
+                    "binary_big_endian 1.0'");
+            if (tokens[1].text == "ascii")
+                header.format = PlyFormat::Ascii;
+            else if (tokens[1].text == "binary_little_endian")
+                header.format = PlyFormat::BinaryLittleEndian;
+            else if (tokens[1].text == "binary_big_endian")
+                header.format = PlyFormat::BinaryBigEndian;
+            else
+                failHere(fmt::format(
+                    "unknown PLY format '{}' (expected ascii, binary_little_endian or binary_big_endian)",
+                    tokens[1].text));
+            sawFormat = true;
+        } else if (keyword == "element") {
+            int64_t count = 0;
+            if (tokens.size() != 3 || !parseInteger(tokens[2].text, count) || count < 0 ||
+                count > int64_t(UINT32_MAX))
+                failHere("expected 'element NAME COUNT' with a COUNT from 0 to 4294967295");
+            header.elements.push_back({std::string(tokens[1].text), uint64_t(count), {}});
+        } else if (keyword == "property") {
+            if (header.elements.empty()) failHere("a property must follow an 'element' line");
+            PlyProperty property;
+            bool isSigned = false;
+            if (tokens.size() == 5 && tokens[1].text == "list") {
+                property.isList = true;
+                property.countSize = plyTypeSize(tokens[2].text, property.countSigned);
+                property.size = plyTypeSize(tokens[3].text, isSigned);
+                property.name = tokens[4].text;
+                const bool integerCount = property.countSize > 0 &&
+                                          tokens[2].text.find("float") == std::string_view::npos &&
+                                          tokens[2].text != "double";
+                if (!integerCount || property.size == 0)
+                    failHere("expected 'property list COUNT_TYPE ITEM_TYPE NAME' with an integer COUNT_TYPE");
+            } else if (tokens.size() == 3) {
+                property.size = plyTypeSize(tokens[1].text, isSigned);
+                property.name = tokens[2].text;
+                if (property.size == 0) failHere(fmt::format("unknown property type '{}'", tokens[1].text));
+            } else {
+                failHere("expected 'property TYPE NAME' or 'property list COUNT_TYPE ITEM_TYPE NAME'");
+            }
+            header.elements.back().properties.push_back(property);
+        } else {
+            failHere(fmt::format("unexpected '{}' in the PLY header", keyword));
+        }
+    }
+    if (!sawFormat) fail(file, "the PLY header has no 'format' line");
+    header.bodyOffset = std::min(start, bytes.size());
+    header.bodyLine = lineNumber + 1;
+
+    // The parts a triangle mesh needs.
+    auto element = [&](std::string_view name) -> const PlyElement* {
+        for (const PlyElement& e : header.elements)
+            if (e.name == name) return &e;
+        return nullptr;
+    };
+    auto hasProperty = [](const PlyElement& e, std::string_view name, bool list) {
+        return std::any_of(e.properties.begin(), e.properties.end(),
+                           [&](const PlyProperty& p) { return p.name == name && p.isList == list; });
+    };
+    const PlyElement* vertex = element("vertex");
+    if (!vertex || !hasProperty(*vertex, "x", false) || !hasProperty(*vertex, "y", false) ||
+        !hasProperty(*vertex, "z", false))
+        fail(file, "the PLY header declares no 'vertex' element with properties x, y and z");
+    const PlyElement* face = element("face");
+    if (face && !hasProperty(*face, "vertex_indices", true) && !hasProperty(*face, "vertex_index", true))
+        fail(file, "the PLY 'face' element has no list property 'vertex_indices'");
+    return header;
+}
+
+// Walks the ASCII body: every value the header declares must be there and be a number.
+void validatePlyAsciiBody(const PlyHeader& header, std::string_view bytes, const std::string& file) {
+    size_t pos = header.bodyOffset, lineStart = pos;
+    int line = header.bodyLine;
+    auto next = [&]() -> std::optional<Token> {
+        while (pos < bytes.size() && std::isspace(static_cast<unsigned char>(bytes[pos]))) {
+            if (bytes[pos] == '\n') ++line, lineStart = pos + 1;
+            ++pos;
+        }
+        if (pos == bytes.size()) return std::nullopt;
+        const size_t begin = pos;
+        while (pos < bytes.size() && !std::isspace(static_cast<unsigned char>(bytes[pos]))) ++pos;
+        return Token{bytes.substr(begin, pos - begin), int(begin - lineStart) + 1};
+    };
+    for (const PlyElement& element : header.elements)
+        for (uint64_t i = 0; i < element.count; ++i)
+            for (const PlyProperty& property : element.properties) {
+                auto value = [&]() {
+                    const std::optional<Token> token = next();
+                    if (!token)
+                        failAt(file, line, 0,
+                               fmt::format(
+                                   "the file ends early (truncated?): {} {} of the {} declared is incomplete",
+                                   element.name, i, element.count));
+                    double v = 0;
+                    if (!parseNumber(token->text, v))
+                        failAt(file, line, token->column,
+                               fmt::format("expected a number for property '{}' of {} {}, found '{}'",
+                                           property.name, element.name, i, token->text));
+                    return v;
+                };
+                if (!property.isList) {
+                    value();
+                    continue;
+                }
+                const double n = value();
+                if (!(n >= 0 && n == std::floor(n) && n < 4294967296.0))
+                    failAt(file, line, 0,
+                           fmt::format("expected a list length for property '{}' of {} {}, found {}",
+                                       property.name, element.name, i, n));
+                for (uint64_t k = 0; k < uint64_t(n); ++k) value();
+            }
+}
+
+uint64_t readUnsigned(const unsigned char* p, int size, bool bigEndian) {
+    uint64_t v = 0;
+    for (int b = 0; b < size; ++b) v |= uint64_t(p[bigEndian ? size - 1 - b : b]) << (8 * b);
+    return v;
+}
+
+// Walks the binary body: the file must hold every value the header declares.
+void validatePlyBinaryBody(const PlyHeader& header, std::string_view bytes, const std::string& file) {
+    const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
+    const bool bigEndian = header.format == PlyFormat::BinaryBigEndian;
+    uint64_t pos = header.bodyOffset;
+    for (const PlyElement& element : header.elements) {
+        auto truncated = [&](uint64_t i) {
+            fail(file, fmt::format("the file ends early (truncated?): {} {} of the {} declared is incomplete",
+                                   element.name, i, element.count));
+        };
+        const bool hasList = std::any_of(element.properties.begin(), element.properties.end(),
+                                         [](const PlyProperty& p) { return p.isList; });
+        if (!hasList) {  // fixed-size rows: one step
+            uint64_t rowSize = 0;
+            for (const PlyProperty& p : element.properties) rowSize += uint64_t(p.size);
+            if (rowSize == 0) continue;
+            if (rowSize * element.count > bytes.size() - pos) truncated((bytes.size() - pos) / rowSize);
+            pos += rowSize * element.count;
+            continue;
+        }
+        for (uint64_t i = 0; i < element.count; ++i)
+            for (const PlyProperty& p : element.properties) {
+                if (!p.isList) {
+                    if (pos + uint64_t(p.size) > bytes.size()) truncated(i);
+                    pos += uint64_t(p.size);
+                    continue;
+                }
+                if (pos + uint64_t(p.countSize) > bytes.size()) truncated(i);
+                uint64_t n = readUnsigned(data + pos, p.countSize, bigEndian);
+                if (p.countSigned && (n >> (8 * p.countSize - 1)) & 1u)
+                    fail(file, fmt::format("{} {} has a negative list length for property '{}'", element.name,
+                                           i, p.name));
+                pos += uint64_t(p.countSize);
+                if (n * uint64_t(p.size) > bytes.size() - pos) truncated(i);
+                pos += n * uint64_t(p.size);
+            }
+    }
+}
+
+// Makes each normal unit length; a zero normal has no direction to keep, so it is an error.
+void normalizePlyNormals(std::vector<Vec3f>& normals, const std::string& file) {
+    for (size_t i = 0; i < normals.size(); ++i) {
+        const float len = length(normals[i]);
+        if (!(len > 0.0f) || !std::isfinite(len))
+            fail(file,
+                 fmt::format("the normal of vertex {} (counting from 0) has zero length or a non-finite "
+                             "coordinate",
+                             i));
+        normals[i] = normals[i] / len;
+    }
+}
+
+}  // namespace
+
+TriangleMesh importPly(std::string_view bytes, const std::string& file) {
+    // assimp 5.2 hangs or crashes on a truncated PLY: hand it only complete files.
+    const PlyHeader header = parsePlyHeader(bytes, file);
+    if (header.format == PlyFormat::Ascii)
+        validatePlyAsciiBody(header, bytes, file);
+    else
+        validatePlyBinaryBody(header, bytes, file);
+
+    // No post-processing: we split polygons ourselves after checking their indices, and vertex
+    // numbers in messages must be those of the file.
+    Assimp::Importer importer;
+    const aiScene* scene = importer.ReadFileFromMemory(bytes.data(), bytes.size(), 0, "ply");
+    if (!scene) fail(file, fmt::format("cannot read the PLY file: {}", importer.GetErrorString()));
+
+    TriangleMesh mesh;
+    mesh.name = fs::path(file).filename().string();
+    bool hasNormals = scene->mNumMeshes > 0, hasUvs = scene->mNumMeshes > 0;
+    for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+        hasNormals = hasNormals && scene->mMeshes[m]->mNormals;
+        hasUvs = hasUvs && scene->mMeshes[m]->mTextureCoords[0];
+    }
+    uint64_t faceNumber = 0;
+    for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+        const aiMesh& in = *scene->mMeshes[m];
+        const auto base = uint32_t(mesh.positions.size());
+        for (unsigned v = 0; v < in.mNumVertices; ++v) {
+            const Vec3f p{in.mVertices[v].x, in.mVertices[v].y, in.mVertices[v].z};
+            if (!isFinite(p))
+                fail(file, fmt::format("vertex {} (counting from 0) has a non-finite coordinate", base + v));
+            mesh.positions.push_back(p);
+            if (hasNormals) mesh.normals.push_back({in.mNormals[v].x, in.mNormals[v].y, in.mNormals[v].z});
+            if (hasUvs) {
+                const Vec2f uv{in.mTextureCoords[0][v].x, in.mTextureCoords[0][v].y};
+                if (!std::isfinite(uv.x) || !std::isfinite(uv.y))
+                    fail(file, fmt::format("the uv of vertex {} (counting from 0) is not finite", base + v));
+                mesh.uvs.push_back(uv);
+            }
+        }
+        for (unsigned f = 0; f < in.mNumFaces; ++f, ++faceNumber) {
+            const aiFace& face = in.mFaces[f];
+            for (unsigned k = 0; k < face.mNumIndices; ++k)
+                if (face.mIndices[k] >= in.mNumVertices)
+                    fail(file,
+                         fmt::format("face {} (counting from 0) uses vertex {}, but the file has only {} "
+                                     "vertices (indices count from 0)",
+                                     faceNumber, face.mIndices[k], in.mNumVertices));
+            // Points and lines have no area to render; polygons become triangle fans.
+            for (unsigned k = 1; k + 1 < face.mNumIndices; ++k)
+                for (unsigned corner : {0u, k, k + 1}) mesh.indices.push_back(base + face.mIndices[corner]);
+        }
+    }
+    if (hasNormals) normalizePlyNormals(mesh.normals, file);
+    if (mesh.indices.empty()) fail(file, "the file contains no triangles");
+    return mesh;
+}
+
+TriangleMesh importMesh(const fs::path& file) {
+    const std::string name = file.string();
+    std::error_code ec;
+    if (!fs::exists(file, ec)) fail(name, "mesh file not found");
+    if (fs::is_directory(file, ec)) fail(name, "is a folder, not a mesh file");
+
+    std::string lower = file.filename().string();
+    std::transform(lower.begin(), lower.end(), lower.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    if (lower.ends_with(".obj")) return importObj(readPlainFile(file), name);
+    if (lower.ends_with(".ply")) return importPly(readPlainFile(file), name);
+    if (lower.ends_with(".ply.gz")) return importPly(readGzipFile(file), name);
+    fail(name, "unsupported mesh file type (expected a name ending in .obj, .ply or .ply.gz)");
+}
+
+void transformMesh(TriangleMesh& mesh, const Transform& transform) {
+    for (Vec3f& p : mesh.positions) p = transform.applyPoint(p);
+    for (Vec3f& n : mesh.normals) n = normalize(transform.applyNormal(n));
+    if (transform.swapsHandedness())
+        for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3)
+            std::swap(mesh.indices[t + 1], mesh.indices[t + 2]);
+}
+
+}  // namespace penumbra

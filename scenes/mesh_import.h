@@ -1,0 +1,37 @@
+// Triangle meshes from files: Wavefront OBJ (read with tinyobjloader), PLY in ASCII or binary and
+// gzip-compressed PLY (read with assimp, after zlib for .ply.gz), and placing a mesh in the world
+// with a transform.
+//
+// Both libraries accept broken files silently (tinyobjloader reads "abc" as 0; assimp 5.2 hangs or
+// crashes on a truncated PLY), so each file is checked first by a small validator of our own that
+// reports the line (OBJ, ASCII PLY) of what is wrong.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+#include "core/transform.h"
+#include "scenes/scene.h"
+
+namespace penumbra {
+
+// Reads the triangles of an OBJ, PLY or .ply.gz file (chosen by the file name's extension), in the
+// file's own coordinates. Polygons are split into triangles. Normals and uvs are kept when every
+// face corner has one; vertices that differ in them are split so one index buffer serves all.
+// The mesh is named after the file; material and emission are left for the caller.
+// Throws InputError naming the file (and the line when known) for a missing, unreadable,
+// malformed or empty file, a face index out of range, or a non-finite vertex or normal.
+// Degenerate (zero-area) triangles are kept.
+TriangleMesh importMesh(const std::filesystem::path& file);
+
+// The same for file contents already in memory; `fileForMessages` names them in errors.
+TriangleMesh importObj(std::string_view text, const std::string& fileForMessages);
+TriangleMesh importPly(std::string_view bytes, const std::string& fileForMessages);
+
+// Moves a mesh into place: positions as points, normals with the inverse transpose (then
+// renormalized). A mirroring transform (negative determinant) would turn the winding, and so the
+// front face, inside out; each triangle's winding is swapped to keep front faces in front.
+void transformMesh(TriangleMesh& mesh, const Transform& transform);
+
+}  // namespace penumbra

@@ -1,0 +1,87 @@
+// Watertight ray/triangle intersection: Woop, Benthin and Wald, "Watertight Ray/Triangle
+// Intersection" (Journal of Computer Graphics Techniques 2(1), 2013), in the form of pbrt-v4
+// (Pharr, Jakob and Humphreys, "Physically Based Rendering", 4th ed., section 6.5.3).
+//
+// The ray is made the +z axis of a sheared coordinate system; the triangle's 2D edge functions
+// about the origin then decide the hit. A shared edge gets the same edge function (negated) in
+// both of its triangles, so a ray through it is never missed by both. When an edge function
+// rounds to exactly zero it is recomputed in double precision, where the products of floats are
+// exact, so its sign is right. This needs a*b - c*d to be evaluated without contraction into a
+// fused multiply-add (an FMA would make the two triangles' values differ): the file that includes
+// this one is compiled with -ffp-contract=off.
+#pragma once
+
+#include <cmath>
+#include <cstdlib>
+
+#include "core/vec.h"
+
+namespace penumbra {
+
+// What the test needs of a ray, computed once per ray: the axis along which the direction is
+// largest (kz, after a permutation) and the shear that maps the direction to +z.
+struct WatertightRay {
+    int kx = 0, ky = 1, kz = 2;
+    float ox = 0, oy = 0, oz = 0;  // origin, permuted
+    float sx = 0, sy = 0, sz = 1;
+
+    WatertightRay() = default;
+    WatertightRay(Vec3f origin, Vec3f direction) {
+        const Vec3f a = abs(direction);
+        kz = a.x > a.y ? (a.x > a.z ? 0 : 2) : (a.y > a.z ? 1 : 2);
+        kx = kz == 2 ? 0 : kz + 1;
+        ky = kx == 2 ? 0 : kx + 1;
+        ox = origin[kx];
+        oy = origin[ky];
+        oz = origin[kz];
+        const float dz = direction[kz];
+        sx = -direction[kx] / dz;
+        sy = -direction[ky] / dz;
+        sz = 1.0f / dz;
+    }
+};
+
+struct TriangleHit {
+    float t = 0.0f;
+    float b1 = 0.0f, b2 = 0.0f;  // barycentrics of vertices 1 and 2
+};
+
+// `vertices` holds p0, p1, p2 as nine floats. True when tMin <= t <= tMax.
+inline bool intersectTriangleWatertight(const WatertightRay& r, const float* vertices, float tMin, float tMax,
+                                        TriangleHit& hit) {
+    // Vertices relative to the ray origin, permuted so the ray runs along z, then sheared.
+    const float* v0 = vertices;
+    const float* v1 = vertices + 3;
+    const float* v2 = vertices + 6;
+    const float z0 = v0[r.kz] - r.oz, z1 = v1[r.kz] - r.oz, z2 = v2[r.kz] - r.oz;
+    const float x0 = (v0[r.kx] - r.ox) + r.sx * z0, y0 = (v0[r.ky] - r.oy) + r.sy * z0;
+    const float x1 = (v1[r.kx] - r.ox) + r.sx * z1, y1 = (v1[r.ky] - r.oy) + r.sy * z1;
+    const float x2 = (v2[r.kx] - r.ox) + r.sx * z2, y2 = (v2[r.ky] - r.oy) + r.sy * z2;
+
+    // Edge functions; e_i is twice the signed area of the sub-triangle opposite vertex i.
+    float e0 = x1 * y2 - y1 * x2;
+    float e1 = x2 * y0 - y2 * x0;
+    float e2 = x0 * y1 - y0 * x1;
+    if (e0 == 0.0f || e1 == 0.0f || e2 == 0.0f) [[unlikely]] {
+        e0 = float(double(x1) * double(y2) - double(y1) * double(x2));
+        e1 = float(double(x2) * double(y0) - double(y2) * double(x0));
+        e2 = float(double(x0) * double(y1) - double(y0) * double(x1));
+    }
+    // The origin must be inside all three edges (either orientation: no back-face culling).
+    if ((e0 < 0.0f || e1 < 0.0f || e2 < 0.0f) && (e0 > 0.0f || e1 > 0.0f || e2 > 0.0f)) return false;
+    const float det = e0 + e1 + e2;
+    if (det == 0.0f) return false;
+
+    // Interpolated, scaled depth; reject hits behind the origin before dividing.
+    const float tScaled = e0 * (z0 * r.sz) + e1 * (z1 * r.sz) + e2 * (z2 * r.sz);
+    if (det < 0.0f ? tScaled > 0.0f : tScaled < 0.0f) return false;
+    const float invDet = 1.0f / det;
+    const float t = tScaled * invDet;
+    if (!(t >= tMin && t <= tMax)) return false;  // also rejects NaN
+    hit.t = t;
+    hit.b1 = e1 * invDet;
+    hit.b2 = e2 * invDet;
+    return true;
+}
+
+}  // namespace penumbra

@@ -1,0 +1,106 @@
+// The scene as plain data, exactly as the user described it: what the loaders produce and what
+// the traversal backends and the renderer consume. Geometry is already in world space.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/rgb.h"
+#include "core/sampler.h"
+#include "core/vec.h"
+
+namespace penumbra {
+
+struct CameraDesc {
+    Vec3f lookFrom{0.0f, 0.0f, 0.0f};
+    Vec3f lookAt{0.0f, 0.0f, -1.0f};
+    Vec3f up{0.0f, 1.0f, 0.0f};
+    float verticalFovDegrees = 40.0f;
+    float apertureRadius = 0.0f;  // lens radius in scene units; 0 is a pinhole
+    float focusDistance = 0.0f;   // along the view direction; 0 means |lookAt - lookFrom|
+    int apertureBlades = 0;       // 0: circular aperture; >= 3: regular polygon
+    float apertureRotationDegrees = 0.0f;
+    float shutterOpen = 0.0f;
+    float shutterClose = 0.0f;
+};
+
+enum class FilterKind : uint8_t { Box, Tent };
+
+struct FilmDesc {
+    int width = 512;
+    int height = 512;
+    int samplesPerPixel = 16;
+    FilterKind filter = FilterKind::Tent;
+    float filterRadius = 1.0f;  // in pixels: box covers [-r, r]^2, tent falls to 0 at r
+};
+
+struct IntegratorDesc {
+    // Number of scattering events a path may have (pbrt's convention): 0 shows only emitters seen
+    // directly, 1 adds direct lighting, and so on.
+    int maxDepth = 64;
+    // Russian roulette starts at this bounce; before it every path survives.
+    int rouletteStartDepth = 3;
+};
+
+struct RenderSettings {
+    SamplerKind sampler = SamplerKind::Stratified;
+    uint64_t seed = 0;
+};
+
+enum class MaterialKind : uint8_t { Lambert };
+
+struct MaterialDesc {
+    std::string name;
+    MaterialKind kind = MaterialKind::Lambert;
+    Rgb albedo{0.5f, 0.5f, 0.5f};  // Lambert reflectance, each channel in [0, 1]
+};
+
+// Emission turns any shape into an area light with constant radiance.
+struct Emission {
+    Rgb radiance;            // black: the shape does not emit
+    bool twoSided = false;   // one-sided lights emit on the front side only
+    bool emits() const { return !radiance.isBlack(); }
+};
+
+struct TriangleMesh {
+    std::string name;              // for messages: the scene's JSON pointer or the file name
+    std::vector<Vec3f> positions;  // world space
+    std::vector<Vec3f> normals;    // optional, per vertex, world space, unit length
+    std::vector<Vec2f> uvs;        // optional, per vertex
+    std::vector<uint32_t> indices; // three per triangle; front face is counter-clockwise,
+                                   // i.e. its normal is cross(p1 - p0, p2 - p0)
+    uint32_t material = 0;         // index into Scene::materials
+    Emission emission;
+
+    size_t triangleCount() const { return indices.size() / 3; }
+};
+
+struct Sphere {
+    std::string name;
+    Vec3f center;
+    float radius = 1.0f;  // > 0; the front side is the outside
+    uint32_t material = 0;
+    Emission emission;
+};
+
+struct PointLight {
+    Vec3f position;
+    Rgb intensity;  // radiant intensity, W/sr per channel
+};
+
+struct Scene {
+    std::filesystem::path sourcePath;  // the scene file, for messages and metadata
+    CameraDesc camera;
+    FilmDesc film;
+    IntegratorDesc integrator;
+    RenderSettings settings;
+    std::vector<MaterialDesc> materials;
+    std::vector<TriangleMesh> meshes;
+    std::vector<Sphere> spheres;
+    std::vector<PointLight> pointLights;
+    Rgb background;  // constant radiance arriving from every direction that escapes the scene
+};
+
+}  // namespace penumbra

@@ -1,0 +1,354 @@
+#include "scenes/scene_loader.h"
+
+#include <fmt/format.h>
+
+#include <cstdint>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+#include "core/error.h"
+#include "core/transform.h"
+#include "scenes/json_reader.h"
+#include "scenes/mesh_import.h"
+
+namespace penumbra {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Larger films are surely typos, and this keeps width * height far from overflowing.
+constexpr int64_t kMaxResolution = 1 << 16;
+constexpr int64_t kMaxInt = std::numeric_limits<int32_t>::max();
+
+CameraDesc readCamera(const JsonValue& value) {
+    const JsonObject object(
+        value, {"look_from", "look_at", "up", "fov", "aperture_radius", "focus_distance", "shutter"});
+    CameraDesc camera;
+    if (auto v = object.get("look_from")) camera.lookFrom = v->vec3();
+    if (auto v = object.get("look_at")) camera.lookAt = v->vec3();
+    if (auto v = object.get("up")) camera.up = v->vec3();
+    if (auto v = object.get("fov")) {
+        if (!v->json().is_number() || !(v->number() > 0.0f && v->number() < 180.0f))
+            v->failExpected("a vertical field of view in degrees, greater than 0 and less than 180");
+        camera.verticalFovDegrees = v->number();
+    }
+    if (auto v = object.get("aperture_radius")) camera.apertureRadius = v->numberAtLeast(0.0f);
+    if (auto v = object.get("focus_distance")) camera.focusDistance = v->numberAtLeast(0.0f);
+    if (auto v = object.get("shutter")) {
+        if (!v->json().is_array() || v->json().size() != 2)
+            v->failExpected("an array [open, close] of 2 numbers");
+        camera.shutterOpen = v->element(0).number();
+        camera.shutterClose = v->element(1).number();
+        if (camera.shutterClose < camera.shutterOpen) v->failExpected("[open, close] with close >= open");
+    }
+    if (!Transform::lookAt(camera.lookFrom, camera.lookAt, camera.up))
+        value.fail(
+            "look_from and look_at must differ, and up must be non-zero and not parallel to the "
+            "viewing direction");
+    return camera;
+}
+
+FilmDesc readFilm(const JsonValue& value) {
+    const JsonObject object(value, {"resolution", "spp", "filter"});
+    FilmDesc film;
+    if (auto v = object.get("resolution")) {
+        if (!v->json().is_array() || v->json().size() != 2)
+            v->failExpected("an array [width, height] of 2 integers");
+        film.width = int(v->element(0).integer(1, kMaxResolution));
+        film.height = int(v->element(1).integer(1, kMaxResolution));
+    }
+    if (auto v = object.get("spp")) film.samplesPerPixel = int(v->integer(1, kMaxInt));
+    if (auto v = object.get("filter")) {
+        const JsonObject filter(*v, {"type", "radius"});
+        if (auto type = filter.get("type"))
+            film.filter = type->choice({"box", "tent"}) == 0 ? FilterKind::Box : FilterKind::Tent;
+        if (auto radius = filter.get("radius")) film.filterRadius = radius->numberAbove(0.0f);
+    }
+    return film;
+}
+
+IntegratorDesc readIntegrator(const JsonValue& value) {
+    const JsonObject object(value, {"max_depth", "roulette_start"});
+    IntegratorDesc integrator;
+    if (auto v = object.get("max_depth")) integrator.maxDepth = int(v->integer(0, kMaxInt));
+    if (auto v = object.get("roulette_start")) integrator.rouletteStartDepth = int(v->integer(0, kMaxInt));
+    return integrator;
+}
+
+RenderSettings readRender(const JsonValue& value) {
+    const JsonObject object(value, {"sampler", "seed"});
+    RenderSettings settings;
+    if (auto v = object.get("sampler"))
+        settings.sampler = v->choice({"stratified", "independent"}) == 0 ? SamplerKind::Stratified
+                                                                         : SamplerKind::Independent;
+    if (auto v = object.get("seed")) settings.seed = v->unsignedInteger();
+    return settings;
+}
+
+std::vector<MaterialDesc> readMaterials(const JsonValue& value) {
+    std::vector<MaterialDesc> materials;
+    for (const auto& [name, material] : value.members()) {
+        const JsonObject object(material, {"type", "albedo"});
+        MaterialDesc desc;
+        desc.name = name;
+        object.require("type").choice({"lambert"});
+        desc.kind = MaterialKind::Lambert;
+        if (auto v = object.get("albedo")) desc.albedo = v->rgb(0.0f, 1.0f);
+        materials.push_back(desc);
+    }
+    return materials;
+}
+
+uint32_t readMaterialReference(const JsonValue& value, const std::vector<MaterialDesc>& materials) {
+    const std::string name = value.string();
+    std::string known;
+    for (size_t i = 0; i < materials.size(); ++i) {
+        if (materials[i].name == name) return uint32_t(i);
+        known += (known.empty() ? "" : ", ") + materials[i].name;
+    }
+    value.fail(fmt::format("unknown material \"{}\" ({})", name,
+                           known.empty() ? "the scene defines no materials" : "known materials: " + known));
+}
+
+Emission readEmission(const JsonValue& value) {
+    const JsonObject object(value, {"radiance", "two_sided"});
+    Emission emission;
+    emission.radiance = object.require("radiance").rgb(0.0f);
+    if (auto v = object.get("two_sided")) emission.twoSided = v->boolean();
+    return emission;
+}
+
+Transform readTransformStep(const JsonValue& step) {
+    const JsonObject object(step, {"translate", "scale", "rotate", "matrix"});
+    if (step.json().size() != 1)
+        step.failExpected("an object with exactly one key: translate, scale, rotate or matrix");
+
+    if (auto v = object.get("translate")) return Transform::translate(v->vec3());
+    if (auto v = object.get("scale")) {
+        const bool isVector = v->json().is_array() && v->json().size() == 3;
+        if (!v->json().is_number() && !isVector)
+            v->failExpected("a non-zero number or an array of 3 non-zero numbers");
+        const Vec3f s = isVector ? v->vec3() : Vec3f(v->number(), v->number(), v->number());
+        if (s.x == 0.0f || s.y == 0.0f || s.z == 0.0f)
+            v->failExpected(
+                "non-zero scale factors (a zero factor flattens the shape and cannot be inverted)");
+        return Transform::scale(s);
+    }
+    if (auto v = object.get("rotate")) {
+        const JsonObject rotate(*v, {"axis", "degrees"});
+        const JsonValue axisValue = rotate.require("axis");
+        const Vec3f axis = axisValue.vec3();
+        if (!(lengthSquared(axis) > 0.0f)) axisValue.failExpected("a non-zero axis");
+        return Transform::rotate(rotate.require("degrees").number(), axis);
+    }
+    const JsonValue v = object.require("matrix");
+    if (!v.json().is_array() || v.json().size() != 16) v.failExpected("an array of 16 numbers (4 rows of 4)");
+    Matrix4 m;
+    for (size_t i = 0; i < 16; ++i) m.m[i / 4][i % 4] = v.element(i).number();
+    if (m.m[3] != std::array<float, 4>{0.0f, 0.0f, 0.0f, 1.0f})
+        v.fail("expected an affine matrix: the last row must be 0, 0, 0, 1");
+    const std::optional<Transform> transform = Transform::fromMatrix(m);
+    if (!transform) v.fail("the matrix is singular: it has no inverse");
+    return *transform;
+}
+
+// The steps apply in order, the first entry first.
+Transform readTransform(const JsonValue& value) {
+    Transform result;
+    for (const JsonValue& step : value.elements()) result = readTransformStep(step) * result;
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j)
+            if (!std::isfinite(result.matrix().m[i][j]) || !std::isfinite(result.inverseMatrix().m[i][j]))
+                value.fail("the combined transform overflows a 32-bit float");
+    return result;
+}
+
+// The uniform scale factor of a transform that is a similarity (rotation, uniform scale,
+// translation, mirror), the only kind that maps a sphere to a sphere; empty otherwise.
+std::optional<float> similarityScale(const Transform& transform) {
+    const auto& m = transform.matrix().m;
+    const Vec3f columns[3] = {
+        {m[0][0], m[1][0], m[2][0]}, {m[0][1], m[1][1], m[2][1]}, {m[0][2], m[1][2], m[2][2]}};
+    const float scale = length(columns[0]);
+    const float tolerance = 1e-4f;
+    for (int i = 0; i < 3; ++i) {
+        if (std::abs(length(columns[i]) - scale) > tolerance * scale) return std::nullopt;
+        for (int j = i + 1; j < 3; ++j)
+            if (std::abs(dot(columns[i], columns[j])) > tolerance * scale * scale) return std::nullopt;
+    }
+    return scale;
+}
+
+TriangleMesh readInlineMesh(const JsonValue& value) {
+    TriangleMesh mesh;
+    const JsonValue positions = value.requiredMember("positions");
+    for (const JsonValue& p : positions.elements()) mesh.positions.push_back(p.vec3());
+    if (mesh.positions.empty()) positions.failExpected("a non-empty array of [x, y, z] positions");
+    const size_t count = mesh.positions.size();
+
+    const JsonValue indices = value.requiredMember("indices");
+    const size_t indexCount = indices.arraySize();
+    if (indexCount == 0 || indexCount % 3 != 0)
+        indices.failExpected("a non-empty array of vertex indices, 3 per triangle");
+    for (const JsonValue& i : indices.elements()) {
+        const int64_t index = i.integer(0);
+        if (uint64_t(index) >= count)
+            i.fail(fmt::format("index {} is out of range: the mesh has {} positions (indices count from 0)",
+                               index, count));
+        mesh.indices.push_back(uint32_t(index));
+    }
+    if (auto normals = value.member("normals")) {
+        if (normals->arraySize() != count)
+            normals->failExpected(fmt::format("an array of {} normals, one per position", count));
+        for (const JsonValue& n : normals->elements()) {
+            const Vec3f normal = n.vec3();
+            if (!(length(normal) > 0.0f)) n.failExpected("a non-zero normal");
+            mesh.normals.push_back(normalize(normal));
+        }
+    }
+    if (auto uvs = value.member("uvs")) {
+        if (uvs->arraySize() != count)
+            uvs->failExpected(fmt::format("an array of {} uvs, one per position", count));
+        for (const JsonValue& uv : uvs->elements()) mesh.uvs.push_back(uv.vec2());
+    }
+    return mesh;
+}
+
+TriangleMesh readMeshFile(const JsonValue& value, const fs::path& folder) {
+    const JsonValue fileValue = value.requiredMember("file");
+    const fs::path relative = fileValue.string();
+    if (relative.empty()) fileValue.failExpected("a file name");
+    const fs::path path = relative.is_absolute() ? relative : folder / relative;
+    TriangleMesh mesh;
+    try {
+        mesh = importMesh(path);
+    } catch (const InputError& e) {
+        // Name the shape too: the same mesh file may serve several scenes.
+        throw InputError(e.where(), fmt::format("{} (mesh file of {}: {})", e.message(), fileValue.file(),
+                                                fileValue.pointer()));
+    }
+    mesh.name = fmt::format("{} ({})", value.pointer(), path.filename().string());
+    return mesh;
+}
+
+TriangleMesh readQuad(const JsonValue& value) {
+    const Vec3f corner = value.requiredMember("corner").vec3();
+    const Vec3f edge1 = value.requiredMember("edge1").vec3();
+    const Vec3f edge2 = value.requiredMember("edge2").vec3();
+    if (!(lengthSquared(cross(edge1, edge2)) > 0.0f))
+        value.fail("edge1 and edge2 are zero or parallel, so the quad has no area");
+    TriangleMesh mesh;
+    // Triangles (0, 1, 2) and (0, 2, 3) both have the front normal cross(edge1, edge2).
+    mesh.positions = {corner, corner + edge1, corner + edge1 + edge2, corner + edge2};
+    mesh.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    mesh.indices = {0, 1, 2, 0, 2, 3};
+    return mesh;
+}
+
+void readShape(const JsonValue& value, const fs::path& folder, Scene& scene) {
+    const JsonValue typeValue = value.requiredMember("type");
+    const size_t type = typeValue.choice({"triangle_mesh", "mesh_file", "quad", "sphere"});
+    const std::vector<MaterialDesc>& materials = scene.materials;
+
+    if (type == 3) {
+        const JsonObject object(value, {"type", "center", "radius", "material", "emission", "transform"});
+        Sphere sphere;
+        sphere.name = value.pointer();
+        sphere.center = object.require("center").vec3();
+        sphere.radius = object.require("radius").numberAbove(0.0f);
+        sphere.material = readMaterialReference(object.require("material"), materials);
+        if (auto v = object.get("emission")) sphere.emission = readEmission(*v);
+        if (auto v = object.get("transform")) {
+            const Transform transform = readTransform(*v);
+            const std::optional<float> scale = similarityScale(transform);
+            if (!scale)
+                v->fail(
+                    "a sphere can only be translated, rotated, mirrored and scaled uniformly; this transform "
+                    "would make it an ellipsoid");
+            sphere.center = transform.applyPoint(sphere.center);
+            sphere.radius *= *scale;
+            if (!isFinite(sphere.center) || !std::isfinite(sphere.radius) || !(sphere.radius > 0.0f))
+                v->fail("the transformed sphere does not fit a 32-bit float");
+        }
+        scene.spheres.push_back(sphere);
+        return;
+    }
+
+    TriangleMesh mesh;
+    if (type == 0) {
+        const JsonObject object(
+            value, {"type", "positions", "indices", "normals", "uvs", "material", "emission", "transform"});
+        mesh = readInlineMesh(value);
+        mesh.name = value.pointer();
+    } else if (type == 1) {
+        const JsonObject object(value, {"type", "file", "material", "emission", "transform"});
+        mesh = readMeshFile(value, folder);
+    } else {
+        const JsonObject object(value,
+                                {"type", "corner", "edge1", "edge2", "material", "emission", "transform"});
+        mesh = readQuad(value);
+        mesh.name = value.pointer();
+    }
+    mesh.material = readMaterialReference(value.requiredMember("material"), materials);
+    if (auto v = value.member("emission")) mesh.emission = readEmission(*v);
+    if (auto v = value.member("transform")) {
+        transformMesh(mesh, readTransform(*v));
+        for (size_t i = 0; i < mesh.positions.size(); ++i)
+            if (!isFinite(mesh.positions[i]))
+                v->fail(fmt::format(
+                    "the transform moves vertex {} (counting from 0) beyond the range of a 32-bit float", i));
+    }
+    scene.meshes.push_back(std::move(mesh));
+}
+
+PointLight readLight(const JsonValue& value) {
+    value.requiredMember("type").choice({"point"});
+    const JsonObject object(value, {"type", "position", "intensity"});
+    PointLight light;
+    light.position = object.require("position").vec3();
+    light.intensity = object.require("intensity").rgb(0.0f);
+    return light;
+}
+
+}  // namespace
+
+Scene parseScene(std::string_view jsonText, const fs::path& file) {
+    const std::string fileName = file.string();
+    const Json document = parseJsonText(jsonText, fileName);
+    const JsonValue root(document, fileName, "");
+    if (!document.is_object()) root.failExpected("a JSON object holding the scene's sections");
+    const JsonObject top(
+        root, {"camera", "film", "integrator", "render", "background", "materials", "shapes", "lights"});
+
+    Scene scene;
+    scene.sourcePath = file;
+    if (auto v = top.get("camera")) scene.camera = readCamera(*v);
+    if (auto v = top.get("film")) scene.film = readFilm(*v);
+    if (auto v = top.get("integrator")) scene.integrator = readIntegrator(*v);
+    if (auto v = top.get("render")) scene.settings = readRender(*v);
+    if (auto v = top.get("background")) scene.background = v->rgb(0.0f);
+    if (auto v = top.get("materials"))
+        scene.materials = readMaterials(*v);  // before the shapes that name them
+    if (auto v = top.get("shapes"))
+        for (const JsonValue& shape : v->elements()) readShape(shape, file.parent_path(), scene);
+    if (auto v = top.get("lights"))
+        for (const JsonValue& light : v->elements()) scene.pointLights.push_back(readLight(light));
+    return scene;
+}
+
+Scene loadScene(const fs::path& file) {
+    const std::string name = file.string();
+    std::error_code ec;
+    if (!fs::exists(file, ec)) throw InputError(SourceLocation{name, 0, 0, ""}, "scene file not found");
+    if (fs::is_directory(file, ec))
+        throw InputError(SourceLocation{name, 0, 0, ""}, "is a folder, not a scene file");
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw InputError(SourceLocation{name, 0, 0, ""}, "cannot open the scene file for reading");
+    std::ostringstream text;
+    text << in.rdbuf();
+    return parseScene(text.str(), file);
+}
+
+}  // namespace penumbra

@@ -1,0 +1,300 @@
+// Vectors, orthonormal frames and affine transforms against identities and hand-computed values.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "core/frame.h"
+#include "core/transform.h"
+#include "core/vec.h"
+#include "test_statistics.h"
+
+namespace penumbra {
+namespace {
+
+using test::UniformRng;
+
+// Component-wise closeness with an absolute tolerance, reporting both vectors on failure.
+::testing::AssertionResult near(Vec3f a, Vec3f b, float tolerance) {
+    if (std::abs(a.x - b.x) <= tolerance && std::abs(a.y - b.y) <= tolerance && std::abs(a.z - b.z) <= tolerance)
+        return ::testing::AssertionSuccess();
+    return ::testing::AssertionFailure() << "(" << a.x << ", " << a.y << ", " << a.z << ") vs (" << b.x << ", " << b.y
+                                         << ", " << b.z << "), tolerance " << tolerance;
+}
+
+Vec3f randomVector(UniformRng& rng, float scale = 4.0f) {
+    return {scale * (2.0f * rng.next() - 1.0f), scale * (2.0f * rng.next() - 1.0f), scale * (2.0f * rng.next() - 1.0f)};
+}
+
+Vec3f randomUnitVector(UniformRng& rng) {
+    for (;;) {  // rejection from the cube keeps the direction uniform
+        const Vec3f v = randomVector(rng, 1.0f);
+        const float l2 = lengthSquared(v);
+        if (l2 > 1e-4f && l2 <= 1.0f) return normalize(v);
+    }
+}
+
+// ---- vectors ----------------------------------------------------------------------------------
+
+TEST(Vec, CrossOfBasisVectorsIsRightHanded) {
+    const Vec3f x{1, 0, 0}, y{0, 1, 0}, z{0, 0, 1};
+    EXPECT_EQ(cross(x, y), z);
+    EXPECT_EQ(cross(y, z), x);
+    EXPECT_EQ(cross(z, x), y);
+    EXPECT_EQ(cross(y, x), -z);
+    EXPECT_EQ(cross(x, x), Vec3f(0, 0, 0));
+}
+
+TEST(Vec, CrossAndDotIdentities) {
+    UniformRng rng(1);
+    for (int i = 0; i < 1000; ++i) {
+        const Vec3f a = randomVector(rng), b = randomVector(rng), c = randomVector(rng);
+        const Vec3f axb = cross(a, b);
+        const float scale = length(a) * length(b);
+        // a x b is perpendicular to both factors and anti-commutes.
+        EXPECT_NEAR(dot(axb, a), 0.0f, 1e-5f * scale * length(a));
+        EXPECT_NEAR(dot(axb, b), 0.0f, 1e-5f * scale * length(b));
+        EXPECT_TRUE(near(cross(b, a), -axb, 1e-6f * scale));
+        // Lagrange's identity: |a x b|^2 = |a|^2 |b|^2 - (a.b)^2.
+        EXPECT_NEAR(lengthSquared(axb), lengthSquared(a) * lengthSquared(b) - dot(a, b) * dot(a, b),
+                    1e-4f * scale * scale);
+        // Scalar triple product is invariant under cyclic permutation.
+        EXPECT_NEAR(dot(a, cross(b, c)), dot(b, cross(c, a)), 1e-4f * scale * length(c));
+        EXPECT_EQ(dot(a, b), dot(b, a));
+        EXPECT_NEAR(dot(a, a), length(a) * length(a), 1e-5f * dot(a, a));
+    }
+    EXPECT_EQ(dot(Vec3f(1, 2, 3), Vec3f(4, -5, 6)), 12.0f);
+    EXPECT_EQ(cross(Vec3f(1, 2, 3), Vec3f(4, 5, 6)), Vec3f(-3, 6, -3));
+    EXPECT_NEAR(length(normalize(Vec3f(3, -4, 12))), 1.0f, 1e-7f);
+}
+
+TEST(Vec, FaceForward) {
+    EXPECT_EQ(faceForward(Vec3f(0, 0, 1), Vec3f(0, 1, -1)), Vec3f(0, 0, -1));
+    EXPECT_EQ(faceForward(Vec3f(0, 0, 1), Vec3f(0, 1, 1)), Vec3f(0, 0, 1));
+}
+
+// ---- frames -----------------------------------------------------------------------------------
+
+void expectOrthonormalRightHanded(const Frame& f, Vec3f n) {
+    constexpr float eps = 2e-6f;
+    EXPECT_EQ(f.n, n);
+    EXPECT_NEAR(length(f.s), 1.0f, eps);
+    EXPECT_NEAR(length(f.t), 1.0f, eps);
+    EXPECT_NEAR(dot(f.s, f.t), 0.0f, eps);
+    EXPECT_NEAR(dot(f.s, f.n), 0.0f, eps);
+    EXPECT_NEAR(dot(f.t, f.n), 0.0f, eps);
+    // Right-handed: s x t = n (so local +z, the normal, is s x t).
+    EXPECT_TRUE(near(cross(f.s, f.t), n, 4e-6f));
+    EXPECT_TRUE(isFinite(f.s) && isFinite(f.t));
+}
+
+TEST(Frame, FromNormalIsOrthonormalAndRightHanded) {
+    // The branch points of the construction: exactly +-z, the equator (with z = +0 and -0), and
+    // normals just off -z, where a naive construction divides by ~0.
+    std::vector<Vec3f> normals = {{0, 0, 1},  {0, 0, -1}, {1, 0, 0},  {-1, 0, 0},      {0, 1, 0},
+                                  {0, -1, 0}, {1, 0, -0.0f}, {0, 1, -0.0f}, normalize(Vec3f(1e-4f, -2e-4f, -1)),
+                                  normalize(Vec3f(-3e-7f, 1e-7f, -1)), normalize(Vec3f(1e-4f, 1e-4f, 1))};
+    UniformRng rng(2);
+    for (int i = 0; i < 20000; ++i) normals.push_back(randomUnitVector(rng));
+    for (Vec3f n : normals) {
+        SCOPED_TRACE(::testing::Message() << "n = (" << n.x << ", " << n.y << ", " << n.z << ")");
+        expectOrthonormalRightHanded(Frame::fromNormal(n), n);
+        if (::testing::Test::HasFailure()) break;  // one report is enough
+    }
+}
+
+TEST(Frame, LocalWorldRoundTrip) {
+    UniformRng rng(3);
+    for (int i = 0; i < 2000; ++i) {
+        const Vec3f n = randomUnitVector(rng);
+        const Frame f = Frame::fromNormal(n);
+        EXPECT_TRUE(near(f.toLocal(n), Vec3f(0, 0, 1), 2e-6f));
+        EXPECT_TRUE(near(f.toWorld(Vec3f(0, 0, 1)), n, 1e-7f));
+        const Vec3f v = randomVector(rng);
+        EXPECT_TRUE(near(f.toWorld(f.toLocal(v)), v, 1e-5f));
+        EXPECT_TRUE(near(f.toLocal(f.toWorld(v)), v, 1e-5f));
+        // A rotation keeps lengths and the sign of the cosine with the normal.
+        EXPECT_NEAR(length(f.toLocal(v)), length(v), 1e-5f);
+        EXPECT_NEAR(f.toLocal(v).z, dot(v, n), 1e-5f);
+    }
+}
+
+// ---- transforms -------------------------------------------------------------------------------
+
+TEST(Transform, TranslateMovesPointsButNotVectorsOrNormals) {
+    const Transform t = Transform::translate({1, -2, 3});
+    EXPECT_EQ(t.applyPoint({4, 5, 6}), Vec3f(5, 3, 9));
+    EXPECT_EQ(t.applyVector({4, 5, 6}), Vec3f(4, 5, 6));
+    EXPECT_EQ(t.applyNormal({0, 0, 1}), Vec3f(0, 0, 1));
+    EXPECT_EQ(t.inverse().applyPoint({5, 3, 9}), Vec3f(4, 5, 6));
+}
+
+TEST(Transform, Scale) {
+    const Transform s = Transform::scale({2, 3, -4});
+    EXPECT_EQ(s.applyPoint({1, 1, 1}), Vec3f(2, 3, -4));
+    EXPECT_EQ(s.applyVector({0.5f, -1, 0.25f}), Vec3f(1, -3, -1));
+    EXPECT_EQ(s.inverse().applyPoint({2, 3, -4}), Vec3f(1, 1, 1));
+    // Normals scale by the inverse: the normal of the plane x = const stays along x, shrunk.
+    EXPECT_TRUE(near(s.applyNormal({1, 0, 0}), Vec3f(0.5f, 0, 0), 1e-7f));
+}
+
+TEST(Transform, RotateIsRightHandedAboutTheAxis) {
+    constexpr float eps = 1e-6f;
+    EXPECT_TRUE(near(Transform::rotate(90, {0, 0, 1}).applyVector({1, 0, 0}), Vec3f(0, 1, 0), eps));
+    EXPECT_TRUE(near(Transform::rotate(90, {0, 0, 1}).applyVector({0, 1, 0}), Vec3f(-1, 0, 0), eps));
+    EXPECT_TRUE(near(Transform::rotate(90, {1, 0, 0}).applyVector({0, 1, 0}), Vec3f(0, 0, 1), eps));
+    EXPECT_TRUE(near(Transform::rotate(90, {0, 1, 0}).applyVector({0, 0, 1}), Vec3f(1, 0, 0), eps));
+    // The axis need not be unit length.
+    EXPECT_TRUE(near(Transform::rotate(90, {0, 0, 7}).applyVector({1, 0, 0}), Vec3f(0, 1, 0), eps));
+    // 30 degrees about z: (cos 30, sin 30, 0).
+    EXPECT_TRUE(near(Transform::rotate(30, {0, 0, 1}).applyPoint({1, 0, 0}),
+                     Vec3f(std::sqrt(3.0f) / 2.0f, 0.5f, 0), eps));
+    // 120 degrees about (1,1,1) cycles the axes x -> y -> z -> x.
+    const Transform r = Transform::rotate(120, {1, 1, 1});
+    EXPECT_TRUE(near(r.applyVector({1, 0, 0}), Vec3f(0, 1, 0), eps));
+    EXPECT_TRUE(near(r.applyVector({0, 1, 0}), Vec3f(0, 0, 1), eps));
+    EXPECT_TRUE(near(r.applyVector({0, 0, 1}), Vec3f(1, 0, 0), eps));
+    // Points on the axis stay put, and the inverse rotates back.
+    EXPECT_TRUE(near(r.applyPoint({2, 2, 2}), Vec3f(2, 2, 2), 4 * eps));
+    EXPECT_TRUE(near(r.inverse().applyVector({0, 1, 0}), Vec3f(1, 0, 0), eps));
+}
+
+TEST(Transform, CompositionAppliesTheRightOperandFirst) {
+    const Transform t = Transform::translate({1, 2, 3});
+    const Transform s = Transform::scale({2, 2, 2});
+    const Vec3f p{1, 1, 1};
+    EXPECT_EQ((t * s).applyPoint(p), Vec3f(3, 4, 5));  // scale, then translate
+    EXPECT_EQ((s * t).applyPoint(p), Vec3f(4, 6, 8));  // translate, then scale
+    const Transform r = Transform::rotate(90, {0, 0, 1});
+    EXPECT_TRUE(near((t * r).applyPoint({1, 0, 0}), Vec3f(1, 3, 3), 1e-6f));
+    EXPECT_TRUE(near((r * t).applyPoint({1, 0, 0}), Vec3f(-2, 2, 3), 1e-6f));
+}
+
+Transform randomTransform(UniformRng& rng) {
+    const Vec3f factors{0.2f + 3 * rng.next(), 0.2f + 3 * rng.next(), 0.2f + 3 * rng.next()};
+    return Transform::translate(randomVector(rng)) * Transform::rotate(360 * rng.next(), randomUnitVector(rng)) *
+           Transform::scale(factors);
+}
+
+TEST(Transform, InverseRoundTripsPointsVectorsAndMatrices) {
+    UniformRng rng(4);
+    for (int i = 0; i < 500; ++i) {
+        const Transform a = randomTransform(rng), b = randomTransform(rng);
+        const Vec3f p = randomVector(rng);
+        EXPECT_TRUE(near(a.inverse().applyPoint(a.applyPoint(p)), p, 1e-4f));
+        EXPECT_TRUE(near(a.applyPoint(a.inverse().applyPoint(p)), p, 1e-4f));
+        EXPECT_TRUE(near(a.inverse().applyVector(a.applyVector(p)), p, 1e-4f));
+        // The composite keeps its inverse in the opposite order: (ab)^-1 = b^-1 a^-1.
+        EXPECT_TRUE(near((a * b).inverse().applyPoint((a * b).applyPoint(p)), p, 2e-4f));
+        EXPECT_TRUE(near((a * b).inverse().applyPoint(p), b.inverse().applyPoint(a.inverse().applyPoint(p)), 1e-4f));
+        // The stored inverse agrees with the Gauss-Jordan inverse of the matrix.
+        const auto inv = a.matrix().inverse();
+        ASSERT_TRUE(inv.has_value());
+        for (int r = 0; r < 4; ++r)
+            for (int c = 0; c < 4; ++c) EXPECT_NEAR(inv->m[r][c], a.inverseMatrix().m[r][c], 1e-4f);
+        const Matrix4 product = a.matrix() * *inv;
+        for (int r = 0; r < 4; ++r)
+            for (int c = 0; c < 4; ++c) EXPECT_NEAR(product.m[r][c], r == c ? 1.0f : 0.0f, 1e-5f);
+    }
+}
+
+TEST(Transform, FromMatrixComputesTheInverse) {
+    Matrix4 m = Matrix4::identity();
+    m.m[0][1] = 2;   // shear
+    m.m[2][3] = -5;  // translation
+    const auto t = Transform::fromMatrix(m);
+    ASSERT_TRUE(t.has_value());
+    EXPECT_EQ(t->applyPoint({1, 1, 1}), Vec3f(3, 1, -4));
+    EXPECT_TRUE(near(t->inverse().applyPoint({3, 1, -4}), Vec3f(1, 1, 1), 1e-6f));
+}
+
+TEST(Transform, SingularMatricesHaveNoInverse) {
+    Matrix4 zeroRow = Matrix4::identity();
+    zeroRow.m[1][1] = 0;
+    EXPECT_FALSE(zeroRow.inverse().has_value());
+    EXPECT_FALSE(Transform::fromMatrix(zeroRow).has_value());
+
+    // Rows (1,2,3), (4,5,6), (7,8,9) are linearly dependent.
+    Matrix4 dependent = Matrix4::identity();
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) dependent.m[r][c] = float(3 * r + c + 1);
+    EXPECT_FALSE(dependent.inverse().has_value());
+
+    EXPECT_FALSE(Matrix4{}.inverse().has_value());  // all zeros
+
+    Matrix4 notFinite = Matrix4::identity();
+    notFinite.m[0][3] = std::numeric_limits<float>::quiet_NaN();
+    EXPECT_FALSE(notFinite.inverse().has_value());
+    notFinite.m[0][3] = std::numeric_limits<float>::infinity();
+    EXPECT_FALSE(notFinite.inverse().has_value());
+
+    // Small but regular scales are still invertible.
+    EXPECT_TRUE(Transform::scale({1e-3f, 1e-3f, 1e-3f}).matrix().inverse().has_value());
+}
+
+TEST(Transform, NormalsStayPerpendicularUnderNonUniformScale) {
+    UniformRng rng(5);
+    const Transform t = Transform::rotate(37, {1, 2, 3}) * Transform::scale({1, 4, 0.25f}) *
+                        Transform::rotate(-70, {0, 1, 1}) * Transform::translate({1, 2, 3});
+    for (int i = 0; i < 1000; ++i) {
+        const Vec3f t1 = randomUnitVector(rng), t2 = randomUnitVector(rng);
+        const Vec3f n = cross(t1, t2);
+        if (length(n) < 0.1f) continue;
+        const Vec3f nw = normalize(t.applyNormal(n));
+        EXPECT_NEAR(dot(nw, normalize(t.applyVector(t1))), 0.0f, 1e-5f);
+        EXPECT_NEAR(dot(nw, normalize(t.applyVector(t2))), 0.0f, 1e-5f);
+    }
+    // Transforming the normal like a vector would be wrong here: it is not perpendicular then,
+    // which is what makes this test able to fail.
+    const Transform s = Transform::scale({1, 4, 1});
+    const Vec3f tangent{1, 1, 0}, normal{1, -1, 0};
+    EXPECT_GT(std::abs(dot(normalize(s.applyVector(normal)), normalize(s.applyVector(tangent)))), 0.5f);
+    EXPECT_NEAR(dot(s.applyNormal(normal), s.applyVector(tangent)), 0.0f, 1e-6f);
+}
+
+TEST(Transform, LookAtMapsCameraAxes) {
+    // Looking down -z with +y up: the camera's +x (image right) is world +x.
+    const auto simple = Transform::lookAt({0, 0, 0}, {0, 0, -1}, {0, 1, 0});
+    ASSERT_TRUE(simple.has_value());
+    EXPECT_TRUE(near(simple->applyVector({0, 0, 1}), Vec3f(0, 0, -1), 1e-6f));
+    EXPECT_TRUE(near(simple->applyVector({0, 1, 0}), Vec3f(0, 1, 0), 1e-6f));
+    EXPECT_TRUE(near(simple->applyVector({1, 0, 0}), Vec3f(1, 0, 0), 1e-6f));
+
+    const Vec3f from{1, 2, 3}, to{-2, 6, 3.5f}, up{0.3f, 0.2f, 1};
+    const auto cam = Transform::lookAt(from, to, up);
+    ASSERT_TRUE(cam.has_value());
+    const Vec3f forward = normalize(to - from);
+    EXPECT_TRUE(near(cam->applyPoint({0, 0, 0}), from, 1e-6f));
+    EXPECT_TRUE(near(cam->applyVector({0, 0, 1}), forward, 1e-6f));
+    EXPECT_TRUE(near(cam->applyPoint({0, 0, length(to - from)}), to, 1e-5f));
+    const Vec3f camUp = cam->applyVector({0, 1, 0}), camRight = cam->applyVector({1, 0, 0});
+    EXPECT_NEAR(dot(camUp, forward), 0.0f, 1e-6f);
+    EXPECT_GT(dot(camUp, up), 0.0f);  // up stays on the side of the requested up
+    EXPECT_NEAR(length(camUp), 1.0f, 1e-6f);
+    // Right of the image for a viewer looking along `forward` with `up` up: forward x up.
+    EXPECT_TRUE(near(camRight, normalize(cross(forward, up)), 1e-6f));
+    // x right, y up, z forward is a left-handed frame, so the camera-to-world map flips it.
+    EXPECT_TRUE(cam->swapsHandedness());
+    EXPECT_TRUE(near(cam->inverse().applyPoint(to), Vec3f(0, 0, length(to - from)), 1e-5f));
+}
+
+TEST(Transform, LookAtRejectsDegenerateInput) {
+    EXPECT_FALSE(Transform::lookAt({1, 1, 1}, {1, 1, 1}, {0, 1, 0}).has_value());  // no direction
+    EXPECT_FALSE(Transform::lookAt({0, 0, 0}, {0, 5, 0}, {0, 2, 0}).has_value());  // up parallel
+    EXPECT_FALSE(Transform::lookAt({0, 0, 0}, {0, 0, 1}, {0, 0, 0}).has_value());  // no up
+}
+
+TEST(Transform, SwapsHandedness) {
+    EXPECT_FALSE(Transform().swapsHandedness());
+    EXPECT_FALSE(Transform::rotate(123, {1, 2, 3}).swapsHandedness());
+    EXPECT_FALSE(Transform::translate({-1, -1, -1}).swapsHandedness());
+    EXPECT_TRUE(Transform::scale({-1, 1, 1}).swapsHandedness());
+    EXPECT_FALSE(Transform::scale({-1, -1, 1}).swapsHandedness());
+    EXPECT_TRUE(Transform::scale({-2, -3, -0.5f}).swapsHandedness());
+    EXPECT_TRUE((Transform::rotate(40, {0, 1, 0}) * Transform::scale({1, 1, -1}) * Transform::translate({3, 0, 0}))
+                    .swapsHandedness());
+}
+
+}  // namespace
+}  // namespace penumbra

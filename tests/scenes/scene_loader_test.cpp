@@ -1,0 +1,506 @@
+#include "scenes/scene_loader.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "expect_input_error.h"
+
+namespace penumbra {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::catchInputError;
+
+const fs::path kScenes = fs::path(PENUMBRA_TEST_DATA_DIR) / "scenes";
+const fs::path kCornellBox = fs::path(PENUMBRA_SOURCE_DIR) / "scenes" / "cornell-box.json";
+const fs::path kPbrtCornellBox = fs::path(PENUMBRA_DATA_DIR) / "cornell-box-bitterli" / "scene-v4.pbrt";
+
+void expectNear(Vec3f a, Vec3f b, float tolerance = 1e-5f) {
+    EXPECT_NEAR(a.x, b.x, tolerance);
+    EXPECT_NEAR(a.y, b.y, tolerance);
+    EXPECT_NEAR(a.z, b.z, tolerance);
+}
+
+// The front normal of a triangle, from its winding.
+Vec3f windingNormal(const TriangleMesh& mesh, size_t triangle) {
+    const Vec3f p0 = mesh.positions[mesh.indices[3 * triangle]];
+    const Vec3f p1 = mesh.positions[mesh.indices[3 * triangle + 1]];
+    const Vec3f p2 = mesh.positions[mesh.indices[3 * triangle + 2]];
+    return normalize(cross(p1 - p0, p2 - p0));
+}
+
+// A scene with one shape (and the material "m"), parsed as if it were kScenes/inline.json.
+Scene sceneWithShape(const std::string& shapeJson) {
+    return parseScene(R"({"materials": {"m": {"type": "lambert"}}, "shapes": [)" + shapeJson + "]}",
+                      kScenes / "inline.json");
+}
+
+// ---- Good scenes ----
+
+TEST(SceneLoader, ReadsEveryKey) {
+    const Scene scene = loadScene(kScenes / "all_features.json");
+    EXPECT_EQ(scene.sourcePath, kScenes / "all_features.json");
+
+    expectNear(scene.camera.lookFrom, {0, 1, 5});
+    expectNear(scene.camera.lookAt, {0, 1, 0});
+    expectNear(scene.camera.up, {0, 1, 0});
+    EXPECT_FLOAT_EQ(scene.camera.verticalFovDegrees, 30.0f);
+    EXPECT_FLOAT_EQ(scene.camera.apertureRadius, 0.05f);
+    EXPECT_FLOAT_EQ(scene.camera.focusDistance, 4.5f);
+    EXPECT_FLOAT_EQ(scene.camera.shutterOpen, 0.0f);
+    EXPECT_FLOAT_EQ(scene.camera.shutterClose, 0.5f);
+
+    EXPECT_EQ(scene.film.width, 320);
+    EXPECT_EQ(scene.film.height, 240);
+    EXPECT_EQ(scene.film.samplesPerPixel, 8);
+    EXPECT_EQ(scene.film.filter, FilterKind::Box);
+    EXPECT_FLOAT_EQ(scene.film.filterRadius, 0.5f);
+    EXPECT_EQ(scene.integrator.maxDepth, 5);
+    EXPECT_EQ(scene.integrator.rouletteStartDepth, 2);
+    EXPECT_EQ(scene.settings.sampler, SamplerKind::Independent);
+    EXPECT_EQ(scene.settings.seed, 42u);
+    EXPECT_EQ(scene.background, Rgb(0.1f, 0.2f, 0.3f));
+
+    ASSERT_EQ(scene.materials.size(), 3u);  // in file order
+    EXPECT_EQ(scene.materials[0].name, "white");
+    EXPECT_EQ(scene.materials[0].albedo, Rgb(0.8f));
+    EXPECT_EQ(scene.materials[1].name, "red");
+    EXPECT_EQ(scene.materials[1].albedo, Rgb(0.9f, 0.1f, 0.1f));
+    EXPECT_EQ(scene.materials[2].albedo, Rgb(0.5f));  // the default
+
+    ASSERT_EQ(scene.meshes.size(), 4u);
+    const TriangleMesh& inlineMesh = scene.meshes[0];
+    EXPECT_EQ(inlineMesh.name, "/shapes/0");
+    EXPECT_EQ(inlineMesh.triangleCount(), 1u);
+    expectNear(inlineMesh.normals[0], {0, 0, 1});  // [0, 0, 3], normalized
+    EXPECT_FLOAT_EQ(inlineMesh.uvs[2].y, 1.0f);
+    EXPECT_EQ(inlineMesh.material, 0u);
+    EXPECT_FALSE(inlineMesh.emission.emits());
+
+    const TriangleMesh& obj = scene.meshes[1];  // found relative to the scene's folder
+    EXPECT_EQ(obj.name, "/shapes/1 (square.obj)");
+    EXPECT_EQ(obj.triangleCount(), 2u);
+    EXPECT_EQ(obj.material, 1u);
+    expectNear(obj.positions[2], {1, 1, -1});  // translated by -1 in z
+
+    EXPECT_EQ(scene.meshes[2].name, "/shapes/2 (square_binary_le.ply)");
+    EXPECT_EQ(scene.meshes[2].triangleCount(), 3u);
+    EXPECT_EQ(scene.meshes[2].material, 2u);
+
+    const TriangleMesh& quad = scene.meshes[3];
+    EXPECT_EQ(quad.triangleCount(), 2u);
+    EXPECT_EQ(quad.emission.radiance, Rgb(4.0f));
+    EXPECT_TRUE(quad.emission.twoSided);
+    expectNear(windingNormal(quad, 0), {0, -1, 0});  // cross(edge1 = +x, edge2 = +z) = -y
+    expectNear(windingNormal(quad, 1), {0, -1, 0});
+
+    ASSERT_EQ(scene.spheres.size(), 1u);
+    const Sphere& sphere = scene.spheres[0];
+    EXPECT_EQ(sphere.name, "/shapes/4");
+    expectNear(sphere.center, {1, 1, 0});  // scaled by 2, then moved by +1 in x
+    EXPECT_FLOAT_EQ(sphere.radius, 1.0f);
+    EXPECT_EQ(sphere.material, 1u);
+    EXPECT_EQ(sphere.emission.radiance, Rgb(2.0f));
+    EXPECT_FALSE(sphere.emission.twoSided);
+
+    ASSERT_EQ(scene.pointLights.size(), 1u);
+    expectNear(scene.pointLights[0].position, {0, 3, 0});
+    EXPECT_EQ(scene.pointLights[0].intensity, Rgb(10.0f));
+}
+
+TEST(SceneLoader, EmptySceneIsValidAndUsesDefaults) {
+    const Scene scene = loadScene(kScenes / "minimal.json");
+    EXPECT_TRUE(scene.meshes.empty());
+    EXPECT_TRUE(scene.spheres.empty());
+    EXPECT_TRUE(scene.pointLights.empty());
+    EXPECT_TRUE(scene.background.isBlack());
+    EXPECT_EQ(scene.film.width, FilmDesc{}.width);
+    EXPECT_EQ(scene.film.samplesPerPixel, FilmDesc{}.samplesPerPixel);
+    EXPECT_EQ(scene.integrator.maxDepth, IntegratorDesc{}.maxDepth);
+}
+
+TEST(SceneLoader, CornellBox) {
+    const Scene scene = loadScene(kCornellBox);
+    expectNear(scene.camera.lookFrom, {0, 1, 6.8f});
+    expectNear(scene.camera.lookAt, {0, 1, 0});
+    expectNear(scene.camera.up, {0, 1, 0});
+    EXPECT_FLOAT_EQ(scene.camera.verticalFovDegrees, 19.5f);
+    EXPECT_EQ(scene.camera.apertureRadius, 0.0f);
+    EXPECT_EQ(scene.film.width, 1024);
+    EXPECT_EQ(scene.film.height, 1024);
+    EXPECT_EQ(scene.film.samplesPerPixel, 64);
+    EXPECT_EQ(scene.film.filter, FilterKind::Tent);
+    EXPECT_FLOAT_EQ(scene.film.filterRadius, 1.0f);
+    EXPECT_EQ(scene.integrator.maxDepth, 65);  // pbrt-v4 file: "integer maxdepth" [ 65 ]
+    EXPECT_TRUE(scene.background.isBlack());
+    EXPECT_TRUE(scene.spheres.empty());
+    EXPECT_TRUE(scene.pointLights.empty());
+
+    ASSERT_EQ(scene.materials.size(), 8u);
+    EXPECT_EQ(scene.materials[0].name, "LeftWall");
+    EXPECT_EQ(scene.materials[0].albedo, Rgb(0.63f, 0.065f, 0.05f));
+    EXPECT_EQ(scene.materials[1].albedo, Rgb(0.14f, 0.45f, 0.091f));
+    EXPECT_EQ(scene.materials[7].name, "Light");
+    EXPECT_TRUE(scene.materials[7].albedo.isBlack());
+
+    ASSERT_EQ(scene.meshes.size(), 8u);
+    size_t triangles = 0;
+    for (const TriangleMesh& mesh : scene.meshes) triangles += mesh.triangleCount();
+    EXPECT_EQ(triangles, 36u);
+
+    // Exactly one emitter: the light quad, one-sided and facing down into the box.
+    const TriangleMesh& light = scene.meshes.back();
+    EXPECT_EQ(scene.materials[light.material].name, "Light");
+    EXPECT_EQ(light.emission.radiance, Rgb(17, 12, 4));
+    EXPECT_FALSE(light.emission.twoSided);
+    ASSERT_EQ(light.triangleCount(), 2u);
+    expectNear(windingNormal(light, 0), {0, -1, 0});
+    expectNear(windingNormal(light, 1), {0, -1, 0});
+    for (size_t i = 0; i + 1 < scene.meshes.size(); ++i) EXPECT_FALSE(scene.meshes[i].emission.emits()) << i;
+}
+
+// The numbers inside each `"NAME" [ ... ]` of a pbrt file, in order.
+std::vector<std::vector<float>> pbrtArrays(const std::string& text, const std::string& name) {
+    std::vector<std::vector<float>> arrays;
+    const std::string key = "\"" + name + "\" [";
+    for (size_t pos = text.find(key); pos != std::string::npos; pos = text.find(key, pos)) {
+        pos += key.size();
+        std::istringstream numbers(text.substr(pos, text.find(']', pos) - pos));
+        std::vector<float> values;
+        for (float v = 0; numbers >> v;) values.push_back(v);
+        arrays.push_back(values);
+    }
+    return arrays;
+}
+
+// Each `KEYWORD "NAME"` of a pbrt file (not preceded by a letter), in order.
+std::vector<std::string> pbrtNames(const std::string& text, const std::string& keyword) {
+    std::vector<std::string> names;
+    const std::string key = keyword + " \"";
+    for (size_t pos = text.find(key); pos != std::string::npos; pos = text.find(key, pos + 1)) {
+        if (pos > 0 && std::isalpha(static_cast<unsigned char>(text[pos - 1]))) continue;
+        const size_t start = pos + key.size();
+        names.push_back(text.substr(start, text.find('"', start) - start));
+    }
+    return names;
+}
+
+TEST(SceneLoader, CornellBoxMatchesThePbrtOriginal) {
+    if (!fs::exists(kPbrtCornellBox)) GTEST_SKIP() << "shared test data not found: " << kPbrtCornellBox;
+    std::ifstream in(kPbrtCornellBox);
+    std::stringstream buffer;
+    buffer << in.rdbuf();
+    const std::string pbrt = buffer.str();
+    const Scene scene = loadScene(kCornellBox);
+
+    const auto materialNames = pbrtNames(pbrt, "MakeNamedMaterial");
+    const auto reflectances = pbrtArrays(pbrt, "rgb reflectance");
+    ASSERT_EQ(materialNames.size(), scene.materials.size());
+    ASSERT_EQ(reflectances.size(), scene.materials.size());
+    for (size_t i = 0; i < materialNames.size(); ++i) {
+        EXPECT_EQ(scene.materials[i].name, materialNames[i]);
+        EXPECT_EQ(scene.materials[i].albedo, Rgb(reflectances[i][0], reflectances[i][1], reflectances[i][2]));
+    }
+
+    const auto meshMaterials = pbrtNames(pbrt, "NamedMaterial");
+    const auto positions = pbrtArrays(pbrt, "point3 P");
+    const auto indices = pbrtArrays(pbrt, "integer indices");
+    ASSERT_EQ(positions.size(), scene.meshes.size());
+    ASSERT_EQ(indices.size(), scene.meshes.size());
+    ASSERT_EQ(meshMaterials.size(), scene.meshes.size());
+    for (size_t m = 0; m < scene.meshes.size(); ++m) {
+        const TriangleMesh& mesh = scene.meshes[m];
+        EXPECT_EQ(scene.materials[mesh.material].name, meshMaterials[m]);
+        ASSERT_EQ(mesh.positions.size() * 3, positions[m].size()) << "mesh " << m;
+        for (size_t i = 0; i < mesh.positions.size(); ++i)
+            for (int k = 0; k < 3; ++k)
+                EXPECT_FLOAT_EQ(mesh.positions[i][k], positions[m][3 * i + size_t(k)]);
+        ASSERT_EQ(mesh.indices.size(), indices[m].size()) << "mesh " << m;
+        for (size_t i = 0; i < mesh.indices.size(); ++i) EXPECT_EQ(float(mesh.indices[i]), indices[m][i]);
+    }
+    EXPECT_EQ(pbrtArrays(pbrt, "rgb L").at(0), (std::vector<float>{17, 12, 4}));
+}
+
+TEST(SceneTransforms, TranslatedAndScaledQuadLandsWhereExpected) {
+    // Scale by 2 first, then move by (1, 2, 3).
+    Scene scene =
+        sceneWithShape(R"({"type": "quad", "corner": [0, 0, 0], "edge1": [1, 0, 0], "edge2": [0, 1, 0],
+        "material": "m", "transform": [{"scale": 2}, {"translate": [1, 2, 3]}]})");
+    ASSERT_EQ(scene.meshes.size(), 1u);
+    const TriangleMesh& quad = scene.meshes[0];
+    ASSERT_EQ(quad.positions.size(), 4u);
+    expectNear(quad.positions[0], {1, 2, 3});
+    expectNear(quad.positions[1], {3, 2, 3});
+    expectNear(quad.positions[2], {3, 4, 3});
+    expectNear(quad.positions[3], {1, 4, 3});
+    expectNear(windingNormal(quad, 0), {0, 0, 1});
+
+    // The other order moves first, so the move is scaled too.
+    scene = sceneWithShape(R"({"type": "quad", "corner": [0, 0, 0], "edge1": [1, 0, 0], "edge2": [0, 1, 0],
+        "material": "m", "transform": [{"translate": [1, 2, 3]}, {"scale": [2, 2, 2]}]})");
+    expectNear(scene.meshes[0].positions[0], {2, 4, 6});
+}
+
+TEST(SceneTransforms, MirrorKeepsTheFrontFace) {
+    // A quad at z = 1 facing +z, mirrored in x: it still faces +z.
+    const Scene scene =
+        sceneWithShape(R"({"type": "quad", "corner": [0, 0, 1], "edge1": [1, 0, 0], "edge2": [0, 1, 0],
+        "material": "m", "transform": [{"scale": [-1, 1, 1]}]})");
+    const TriangleMesh& quad = scene.meshes[0];
+    expectNear(quad.positions[2], {-1, 1, 1});
+    expectNear(windingNormal(quad, 0), {0, 0, 1});
+    expectNear(windingNormal(quad, 1), {0, 0, 1});
+}
+
+TEST(SceneTransforms, RotateAndMatrix) {
+    Scene scene =
+        sceneWithShape(R"({"type": "quad", "corner": [0, 0, 0], "edge1": [1, 0, 0], "edge2": [0, 1, 0],
+        "material": "m", "transform": [{"rotate": {"axis": [0, 1, 0], "degrees": 90}}]})");
+    expectNear(scene.meshes[0].positions[1], {0, 0, -1});  // +x turns to -z about +y
+    expectNear(windingNormal(scene.meshes[0], 0), {1, 0, 0});
+
+    scene = sceneWithShape(R"({"type": "quad", "corner": [0, 0, 0], "edge1": [1, 0, 0], "edge2": [0, 1, 0],
+        "material": "m", "transform": [{"matrix": [1, 0, 0, 5,  0, 1, 0, 0,  0, 0, 1, 0,  0, 0, 0, 1]}]})");
+    expectNear(scene.meshes[0].positions[2], {6, 1, 0});  // row-major: the last column translates
+}
+
+TEST(SceneTransforms, InlineMeshNormalsAreTransformed) {
+    const Scene scene = sceneWithShape(R"({"type": "triangle_mesh", "material": "m",
+        "positions": [[0, 0, 0], [1, 0, 0], [0, 1, 0]], "indices": [0, 1, 2],
+        "normals": [[0, 0, 1], [0, 0, 1], [0, 0, 1]], "transform": [{"scale": [1, 1, -1]}]})");
+    const TriangleMesh& mesh = scene.meshes[0];
+    for (const Vec3f& n : mesh.normals) expectNear(n, {0, 0, -1});
+    expectNear(windingNormal(mesh, 0), {0, 0, -1});  // winding agrees with the mirrored normals
+}
+
+// ---- Bad input ----
+
+TEST(SceneErrors, MissingSceneFile) {
+    const fs::path file = kScenes / "no-such-scene.json";
+    const InputError e = catchInputError([&] { loadScene(file); });
+    EXPECT_EQ(e.where().file, file.string());
+    EXPECT_CONTAINS(e.what(), "no-such-scene.json: scene file not found");
+}
+
+TEST(SceneErrors, SyntaxErrorHasLineAndColumn) {
+    const InputError e = catchInputError([] { parseScene("{\n  \"film\": {\"spp\" 16}\n}", "broken.json"); });
+    EXPECT_EQ(e.where().file, "broken.json");
+    EXPECT_EQ(e.where().line, 2);
+    EXPECT_EQ(e.where().column, 19);  // the last character read: the end of the unexpected "16"
+    EXPECT_CONTAINS(e.what(), "broken.json:2:19: syntax error");
+    EXPECT_CONTAINS(e.what(), "expected ':'");
+}
+
+TEST(SceneErrors, UnknownKeys) {
+    InputError e = catchInputError([] { parseScene(R"({"cameras": {}})", "scene.json"); });
+    EXPECT_EQ(std::string(e.what()),
+              "scene.json: /cameras: unknown key (expected one of: camera, film, integrator, "
+              "render, background, materials, shapes, lights)");
+
+    e = catchInputError([] {
+        parseScene(R"({"materials": {"m": {"type": "lambert"}}, "shapes": [
+            {"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "m"},
+            {"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "m"},
+            {"type": "sphere", "center": [0, 0, 0], "radus": 1, "material": "m"}]})",
+                   "scene.json");
+    });
+    EXPECT_EQ(std::string(e.what()),
+              "scene.json: /shapes/2/radus: unknown key (expected one of: type, center, "
+              "radius, material, emission, transform)");
+
+    e = catchInputError(
+        [] { parseScene(R"({"film": {"filter": {"type": "box", "radius": 1, "width": 2}}})", "s.json"); });
+    EXPECT_EQ(e.where().jsonPointer, "/film/filter/width");
+}
+
+TEST(SceneErrors, WrongTypes) {
+    InputError e = catchInputError([] { parseScene(R"({"film": {"spp": "16"}})", "scene.json"); });
+    EXPECT_EQ(std::string(e.what()),
+              "scene.json: /film/spp: expected an integer >= 1, found the string \"16\"");
+
+    e = catchInputError([] { parseScene(R"({"camera": {"look_from": [0, 1]}})", "scene.json"); });
+    EXPECT_EQ(std::string(e.what()),
+              "scene.json: /camera/look_from: expected an array of 3 numbers, found an array of 2 values");
+
+    e = catchInputError([] { parseScene(R"({"shapes": {}})", "scene.json"); });
+    EXPECT_EQ(std::string(e.what()), "scene.json: /shapes: expected an array, found an empty object");
+
+    e = catchInputError([] { parseScene("[]", "scene.json"); });
+    EXPECT_CONTAINS(e.what(), "scene.json: expected a JSON object");
+
+    e = catchInputError(
+        [] { sceneWithShape(R"({"type": "spher", "center": [0, 0, 0], "radius": 1, "material": "m"})"); });
+    EXPECT_CONTAINS(e.what(), "/shapes/0/type: expected one of: triangle_mesh, mesh_file, quad, sphere");
+}
+
+TEST(SceneErrors, UnknownMaterialListsTheKnownOnes) {
+    InputError e = catchInputError([] {
+        parseScene(R"({"materials": {"Floor": {"type": "lambert"}, "Wall": {"type": "lambert"}},
+                       "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "Flor"}]})",
+                   "scene.json");
+    });
+    EXPECT_EQ(e.where().jsonPointer, "/shapes/0/material");
+    EXPECT_EQ(std::string(e.what()),
+              "scene.json: /shapes/0/material: unknown material \"Flor\" (known materials: Floor, Wall)");
+
+    e = catchInputError([] {
+        parseScene(R"({"shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "x"}]})",
+                   "s.json");
+    });
+    EXPECT_CONTAINS(e.what(), "the scene defines no materials");
+}
+
+TEST(SceneErrors, DuplicateMaterialName) {
+    const InputError e = catchInputError([] {
+        parseScene(R"({"materials": {"m": {"type": "lambert"}, "m": {"type": "lambert", "albedo": 1}}})",
+                   "s.json");
+    });
+    EXPECT_EQ(e.where().jsonPointer, "/materials/m");
+    EXPECT_CONTAINS(e.what(), "duplicate key");
+}
+
+TEST(SceneErrors, MissingMeshFileNamesTheFileAndTheShape) {
+    const InputError e = catchInputError(
+        [] { sceneWithShape(R"({"type": "mesh_file", "file": "meshes/nope.obj", "material": "m"})"); });
+    EXPECT_EQ(e.where().file, (kScenes / "meshes/nope.obj").string());
+    EXPECT_CONTAINS(e.what(), "nope.obj: mesh file not found");
+    EXPECT_CONTAINS(e.what(), "inline.json: /shapes/0/file");
+}
+
+TEST(SceneErrors, MalformedMeshFileKeepsItsLine) {
+    const InputError e = catchInputError(
+        [] { sceneWithShape(R"({"type": "mesh_file", "file": "meshes/bad_number.obj", "material": "m"})"); });
+    EXPECT_EQ(e.where().line, 3);
+    EXPECT_CONTAINS(e.what(), "bad_number.obj:3:5: expected a number, found 'abc'");
+    EXPECT_CONTAINS(e.what(), "/shapes/0/file");
+}
+
+TEST(SceneErrors, InlineMeshProblems) {
+    InputError e = catchInputError([] {
+        sceneWithShape(
+            R"({"type": "triangle_mesh", "material": "m", "positions": [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]],
+                           "indices": [0, 1, 2, 0, 2, 3, 1, 4, 2]})");
+    });
+    EXPECT_EQ(e.where().jsonPointer, "/shapes/0/indices/7");
+    EXPECT_CONTAINS(e.what(), "/shapes/0/indices/7: index 4 is out of range: the mesh has 4 positions");
+
+    e = catchInputError([] {
+        sceneWithShape(
+            R"({"type": "triangle_mesh", "material": "m", "positions": [[0, 0, 0], [1, 0, 0], [0, 1, 0]], "indices": [0, 1]})");
+    });
+    EXPECT_CONTAINS(e.what(),
+                    "/shapes/0/indices: expected a non-empty array of vertex indices, 3 per triangle");
+
+    e = catchInputError([] {
+        sceneWithShape(
+            R"({"type": "triangle_mesh", "material": "m", "positions": [[0, 0, 0], [1, 0, 0], [0, 1, 0]],
+                           "indices": [0, 1, 2], "normals": [[0, 0, 1]]})");
+    });
+    EXPECT_CONTAINS(e.what(), "/shapes/0/normals: expected an array of 3 normals, one per position");
+
+    e = catchInputError([] {
+        sceneWithShape(
+            R"({"type": "triangle_mesh", "material": "m", "positions": [[0, 0, 0], [1, 0, 0], [0, 1, 0]], "indices": [0, 1, -2]})");
+    });
+    EXPECT_CONTAINS(e.what(), "/shapes/0/indices/2: expected an integer >= 0, found -2");
+}
+
+TEST(SceneErrors, SppZero) {
+    const InputError e = catchInputError([] { parseScene(R"({"film": {"spp": 0}})", "scene.json"); });
+    EXPECT_EQ(std::string(e.what()), "scene.json: /film/spp: expected an integer >= 1, found 0");
+}
+
+TEST(SceneErrors, ResolutionZero) {
+    const InputError e =
+        catchInputError([] { parseScene(R"({"film": {"resolution": [640, 0]}})", "scene.json"); });
+    EXPECT_EQ(std::string(e.what()),
+              "scene.json: /film/resolution/1: expected an integer in [1, 65536], found 0");
+}
+
+TEST(SceneErrors, NegativeRadius) {
+    const InputError e = catchInputError(
+        [] { sceneWithShape(R"({"type": "sphere", "center": [0, 0, 0], "radius": -1, "material": "m"})"); });
+    EXPECT_EQ(e.where().jsonPointer, "/shapes/0/radius");
+    EXPECT_CONTAINS(e.what(), "/shapes/0/radius: expected a number > 0, found -1");
+}
+
+TEST(SceneErrors, SingularTransform) {
+    InputError e = catchInputError([] {
+        sceneWithShape(
+            R"({"type": "quad", "corner": [0, 0, 0], "edge1": [1, 0, 0], "edge2": [0, 1, 0], "material": "m",
+                           "transform": [{"translate": [1, 0, 0]}, {"matrix": [1, 0, 0, 0,  0, 1, 0, 0,  1, 1, 0, 0,  0, 0, 0, 1]}]})");
+    });
+    EXPECT_EQ(e.where().jsonPointer, "/shapes/0/transform/1/matrix");
+    EXPECT_CONTAINS(e.what(), "the matrix is singular");
+
+    e = catchInputError([] {
+        sceneWithShape(
+            R"({"type": "quad", "corner": [0, 0, 0], "edge1": [1, 0, 0], "edge2": [0, 1, 0], "material": "m",
+                           "transform": [{"scale": [1, 0, 1]}]})");
+    });
+    EXPECT_CONTAINS(e.what(), "/shapes/0/transform/0/scale: expected non-zero scale factors");
+
+    e = catchInputError([] {
+        sceneWithShape(
+            R"({"type": "quad", "corner": [0, 0, 0], "edge1": [1, 0, 0], "edge2": [0, 1, 0], "material": "m",
+                           "transform": [{"matrix": [1, 0, 0, 0,  0, 1, 0, 0,  0, 0, 1, 0,  0, 0, 1, 1]}]})");
+    });
+    EXPECT_CONTAINS(e.what(), "/shapes/0/transform/0/matrix: expected an affine matrix");
+
+    e = catchInputError([] {
+        sceneWithShape(
+            R"({"type": "quad", "corner": [0, 0, 0], "edge1": [1, 0, 0], "edge2": [0, 1, 0], "material": "m",
+                           "transform": [{"translate": [1, 0, 0], "scale": 2}]})");
+    });
+    EXPECT_CONTAINS(e.what(), "/shapes/0/transform/0: expected an object with exactly one key");
+}
+
+TEST(SceneErrors, SphereTransformMustKeepItRound) {
+    const InputError e = catchInputError([] {
+        sceneWithShape(
+            R"({"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "m", "transform": [{"scale": [1, 2, 1]}]})");
+    });
+    EXPECT_EQ(e.where().jsonPointer, "/shapes/0/transform");
+    EXPECT_CONTAINS(e.what(), "ellipsoid");
+}
+
+TEST(SceneErrors, ValuesOutOfRange) {
+    InputError e = catchInputError([] {
+        sceneWithShape(R"({"type": "sphere", "center": [0, 1e39, 0], "radius": 1, "material": "m"})");
+    });
+    EXPECT_EQ(e.where().jsonPointer, "/shapes/0/center/1");
+    EXPECT_CONTAINS(e.what(), "out of range (expected a finite 32-bit float)");
+
+    e = catchInputError([] { parseScene(R"({"camera": {"fov": 180}})", "s.json"); });
+    EXPECT_CONTAINS(e.what(), "/camera/fov: expected a vertical field of view in degrees");
+
+    e = catchInputError([] { parseScene(R"({"camera": {"shutter": [1, 0.5]}})", "s.json"); });
+    EXPECT_CONTAINS(e.what(), "/camera/shutter: expected [open, close] with close >= open");
+
+    e = catchInputError(
+        [] { parseScene(R"({"camera": {"look_from": [0, 0, 0], "look_at": [0, 0, 0]}})", "s.json"); });
+    EXPECT_EQ(e.where().jsonPointer, "/camera");
+
+    e = catchInputError([] {
+        parseScene(R"({"materials": {"m": {"type": "lambert", "albedo": [0.5, 1.5, 0]}}})", "s.json");
+    });
+    EXPECT_CONTAINS(e.what(), "/materials/m/albedo/1: expected a number in [0, 1], found 1.5");
+
+    e = catchInputError([] { parseScene(R"({"background": -1})", "s.json"); });
+    EXPECT_CONTAINS(e.what(), "/background: expected a number >= 0, found -1");
+
+    e = catchInputError([] { parseScene(R"({"render": {"seed": 1.5}})", "s.json"); });
+    EXPECT_CONTAINS(e.what(), "/render/seed: expected an integer >= 0, found 1.5");
+
+    e = catchInputError([] {
+        sceneWithShape(
+            R"({"type": "quad", "corner": [0, 0, 0], "edge1": [1, 0, 0], "edge2": [2, 0, 0], "material": "m"})");
+    });
+    EXPECT_CONTAINS(e.what(), "/shapes/0: edge1 and edge2 are zero or parallel");
+}
+
+}  // namespace
+}  // namespace penumbra

@@ -1,0 +1,566 @@
+#include "tools/crosscheck.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <optional>
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include "cameras/camera.h"
+#include "core/frame.h"
+#include "core/hash.h"
+#include "core/ray_offset.h"
+#include "core/sampling.h"
+#include "renderer/surface_interaction.h"
+#include "scenes/bvh_accelerator.h"
+#include "scenes/embree_accelerator.h"
+#include "scenes/scene_loader.h"
+
+namespace penumbra {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+constexpr int kMaxBounces = 4;
+// Shadow segments stop this short of their (offset) target, as the integrator's do.
+constexpr float kShadowRayEnd = 1.0f - 0x1p-20f;
+
+// Uniform numbers for one ray: a hash of (seed, kind, index, dimension).
+class RayRandom {
+public:
+    RayRandom(uint64_t seed, CrosscheckRayKind kind, uint64_t index) : seed_(seed), kind_(uint64_t(kind)), index_(index) {}
+    float next() { return bitsToUnitFloat(uint32_t(hashWords(seed_, kind_, index_, dimension_++) >> 32)); }
+    Vec2f next2() {
+        const float a = next();
+        return {a, next()};
+    }
+
+private:
+    uint64_t seed_, kind_, index_;
+    uint64_t dimension_ = 0;
+};
+
+ThinLensCamera makeCamera(const Scene& scene) {
+    // As renderer/render.cpp builds it.
+    const CameraDesc& c = scene.camera;
+    ThinLensCameraParams p;
+    p.lookFrom = c.lookFrom;
+    p.lookAt = c.lookAt;
+    p.up = c.up;
+    p.verticalFovDegrees = c.verticalFovDegrees;
+    p.apertureRadius = c.apertureRadius;
+    p.focusDistance = c.focusDistance;
+    p.apertureBlades = c.apertureBlades;
+    p.apertureRotationDegrees = c.apertureRotationDegrees;
+    p.shutterOpen = c.shutterOpen;
+    p.shutterClose = c.shutterClose;
+    p.filmWidth = scene.film.width;
+    p.filmHeight = scene.film.height;
+    return ThinLensCamera(p);
+}
+
+struct SceneExtent {
+    Vec3f lower{-1.0f, -1.0f, -1.0f}, upper{1.0f, 1.0f, 1.0f};
+};
+
+SceneExtent measureScene(const Scene& scene) {
+    constexpr float inf = std::numeric_limits<float>::infinity();
+    Vec3f lower{inf, inf, inf}, upper{-inf, -inf, -inf};
+    for (const TriangleMesh& mesh : scene.meshes)
+        for (const Vec3f& p : mesh.positions)
+            if (isFinite(p)) {
+                lower = min(lower, p);
+                upper = max(upper, p);
+            }
+    for (const Sphere& s : scene.spheres) {
+        const Vec3f r(s.radius, s.radius, s.radius);
+        lower = min(lower, s.center - r);
+        upper = max(upper, s.center + r);
+    }
+    if (!(lower.x <= upper.x && lower.y <= upper.y && lower.z <= upper.z)) return {};
+    return {lower, upper};
+}
+
+// Every primitive of the scene by one global index: triangles of all meshes in order, then spheres.
+class PrimitiveIndex {
+public:
+    explicit PrimitiveIndex(const Scene& scene) : scene_(scene) {
+        uint64_t total = 0;
+        for (const TriangleMesh& mesh : scene.meshes) {
+            first_.push_back(total);
+            total += mesh.triangleCount();
+        }
+        first_.push_back(total);
+        triangles_ = total;
+    }
+    uint64_t count() const { return triangles_ + scene_.spheres.size(); }
+
+    struct Point {
+        Vec3f position, normal;
+        uint32_t geomId = 0, primId = 0;
+    };
+    // A uniformly chosen point on primitive `g`.
+    Point sample(uint64_t g, Vec2f u) const {
+        Point point;
+        if (g >= triangles_) {
+            const Sphere& s = scene_.spheres[g - triangles_];
+            point.normal = sampleUniformSphere(u);
+            point.position = s.center + point.normal * s.radius;
+            point.geomId = uint32_t(scene_.meshes.size());
+            point.primId = uint32_t(g - triangles_);
+            return point;
+        }
+        const size_t m = size_t(std::upper_bound(first_.begin(), first_.end(), g) - first_.begin()) - 1;
+        const TriangleMesh& mesh = scene_.meshes[m];
+        const size_t j = size_t(g - first_[m]);
+        const Vec3f p0 = mesh.positions[mesh.indices[3 * j]], p1 = mesh.positions[mesh.indices[3 * j + 1]],
+                    p2 = mesh.positions[mesh.indices[3 * j + 2]];
+        const Vec2f b = sampleUniformTriangle(u);
+        point.position = p0 * (1.0f - b.x - b.y) + p1 * b.x + p2 * b.y;
+        const Vec3f n = cross(p1 - p0, p2 - p0);
+        const float nLength = length(n);
+        point.normal = nLength > 0.0f ? n / nLength : Vec3f{0.0f, 0.0f, 1.0f};
+        point.geomId = uint32_t(m);
+        point.primId = uint32_t(j);
+        return point;
+    }
+
+private:
+    const Scene& scene_;
+    std::vector<uint64_t> first_;
+    uint64_t triangles_ = 0;
+};
+
+Ray makeRandomRay(const SceneExtent& extent, RayRandom& random) {
+    Ray ray;
+    const Vec3f d = extent.upper - extent.lower;
+    const float ux = random.next(), uy = random.next(), uz = random.next();
+    ray.origin = {extent.lower.x + ux * d.x, extent.lower.y + uy * d.y, extent.lower.z + uz * d.z};
+    ray.direction = sampleUniformSphere(random.next2());
+    return ray;
+}
+
+Ray makeCameraRay(const Scene& scene, const ThinLensCamera& camera, RayRandom& random) {
+    const Vec2f film = random.next2();
+    const Vec2f lens = random.next2();
+    return camera.generateRay({film.x * float(scene.film.width), film.y * float(scene.film.height)}, lens,
+                              random.next());
+}
+
+// A segment from a surface point to a point on another surface, both ends moved off their
+// surfaces, as the integrator's shadow rays are (renderer/path_integrator.h).
+Ray makeShadowRay(Vec3f from, Vec3f fromNormal, const PrimitiveIndex::Point& to, float time) {
+    const Vec3f toTarget = to.position - from;
+    const Vec3f side = dot(toTarget, fromNormal) >= 0.0f ? fromNormal : -fromNormal;
+    Ray ray;
+    ray.origin = offsetRayOrigin(from, side);
+    const Vec3f target = offsetRayOrigin(to.position, faceForward(to.normal, ray.origin - to.position));
+    ray.direction = target - ray.origin;
+    ray.tfar = kShadowRayEnd;
+    ray.time = time;
+    return ray;
+}
+
+// |a - b| relative to the larger magnitude.
+double relativeDifference(double a, double b) {
+    const double scale = std::max(std::abs(a), std::abs(b));
+    return scale > 0.0 ? std::abs(a - b) / scale : 0.0;
+}
+
+bool isTriangleHit(const Scene& scene, const Hit& hit) { return hit.geomId < scene.meshes.size(); }
+
+bool isNearEdge(const Scene& scene, const Hit& hit) {
+    if (!isTriangleHit(scene, hit)) return false;
+    const float b0 = 1.0f - hit.u - hit.v;
+    return std::min(b0, std::min(hit.u, hit.v)) < kEdgeTolerance;
+}
+
+float incidenceCosine(const Scene& scene, const Ray& ray, const Hit& hit) {
+    Vec3f normal;
+    if (isTriangleHit(scene, hit)) {
+        const TriangleMesh& mesh = scene.meshes[hit.geomId];
+        const Vec3f p0 = mesh.positions[mesh.indices[3 * hit.primId]],
+                    p1 = mesh.positions[mesh.indices[3 * hit.primId + 1]],
+                    p2 = mesh.positions[mesh.indices[3 * hit.primId + 2]];
+        normal = cross(p1 - p0, p2 - p0);
+    } else {
+        normal = ray.at(hit.t) - scene.spheres[hit.primId].center;
+    }
+    const float denominator = length(normal) * length(ray.direction);
+    return denominator > 0.0f ? std::abs(dot(normal, ray.direction)) / denominator : 0.0f;
+}
+
+bool samePrimitive(const Hit& a, const Hit& b) { return a.geomId == b.geomId && a.primId == b.primId; }
+
+std::string hexFloat(float value) {
+    char buffer[64];
+    std::snprintf(buffer, sizeof buffer, "%a", double(value));
+    return buffer;
+}
+
+std::string describeAnswer(const CrosscheckRay& ray, const BackendAnswer& answer) {
+    if (!answer.hitSomething) return ray.isSegment() ? "not blocked" : "miss";
+    std::string text = ray.isSegment() ? "blocked" : "hit";
+    if (answer.hasHit) {
+        const Hit& h = answer.hit;
+        text += fmt::format(" geom {} prim {} at t {} ({:.9g}), u {:.9g}, v {:.9g}", h.geomId, h.primId, hexFloat(h.t),
+                            h.t, h.u, h.v);
+    }
+    return text;
+}
+
+template <typename Accel>
+double measureRaysPerSecond(const Accel& accel, const std::vector<CrosscheckRay>& rays) {
+    if (rays.empty()) return 0.0;
+    // The backends live in other translation units, so these calls cannot be optimized away.
+    const auto start = Clock::now();
+    for (const CrosscheckRay& r : rays) {
+        if (r.isSegment()) {
+            (void)accel.occluded(r.ray);
+        } else {
+            Hit hit;
+            (void)accel.intersect(r.ray, hit);
+        }
+    }
+    const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    return seconds > 0.0 ? double(rays.size()) / seconds : 0.0;
+}
+
+}  // namespace
+
+const char* crosscheckRayKindName(CrosscheckRayKind kind) {
+    switch (kind) {
+        case CrosscheckRayKind::Camera: return "camera";
+        case CrosscheckRayKind::Bounce: return "bounce";
+        case CrosscheckRayKind::Shadow: return "shadow";
+        case CrosscheckRayKind::Random: return "random";
+    }
+    return "?";
+}
+
+const char* mismatchKindName(MismatchKind kind) {
+    switch (kind) {
+        case MismatchKind::EdgeOrVertex: return "edge or vertex";
+        case MismatchKind::Tie: return "tie";
+        case MismatchKind::Grazing: return "grazing";
+        case MismatchKind::RangeBoundary: return "range boundary";
+        case MismatchKind::Unexplained: return "unexplained";
+    }
+    return "?";
+}
+
+std::vector<CrosscheckRay> generateCrosscheckRays(const Scene& scene, const Accelerator& reference,
+                                                  const CrosscheckOptions& options) {
+    const uint64_t perKind = options.rays / kCrosscheckRayKindCount;
+    const uint64_t randomCount = options.rays - 3 * perKind;
+    const ThinLensCamera camera = makeCamera(scene);
+    const SceneExtent extent = measureScene(scene);
+    const PrimitiveIndex primitives(scene);
+
+    std::vector<CrosscheckRay> rays;
+    rays.reserve(options.rays);
+    for (uint64_t i = 0; i < perKind; ++i) {
+        RayRandom random(options.seed, CrosscheckRayKind::Camera, i);
+        rays.push_back({makeCameraRay(scene, camera, random), CrosscheckRayKind::Camera, i});
+    }
+
+    // Paths: a camera ray (or, when it escapes, a random ray) and up to kMaxBounces cosine-weighted
+    // bounces; every path vertex gives a bounce ray and a shadow ray to a random point elsewhere.
+    std::vector<CrosscheckRay> bounces, shadows;
+    const uint64_t maxPaths = 16 * perKind + 1024;  // enough unless the scene is nearly invisible
+    for (uint64_t path = 0; path < maxPaths && (bounces.size() < perKind || shadows.size() < perKind); ++path) {
+        RayRandom random(options.seed, CrosscheckRayKind::Bounce, path);
+        Ray ray = makeCameraRay(scene, camera, random);
+        Hit hit;
+        bool found = reference.intersect(ray, hit);
+        if (!found) {
+            ray = makeRandomRay(extent, random);
+            found = reference.intersect(ray, hit);
+        }
+        for (int depth = 0; found && depth < kMaxBounces; ++depth) {
+            const SurfaceInteraction si = makeSurfaceInteraction(scene, ray, hit);
+            const Vec3f normal = faceForward(si.geometricNormal, -ray.direction);
+            if (shadows.size() < perKind && primitives.count() > 1) {
+                const float pick = random.next();
+                const uint64_t target = std::min(uint64_t(pick * double(primitives.count())), primitives.count() - 1);
+                const PrimitiveIndex::Point point = primitives.sample(target, random.next2());
+                if (point.geomId != hit.geomId || point.primId != hit.primId)
+                    shadows.push_back({makeShadowRay(si.position, si.geometricNormal, point, ray.time),
+                                       CrosscheckRayKind::Shadow, shadows.size()});
+            }
+            Ray next;
+            next.origin = offsetRayOrigin(si.position, normal);
+            next.direction = Frame::fromNormal(normal).toWorld(sampleCosineHemisphere(random.next2()));
+            next.time = ray.time;
+            if (bounces.size() < perKind) bounces.push_back({next, CrosscheckRayKind::Bounce, bounces.size()});
+            ray = next;
+            found = reference.intersect(ray, hit);
+        }
+    }
+    rays.insert(rays.end(), bounces.begin(), bounces.end());
+    rays.insert(rays.end(), shadows.begin(), shadows.end());
+
+    // Whatever the paths could not provide is made up with random rays.
+    const uint64_t randomTotal = randomCount + (perKind - bounces.size()) + (perKind - shadows.size());
+    for (uint64_t i = 0; i < randomTotal; ++i) {
+        RayRandom random(options.seed, CrosscheckRayKind::Random, i);
+        rays.push_back({makeRandomRay(extent, random), CrosscheckRayKind::Random, i});
+    }
+    return rays;
+}
+
+MismatchClassifier::MismatchClassifier(const Scene& scene) : scene_(scene) {
+    const SceneExtent extent = measureScene(scene);
+    coordinateMagnitude_ = std::max(maxComponent(abs(extent.lower)), maxComponent(abs(extent.upper)));
+    if (!(coordinateMagnitude_ > 0.0f)) coordinateMagnitude_ = 1.0f;
+}
+
+double MismatchClassifier::pointDistance(const Ray& ray, float a, float b) const {
+    return std::abs(double(a) - double(b)) * double(length(ray.direction)) / double(coordinateMagnitude_);
+}
+
+bool MismatchClassifier::sameDistance(const Ray& ray, float a, float b) const {
+    const double travelled = std::max(std::abs(double(a)), std::abs(double(b))) * double(length(ray.direction));
+    return std::abs(double(a) - double(b)) * double(length(ray.direction)) <=
+           double(kDistanceTolerance) * (travelled + double(coordinateMagnitude_));
+}
+
+std::optional<MismatchKind> MismatchClassifier::explainHit(const Ray& ray, const Hit& hit) const {
+    if (isNearEdge(scene_, hit)) return MismatchKind::EdgeOrVertex;
+    if (incidenceCosine(scene_, ray, hit) < kGrazingCosine) return MismatchKind::Grazing;
+    if (sameDistance(ray, hit.t, ray.tnear) || (std::isfinite(ray.tfar) && sameDistance(ray, hit.t, ray.tfar)))
+        return MismatchKind::RangeBoundary;
+    return std::nullopt;
+}
+
+MismatchKind MismatchClassifier::classify(const CrosscheckRay& cray, const BackendAnswer& ours,
+                                          const BackendAnswer& embree) const {
+    const Ray& ray = cray.ray;
+    if (ours.hitSomething && embree.hitSomething && !cray.isSegment()) {
+        const Hit& a = ours.hit;
+        const Hit& b = embree.hit;
+        if (sameDistance(ray, a.t, b.t))
+            return isNearEdge(scene_, a) || isNearEdge(scene_, b) ? MismatchKind::EdgeOrVertex : MismatchKind::Tie;
+        // One backend missed the nearer surface: why?
+        return explainHit(ray, a.t < b.t ? a : b).value_or(MismatchKind::Unexplained);
+    }
+    // One backend found something the other did not.
+    const BackendAnswer& found = ours.hitSomething ? ours : embree;
+    if (!found.hasHit) return MismatchKind::Unexplained;  // blocked, yet intersect() finds nothing
+    return explainHit(ray, found.hit).value_or(MismatchKind::Unexplained);
+}
+
+CrosscheckReport compareBackends(const Scene& scene, const BvhAccelerator& ours, const EmbreeAccelerator& embree,
+                                 const std::vector<CrosscheckRay>& rays, const CrosscheckOptions& options) {
+    CrosscheckReport report;
+    report.scene = scene.sourcePath.string();
+    report.seed = options.seed;
+    report.rayCount = rays.size();
+    const MismatchClassifier classifier(scene);
+    std::vector<Mismatch> unexplained, explained;
+    double relativeSum = 0.0, pointSum = 0.0;
+    for (const CrosscheckRay& r : rays) {
+        BackendAnswer a, b;
+        bool agree;
+        if (r.isSegment()) {
+            a.hitSomething = ours.occluded(r.ray);
+            b.hitSomething = embree.occluded(r.ray);
+            agree = a.hitSomething == b.hitSomething;
+            if (!agree) {
+                // The closest blocker of the backend that saw one, to classify the disagreement.
+                if (a.hitSomething) a.hasHit = ours.intersect(r.ray, a.hit);
+                if (b.hitSomething) b.hasHit = embree.intersect(r.ray, b.hit);
+            }
+        } else {
+            a.hitSomething = a.hasHit = ours.intersect(r.ray, a.hit);
+            b.hitSomething = b.hasHit = embree.intersect(r.ray, b.hit);
+            agree = a.hitSomething == b.hitSomething && (!a.hitSomething || samePrimitive(a.hit, b.hit));
+            if (agree && a.hitSomething) {
+                const double relative = relativeDifference(a.hit.t, b.hit.t);
+                const double point = classifier.pointDistance(r.ray, a.hit.t, b.hit.t);
+                report.maxRelativeDistance = std::max(report.maxRelativeDistance, relative);
+                report.maxPointDistance = std::max(report.maxPointDistance, point);
+                relativeSum += relative;
+                pointSum += point;
+                ++report.samePrimitiveHits;
+            }
+        }
+        CrosscheckKindStats& kindStats = report.byKind[size_t(r.kind)];
+        ++kindStats.rays;
+        if (agree) {
+            ++kindStats.agreements;
+            ++report.agreements;
+            continue;
+        }
+        if (a.hitSomething != b.hitSomething) {
+            ++kindStats.hitMissDisagreements;
+            ++report.hitMissDisagreements;
+        } else {
+            ++kindStats.primitiveDisagreements;
+            ++report.primitiveDisagreements;
+        }
+        Mismatch m{r, a, b, classifier.classify(r, a, b)};
+        ++report.mismatchesByKind[size_t(m.kind)];
+        std::vector<Mismatch>& kept = m.kind == MismatchKind::Unexplained ? unexplained : explained;
+        if (kept.size() < options.keptMismatches) kept.push_back(m);
+    }
+    if (report.samePrimitiveHits > 0) {
+        report.meanRelativeDistance = relativeSum / double(report.samePrimitiveHits);
+        report.meanPointDistance = pointSum / double(report.samePrimitiveHits);
+    }
+    report.mismatches = std::move(unexplained);
+    for (const Mismatch& m : explained)
+        if (report.mismatches.size() < options.keptMismatches) report.mismatches.push_back(m);
+
+    if (options.measureThroughput) {
+        // Alternate the backends and keep each one's best of two runs, to damp noise.
+        for (int round = 0; round < 2; ++round) {
+            report.oursRaysPerSecond = std::max(report.oursRaysPerSecond, measureRaysPerSecond(ours, rays));
+            report.embreeRaysPerSecond = std::max(report.embreeRaysPerSecond, measureRaysPerSecond(embree, rays));
+        }
+    }
+    return report;
+}
+
+CrosscheckReport runCrosscheck(const Scene& scene, const CrosscheckOptions& options) {
+    auto start = Clock::now();
+    const EmbreeAccelerator embree(scene);
+    const double embreeBuild = std::chrono::duration<double>(Clock::now() - start).count();
+    start = Clock::now();
+    const BvhAccelerator ours(scene);
+    const double oursBuild = std::chrono::duration<double>(Clock::now() - start).count();
+    const std::vector<CrosscheckRay> rays = generateCrosscheckRays(scene, embree, options);
+    CrosscheckReport report = compareBackends(scene, ours, embree, rays, options);
+    report.embreeBuildSeconds = embreeBuild;
+    report.oursBuildSeconds = oursBuild;
+    return report;
+}
+
+std::string formatCrosscheckText(const CrosscheckReport& report, size_t maxListed) {
+    std::string out;
+    out += fmt::format("crosscheck {}: {} rays (seed {}), bvh against embree\n", report.scene, report.rayCount,
+                       report.seed);
+    out += fmt::format("  {:<8} {:>10} {:>10} {:>9} {:>10}\n", "rays", "count", "agree", "hit/miss", "other prim");
+    for (int k = 0; k < kCrosscheckRayKindCount; ++k) {
+        const CrosscheckKindStats& s = report.byKind[k];
+        out += fmt::format("  {:<8} {:>10} {:>10} {:>9} {:>10}\n", crosscheckRayKindName(CrosscheckRayKind(k)), s.rays,
+                           s.agreements, s.hitMissDisagreements, s.primitiveDisagreements);
+    }
+    out += fmt::format("  agreement {:.5f}% ({} of {}); hit/miss disagreements {}, different primitive {}\n",
+                       100.0 * report.agreementRatio(), report.agreements, report.rayCount,
+                       report.hitMissDisagreements, report.primitiveDisagreements);
+    out += fmt::format("  distance on the same primitive ({} hits): relative difference of t max {:.3g}, mean {:.3g}; "
+                       "hit points apart by at most {:.3g}, on average {:.3g} of the scene's coordinate magnitude\n",
+                       report.samePrimitiveHits, report.maxRelativeDistance, report.meanRelativeDistance,
+                       report.maxPointDistance, report.meanPointDistance);
+    out += "  mismatches:";
+    for (int k = 0; k < kMismatchKindCount; ++k)
+        out += fmt::format("{} {} {}", k ? "," : "", mismatchKindName(MismatchKind(k)), report.mismatchesByKind[k]);
+    out += "\n";
+    if (report.oursRaysPerSecond > 0.0 && report.embreeRaysPerSecond > 0.0)
+        out += fmt::format("  throughput (1 thread, same rays): bvh {:.2f} M rays/s, embree {:.2f} M rays/s, "
+                           "bvh/embree {:.2f}\n",
+                           report.oursRaysPerSecond * 1e-6, report.embreeRaysPerSecond * 1e-6,
+                           report.oursRaysPerSecond / report.embreeRaysPerSecond);
+    if (report.oursBuildSeconds > 0.0 || report.embreeBuildSeconds > 0.0)
+        out += fmt::format("  build: bvh {:.3f} s, embree {:.3f} s\n", report.oursBuildSeconds,
+                           report.embreeBuildSeconds);
+
+    const size_t listed = std::min(maxListed, report.mismatches.size());
+    if (listed > 0) {
+        out += fmt::format("mismatching rays (origin, direction, tnear, tfar as %a floats; first {} of {}):\n", listed,
+                           report.hitMissDisagreements + report.primitiveDisagreements);
+        for (size_t i = 0; i < listed; ++i) {
+            const Mismatch& m = report.mismatches[i];
+            const Ray& r = m.ray.ray;
+            out += fmt::format("  [{}] {} ray {} ({}): origin ({}, {}, {}) direction ({}, {}, {}) tnear {} tfar {} time {}\n",
+                               mismatchKindName(m.kind), crosscheckRayKindName(m.ray.kind), m.ray.index,
+                               m.ray.isSegment() ? "occluded" : "intersect", hexFloat(r.origin.x), hexFloat(r.origin.y),
+                               hexFloat(r.origin.z), hexFloat(r.direction.x), hexFloat(r.direction.y),
+                               hexFloat(r.direction.z), hexFloat(r.tnear), hexFloat(r.tfar), hexFloat(r.time));
+            out += fmt::format("      bvh: {}\n      embree: {}\n", describeAnswer(m.ray, m.ours),
+                               describeAnswer(m.ray, m.embree));
+        }
+    }
+    return out;
+}
+
+std::string formatCrosscheckJson(const CrosscheckReport& report, size_t maxListed) {
+    using nlohmann::json;
+    json j;
+    j["scene"] = report.scene;
+    j["seed"] = report.seed;
+    j["rays"] = report.rayCount;
+    j["agreements"] = report.agreements;
+    j["agreementRatio"] = report.agreementRatio();
+    j["hitMissDisagreements"] = report.hitMissDisagreements;
+    j["primitiveDisagreements"] = report.primitiveDisagreements;
+    json kinds = json::object();
+    for (int k = 0; k < kCrosscheckRayKindCount; ++k) {
+        const CrosscheckKindStats& s = report.byKind[k];
+        kinds[crosscheckRayKindName(CrosscheckRayKind(k))] = {{"rays", s.rays},
+                                                               {"agreements", s.agreements},
+                                                               {"hitMissDisagreements", s.hitMissDisagreements},
+                                                               {"primitiveDisagreements", s.primitiveDisagreements}};
+    }
+    j["byKind"] = kinds;
+    j["distance"] = {{"samePrimitiveHits", report.samePrimitiveHits},
+                     {"maxRelativeDifference", report.maxRelativeDistance},
+                     {"meanRelativeDifference", report.meanRelativeDistance},
+                     {"maxPointDistance", report.maxPointDistance},
+                     {"meanPointDistance", report.meanPointDistance}};
+    json byKind = json::object();
+    for (int k = 0; k < kMismatchKindCount; ++k) byKind[mismatchKindName(MismatchKind(k))] = report.mismatchesByKind[k];
+    j["mismatches"] = byKind;
+    j["unexplained"] = report.unexplained();
+    j["throughput"] = {{"bvhRaysPerSecond", report.oursRaysPerSecond},
+                       {"embreeRaysPerSecond", report.embreeRaysPerSecond},
+                       {"ratio", report.embreeRaysPerSecond > 0.0 ? report.oursRaysPerSecond / report.embreeRaysPerSecond
+                                                                  : 0.0}};
+    j["buildSeconds"] = {{"bvh", report.oursBuildSeconds}, {"embree", report.embreeBuildSeconds}};
+    j["tolerances"] = {{"edge", kEdgeTolerance}, {"distance", kDistanceTolerance}, {"grazingCosine", kGrazingCosine}};
+    json list = json::array();
+    for (size_t i = 0; i < std::min(maxListed, report.mismatches.size()); ++i) {
+        const Mismatch& m = report.mismatches[i];
+        auto answer = [&](const BackendAnswer& a) {
+            json x = {{"hit", a.hitSomething}};
+            if (a.hasHit)
+                x["closest"] = {{"geomId", a.hit.geomId}, {"primId", a.hit.primId}, {"t", hexFloat(a.hit.t)},
+                                {"u", hexFloat(a.hit.u)},     {"v", hexFloat(a.hit.v)}};
+            return x;
+        };
+        const Ray& r = m.ray.ray;
+        list.push_back({{"kind", mismatchKindName(m.kind)},
+                        {"rayKind", crosscheckRayKindName(m.ray.kind)},
+                        {"index", m.ray.index},
+                        {"call", m.ray.isSegment() ? "occluded" : "intersect"},
+                        {"origin", {hexFloat(r.origin.x), hexFloat(r.origin.y), hexFloat(r.origin.z)}},
+                        {"direction", {hexFloat(r.direction.x), hexFloat(r.direction.y), hexFloat(r.direction.z)}},
+                        {"tnear", hexFloat(r.tnear)},
+                        {"tfar", hexFloat(r.tfar)},
+                        {"time", hexFloat(r.time)},
+                        {"bvh", answer(m.ours)},
+                        {"embree", answer(m.embree)}});
+    }
+    j["listedMismatches"] = list;
+    return j.dump(2) + "\n";
+}
+
+int runCrosscheckCommand(const std::string& scenePath, const CrosscheckOptions& options, bool json) {
+    const Scene scene = loadScene(scenePath);
+    const CrosscheckReport report = runCrosscheck(scene, options);
+    const std::string text = json ? formatCrosscheckJson(report) : formatCrosscheckText(report);
+    std::fwrite(text.data(), 1, text.size(), stdout);
+    if (report.unexplained() > 0) {
+        std::fprintf(stderr, "penumbra: crosscheck: %llu unexplained mismatches between bvh and embree\n",
+                     (unsigned long long)report.unexplained());
+        return kCrosscheckFailed;
+    }
+    return 0;
+}
+
+}  // namespace penumbra

@@ -1,0 +1,253 @@
+// penumbra: the command-line program.
+//
+//   penumbra render SCENE [--spp N] [--seed S] [--threads N] [--res WxH] [--accel embree|bvh] [-o PATH] ...
+//   penumbra crosscheck SCENE [--rays N] [--seed S] [--json]
+//
+// Bad input is reported as "penumbra: error: FILE:LINE: message" (or a JSON pointer instead of
+// the line) with a non-zero exit status, and no output file is written.
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <fmt/core.h>
+
+#include "core/error.h"
+#include "renderer/film.h"
+#include "renderer/image_output.h"
+#include "renderer/render.h"
+#include "scenes/scene_loader.h"
+#include "tools/crosscheck.h"
+
+namespace fs = std::filesystem;
+using namespace penumbra;
+
+namespace {
+
+constexpr const char* kVersion = PENUMBRA_VERSION;
+
+struct RenderCommand {
+    std::string scenePath;
+    std::optional<int> spp;
+    std::optional<uint64_t> seed;
+    int threads = 0;
+    std::string resolution;  // "WxH"
+    std::string sampler;
+    std::string crop;        // "x0,x1,y0,y1"
+    std::string samples;     // "a:b"
+    std::string output;
+    bool noDisplay = false;
+    bool quiet = false;
+    std::string accel = "embree";
+};
+
+int parsePositive(const std::string& option, const std::string& text) {
+    size_t used = 0;
+    long value = 0;
+    try {
+        value = std::stol(text, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    if (used != text.size() || value <= 0 || value > 1 << 30)
+        throw InputError(fmt::format("{}: expected a positive integer, got '{}'", option, text));
+    return int(value);
+}
+
+std::vector<std::string> split(const std::string& text, char separator) {
+    std::vector<std::string> parts;
+    size_t start = 0;
+    for (size_t i = 0; i <= text.size(); ++i)
+        if (i == text.size() || text[i] == separator) {
+            parts.push_back(text.substr(start, i - start));
+            start = i + 1;
+        }
+    return parts;
+}
+
+int parseNonNegative(const std::string& option, const std::string& text) {
+    if (text == "0") return 0;
+    return parsePositive(option, text);
+}
+
+// Prints a one-line progress bar with an ETA on a terminal, at most ten times a second.
+class ProgressLine {
+public:
+    explicit ProgressLine(bool enabled) : enabled_(enabled), start_(Clock::now()) {}
+    void update(size_t done, size_t total) {
+        if (!enabled_) return;
+        const auto now = Clock::now();
+        if (done != total && now - lastPrint_ < std::chrono::milliseconds(100)) return;
+        lastPrint_ = now;
+        const double elapsed = std::chrono::duration<double>(now - start_).count();
+        const double fraction = total ? double(done) / double(total) : 1.0;
+        const double eta = fraction > 0 ? elapsed * (1.0 - fraction) / fraction : 0.0;
+        constexpr int kWidth = 30;
+        const int filled = int(fraction * kWidth);
+        std::fprintf(stderr, "\r[%s%s] %5.1f%%  elapsed %.1f s  ETA %.1f s ", std::string(filled, '=').c_str(),
+                     std::string(kWidth - filled, ' ').c_str(), 100.0 * fraction, elapsed, eta);
+        if (done == total) std::fprintf(stderr, "\n");
+        std::fflush(stderr);
+    }
+
+private:
+    using Clock = std::chrono::steady_clock;
+    bool enabled_;
+    Clock::time_point start_, lastPrint_{};
+};
+
+int runRender(const RenderCommand& cmd) {
+    Scene scene = loadScene(cmd.scenePath);
+    if (cmd.spp) {
+        if (*cmd.spp <= 0) throw InputError(fmt::format("--spp: expected a positive integer, got {}", *cmd.spp));
+        scene.film.samplesPerPixel = *cmd.spp;
+    }
+    if (cmd.seed) scene.settings.seed = *cmd.seed;
+    if (!cmd.sampler.empty()) {
+        if (cmd.sampler == "stratified") scene.settings.sampler = SamplerKind::Stratified;
+        else if (cmd.sampler == "independent") scene.settings.sampler = SamplerKind::Independent;
+        else throw InputError(fmt::format("--sampler: expected 'stratified' or 'independent', got '{}'", cmd.sampler));
+    }
+    if (!cmd.resolution.empty()) {
+        const auto parts = split(cmd.resolution, 'x');
+        if (parts.size() != 2) throw InputError(fmt::format("--res: expected WIDTHxHEIGHT, got '{}'", cmd.resolution));
+        scene.film.width = parsePositive("--res", parts[0]);
+        scene.film.height = parsePositive("--res", parts[1]);
+    }
+
+    RenderOptions options;
+    options.threads = cmd.threads;
+    options.accelerator = cmd.accel == "bvh" ? AcceleratorKind::Bvh : AcceleratorKind::Embree;
+    options.endSample = uint32_t(scene.film.samplesPerPixel);
+    if (!cmd.samples.empty()) {
+        const auto parts = split(cmd.samples, ':');
+        if (parts.size() != 2) throw InputError(fmt::format("--samples: expected FIRST:END, got '{}'", cmd.samples));
+        options.firstSample = uint32_t(parseNonNegative("--samples", parts[0]));
+        options.endSample = uint32_t(parsePositive("--samples", parts[1]));
+        if (options.firstSample >= options.endSample)
+            throw InputError(fmt::format("--samples: FIRST must be below END, got '{}'", cmd.samples));
+    }
+    if (!cmd.crop.empty()) {
+        const auto parts = split(cmd.crop, ',');
+        if (parts.size() != 4) throw InputError(fmt::format("--crop: expected x0,x1,y0,y1, got '{}'", cmd.crop));
+        options.crop = PixelWindow{parseNonNegative("--crop", parts[0]), parseNonNegative("--crop", parts[1]),
+                                   parseNonNegative("--crop", parts[2]), parseNonNegative("--crop", parts[3])};
+    }
+
+    fs::path exrPath = cmd.output.empty() ? fs::path("out") / (fs::path(cmd.scenePath).stem().string() + ".exr")
+                                          : fs::path(cmd.output);
+    if (exrPath.extension() != ".exr")
+        throw InputError(fmt::format("-o: expected a path ending in .exr, got '{}'", exrPath.string()));
+    const fs::path displayPath = fs::path(exrPath).replace_extension(".png");
+
+    const bool interactive = !cmd.quiet && isatty(STDERR_FILENO);
+    ProgressLine progress(interactive);
+    options.progress = [&](size_t done, size_t total) { progress.update(done, total); };
+
+    Film film(scene.film.width, scene.film.height);
+    const RenderStats stats = render(scene, options, film);
+
+    RenderMetadata metadata;
+    metadata.samplesPerPixel = int(options.endSample - options.firstSample);
+    metadata.seed = scene.settings.seed;
+    metadata.sampler = std::string(samplerKindName(scene.settings.sampler));
+    metadata.accelerator = cmd.accel;
+    metadata.sceneFile = cmd.scenePath;
+    metadata.renderSeconds = stats.renderSeconds;
+    metadata.version = kVersion;
+    writeExr(film, metadata, exrPath);
+    if (!cmd.noDisplay) writeDisplayImage(film, displayPath);
+
+    if (!cmd.quiet) {
+        const double seconds = std::max(stats.renderSeconds, 1e-9);
+        std::printf("rendered %dx%d, samples %u:%u (%s sampler, seed %llu) in %.2f s (scene build %.2f s)\n",
+                    scene.film.width, scene.film.height, options.firstSample, options.endSample,
+                    metadata.sampler.c_str(), (unsigned long long)scene.settings.seed, stats.renderSeconds,
+                    stats.buildSeconds);
+        std::printf("  %.2f M samples/s, %.2f M rays/s (%llu camera, %llu bounce, %llu shadow rays)\n",
+                    stats.samples / seconds * 1e-6, stats.rays.total() / seconds * 1e-6,
+                    (unsigned long long)stats.rays.primary, (unsigned long long)stats.rays.extension,
+                    (unsigned long long)stats.rays.shadow);
+        std::printf("wrote %s\n", exrPath.string().c_str());
+        if (!cmd.noDisplay) std::printf("wrote %s\n", displayPath.string().c_str());
+    }
+    if (stats.nonFiniteCount > 0) {
+        const NonFiniteSample& first = stats.nonFiniteExamples.front();
+        std::fprintf(stderr,
+                     "penumbra: warning: %llu samples had non-finite radiance and were recorded as black; "
+                     "the first, pixel (%d, %d) sample %u, replays with: penumbra render %s --crop %d,%d,%d,%d "
+                     "--samples %u:%u\n",
+                     (unsigned long long)stats.nonFiniteCount, first.x, first.y, first.sampleIndex,
+                     cmd.scenePath.c_str(), first.x, first.x + 1, first.y, first.y + 1, first.sampleIndex,
+                     first.sampleIndex + 1);
+    }
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"penumbra: a path / distribution ray tracer (Embree traversal, TBB tiles, OpenEXR output)"};
+    app.set_version_flag("--version", std::string("penumbra ") + kVersion);
+    app.require_subcommand(1);
+
+    RenderCommand cmd;
+    CLI::App* renderApp = app.add_subcommand("render", "Render a scene file to a scene-linear EXR and a display PNG");
+    renderApp->add_option("SCENE", cmd.scenePath, "Scene file (penumbra JSON, see scenes/README.md)")->required();
+    renderApp->add_option("--spp", cmd.spp, "Samples per pixel (overrides the scene's film.spp)");
+    renderApp->add_option("--seed", cmd.seed, "Seed of all sample values (overrides render.seed)");
+    renderApp->add_option("--threads", cmd.threads, "Worker threads; 0 uses every core (the image does not depend on it)")
+        ->check(CLI::NonNegativeNumber);
+    renderApp->add_option("--res", cmd.resolution, "Resolution WIDTHxHEIGHT (overrides film.resolution)");
+    renderApp->add_option("--sampler", cmd.sampler, "stratified (default) or independent");
+    renderApp->add_option("--crop", cmd.crop, "Render only pixels x0 <= x < x1, y0 <= y < y1, given as x0,x1,y0,y1");
+    renderApp->add_option("--samples", cmd.samples, "Render only sample indices FIRST <= i < END, given as FIRST:END");
+    renderApp->add_option("-o,--output", cmd.output,
+                          "Output EXR (default out/SCENE_NAME.exr); a PNG through OpenColorIO is written beside it");
+    renderApp->add_flag("--no-display", cmd.noDisplay, "Write only the EXR, no display PNG");
+    renderApp->add_flag("-q,--quiet", cmd.quiet, "No progress line and no summary");
+    renderApp->add_option("--accel", cmd.accel, "Traversal backend: embree (default) or bvh (our own)")
+        ->check(CLI::IsMember({"embree", "bvh"}));
+
+    std::string crosscheckScene;
+    CrosscheckOptions crosscheckOptions;
+    bool crosscheckJson = false;
+    CLI::App* crosscheckApp = app.add_subcommand(
+        "crosscheck", "Trace the same rays through our BVH and Embree and explain every disagreement; exits with "
+                      "status 3 when a mismatch is unexplained");
+    crosscheckApp->add_option("SCENE", crosscheckScene, "Scene file")->required();
+    crosscheckApp->add_option("--rays", crosscheckOptions.rays, "Rays in all, a quarter of each kind (default 1000000)")
+        ->check(CLI::PositiveNumber);
+    crosscheckApp->add_option("--seed", crosscheckOptions.seed, "Seed of the ray set (default 0)");
+    crosscheckApp->add_flag("--json", crosscheckJson, "Machine-readable output");
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::fprintf(stderr, "penumbra: error: %s\nRun 'penumbra --help' or 'penumbra render --help' for the options.\n", e.what());
+        return 2;
+    }
+
+    try {
+        if (renderApp->parsed()) return runRender(cmd);
+        if (crosscheckApp->parsed()) return runCrosscheckCommand(crosscheckScene, crosscheckOptions, crosscheckJson);
+    } catch (const InputError& e) {
+        std::fprintf(stderr, "penumbra: error: %s\n", e.what());
+        return 1;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "penumbra: error: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}
