@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/motion.h"
 #include "core/sampling.h"
 
 namespace penumbra {
@@ -25,8 +26,11 @@ ThinLensCamera::ThinLensCamera(const ThinLensCameraParams& p) {
     apertureBlades_ = p.apertureBlades;
     apertureRotation_ = p.apertureRotationDegrees * kPi / 180.0f;
     focusDistance_ = p.focusDistance > 0.0f ? p.focusDistance : length(p.lookAt - p.lookFrom);
-    shutterOpen_ = p.shutterOpen;
-    shutterClose_ = p.shutterClose;
+    if (p.motion.size() == 1) throw InputError("camera: motion needs at least two poses");
+    for (const CameraPose& pose : p.motion)
+        if (!Transform::lookAt(pose.lookFrom, pose.lookAt, pose.up))
+            throw InputError("camera: every motion pose must span a view (got a degenerate look-at)");
+    motion_ = p.motion;
 }
 
 Vec2f ThinLensCamera::sampleAperture(Vec2f u) const {
@@ -56,10 +60,31 @@ Ray ThinLensCamera::generateRay(Vec2f filmPosition, Vec2f lensSample, float time
         direction = focusPoint - origin;
     }
     Ray ray;
-    ray.origin = cameraToWorld_.applyPoint(origin);
-    ray.direction = normalize(cameraToWorld_.applyVector(direction));
-    ray.time = shutterOpen_ + (shutterClose_ - shutterOpen_) * timeSample;
+    ray.time = timeSample;
+    if (motion_.empty()) {
+        ray.origin = cameraToWorld_.applyPoint(origin);
+        ray.direction = normalize(cameraToWorld_.applyVector(direction));
+    } else {
+        const Transform toWorld = cameraToWorld(ray.time);
+        ray.origin = toWorld.applyPoint(origin);
+        ray.direction = normalize(toWorld.applyVector(direction));
+    }
     return ray;
+}
+
+Transform ThinLensCamera::cameraToWorld(float time) const {
+    if (motion_.empty()) return cameraToWorld_;
+    const KeySegment s = locateKeySegment(motion_.size(), time);
+    const CameraPose& a = motion_[s.first];
+    const CameraPose& b = motion_[s.first + 1];
+    const float t = s.fraction;
+    auto lerp = [t](Vec3f x, Vec3f y) { return x * (1.0f - t) + y * t; };
+    // Poses were validated one by one; an in-between pose can still degenerate (e.g. up flipping
+    // through the view direction), in which case the nearer key's pose is used.
+    const auto between = Transform::lookAt(lerp(a.lookFrom, b.lookFrom), lerp(a.lookAt, b.lookAt), lerp(a.up, b.up));
+    if (between) return *between;
+    const CameraPose& nearest = t < 0.5f ? a : b;
+    return *Transform::lookAt(nearest.lookFrom, nearest.lookAt, nearest.up);
 }
 
 }  // namespace penumbra

@@ -4,20 +4,28 @@
 // vertices lie on the aperture radius (the shape of out-of-focus highlights).
 #pragma once
 
+#include <vector>
+
 #include "core/ray.h"
 #include "core/transform.h"
 #include "core/vec.h"
 
 namespace penumbra {
 
+// Where the camera is and what it looks at. A moving camera has several poses, evenly spaced over
+// the shutter; between them the three points are interpolated linearly.
+struct CameraPose {
+    Vec3f lookFrom, lookAt, up;
+};
+
 struct ThinLensCameraParams {
     Vec3f lookFrom, lookAt, up;
+    std::vector<CameraPose> motion;  // empty: a still camera
     float verticalFovDegrees = 40.0f;
     float apertureRadius = 0.0f;
     float focusDistance = 0.0f;  // 0: |lookAt - lookFrom|
     int apertureBlades = 0;      // 0: a circular aperture; >= 3: a regular polygon (shaped bokeh)
     float apertureRotationDegrees = 0.0f;
-    float shutterOpen = 0.0f, shutterClose = 0.0f;
     int filmWidth = 1, filmHeight = 1;
 };
 
@@ -27,23 +35,25 @@ public:
     explicit ThinLensCamera(const ThinLensCameraParams& params);
 
     // filmPosition in raster space: x to the right, y down, (0, 0) the top-left corner of the
-    // image and (width, height) the bottom-right. lensSample and timeSample are uniform in [0, 1).
+    // image and (width, height) the bottom-right. lensSample and timeSample are uniform in [0, 1);
+    // the ray's time is the shutter fraction timeSample.
     Ray generateRay(Vec2f filmPosition, Vec2f lensSample, float timeSample) const;
 
-    const Transform& cameraToWorld() const { return cameraToWorld_; }
+    // The camera-to-world transform at a shutter fraction.
+    Transform cameraToWorld(float time = 0.0f) const;
 
 private:
     // A point on the unit aperture (disk or polygon) from a uniform 2D sample.
     Vec2f sampleAperture(Vec2f u) const;
 
     Transform cameraToWorld_;
+    std::vector<CameraPose> motion_;
     float halfHeight_ = 1.0f;  // of the image plane at z = 1
     float halfWidth_ = 1.0f;
     float apertureRadius_ = 0.0f;
     int apertureBlades_ = 0;
     float apertureRotation_ = 0.0f;  // radians
     float focusDistance_ = 1.0f;
-    float shutterOpen_ = 0.0f, shutterClose_ = 0.0f;
     float invWidth_ = 1.0f, invHeight_ = 1.0f;
 };
 

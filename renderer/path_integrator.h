@@ -4,7 +4,21 @@
 //
 // Russian roulette: from bounce `rouletteStartDepth` on, a path continues with probability
 // q = min(1, max channel of its throughput) and its throughput is divided by q when it does, so the
-// estimator stays unbiased and paths carrying little energy end early.
+// estimator stays unbiased and paths carrying little energy end early. The throughput used for q
+// leaves out the radiance scale 1 / eta^2 of refractions (pbrt-v4's etaScale): inside glass the
+// throughput is 1 / eta^2 smaller without carrying less energy, and it gets the factor back on leaving.
+//
+// Sides: a BSDF lobe that reflects (wo and wi on the same side of the shading frame) is only
+// followed, or connected to a light, when wi is also on wo's side of the geometric surface, and a
+// lobe that transmits only when wi is on the other side; this keeps shading normals from leaking
+// light through surfaces. Materials are told on which side of the geometric surface wo lies: that
+// decides whether light enters or leaves a dielectric, and one-sided materials are black from
+// the back.
+//
+// Absorption: a path segment that reaches a surface from its back side travelled inside that
+// surface's material; when the material has an absorbing interior (a dielectric with Beer-Lambert
+// absorption), the throughput is multiplied by exp(-sigma_a * segment length). Closed shapes must
+// therefore have their front sides (geometric normals) facing out.
 //
 // The integrator is a template over the traversal backend so that the per-ray calls are direct
 // (the backends are `final`), never virtual.
@@ -82,6 +96,7 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
                      RayCounters& rays) {
     const LightSet& lights = *ctx.lights;
     Rgb radiance(0.0f), throughput(1.0f);
+    float etaScale = 1.0f;  // product of eta^2 over the refractions so far (see Russian roulette above)
     float previousBsdfPdf = 0.0f;
     bool previousWasDelta = true;  // the camera vertex: emitters seen directly get full weight
     Vec3f previousPosition = ray.origin;
@@ -100,6 +115,18 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
         }
         const SurfaceInteraction si = makeSurfaceInteraction(*ctx.scene, ray, hit);
         const Vec3f wo = -normalize(ray.direction);
+        const Material& material = (*ctx.materials)[si.material];
+        const bool woAbove = dot(wo, si.geometricNormal) > 0.0f;
+
+        // Beer-Lambert absorption along the segment that arrived at the back side.
+        if (!woAbove) {
+            const Rgb sigma = material.interiorAbsorption();
+            if (!sigma.isBlack()) {
+                const float distance = hit.t * length(ray.direction);
+                throughput *= Rgb(std::exp(-sigma.r * distance), std::exp(-sigma.g * distance),
+                                  std::exp(-sigma.b * distance));
+            }
+        }
 
         // Emission seen by the previous vertex's BSDF sample, weighted against NEE.
         const Rgb emitted = lights.emitted(si, wo);
@@ -109,24 +136,23 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
         }
         if (int(bounce) >= ctx.maxDepth) break;
 
-        const Material& material = (*ctx.materials)[si.material];
         const Frame frame = Frame::fromNormal(si.shadingNormal);
         const Vec3f woLocal = frame.toLocal(wo);
-        const bool woAbove = dot(wo, si.geometricNormal) > 0.0f;
 
         // Next-event estimation.
         if (!lights.empty() && !material.isPurelySpecular()) {
             const auto ls = lights.sample(si.position, sample.get1D(Dim::LightChoice, bounce),
                                           sample.get2D(Dim::LightPosition, bounce));
-            // Reflection only: the light must be on wo's side of the geometric surface, which keeps
-            // shading normals from leaking light through it.
-            if (ls && !ls->radiance.isBlack() && (dot(ls->direction, si.geometricNormal) > 0.0f) == woAbove) {
-                const Vec3f wiLocal = frame.toLocal(ls->direction);
-                const Rgb f = material.eval(woLocal, wiLocal) * std::abs(wiLocal.z);
+            const Vec3f wiLocal = ls ? frame.toLocal(ls->direction) : Vec3f{};
+            // Reflection needs the light on wo's side of the geometric surface, transmission on the other.
+            const bool reflects = woLocal.z * wiLocal.z > 0.0f;
+            if (ls && !ls->radiance.isBlack() && ((dot(ls->direction, si.geometricNormal) > 0.0f) == woAbove) == reflects) {
+                const Rgb f = material.eval(woLocal, wiLocal, woAbove) * std::abs(wiLocal.z);
                 if (!f.isBlack()) {
                     ++rays.shadow;
                     if (!accel.occluded(detail::spawnShadowRay(si, *ls, ray.time))) {
-                        const float weight = ls->isDelta ? 1.0f : powerHeuristic(ls->pdf, material.pdf(woLocal, wiLocal));
+                        const float weight =
+                            ls->isDelta ? 1.0f : powerHeuristic(ls->pdf, material.pdf(woLocal, wiLocal, woAbove));
                         radiance += throughput * f * ls->radiance * (weight / ls->pdf);
                     }
                 }
@@ -135,18 +161,20 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
 
         // Continue the path by sampling the BSDF.
         const auto bs = material.sample(woLocal, sample.get1D(Dim::BsdfLobe, bounce),
-                                        sample.get2D(Dim::BsdfDirection, bounce));
+                                        sample.get2D(Dim::BsdfDirection, bounce), woAbove);
         if (!bs) break;
         const Vec3f wi = frame.toWorld(bs->wi);
-        if ((dot(wi, si.geometricNormal) > 0.0f) != woAbove) break;  // reflection crossing the surface
+        // A reflection that crosses the geometric surface, or a transmission that does not.
+        if (((dot(wi, si.geometricNormal) > 0.0f) != woAbove) != bs->isTransmission) break;
         throughput *= bs->weight;
+        if (bs->isTransmission) etaScale *= bs->eta * bs->eta;
         if (throughput.isBlack()) break;
         previousBsdfPdf = bs->pdf;
         previousWasDelta = bs->isDelta;
         previousPosition = si.position;
 
         if (int(bounce) + 1 >= ctx.rouletteStartDepth) {
-            const float survival = std::min(1.0f, throughput.maxComponent());
+            const float survival = std::min(1.0f, (throughput * etaScale).maxComponent());
             if (sample.get1D(Dim::RussianRoulette, bounce) >= survival) break;
             throughput *= 1.0f / survival;
         }

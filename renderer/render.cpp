@@ -10,6 +10,7 @@
 #include <tbb/task_arena.h>
 
 #include "cameras/camera.h"
+#include "scenes/scene_camera.h"
 #include "core/error.h"
 #include "scenes/bvh_accelerator.h"
 #include "scenes/embree_accelerator.h"
@@ -27,10 +28,38 @@ std::vector<Material> buildMaterials(const Scene& scene) {
     materials.reserve(scene.materials.size());
     for (const MaterialDesc& desc : scene.materials) {
         Material m;
+        m.twoSided = desc.twoSided;
+        const FresnelModel fresnel = desc.fresnel == FresnelKind::Schlick ? FresnelModel::Schlick : FresnelModel::Exact;
         switch (desc.kind) {
             case MaterialKind::Lambert:
                 m.type = MaterialType::Lambert;
                 m.lambert.albedo = desc.albedo;
+                break;
+            case MaterialKind::Phong:
+                m.type = MaterialType::Phong;
+                m.phong.kd = desc.diffuse;
+                m.phong.ks = desc.specular;
+                m.phong.exponent = desc.exponent;
+                break;
+            case MaterialKind::Dielectric:
+                m.type = MaterialType::Dielectric;
+                m.dielectric.eta = desc.eta;
+                m.dielectric.fresnel = fresnel;
+                m.dielectric.absorption = desc.absorption;
+                break;
+            case MaterialKind::ThinDielectric:
+                m.type = MaterialType::ThinDielectric;
+                m.thinDielectric.eta = desc.eta;
+                m.thinDielectric.fresnel = fresnel;
+                break;
+            case MaterialKind::Mirror:
+                m.type = MaterialType::Mirror;
+                m.mirror.tint = desc.tint;
+                break;
+            case MaterialKind::Conductor:
+                m.type = MaterialType::Conductor;
+                m.conductor.eta = desc.conductorEta;
+                m.conductor.k = desc.k;
                 break;
         }
         materials.push_back(m);
@@ -38,23 +67,6 @@ std::vector<Material> buildMaterials(const Scene& scene) {
     return materials;
 }
 
-ThinLensCamera buildCamera(const Scene& scene) {
-    const CameraDesc& c = scene.camera;
-    ThinLensCameraParams p;
-    p.lookFrom = c.lookFrom;
-    p.lookAt = c.lookAt;
-    p.up = c.up;
-    p.verticalFovDegrees = c.verticalFovDegrees;
-    p.apertureRadius = c.apertureRadius;
-    p.focusDistance = c.focusDistance;
-    p.apertureBlades = c.apertureBlades;
-    p.apertureRotationDegrees = c.apertureRotationDegrees;
-    p.shutterOpen = c.shutterOpen;
-    p.shutterClose = c.shutterClose;
-    p.filmWidth = scene.film.width;
-    p.filmHeight = scene.film.height;
-    return ThinLensCamera(p);
-}
 
 // Offset of a sample from the pixel centre, drawn from the reconstruction filter.
 Vec2f sampleFilterOffset(const FilmDesc& film, Vec2f u) {
@@ -101,7 +113,7 @@ TileResult renderTile(const Accel& accel, const Scene& scene, const ThinLensCame
 
 template <typename Accel>
 RenderStats renderWith(const Accel& accel, const Scene& scene, const RenderOptions& options, Film& film) {
-    const ThinLensCamera camera = buildCamera(scene);
+    const ThinLensCamera camera = makeSceneCamera(scene);
     const LightSet lights(scene);
     const std::vector<Material> materials = buildMaterials(scene);
     IntegratorContext ctx;

@@ -3,9 +3,12 @@
 // the hit reprojected onto the surface), not from origin + t * direction.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 
+#include "core/motion.h"
 #include "core/ray.h"
+#include "core/sampling.h"
 #include "scenes/accelerator.h"
 #include "scenes/scene.h"
 
@@ -20,6 +23,21 @@ struct SurfaceInteraction {
     uint32_t geomId = 0, primId = 0;
 };
 
+namespace detail {
+
+inline Vec3f vertexAt(const TriangleMesh& mesh, uint32_t vertex, float time) {
+    return mesh.deforms() ? interpolateKeys(mesh.positionKeys, vertex, time) : mesh.positions[vertex];
+}
+
+// Moves a point and its normals from object to world space for a moving shape.
+inline void placeInWorld(const Transform& toWorld, SurfaceInteraction& si) {
+    si.position = toWorld.applyPoint(si.position);
+    si.geometricNormal = normalize(toWorld.applyNormal(si.geometricNormal));
+    si.shadingNormal = faceForward(normalize(toWorld.applyNormal(si.shadingNormal)), si.geometricNormal);
+}
+
+}  // namespace detail
+
 inline SurfaceInteraction makeSurfaceInteraction(const Scene& scene, const Ray& ray, const Hit& hit) {
     SurfaceInteraction si;
     si.geomId = hit.geomId;
@@ -28,32 +46,44 @@ inline SurfaceInteraction makeSurfaceInteraction(const Scene& scene, const Ray& 
         const TriangleMesh& mesh = scene.meshes[hit.geomId];
         const uint32_t i0 = mesh.indices[3 * hit.primId], i1 = mesh.indices[3 * hit.primId + 1],
                        i2 = mesh.indices[3 * hit.primId + 2];
-        const Vec3f p0 = mesh.positions[i0], p1 = mesh.positions[i1], p2 = mesh.positions[i2];
+        const Vec3f p0 = detail::vertexAt(mesh, i0, ray.time), p1 = detail::vertexAt(mesh, i1, ray.time),
+                    p2 = detail::vertexAt(mesh, i2, ray.time);
         const float b1 = hit.u, b2 = hit.v, b0 = 1.0f - b1 - b2;
         si.position = p0 * b0 + p1 * b1 + p2 * b2;
-        Vec3f n = cross(p1 - p0, p2 - p0);
+        const Vec3f n = cross(p1 - p0, p2 - p0);
         const float nLength = length(n);
-        si.geometricNormal = nLength > 0.0f ? n / nLength : normalize(-ray.direction);
+        si.geometricNormal = nLength > 0.0f ? n / nLength : Vec3f{0.0f, 0.0f, 1.0f};
         si.shadingNormal = si.geometricNormal;
-        if (!mesh.normals.empty()) {
+        // Vertex normals are only used for meshes that do not deform (they would need keys too).
+        if (!mesh.normals.empty() && !mesh.deforms()) {
             const Vec3f ns = mesh.normals[i0] * b0 + mesh.normals[i1] * b1 + mesh.normals[i2] * b2;
             const float nsLength = length(ns);
             if (nsLength > 0.0f) si.shadingNormal = faceForward(ns / nsLength, si.geometricNormal);
         }
         if (!mesh.uvs.empty()) si.uv = mesh.uvs[i0] * b0 + mesh.uvs[i1] * b1 + mesh.uvs[i2] * b2;
         si.material = mesh.material;
+        if (mesh.motion.moves()) detail::placeInWorld(mesh.motion.at(ray.time), si);
+        if (!(nLength > 0.0f)) si.geometricNormal = si.shadingNormal = normalize(-ray.direction);
     } else {
         const Sphere& sphere = scene.spheres[hit.primId];
-        Vec3f outward = ray.at(hit.t) - sphere.center;
+        // The hit point, reprojected onto the sphere in the sphere's own space.
+        Vec3f hitPoint = ray.at(hit.t);
+        Transform toWorld;
+        if (sphere.motion.moves()) {
+            toWorld = sphere.motion.at(ray.time);
+            hitPoint = toWorld.inverse().applyPoint(hitPoint);
+        }
+        Vec3f outward = hitPoint - sphere.center;
         const float outwardLength = length(outward);
         outward = outwardLength > 0.0f ? outward / outwardLength : Vec3f{0.0f, 0.0f, 1.0f};
         si.position = sphere.center + outward * sphere.radius;
         si.geometricNormal = outward;
         si.shadingNormal = outward;
         const float phi = std::atan2(outward.y, outward.x);
-        si.uv = {phi < 0.0f ? phi / (2.0f * 3.14159265f) + 1.0f : phi / (2.0f * 3.14159265f),
-                 std::acos(std::clamp(outward.z, -1.0f, 1.0f)) / 3.14159265f};
+        si.uv = {phi < 0.0f ? phi / (2.0f * kPi) + 1.0f : phi / (2.0f * kPi),
+                 std::acos(std::clamp(outward.z, -1.0f, 1.0f)) / kPi};
         si.material = sphere.material;
+        if (sphere.motion.moves()) detail::placeInWorld(toWorld, si);
     }
     return si;
 }

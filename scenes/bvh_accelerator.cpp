@@ -9,6 +9,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "core/error.h"
 #include "scenes/ray_sphere.h"
 #include "scenes/ray_triangle.h"
 
@@ -79,6 +80,14 @@ bool isDegenerate(Vec3f p0, Vec3f p1, Vec3f p2) {
 }  // namespace
 
 BvhAccelerator::BvhAccelerator(const Scene& scene, const BvhBuildSettings& settings) {
+    for (const TriangleMesh& mesh : scene.meshes)
+        if (mesh.deforms() || mesh.motion.moves())
+            throw InputError("the bvh backend does not handle motion blur yet ('" + mesh.name +
+                             "' moves); use the embree backend");
+    for (const Sphere& sphere : scene.spheres)
+        if (sphere.motion.moves())
+            throw InputError("the bvh backend does not handle motion blur yet ('" + sphere.name +
+                             "' moves); use the embree backend");
     size_t totalTriangles = 0;
     meshFirstTriangle_.reserve(scene.meshes.size() + 1);
     for (const TriangleMesh& mesh : scene.meshes) {

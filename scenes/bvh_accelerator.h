@@ -8,9 +8,10 @@
 // non-finite data are left out and never hit; a ray with a NaN or infinite component, a zero
 // direction or tnear > tfar hits nothing.
 //
-// Motion blur is not handled yet: Ray::time is ignored. Room is left for it: primitives are
-// referenced by a global index (their vertex keys can live beside the static data), and nodes
-// have a spare byte for flags such as "this subtree moves".
+// Motion blur is not handled yet: a scene where something moves is refused with an InputError,
+// and Ray::time is ignored. Room is left for it: primitives are referenced by a global index
+// (their vertex keys can live beside the static data), and nodes have a spare byte for flags such
+// as "this subtree moves".
 #pragma once
 
 #include <cstddef>

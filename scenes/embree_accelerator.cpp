@@ -20,38 +20,82 @@ void reportEmbreeError(void* /*userPtr*/, RTCError code, const char* message) {
     std::fprintf(stderr, "penumbra: Embree error %d: %s\n", int(code), message ? message : "");
 }
 
-void attachTriangleMesh(RTCDevice device, RTCScene scene, const TriangleMesh& mesh, unsigned geomId) {
+// Embree reads vertices with 16-byte loads, so its own buffers (which it pads) are used rather
+// than sharing the scene's tightly packed arrays.
+void setVertices(RTCDevice device, RTCGeometry geometry, unsigned slot, const std::vector<Vec3f>& positions) {
+    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, slot,
+                                                                 RTC_FORMAT_FLOAT3, 3 * sizeof(float), positions.size()));
+    if (!vertices) throwEmbreeError(device, "allocating a vertex buffer");
+    std::memcpy(vertices, positions.data(), positions.size() * sizeof(Vec3f));
+}
+
+// A triangle geometry; a deforming mesh gets one vertex buffer per time step, which Embree
+// interpolates linearly, as renderer/surface_interaction.h does.
+RTCGeometry newTriangleGeometry(RTCDevice device, const TriangleMesh& mesh) {
     RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    // Embree reads vertices with 16-byte loads, so its own buffers (which it pads) are used rather
-    // than sharing the scene's tightly packed arrays.
-    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
-        geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.positions.size()));
+    if (mesh.deforms()) {
+        rtcSetGeometryTimeStepCount(geometry, unsigned(mesh.positionKeys.size()));
+        for (size_t k = 0; k < mesh.positionKeys.size(); ++k) setVertices(device, geometry, unsigned(k), mesh.positionKeys[k]);
+    } else {
+        setVertices(device, geometry, 0, mesh.positions);
+    }
     auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
         geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), mesh.triangleCount()));
-    if (!vertices || !indices) throwEmbreeError(device, "allocating a triangle buffer");
-    std::memcpy(vertices, mesh.positions.data(), mesh.positions.size() * sizeof(Vec3f));
+    if (!indices) throwEmbreeError(device, "allocating an index buffer");
     std::memcpy(indices, mesh.indices.data(), mesh.indices.size() * sizeof(uint32_t));
     rtcCommitGeometry(geometry);
+    return geometry;
+}
+
+// Real spheres: Embree's sphere points, one primitive per sphere (x, y, z, radius).
+RTCGeometry newSphereGeometry(RTCDevice device, const std::vector<const Sphere*>& spheres) {
+    RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+    auto* points = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
+                                                               4 * sizeof(float), spheres.size()));
+    if (!points) throwEmbreeError(device, "allocating the sphere buffer");
+    for (size_t i = 0; i < spheres.size(); ++i) {
+        points[4 * i + 0] = spheres[i]->center.x;
+        points[4 * i + 1] = spheres[i]->center.y;
+        points[4 * i + 2] = spheres[i]->center.z;
+        points[4 * i + 3] = spheres[i]->radius;
+    }
+    rtcCommitGeometry(geometry);
+    return geometry;
+}
+
+RTCScene newScene(RTCDevice device) {
+    RTCScene scene = rtcNewScene(device);
+    // Robust mode avoids the optimizations that let rays slip through shared edges; high build
+    // quality because scenes are built once and traced billions of times.
+    rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+    return scene;
+}
+
+void attach(RTCScene scene, RTCGeometry geometry, unsigned geomId) {
     rtcAttachGeometryByID(scene, geometry, geomId);
     rtcReleaseGeometry(geometry);
 }
 
-void attachSpheres(RTCDevice device, RTCScene scene, const std::vector<Sphere>& spheres, unsigned geomId) {
-    // Real spheres: Embree's sphere points, one primitive per sphere (x, y, z, radius).
-    RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
-    auto* points = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0,
-                                                               RTC_FORMAT_FLOAT4, 4 * sizeof(float),
-                                                               spheres.size()));
-    if (!points) throwEmbreeError(device, "allocating the sphere buffer");
-    for (size_t i = 0; i < spheres.size(); ++i) {
-        points[4 * i + 0] = spheres[i].center.x;
-        points[4 * i + 1] = spheres[i].center.y;
-        points[4 * i + 2] = spheres[i].center.z;
-        points[4 * i + 3] = spheres[i].radius;
+// A moving object: its geometry alone in a scene of its own, placed by a motion instance with
+// one quaternion decomposition per key (scale, then slerped rotation, then translation).
+RTCGeometry newMotionInstance(RTCDevice device, RTCScene child, const MotionTransform& motion) {
+    RTCGeometry instance = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
+    rtcSetGeometryInstancedScene(instance, child);
+    rtcSetGeometryTimeStepCount(instance, unsigned(motion.keys.size()));
+    for (size_t k = 0; k < motion.keys.size(); ++k) {
+        const TransformKey& key = motion.keys[k];
+        RTCQuaternionDecomposition decomposition;
+        rtcInitQuaternionDecomposition(&decomposition);
+        rtcQuaternionDecompositionSetScale(&decomposition, key.scale.x, key.scale.y, key.scale.z);
+        rtcQuaternionDecompositionSetQuaternion(&decomposition, key.rotation.w, key.rotation.v.x, key.rotation.v.y,
+                                                key.rotation.v.z);
+        rtcQuaternionDecompositionSetTranslation(&decomposition, key.translation.x, key.translation.y,
+                                                 key.translation.z);
+        rtcSetGeometryTransformQuaternion(instance, unsigned(k), &decomposition);
     }
-    rtcCommitGeometry(geometry);
-    rtcAttachGeometryByID(scene, geometry, geomId);
-    rtcReleaseGeometry(geometry);
+    rtcCommitGeometry(instance);
+    return instance;
 }
 
 RTCRay toEmbreeRay(const Ray& ray) {
@@ -78,20 +122,50 @@ EmbreeAccelerator::EmbreeAccelerator(const Scene& scene) {
     if (!device_) throwEmbreeError(nullptr, "creating the device");
     rtcSetDeviceErrorFunction(device_, reportEmbreeError, nullptr);
 
-    scene_ = rtcNewScene(device_);
-    // Robust mode avoids the optimizations that let rays slip through shared edges; high build
-    // quality because scenes are built once and traced billions of times.
-    rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
-    rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
-    for (size_t i = 0; i < scene.meshes.size(); ++i)
-        if (scene.meshes[i].triangleCount() > 0) attachTriangleMesh(device_, scene_, scene.meshes[i], unsigned(i));
-    if (!scene.spheres.empty()) attachSpheres(device_, scene_, scene.spheres, unsigned(scene.meshes.size()));
+    scene_ = newScene(device_);
+    for (size_t i = 0; i < scene.meshes.size(); ++i) {
+        const TriangleMesh& mesh = scene.meshes[i];
+        if (mesh.triangleCount() == 0) continue;
+        if (!mesh.motion.moves()) {
+            attach(scene_, newTriangleGeometry(device_, mesh), unsigned(i));
+            continue;
+        }
+        RTCScene child = newScene(device_);
+        instancedScenes_.push_back(child);
+        attach(child, newTriangleGeometry(device_, mesh), 0);
+        rtcCommitScene(child);
+        attach(scene_, newMotionInstance(device_, child, mesh.motion), unsigned(i));
+    }
+    sphereGeomId_ = uint32_t(scene.meshes.size());
+    std::vector<const Sphere*> staticSpheres;
+    for (const Sphere& sphere : scene.spheres)
+        if (!sphere.motion.moves()) staticSpheres.push_back(&sphere);
+    // Still spheres share one geometry whose primitive ids are the sphere indices. Once any sphere
+    // moves, every sphere gets an instance of its own (still ones a fixed placement), and the
+    // instance ids map back to sphere indices.
+    if (staticSpheres.size() == scene.spheres.size()) {
+        if (!staticSpheres.empty()) attach(scene_, newSphereGeometry(device_, staticSpheres), sphereGeomId_);
+    } else {
+        for (size_t s = 0; s < scene.spheres.size(); ++s) {
+            const Sphere& sphere = scene.spheres[s];
+            RTCScene child = newScene(device_);
+            instancedScenes_.push_back(child);
+            attach(child, newSphereGeometry(device_, {&sphere}), 0);
+            rtcCommitScene(child);
+            MotionTransform placement = sphere.motion;
+            if (!placement.moves()) placement.keys = {TransformKey{}, TransformKey{}};  // identity, twice
+            const unsigned geomId = sphereGeomId_ + 1 + unsigned(movingSphereOfGeomId_.size());
+            attach(scene_, newMotionInstance(device_, child, placement), geomId);
+            movingSphereOfGeomId_.push_back(uint32_t(s));
+        }
+    }
     rtcCommitScene(scene_);
     if (rtcGetDeviceError(device_) != RTC_ERROR_NONE) throwEmbreeError(device_, "building the scene");
 }
 
 EmbreeAccelerator::~EmbreeAccelerator() {
     if (scene_) rtcReleaseScene(scene_);
+    for (RTCScene child : instancedScenes_) rtcReleaseScene(child);
     if (device_) rtcReleaseDevice(device_);
 }
 
@@ -108,8 +182,16 @@ bool EmbreeAccelerator::intersect(const Ray& ray, Hit& hit) const {
     hit.u = rayHit.hit.u;
     hit.v = rayHit.hit.v;
     hit.geometricNormal = {rayHit.hit.Ng_x, rayHit.hit.Ng_y, rayHit.hit.Ng_z};
-    hit.geomId = rayHit.hit.geomID;
-    hit.primId = rayHit.hit.primID;
+    // Map Embree's ids back to the scene's (see accelerator.h).
+    const unsigned instance = rayHit.hit.instID[0];
+    const unsigned geomId = instance != RTC_INVALID_GEOMETRY_ID ? instance : rayHit.hit.geomID;
+    if (geomId > sphereGeomId_) {
+        hit.geomId = sphereGeomId_;
+        hit.primId = movingSphereOfGeomId_[geomId - sphereGeomId_ - 1];
+    } else {
+        hit.geomId = geomId;
+        hit.primId = rayHit.hit.primID;
+    }
     return true;
 }
 

@@ -3,6 +3,8 @@
 
 #include <embree3/rtcore.h>
 
+#include <vector>
+
 #include "scenes/accelerator.h"
 
 namespace penumbra {
@@ -21,6 +23,9 @@ public:
 private:
     RTCDevice device_ = nullptr;
     RTCScene scene_ = nullptr;
+    std::vector<RTCScene> instancedScenes_;  // one per moving object, released with the backend
+    uint32_t sphereGeomId_ = 0;              // == meshes.size(): all static spheres
+    std::vector<uint32_t> movingSphereOfGeomId_;  // geomId - sphereGeomId_ - 1 -> sphere index
 };
 
 }  // namespace penumbra

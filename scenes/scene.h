@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "cameras/camera.h"
+#include "core/motion.h"
 #include "core/rgb.h"
 #include "core/sampler.h"
 #include "core/vec.h"
@@ -24,6 +26,9 @@ struct CameraDesc {
     float apertureRotationDegrees = 0.0f;
     float shutterOpen = 0.0f;
     float shutterClose = 0.0f;
+    // Camera motion: empty, or >= 2 poses evenly spaced over the shutter (the first equal to
+    // lookFrom / lookAt / up), interpolated linearly.
+    std::vector<CameraPose> motion;
 };
 
 enum class FilterKind : uint8_t { Box, Tent };
@@ -49,12 +54,28 @@ struct RenderSettings {
     uint64_t seed = 0;
 };
 
-enum class MaterialKind : uint8_t { Lambert };
+enum class MaterialKind : uint8_t { Lambert, Phong, Dielectric, ThinDielectric, Mirror, Conductor };
 
+enum class FresnelKind : uint8_t { Exact, Schlick };
+
+// One material as the scene file gives it (scenes/README.md); only the fields of its kind matter.
 struct MaterialDesc {
     std::string name;
     MaterialKind kind = MaterialKind::Lambert;
     Rgb albedo{0.5f, 0.5f, 0.5f};  // Lambert reflectance, each channel in [0, 1]
+    bool twoSided = true;          // Lambert, Phong, mirror, conductor: false makes the back black
+    // Phong: diffuse + specular <= 1 per channel; exponent >= 0.
+    Rgb diffuse{0.5f, 0.5f, 0.5f};
+    Rgb specular{0.0f, 0.0f, 0.0f};
+    float exponent = 10.0f;
+    // Dielectric and thin dielectric: interior index over exterior index (> 0), Fresnel model.
+    float eta = 1.5f;
+    FresnelKind fresnel = FresnelKind::Exact;
+    Rgb absorption{0.0f, 0.0f, 0.0f};  // dielectric: sigma_a = -ln(color) / distance, per unit length
+    Rgb tint{1.0f, 1.0f, 1.0f};        // mirror reflectance, each channel in [0, 1]
+    // Conductor: complex index eta + i k per channel (conductorEta > 0, k >= 0).
+    Rgb conductorEta{1.0f, 1.0f, 1.0f};
+    Rgb k{0.0f, 0.0f, 0.0f};
 };
 
 // Emission turns any shape into an area light with constant radiance.
@@ -64,17 +85,26 @@ struct Emission {
     bool emits() const { return !radiance.isBlack(); }
 };
 
+// Motion: times are shutter fractions (0 = shutter open, 1 = closed), the same as Ray::time.
+// A mesh or sphere with a moving `motion` transform keeps its geometry in object space and is
+// placed in the world by motion.at(time); otherwise its geometry is in world space.
 struct TriangleMesh {
     std::string name;              // for messages: the scene's JSON pointer or the file name
-    std::vector<Vec3f> positions;  // world space
+    std::vector<Vec3f> positions;  // world space, or object space when `motion` moves; the first
+                                   // deformation key when there are several
     std::vector<Vec3f> normals;    // optional, per vertex, world space, unit length
     std::vector<Vec2f> uvs;        // optional, per vertex
     std::vector<uint32_t> indices; // three per triangle; front face is counter-clockwise,
                                    // i.e. its normal is cross(p1 - p0, p2 - p0)
     uint32_t material = 0;         // index into Scene::materials
     Emission emission;
+    // Deformation: empty, or >= 2 arrays of positions (the first equal to `positions`), evenly
+    // spaced over the shutter and interpolated linearly per vertex.
+    std::vector<std::vector<Vec3f>> positionKeys;
+    MotionTransform motion;
 
     size_t triangleCount() const { return indices.size() / 3; }
+    bool deforms() const { return positionKeys.size() >= 2; }
 };
 
 struct Sphere {
@@ -83,6 +113,7 @@ struct Sphere {
     float radius = 1.0f;  // > 0; the front side is the outside
     uint32_t material = 0;
     Emission emission;
+    MotionTransform motion;  // when it moves, center and radius are in object space
 };
 
 struct PointLight {

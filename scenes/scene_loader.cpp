@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <cstdint>
 #include <fstream>
 #include <limits>
@@ -87,17 +88,94 @@ RenderSettings readRender(const JsonValue& value) {
     return settings;
 }
 
+FresnelKind readFresnel(const JsonValue& value) {
+    return value.choice({"exact", "schlick"}) == 0 ? FresnelKind::Exact : FresnelKind::Schlick;
+}
+
+// "absorption": {"color": c, "distance": d}: light keeps the fraction c (per channel, in (0, 1])
+// after travelling d inside, so sigma_a = -ln(c) / d.
+Rgb readAbsorption(const JsonValue& value) {
+    const JsonObject object(value, {"color", "distance"});
+    const JsonValue colorValue = object.require("color");
+    const Rgb color = colorValue.rgb(0.0f, 1.0f);
+    for (int c = 0; c < 3; ++c)
+        if (!(color[c] > 0.0f))
+            colorValue.failExpected(
+                "a transmittance in (0, 1] per channel (0 would absorb everything at any distance)");
+    const float distance = object.require("distance").numberAbove(0.0f);
+    return {-std::log(color.r) / distance, -std::log(color.g) / distance, -std::log(color.b) / distance};
+}
+
+MaterialDesc readMaterial(const std::string& name, const JsonValue& material) {
+    MaterialDesc desc;
+    desc.name = name;
+    const size_t type = material.requiredMember("type").choice(
+        {"lambert", "phong", "dielectric", "thin_dielectric", "mirror", "conductor"});
+    switch (type) {
+        case 0: {
+            const JsonObject object(material, {"type", "albedo", "two_sided"});
+            desc.kind = MaterialKind::Lambert;
+            if (auto v = object.get("albedo")) desc.albedo = v->rgb(0.0f, 1.0f);
+            if (auto v = object.get("two_sided")) desc.twoSided = v->boolean();
+            break;
+        }
+        case 1: {
+            const JsonObject object(material, {"type", "diffuse", "specular", "exponent", "two_sided"});
+            desc.kind = MaterialKind::Phong;
+            if (auto v = object.get("diffuse")) desc.diffuse = v->rgb(0.0f, 1.0f);
+            if (auto v = object.get("exponent")) desc.exponent = v->numberAtLeast(0.0f);
+            if (auto v = object.get("two_sided")) desc.twoSided = v->boolean();
+            if (auto v = object.get("specular")) {
+                desc.specular = v->rgb(0.0f, 1.0f);
+                // diffuse alone is at most 1, so a sum above 1 always involves a given specular.
+                static constexpr const char* kChannels[] = {"red", "green", "blue"};
+                for (int c = 0; c < 3; ++c)
+                    if (desc.diffuse[c] + desc.specular[c] > 1.0f)
+                        v->fail(fmt::format(
+                            "diffuse + specular must not exceed 1 in any channel (energy conservation), but "
+                            "the {} channel has {} + {} = {}",
+                            kChannels[c], desc.diffuse[c], desc.specular[c], desc.diffuse[c] + desc.specular[c]));
+            }
+            break;
+        }
+        case 2:
+        case 3: {
+            const bool thin = type == 3;
+            const JsonObject object(material, thin ? std::initializer_list<std::string_view>{"type", "eta", "fresnel"}
+                                                   : std::initializer_list<std::string_view>{"type", "eta", "fresnel",
+                                                                                             "absorption"});
+            desc.kind = thin ? MaterialKind::ThinDielectric : MaterialKind::Dielectric;
+            if (auto v = object.get("eta")) desc.eta = v->numberAbove(0.0f);
+            if (auto v = object.get("fresnel")) desc.fresnel = readFresnel(*v);
+            if (auto v = object.get("absorption")) desc.absorption = readAbsorption(*v);
+            break;
+        }
+        case 4: {
+            const JsonObject object(material, {"type", "tint", "two_sided"});
+            desc.kind = MaterialKind::Mirror;
+            if (auto v = object.get("tint")) desc.tint = v->rgb(0.0f, 1.0f);
+            if (auto v = object.get("two_sided")) desc.twoSided = v->boolean();
+            break;
+        }
+        default: {
+            const JsonObject object(material, {"type", "eta", "k", "two_sided"});
+            desc.kind = MaterialKind::Conductor;
+            const JsonValue etaValue = object.require("eta");
+            desc.conductorEta = etaValue.rgb(0.0f);
+            for (int c = 0; c < 3; ++c)
+                if (!(desc.conductorEta[c] > 0.0f))
+                    etaValue.failExpected("a number or an array of 3 numbers (r, g, b), each > 0");
+            desc.k = object.require("k").rgb(0.0f);
+            if (auto v = object.get("two_sided")) desc.twoSided = v->boolean();
+            break;
+        }
+    }
+    return desc;
+}
+
 std::vector<MaterialDesc> readMaterials(const JsonValue& value) {
     std::vector<MaterialDesc> materials;
-    for (const auto& [name, material] : value.members()) {
-        const JsonObject object(material, {"type", "albedo"});
-        MaterialDesc desc;
-        desc.name = name;
-        object.require("type").choice({"lambert"});
-        desc.kind = MaterialKind::Lambert;
-        if (auto v = object.get("albedo")) desc.albedo = v->rgb(0.0f, 1.0f);
-        materials.push_back(desc);
-    }
+    for (const auto& [name, material] : value.members()) materials.push_back(readMaterial(name, material));
     return materials;
 }
 

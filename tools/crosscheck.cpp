@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cameras/camera.h"
+#include "scenes/scene_camera.h"
 #include "core/frame.h"
 #include "core/hash.h"
 #include "core/ray_offset.h"
@@ -44,24 +45,6 @@ private:
     uint64_t dimension_ = 0;
 };
 
-ThinLensCamera makeCamera(const Scene& scene) {
-    // As renderer/render.cpp builds it.
-    const CameraDesc& c = scene.camera;
-    ThinLensCameraParams p;
-    p.lookFrom = c.lookFrom;
-    p.lookAt = c.lookAt;
-    p.up = c.up;
-    p.verticalFovDegrees = c.verticalFovDegrees;
-    p.apertureRadius = c.apertureRadius;
-    p.focusDistance = c.focusDistance;
-    p.apertureBlades = c.apertureBlades;
-    p.apertureRotationDegrees = c.apertureRotationDegrees;
-    p.shutterOpen = c.shutterOpen;
-    p.shutterClose = c.shutterClose;
-    p.filmWidth = scene.film.width;
-    p.filmHeight = scene.film.height;
-    return ThinLensCamera(p);
-}
 
 struct SceneExtent {
     Vec3f lower{-1.0f, -1.0f, -1.0f}, upper{1.0f, 1.0f, 1.0f};
@@ -257,7 +240,7 @@ std::vector<CrosscheckRay> generateCrosscheckRays(const Scene& scene, const Acce
                                                   const CrosscheckOptions& options) {
     const uint64_t perKind = options.rays / kCrosscheckRayKindCount;
     const uint64_t randomCount = options.rays - 3 * perKind;
-    const ThinLensCamera camera = makeCamera(scene);
+    const ThinLensCamera camera = makeSceneCamera(scene);
     const SceneExtent extent = measureScene(scene);
     const PrimitiveIndex primitives(scene);
 

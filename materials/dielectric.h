@@ -1,0 +1,98 @@
+// Smooth dielectric interfaces (glass, water): specular reflection and refraction, both delta
+// distributions, chosen with probability F and 1 - F so that every sample weighs exactly 1 (times
+// the radiance scale 1 / eta^2 on refraction).
+//
+// Which side is inside is decided by the GEOMETRIC normal, not by the local (shading) frame: the
+// caller says whether wo lies on the front (outside) of the surface. The interior has index `eta`
+// relative to the exterior. Refraction follows Snell's law about the shading normal; total internal
+// reflection happens beyond the critical angle asin(1 / eta) when leaving the interior.
+//
+// Radiance, not importance, is transported: radiance crossing into a medium of index eta_t from
+// eta_i is multiplied by (eta_t / eta_i)^2 (it is L / eta^2 that is invariant along a ray), so a
+// camera path sampling the transmitted direction wi gets the weight (1 - F) / (1 - F) / eta^2 with
+// eta = eta(wi side) / eta(wo side). The sample reports that relative index so that the integrator
+// can keep Russian roulette independent of the scale.
+//
+// Absorption (Beer-Lambert) inside the medium is not a scattering event: the integrator applies
+// exp(-sigma_a * length) to path segments that travel inside (see renderer/path_integrator.h).
+//
+// ThinDielectric is a window pane: two parallel interfaces so close that the light leaves where it
+// entered; reflection and straight-through transmission with all inter-reflections summed
+// (pbrt-v4's ThinDielectricBxDF): R' = R + T^2 R / (1 - R^2), T' = 1 - R'. Radiance is not scaled,
+// because the light ends up in the medium it came from.
+#pragma once
+
+#include <cmath>
+#include <optional>
+
+#include "core/rgb.h"
+#include "core/vec.h"
+#include "materials/fresnel.h"
+
+namespace penumbra {
+
+enum class FresnelModel : uint8_t { Exact, Schlick };
+
+struct SpecularSample {
+    Vec3f wi;
+    Rgb weight;           // f |cos| / pdf
+    float pdf = 0;        // probability of the lobe chosen
+    bool isTransmission = false;
+    float eta = 1.0f;     // eta(wi side) / eta(wo side); 1 for reflection
+};
+
+struct Dielectric {
+    float eta = 1.5f;                 // interior index over exterior index, > 0
+    FresnelModel fresnel = FresnelModel::Exact;
+    Rgb absorption{0.0f, 0.0f, 0.0f}; // sigma_a of the interior, per unit length (0: clear)
+
+    // Relative index of the far side seen from wo: eta when wo is outside, 1 / eta inside.
+    float relativeEta(bool woOutside) const { return woOutside ? eta : 1.0f / eta; }
+
+    // Reflectance for light leaving along wo (reciprocal: the same for light arriving along wo).
+    float reflectance(Vec3f wo, bool woOutside) const {
+        const float etaRelative = relativeEta(woOutside);
+        const float cosTheta = std::abs(wo.z);
+        return fresnel == FresnelModel::Schlick ? fresnelSchlick(cosTheta, etaRelative)
+                                                : fresnelDielectric(cosTheta, etaRelative);
+    }
+
+    std::optional<SpecularSample> sample(Vec3f wo, float uLobe, bool woOutside) const {
+        if (wo.z == 0.0f) return std::nullopt;
+        const float etaRelative = relativeEta(woOutside);
+        const float reflect = reflectance(wo, woOutside);
+        if (uLobe < reflect) {  // total internal reflection has reflect = 1 > uLobe
+            return SpecularSample{reflectAboutZ(wo), Rgb(1.0f), reflect, false, 1.0f};
+        }
+        const std::optional<Vec3f> wt = refractAcrossZ(wo, etaRelative);
+        if (!wt) {  // cannot happen with reflect < 1 except by rounding at the critical angle
+            return SpecularSample{reflectAboutZ(wo), Rgb(1.0f), 1.0f, false, 1.0f};
+        }
+        return SpecularSample{*wt, Rgb(1.0f / (etaRelative * etaRelative)), 1.0f - reflect, true, etaRelative};
+    }
+};
+
+struct ThinDielectric {
+    float eta = 1.5f;
+    FresnelModel fresnel = FresnelModel::Exact;
+
+    // Reflectance of the pane, inter-reflections included.
+    float reflectance(Vec3f wo) const {
+        const float cosTheta = std::abs(wo.z);
+        float r = fresnel == FresnelModel::Schlick ? fresnelSchlick(cosTheta, eta) : fresnelDielectric(cosTheta, eta);
+        if (r < 1.0f) {
+            const float t = 1.0f - r;
+            r += t * t * r / (1.0f - r * r);
+        }
+        return r;
+    }
+
+    std::optional<SpecularSample> sample(Vec3f wo, float uLobe) const {
+        if (wo.z == 0.0f) return std::nullopt;
+        const float reflect = reflectance(wo);
+        if (uLobe < reflect) return SpecularSample{reflectAboutZ(wo), Rgb(1.0f), reflect, false, 1.0f};
+        return SpecularSample{-wo, Rgb(1.0f), 1.0f - reflect, true, 1.0f};
+    }
+};
+
+}  // namespace penumbra
