@@ -144,6 +144,7 @@ BvhAccelerator::BvhAccelerator(const Scene& scene, const BvhBuildSettings& setti
     BvhBuildResult built = buildBvh(bounds, settings);
     nodes_ = std::move(built.nodes);
     maxDepth_ = built.maxDepth;
+    sahCost_ = built.sahCost;
     primitives_.resize(candidates.size());
     tbb::parallel_for(tbb::blocked_range<size_t>(0, candidates.size(), 16384),
                       [&](const tbb::blocked_range<size_t>& range) {
@@ -159,9 +160,15 @@ BvhAccelerator::Stats BvhAccelerator::stats() const {
     s.primitiveCount = primitives_.size();
     s.skippedCount = skippedCount_;
     s.maxDepth = maxDepth_;
+    s.sahCost = sahCost_;
     s.memoryBytes = nodes_.capacity() * sizeof(BvhNode) + primitives_.capacity() * sizeof(Primitive) +
                     meshFirstTriangle_.capacity() * sizeof(uint32_t);
     return s;
+}
+
+void BvhAccelerator::prefetchBelow(const BvhNode& node) const {
+    __builtin_prefetch(node.isLeaf() ? static_cast<const void*>(&primitives_[node.offset])
+                                     : static_cast<const void*>(&nodes_[node.offset]));
 }
 
 template <bool AnyHit>
@@ -191,6 +198,11 @@ bool BvhAccelerator::traverse(const Ray& ray, Hit* hit) const {
         const BvhNode& node = nodes_[current];
         if (!node.isLeaf()) {
             const uint32_t first = node.offset, second = node.offset + 1;
+            // Incoherent rays wait on memory more than they compute: ask for what each child
+            // leads to (its children's pair, or its primitives) before testing the children, so
+            // those loads overlap with the box tests and with each other.
+            prefetchBelow(nodes_[first]);
+            prefetchBelow(nodes_[second]);
             float tFirst, tSecond;
             const bool hitFirst = hitBox(nodes_[first], r, tClosest, tFirst);
             const bool hitSecond = hitBox(nodes_[second], r, tClosest, tSecond);

@@ -37,6 +37,7 @@ public:
         size_t primitiveCount = 0;  // triangles and spheres in the tree
         size_t skippedCount = 0;    // degenerate or non-finite primitives left out
         int maxDepth = 0;
+        float sahCost = 0.0f;       // see BvhBuildResult::sahCost
         size_t memoryBytes = 0;     // everything traversal reads: nodes, primitives, id tables
     };
     Stats stats() const;
@@ -52,6 +53,7 @@ private:
 
     template <bool AnyHit>
     bool traverse(const Ray& ray, Hit* hit) const;
+    void prefetchBelow(const BvhNode& node) const;
     void fillHit(const Ray& ray, uint32_t primitive, float t, float b1, float b2, Hit& hit) const;
 
     BvhNodeArray nodes_;
@@ -61,6 +63,7 @@ private:
     uint32_t sphereGeomId_ = 0;
     size_t skippedCount_ = 0;
     int maxDepth_ = 0;
+    float sahCost_ = 0.0f;
 };
 
 }  // namespace penumbra

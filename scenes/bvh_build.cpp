@@ -13,7 +13,8 @@ namespace penumbra {
 
 namespace {
 
-constexpr int kBinCount = 32;
+// At most this many bins per axis; small nodes use fewer (cheaper, and as good there).
+constexpr int kMaxBins = 32;
 // Subtrees with at least this many primitives are built as separate TBB tasks.
 constexpr uint32_t kParallelSubtreeSize = 4096;
 // Nodes with at least this many primitives are binned by a parallel reduction. Bin contents are
@@ -23,56 +24,79 @@ constexpr uint32_t kParallelBinningSize = 65536;
 // with at most 2^32 primitives the tree stays within kBvhMaxDepth levels whatever the input.
 constexpr int kSahDepthLimit = kBvhMaxDepth - 33;
 
+int binCountFor(uint32_t primitives) { return primitives <= 16 ? 8 : (primitives <= 256 ? 16 : kMaxBins); }
+
 struct BuildRef {
-    Bounds3f bounds;
-    Vec3f centroid;
+    float lower[3], upper[3];
+    float centroid[3];
     uint32_t index = 0;
 };
 
-// Maps a centroid to one of kBinCount bins along each axis of the node's centroid bounds.
+// Maps a centroid to one of `count` bins along each axis of the node's centroid bounds.
 struct BinMapping {
-    Vec3f origin;
+    int count = kMaxBins;
+    float origin[3] = {0.0f, 0.0f, 0.0f};
     float scale[3] = {0.0f, 0.0f, 0.0f};  // 0 along an axis where the centroids do not spread
 
-    explicit BinMapping(const Bounds3f& centroidBounds) : origin(centroidBounds.lower) {
+    BinMapping(const Bounds3f& centroidBounds, int binCount) : count(binCount) {
         for (int axis = 0; axis < 3; ++axis) {
+            origin[axis] = centroidBounds.lower[axis];
             const float extent = centroidBounds.upper[axis] - centroidBounds.lower[axis];
-            // Slightly below kBinCount / extent so that the largest centroid still lands in the last bin.
-            const float s = float(kBinCount) * (1.0f - 0x1p-20f) / extent;
+            // Slightly below count / extent so that the largest centroid still lands in the last bin.
+            const float s = float(count) * (1.0f - 0x1p-20f) / extent;
             scale[axis] = extent > 0.0f && std::isfinite(s) ? s : 0.0f;
         }
     }
     bool canSplit(int axis) const { return scale[axis] > 0.0f; }
-    int binOf(Vec3f centroid, int axis) const {
-        const float f = (centroid[axis] - origin[axis]) * scale[axis];
-        return std::clamp(int(std::min(f, float(kBinCount - 1))), 0, kBinCount - 1);
+    int binOf(const BuildRef& ref, int axis) const {
+        const float f = (ref.centroid[axis] - origin[axis]) * scale[axis];
+        return std::clamp(int(std::min(f, float(count - 1))), 0, count - 1);
     }
 };
 
 struct Bin {
-    Bounds3f bounds;
-    Bounds3f centroidBounds;
-    uint32_t count = 0;
+    float lower[3], upper[3];
+    uint32_t count;
+
+    void clear() {
+        for (int k = 0; k < 3; ++k) {
+            lower[k] = std::numeric_limits<float>::infinity();
+            upper[k] = -std::numeric_limits<float>::infinity();
+        }
+        count = 0;
+    }
+    Bounds3f bounds() const { return {{lower[0], lower[1], lower[2]}, {upper[0], upper[1], upper[2]}}; }
 };
 
 struct BinSet {
-    std::array<std::array<Bin, kBinCount>, 3> bins{};
+    int count = 0;
+    Bin bins[3][kMaxBins];
 
+    explicit BinSet(int binCount = 0) : count(binCount) {
+        for (int axis = 0; axis < 3; ++axis)
+            for (int i = 0; i < count; ++i) bins[axis][i].clear();
+    }
     void add(const BuildRef& ref, const BinMapping& mapping) {
         for (int axis = 0; axis < 3; ++axis) {
             if (!mapping.canSplit(axis)) continue;
-            Bin& bin = bins[axis][mapping.binOf(ref.centroid, axis)];
-            bin.bounds.extend(ref.bounds);
-            bin.centroidBounds.extend(ref.centroid);
+            Bin& bin = bins[axis][mapping.binOf(ref, axis)];
+            for (int k = 0; k < 3; ++k) {
+                bin.lower[k] = std::min(bin.lower[k], ref.lower[k]);
+                bin.upper[k] = std::max(bin.upper[k], ref.upper[k]);
+            }
             ++bin.count;
         }
     }
     void merge(const BinSet& other) {
         for (int axis = 0; axis < 3; ++axis)
-            for (int i = 0; i < kBinCount; ++i) {
-                bins[axis][i].bounds.extend(other.bins[axis][i].bounds);
-                bins[axis][i].centroidBounds.extend(other.bins[axis][i].centroidBounds);
-                bins[axis][i].count += other.bins[axis][i].count;
+            for (int i = 0; i < count; ++i) {
+                Bin& bin = bins[axis][i];
+                const Bin& o = other.bins[axis][i];
+                for (int k = 0; k < 3; ++k) {
+                    bin.lower[k] = std::min(bin.lower[k], o.lower[k]);
+                    bin.upper[k] = std::max(bin.upper[k], o.upper[k]);
+                }
+                bin.count += o.count;
             }
     }
 };
@@ -103,7 +127,7 @@ public:
 
         Split split;
         BinSet bins;
-        const BinMapping mapping(extent.centroidBounds);
+        const BinMapping mapping(extent.centroidBounds, binCountFor(n));
         if (depth < kSahDepthLimit) split = findSahSplit(begin, end, extent.bounds, mapping, bins);
         const float leafCost = float(n);
         if (n <= uint32_t(settings_.maxLeafSize) && (split.axis < 0 || leafCost <= split.cost))
@@ -114,14 +138,11 @@ public:
         if (split.axis >= 0) {
             BuildRef* first = refs_.data() + begin;
             BuildRef* middle = std::partition(first, refs_.data() + end, [&](const BuildRef& r) {
-                return mapping.binOf(r.centroid, split.axis) <= split.bin;
+                return mapping.binOf(r, split.axis) <= split.bin;
             });
             mid = begin + uint32_t(middle - first);
-            for (int i = 0; i < kBinCount; ++i) {
-                NodeExtent& side = i <= split.bin ? left : right;
-                side.bounds.extend(bins.bins[split.axis][i].bounds);
-                side.centroidBounds.extend(bins.bins[split.axis][i].centroidBounds);
-            }
+            left = measure(begin, mid);
+            right = measure(mid, end);
         } else {
             // No SAH split: every centroid coincides, or the tree is deep. Split at the median
             // along the axis where centroids spread most; nth_element is deterministic.
@@ -150,12 +171,27 @@ public:
         return std::max(leftDepth, rightDepth);
     }
 
+    // The bounds of refs_[begin, end) and of their centroids.
     NodeExtent measure(uint32_t begin, uint32_t end) const {
         auto accumulate = [&](const tbb::blocked_range<uint32_t>& range, NodeExtent e) {
-            for (uint32_t i = range.begin(); i != range.end(); ++i) {
-                e.bounds.extend(refs_[i].bounds);
-                e.centroidBounds.extend(refs_[i].centroid);
+            float lower[3], upper[3], cLower[3], cUpper[3];
+            for (int k = 0; k < 3; ++k) {
+                lower[k] = e.bounds.lower[k];
+                upper[k] = e.bounds.upper[k];
+                cLower[k] = e.centroidBounds.lower[k];
+                cUpper[k] = e.centroidBounds.upper[k];
             }
+            for (uint32_t i = range.begin(); i != range.end(); ++i) {
+                const BuildRef& r = refs_[i];
+                for (int k = 0; k < 3; ++k) {
+                    lower[k] = std::min(lower[k], r.lower[k]);
+                    upper[k] = std::max(upper[k], r.upper[k]);
+                    cLower[k] = std::min(cLower[k], r.centroid[k]);
+                    cUpper[k] = std::max(cUpper[k], r.centroid[k]);
+                }
+            }
+            e.bounds = {{lower[0], lower[1], lower[2]}, {upper[0], upper[1], upper[2]}};
+            e.centroidBounds = {{cLower[0], cLower[1], cLower[2]}, {cUpper[0], cUpper[1], cUpper[2]}};
             return e;
         };
         if (end - begin < kParallelBinningSize) return accumulate({begin, end}, NodeExtent{});
@@ -178,9 +214,10 @@ private:
             return set;
         };
         if (end - begin < kParallelBinningSize) {
-            bins = accumulate({begin, end}, BinSet{});
+            bins = accumulate({begin, end}, BinSet(mapping.count));
         } else {
-            bins = tbb::parallel_reduce(tbb::blocked_range<uint32_t>(begin, end, 16384), BinSet{}, accumulate,
+            bins = tbb::parallel_reduce(tbb::blocked_range<uint32_t>(begin, end, 16384), BinSet(mapping.count),
+                                        accumulate,
                                         [](BinSet a, const BinSet& b) {
                                             a.merge(b);
                                             return a;
@@ -193,20 +230,20 @@ private:
             if (!mapping.canSplit(axis)) continue;
             const auto& axisBins = bins.bins[axis];
             // Right-hand sides of every split, swept from the right; split i puts bins [0, i] left.
-            float rightCost[kBinCount] = {};
-            uint32_t rightCount[kBinCount] = {};
+            float rightCost[kMaxBins] = {};
+            uint32_t rightCount[kMaxBins] = {};
             Bounds3f accumulated;
             uint32_t count = 0;
-            for (int i = kBinCount - 1; i > 0; --i) {
-                accumulated.extend(axisBins[i].bounds);
+            for (int i = mapping.count - 1; i > 0; --i) {
+                accumulated.extend(axisBins[i].bounds());
                 count += axisBins[i].count;
                 rightCost[i - 1] = accumulated.halfArea() * float(count);
                 rightCount[i - 1] = count;
             }
             accumulated = Bounds3f{};
             count = 0;
-            for (int i = 0; i < kBinCount - 1; ++i) {
-                accumulated.extend(axisBins[i].bounds);
+            for (int i = 0; i < mapping.count - 1; ++i) {
+                accumulated.extend(axisBins[i].bounds());
                 count += axisBins[i].count;
                 if (count == 0 || rightCount[i] == 0) continue;
                 const float cost =
@@ -258,8 +295,11 @@ BvhBuildResult buildBvh(const std::vector<Bounds3f>& primitiveBounds, const BvhB
 
     std::vector<BuildRef> refs(n);
     tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n, 16384), [&](const tbb::blocked_range<uint32_t>& range) {
-        for (uint32_t i = range.begin(); i != range.end(); ++i)
-            refs[i] = {primitiveBounds[i], primitiveBounds[i].centroid(), i};
+        for (uint32_t i = range.begin(); i != range.end(); ++i) {
+            const Bounds3f& b = primitiveBounds[i];
+            const Vec3f c = b.centroid();
+            refs[i] = {{b.lower.x, b.lower.y, b.lower.z}, {b.upper.x, b.upper.y, b.upper.z}, {c.x, c.y, c.z}, i};
+        }
     });
 
     // Node slots with holes (2n - 1, the most a tree over n primitives can need), squeezed out below.
@@ -294,6 +334,21 @@ BvhBuildResult buildBvh(const std::vector<Bounds3f>& primitiveBounds, const BvhB
         pending.push_back({secondSlot, pair + 1});
         pending.push_back({firstSlot, pair});
     }
+
+    const BvhNode& root = result.nodes[0];
+    const float rootArea = Bounds3f{{root.bounds[0], root.bounds[1], root.bounds[2]},
+                                    {root.bounds[3], root.bounds[4], root.bounds[5]}}
+                               .halfArea();
+    double cost = 0.0;
+    for (size_t i = 0; i < result.nodes.size(); ++i) {
+        if (i == 1) continue;  // padding
+        const BvhNode& node = result.nodes[i];
+        const float area = Bounds3f{{node.bounds[0], node.bounds[1], node.bounds[2]},
+                                    {node.bounds[3], node.bounds[4], node.bounds[5]}}
+                               .halfArea();
+        cost += double(area) * (node.isLeaf() ? double(node.count) : double(settings.traversalCost));
+    }
+    result.sahCost = rootArea > 0.0f ? float(cost / rootArea) : 0.0f;
 
     result.primitiveOrder.resize(n);
     for (uint32_t i = 0; i < n; ++i) result.primitiveOrder[i] = refs[i].index;

@@ -26,8 +26,8 @@ struct CameraDesc {
     float apertureRotationDegrees = 0.0f;
     float shutterOpen = 0.0f;
     float shutterClose = 0.0f;
-    // Camera motion: empty, or >= 2 poses evenly spaced over the shutter (the first equal to
-    // lookFrom / lookAt / up), interpolated linearly.
+    // Camera motion: empty, or >= 2 poses evenly spaced over the shutter, interpolated linearly;
+    // they replace lookFrom / lookAt / up.
     std::vector<CameraPose> motion;
 };
 

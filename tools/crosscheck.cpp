@@ -433,9 +433,11 @@ std::string formatCrosscheckText(const CrosscheckReport& report, size_t maxListe
         out += fmt::format("  {:<8} {:>10} {:>10} {:>9} {:>10}\n", crosscheckRayKindName(CrosscheckRayKind(k)), s.rays,
                            s.agreements, s.hitMissDisagreements, s.primitiveDisagreements);
     }
-    out += fmt::format("  agreement {:.5f}% ({} of {}); hit/miss disagreements {}, different primitive {}\n",
+    out += fmt::format("  agreement {:.5f}% ({} of {}), {:.5f}% counting ties; hit/miss disagreements {}, "
+                       "different primitive {}\n",
                        100.0 * report.agreementRatio(), report.agreements, report.rayCount,
-                       report.hitMissDisagreements, report.primitiveDisagreements);
+                       100.0 * report.agreementRatioCountingTies(), report.hitMissDisagreements,
+                       report.primitiveDisagreements);
     out += fmt::format("  distance on the same primitive ({} hits): relative difference of t max {:.3g}, mean {:.3g}; "
                        "hit points apart by at most {:.3g}, on average {:.3g} of the scene's coordinate magnitude\n",
                        report.samePrimitiveHits, report.maxRelativeDistance, report.meanRelativeDistance,
@@ -480,6 +482,7 @@ std::string formatCrosscheckJson(const CrosscheckReport& report, size_t maxListe
     j["rays"] = report.rayCount;
     j["agreements"] = report.agreements;
     j["agreementRatio"] = report.agreementRatio();
+    j["agreementRatioCountingTies"] = report.agreementRatioCountingTies();
     j["hitMissDisagreements"] = report.hitMissDisagreements;
     j["primitiveDisagreements"] = report.primitiveDisagreements;
     json kinds = json::object();

@@ -108,6 +108,12 @@ struct CrosscheckReport {
 
     uint64_t unexplained() const { return mismatchesByKind[size_t(MismatchKind::Unexplained)]; }
     double agreementRatio() const { return rayCount ? double(agreements) / double(rayCount) : 1.0; }
+    // Counting ties as agreements: meshes with overlapping coplanar triangles (scanned meshes
+    // often have some) make both answers right.
+    double agreementRatioCountingTies() const {
+        const uint64_t ties = mismatchesByKind[size_t(MismatchKind::Tie)];
+        return rayCount ? double(agreements + ties) / double(rayCount) : 1.0;
+    }
 };
 
 // The ray set, deterministic in (scene, options.rays, options.seed). Paths for bounce and shadow

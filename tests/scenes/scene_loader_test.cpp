@@ -309,7 +309,7 @@ TEST(SceneErrors, UnknownKeys) {
     });
     EXPECT_EQ(std::string(e.what()),
               "scene.json: /shapes/2/radus: unknown key (expected one of: type, center, "
-              "radius, material, emission, transform)");
+              "radius, material, emission, transform, motion)");
 
     e = catchInputError(
         [] { parseScene(R"({"film": {"filter": {"type": "box", "radius": 1, "width": 2}}})", "s.json"); });

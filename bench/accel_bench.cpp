@@ -1,0 +1,223 @@
+// Our BVH (scenes/bvh_accelerator.h) against Embree, in the same run, on the Stanford bunny (69k
+// triangles) and the Stanford dragon (871k): build time, trace throughput on coherent camera
+// rays, incoherent rays (path bounces and random rays) and shadow segments, and memory per
+// triangle. Every benchmark measures both backends on the same input and reports both and their
+// ratio (bvh/embree) as counters. Tracing is single-threaded; builds use every core for both.
+//
+// Meshes are read from $PENUMBRA_DATA_DIR/meshes (default: the CMake cache's PENUMBRA_DATA_DIR).
+#include <benchmark/benchmark.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <embree3/rtcore.h>
+
+#include "scenes/bvh_accelerator.h"
+#include "scenes/embree_accelerator.h"
+#include "scenes/mesh_import.h"
+#include "scenes/scene_camera.h"
+#include "tools/crosscheck.h"
+
+namespace penumbra {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+constexpr int kImageSize = 512;            // coherent rays: one per pixel, in scanline order
+constexpr uint64_t kIncoherentRays = 1 << 17;  // of each incoherent kind
+
+struct RaySet {
+    std::vector<Ray> rays;
+    bool segments = false;  // traced with occluded()
+};
+
+struct BenchScene {
+    Scene scene;
+    size_t triangles = 0;
+    std::unique_ptr<BvhAccelerator> bvh;
+    std::unique_ptr<EmbreeAccelerator> embree;
+    RaySet coherent, incoherent, shadow;
+};
+
+fs::path dataDir() {
+    const char* env = std::getenv("PENUMBRA_DATA_DIR");
+    return env ? fs::path(env) : fs::path(PENUMBRA_DATA_DIR);
+}
+
+// Loads a mesh once, frames it with a camera, builds both backends and makes the ray sets.
+BenchScene* benchScene(const std::string& file) {
+    static std::map<std::string, std::unique_ptr<BenchScene>> cache;
+    auto& slot = cache[file];
+    if (slot) return slot.get();
+    const fs::path path = dataDir() / "meshes" / file;
+    if (!fs::exists(path)) return nullptr;
+    auto b = std::make_unique<BenchScene>();
+    b->scene.sourcePath = path;
+    b->scene.meshes.push_back(importMesh(path));
+    b->triangles = b->scene.meshes[0].triangleCount();
+    Vec3f lower = b->scene.meshes[0].positions[0], upper = lower;
+    for (const Vec3f& p : b->scene.meshes[0].positions) {
+        lower = min(lower, p);
+        upper = max(upper, p);
+    }
+    const Vec3f center = (lower + upper) * 0.5f;
+    b->scene.camera.lookAt = center;
+    b->scene.camera.lookFrom = center + Vec3f{0.3f, 0.2f, 1.0f} * (1.1f * length(upper - lower));
+    b->scene.camera.verticalFovDegrees = 35.0f;
+    b->scene.film.width = b->scene.film.height = kImageSize;
+    b->bvh = std::make_unique<BvhAccelerator>(b->scene);
+    b->embree = std::make_unique<EmbreeAccelerator>(b->scene);
+
+    const ThinLensCamera camera = makeSceneCamera(b->scene);
+    for (int y = 0; y < kImageSize; ++y)
+        for (int x = 0; x < kImageSize; ++x)
+            b->coherent.rays.push_back(camera.generateRay({float(x) + 0.5f, float(y) + 0.5f}, {0.5f, 0.5f}, 0.0f));
+    CrosscheckOptions options;
+    options.rays = 4 * kIncoherentRays;
+    for (const CrosscheckRay& r : generateCrosscheckRays(b->scene, *b->embree, options)) {
+        if (r.kind == CrosscheckRayKind::Bounce || r.kind == CrosscheckRayKind::Random) b->incoherent.rays.push_back(r.ray);
+        if (r.kind == CrosscheckRayKind::Shadow) b->shadow.rays.push_back(r.ray);
+    }
+    b->shadow.segments = true;
+    slot = std::move(b);
+    return slot.get();
+}
+
+template <typename Accel>
+double traceSeconds(const Accel& accel, const RaySet& set) {
+    const auto start = Clock::now();
+    if (set.segments) {
+        for (const Ray& ray : set.rays) benchmark::DoNotOptimize(accel.occluded(ray));
+    } else {
+        Hit hit;
+        for (const Ray& ray : set.rays) benchmark::DoNotOptimize(accel.intersect(ray, hit));
+    }
+    return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+void Trace(benchmark::State& state, const std::string& file, RaySet BenchScene::*which) {
+    BenchScene* b = benchScene(file);
+    if (!b) return state.SkipWithError(("no mesh " + (dataDir() / "meshes" / file).string()).c_str());
+    const RaySet& set = b->*which;
+    double ours = 0.0, embree = 0.0;
+    for (auto _ : state) {
+        const double o = traceSeconds(*b->bvh, set);
+        const double e = traceSeconds(*b->embree, set);
+        ours += o;
+        embree += e;
+        state.SetIterationTime(o);
+    }
+    const double rays = double(set.rays.size()) * double(state.iterations());
+    state.counters["rays"] = double(set.rays.size());
+    state.counters["bvh_Mrays/s"] = rays / ours * 1e-6;
+    state.counters["embree_Mrays/s"] = rays / embree * 1e-6;
+    state.counters["bvh/embree"] = embree / ours;  // throughput ratio
+}
+
+void Build(benchmark::State& state, const std::string& file) {
+    BenchScene* b = benchScene(file);
+    if (!b) return state.SkipWithError(("no mesh " + (dataDir() / "meshes" / file).string()).c_str());
+    double ours = 0.0, embree = 0.0;
+    for (auto _ : state) {
+        auto start = Clock::now();
+        auto bvh = std::make_unique<BvhAccelerator>(b->scene);
+        const double o = std::chrono::duration<double>(Clock::now() - start).count();
+        start = Clock::now();
+        auto e = std::make_unique<EmbreeAccelerator>(b->scene);
+        embree += std::chrono::duration<double>(Clock::now() - start).count();
+        ours += o;
+        state.SetIterationTime(o);
+    }
+    const double n = double(state.iterations());
+    state.counters["triangles"] = double(b->triangles);
+    state.counters["bvh_ms"] = ours / n * 1e3;
+    state.counters["embree_ms"] = embree / n * 1e3;
+    state.counters["bvh/embree"] = ours / embree;  // build time ratio
+}
+
+// Embree's own bytes, counted by its memory monitor on a device set up as EmbreeAccelerator sets
+// up its own (robust, high build quality, its own copies of the vertex and index buffers).
+bool countBytes(void* counter, ssize_t bytes, bool /*post*/) {
+    static_cast<std::atomic<int64_t>*>(counter)->fetch_add(bytes);
+    return true;
+}
+
+double embreeBytes(const TriangleMesh& mesh) {
+    std::atomic<int64_t> bytes{0};
+    RTCDevice device = rtcNewDevice(nullptr);
+    rtcSetDeviceMemoryMonitorFunction(device, countBytes, &bytes);
+    const int64_t before = bytes.load();
+    RTCScene scene = rtcNewScene(device);
+    rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+    RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    void* vertices = rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, sizeof(Vec3f),
+                                             mesh.positions.size());
+    void* indices = rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t),
+                                            mesh.triangleCount());
+    std::memcpy(vertices, mesh.positions.data(), mesh.positions.size() * sizeof(Vec3f));
+    std::memcpy(indices, mesh.indices.data(), mesh.indices.size() * sizeof(uint32_t));
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometry(scene, geometry);
+    rtcReleaseGeometry(geometry);
+    rtcCommitScene(scene);
+    const double total = double(bytes.load() - before);
+    rtcReleaseScene(scene);
+    rtcReleaseDevice(device);
+    return total;
+}
+
+void Memory(benchmark::State& state, const std::string& file) {
+    BenchScene* b = benchScene(file);
+    if (!b) return state.SkipWithError(("no mesh " + (dataDir() / "meshes" / file).string()).c_str());
+    double embree = 0.0;
+    for (auto _ : state) embree = embreeBytes(b->scene.meshes[0]);
+    const BvhAccelerator::Stats s = b->bvh->stats();
+    const double tris = double(b->triangles);
+    state.counters["bvh_B/tri"] = double(s.memoryBytes) / tris;
+    state.counters["embree_B/tri"] = embree / tris;
+    state.counters["bvh/embree"] = double(s.memoryBytes) / embree;
+    state.counters["bvh_nodes"] = double(s.nodeCount);
+    state.counters["bvh_depth"] = double(s.maxDepth);
+    state.counters["bvh_sah"] = double(s.sahCost);
+}
+
+void registerAll() {
+    for (const std::string file : {"stanford-bunny.obj", "dragon_vrip.ply.gz"}) {
+        const std::string name = fs::path(file).stem().stem().string();
+        benchmark::RegisterBenchmark(("Build/" + name).c_str(), Build, file)
+            ->UseManualTime()
+            ->Unit(benchmark::kMillisecond)
+            ->MinTime(1.0);
+        benchmark::RegisterBenchmark(("TraceCoherent/" + name).c_str(), Trace, file, &BenchScene::coherent)
+            ->UseManualTime()
+            ->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark(("TraceIncoherent/" + name).c_str(), Trace, file, &BenchScene::incoherent)
+            ->UseManualTime()
+            ->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark(("TraceShadow/" + name).c_str(), Trace, file, &BenchScene::shadow)
+            ->UseManualTime()
+            ->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark(("Memory/" + name).c_str(), Memory, file)->Iterations(1);
+    }
+}
+
+}  // namespace
+}  // namespace penumbra
+
+int main(int argc, char** argv) {
+    benchmark::Initialize(&argc, argv);
+    penumbra::registerAll();
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::Shutdown();
+    return 0;
+}

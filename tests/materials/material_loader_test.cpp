@@ -1,0 +1,125 @@
+// The materials section of scene files: every material type and key is read, and every bad value
+// is an InputError naming the material's JSON pointer, the field, and what was expected.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "scenes/scene_loader.h"
+#include "tests/scenes/expect_input_error.h"
+
+namespace penumbra {
+namespace {
+
+using testing::catchInputError;
+
+Scene parseMaterials(const std::string& materialsJson) {
+    return parseScene(R"({"materials": )" + materialsJson + "}", "s.json");
+}
+
+std::string errorOf(const std::string& materialsJson) {
+    return catchInputError([&] { parseMaterials(materialsJson); }).what();
+}
+
+TEST(MaterialLoader, ReadsEveryTypeAndKey) {
+    const Scene scene = parseMaterials(R"({
+        "matte": {"type": "lambert", "albedo": [0.1, 0.2, 0.3], "two_sided": false},
+        "plastic": {"type": "phong", "diffuse": [0.5, 0.4, 0.3], "specular": [0.5, 0.6, 0.7], "exponent": 250},
+        "glass": {"type": "dielectric", "eta": 1.5, "fresnel": "schlick",
+                  "absorption": {"color": [0.5, 0.25, 1], "distance": 2}},
+        "pane": {"type": "thin_dielectric", "eta": 1.52},
+        "mirror": {"type": "mirror", "tint": [0.9, 0.8, 0.7], "two_sided": false},
+        "gold": {"type": "conductor", "eta": [0.143, 0.374, 1.442], "k": [3.983, 2.385, 1.603]},
+        "defaults": {"type": "phong"}
+    })");
+    ASSERT_EQ(scene.materials.size(), 7u);
+    const MaterialDesc& matte = scene.materials[0];
+    EXPECT_EQ(matte.kind, MaterialKind::Lambert);
+    EXPECT_EQ(matte.albedo, Rgb(0.1f, 0.2f, 0.3f));
+    EXPECT_FALSE(matte.twoSided);
+
+    const MaterialDesc& plastic = scene.materials[1];
+    EXPECT_EQ(plastic.kind, MaterialKind::Phong);
+    EXPECT_EQ(plastic.diffuse, Rgb(0.5f, 0.4f, 0.3f));
+    EXPECT_EQ(plastic.specular, Rgb(0.5f, 0.6f, 0.7f));
+    EXPECT_EQ(plastic.exponent, 250.0f);
+    EXPECT_TRUE(plastic.twoSided);  // the default
+
+    const MaterialDesc& glass = scene.materials[2];
+    EXPECT_EQ(glass.kind, MaterialKind::Dielectric);
+    EXPECT_EQ(glass.eta, 1.5f);
+    EXPECT_EQ(glass.fresnel, FresnelKind::Schlick);
+    // Transmittance c after distance d: sigma = -ln(c) / d.
+    EXPECT_NEAR(glass.absorption.r, std::log(2.0) / 2.0, 1e-6);
+    EXPECT_NEAR(glass.absorption.g, std::log(4.0) / 2.0, 1e-6);
+    EXPECT_EQ(glass.absorption.b, 0.0f);
+
+    EXPECT_EQ(scene.materials[3].kind, MaterialKind::ThinDielectric);
+    EXPECT_EQ(scene.materials[3].eta, 1.52f);
+    EXPECT_EQ(scene.materials[3].fresnel, FresnelKind::Exact);
+
+    EXPECT_EQ(scene.materials[4].kind, MaterialKind::Mirror);
+    EXPECT_EQ(scene.materials[4].tint, Rgb(0.9f, 0.8f, 0.7f));
+    EXPECT_FALSE(scene.materials[4].twoSided);
+
+    EXPECT_EQ(scene.materials[5].kind, MaterialKind::Conductor);
+    EXPECT_EQ(scene.materials[5].conductorEta, Rgb(0.143f, 0.374f, 1.442f));
+    EXPECT_EQ(scene.materials[5].k, Rgb(3.983f, 2.385f, 1.603f));
+
+    const MaterialDesc& defaults = scene.materials[6];
+    EXPECT_EQ(defaults.diffuse, Rgb(0.5f));
+    EXPECT_EQ(defaults.specular, Rgb(0.0f));
+    EXPECT_EQ(defaults.exponent, 10.0f);
+}
+
+TEST(MaterialLoader, PhongEnergyConservation) {
+    // kd + ks = 1 exactly is fine.
+    EXPECT_NO_THROW(parseMaterials(R"({"p": {"type": "phong", "diffuse": 0.25, "specular": 0.75}})"));
+    const std::string e = errorOf(R"({"p": {"type": "phong", "diffuse": [0.5, 0.5, 0.2], "specular": [0.5, 0.6, 0.1]}})");
+    EXPECT_CONTAINS(e, "s.json: /materials/p/specular: diffuse + specular must not exceed 1");
+    EXPECT_CONTAINS(e, "the green channel has 0.5 + 0.6 = 1.1");
+    // The default diffuse (0.5) counts too.
+    EXPECT_CONTAINS(errorOf(R"({"p": {"type": "phong", "specular": 0.9}})"), "/materials/p/specular: diffuse + specular");
+}
+
+TEST(MaterialLoader, BadValuesNameThePointerAndTheField) {
+    struct Case {
+        const char* json;
+        const char* message;
+    };
+    const Case cases[] = {
+        {R"({"p": {"type": "phong", "exponent": -1}})", "/materials/p/exponent: expected a number >= 0, found -1"},
+        {R"({"p": {"type": "phong", "diffuse": [0.5, -0.1, 0]}})", "/materials/p/diffuse/1: expected a number in [0, 1], found -0.1"},
+        {R"({"p": {"type": "phong", "specular": 1.5}})", "/materials/p/specular: expected a number in [0, 1], found 1.5"},
+        {R"({"p": {"type": "lambert", "albedo": 1.01}})", "/materials/p/albedo: expected a number in [0, 1], found 1.01"},
+        {R"({"glass": {"type": "dielectric", "eta": 0}})", "/materials/glass/eta: expected a number > 0, found 0"},
+        {R"({"glass": {"type": "dielectric", "eta": -1.5}})", "/materials/glass/eta: expected a number > 0, found -1.5"},
+        {R"({"pane": {"type": "thin_dielectric", "eta": 0}})", "/materials/pane/eta: expected a number > 0, found 0"},
+        {R"({"glass": {"type": "dielectric", "fresnel": "fast"}})", "/materials/glass/fresnel: expected one of: exact, schlick"},
+        {R"({"glass": {"type": "dielectric", "absorption": {"color": [0.5, 1.2, 1], "distance": 1}}})",
+         "/materials/glass/absorption/color/1: expected a number in [0, 1], found 1.2"},
+        {R"({"glass": {"type": "dielectric", "absorption": {"color": [0.5, 0, 1], "distance": 1}}})",
+         "/materials/glass/absorption/color: expected a transmittance in (0, 1] per channel"},
+        {R"({"glass": {"type": "dielectric", "absorption": {"color": 0.5, "distance": 0}}})",
+         "/materials/glass/absorption/distance: expected a number > 0, found 0"},
+        {R"({"glass": {"type": "dielectric", "absorption": {"color": 0.5}}})",
+         "/materials/glass/absorption: missing required key \"distance\""},
+        {R"({"glass": {"type": "dielectric", "two_sided": true}})",
+         "/materials/glass/two_sided: unknown key (expected one of: type, eta, fresnel, absorption)"},
+        {R"({"pane": {"type": "thin_dielectric", "absorption": {"color": 0.5, "distance": 1}}})",
+         "/materials/pane/absorption: unknown key (expected one of: type, eta, fresnel)"},
+        {R"({"m": {"type": "mirror", "tint": [1, 1, 2]}})", "/materials/m/tint/2: expected a number in [0, 1], found 2"},
+        {R"({"m": {"type": "mirror", "two_sided": 1}})", "/materials/m/two_sided: expected true or false, found 1"},
+        {R"({"gold": {"type": "conductor", "eta": [0.1, 0, 1], "k": 1}})", "/materials/gold/eta: expected a number or an array of 3 numbers (r, g, b), each > 0"},
+        {R"({"gold": {"type": "conductor", "eta": -1, "k": 1}})", "/materials/gold/eta: expected a number >= 0, found -1"},
+        {R"({"gold": {"type": "conductor", "eta": 1, "k": [1, -2, 1]}})", "/materials/gold/k/1: expected a number >= 0, found -2"},
+        {R"({"gold": {"type": "conductor", "eta": 1}})", "/materials/gold: missing required key \"k\""},
+        {R"({"x": {"type": "plastic"}})",
+         "/materials/x/type: expected one of: lambert, phong, dielectric, thin_dielectric, mirror, conductor"},
+        {R"({"x": {"albedo": 0.5}})", "/materials/x: missing required key \"type\""},
+    };
+    for (const Case& c : cases) EXPECT_CONTAINS(errorOf(c.json), std::string("s.json: ") + c.message) << c.json;
+}
+
+}  // namespace
+}  // namespace penumbra
