@@ -77,6 +77,16 @@ LightSet::LightSet(const Scene& scene) : background_(scene.background) {
         lights_.push_back(light);
         power.push_back(4.0 * kPi * double(point.intensity.luminance()));
     }
+    const double sceneRadius = sceneBoundingRadius(scene);
+    for (const DirectionalLight& directional : scene.directionalLights) {
+        Light light;
+        light.type = LightType::Directional;
+        light.radiance = directional.irradiance;
+        light.normal = directional.direction;
+        lights_.push_back(light);
+        // The power crossing a disk the size of the scene (pbrt-v4's DistantLight::Phi).
+        power.push_back(kPi * sceneRadius * sceneRadius * double(directional.irradiance.luminance()));
+    }
     if (!background_.isBlack()) {
         backgroundLight_ = int32_t(lights_.size());
         Light light;
@@ -84,8 +94,7 @@ LightSet::LightSet(const Scene& scene) : background_(scene.background) {
         light.radiance = background_;
         lights_.push_back(light);
         // Power through a disk the size of the scene, from every direction (pbrt-v4's estimate).
-        const double r = sceneBoundingRadius(scene);
-        power.push_back(4.0 * kPi * kPi * r * r * double(background_.luminance()));
+        power.push_back(4.0 * kPi * kPi * sceneRadius * sceneRadius * double(background_.luminance()));
     }
     choice_ = DiscreteDistribution(power);
 }
@@ -105,6 +114,14 @@ std::optional<LightSample> LightSet::sample(Vec3f reference, float uChoice, Vec2
             ls.direction = toLight / ls.distance;
             ls.point = light.center;
             ls.radiance = light.radiance / distanceSquared;
+            ls.pdf = choicePdf;
+            ls.isDelta = true;
+            return ls;
+        }
+        case LightType::Directional: {
+            ls.direction = -light.normal;
+            ls.distance = std::numeric_limits<float>::infinity();
+            ls.radiance = light.radiance;
             ls.pdf = choicePdf;
             ls.isDelta = true;
             return ls;

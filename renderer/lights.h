@@ -15,14 +15,14 @@
 
 namespace penumbra {
 
-enum class LightType : uint8_t { Triangle, Sphere, Point, Background };
+enum class LightType : uint8_t { Triangle, Sphere, Point, Directional, Background };
 
 struct Light {
     LightType type = LightType::Point;
-    Rgb radiance;            // area lights and background: emitted radiance; point: intensity
+    Rgb radiance;            // area lights, background: radiance; point: intensity; directional: irradiance
     bool twoSided = false;   // area lights
     Vec3f p0, p1, p2;        // triangle vertices
-    Vec3f normal;            // triangle front normal (unit)
+    Vec3f normal;            // triangle front normal (unit); directional: the direction light travels
     float area = 0;          // triangle area
     Vec3f center;            // sphere centre or point-light position
     float radius = 0;        // sphere radius

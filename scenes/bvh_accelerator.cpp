@@ -100,32 +100,55 @@ BvhAccelerator::BvhAccelerator(const Scene& scene, const BvhBuildSettings& setti
     triangleCount_ = uint32_t(totalTriangles);
     sphereGeomId_ = uint32_t(scene.meshes.size());
 
-    // The primitives that can be hit, with their boxes.
-    std::vector<Primitive> candidates;
-    std::vector<Bounds3f> bounds;
-    candidates.reserve(totalTriangles + scene.spheres.size());
-    bounds.reserve(totalTriangles + scene.spheres.size());
+    // The primitives that can be hit, with their boxes: which triangles qualify is decided in
+    // parallel, then they are packed in order (by a prefix sum) in parallel.
+    std::vector<uint8_t> usable(totalTriangles);
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
         const TriangleMesh& mesh = scene.meshes[m];
-        for (size_t j = 0; j < mesh.triangleCount(); ++j) {
-            const uint32_t globalIndex = meshFirstTriangle_[m] + uint32_t(j);
-            const uint32_t i0 = mesh.indices[3 * j], i1 = mesh.indices[3 * j + 1], i2 = mesh.indices[3 * j + 2];
-            if (i0 >= mesh.positions.size() || i1 >= mesh.positions.size() || i2 >= mesh.positions.size()) {
-                ++skippedCount_;
-                continue;
-            }
-            const Vec3f p0 = mesh.positions[i0], p1 = mesh.positions[i1], p2 = mesh.positions[i2];
-            if (!isFinite(p0) || !isFinite(p1) || !isFinite(p2) || isDegenerate(p0, p1, p2)) {
-                ++skippedCount_;
-                continue;
-            }
-            candidates.push_back({{p0.x, p0.y, p0.z, p1.x, p1.y, p1.z, p2.x, p2.y, p2.z}, globalIndex});
-            Bounds3f b;
-            b.extend(p0);
-            b.extend(p1);
-            b.extend(p2);
-            bounds.push_back(b);
-        }
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, mesh.triangleCount(), 16384),
+                          [&](const tbb::blocked_range<size_t>& range) {
+                              for (size_t j = range.begin(); j != range.end(); ++j) {
+                                  const uint32_t i0 = mesh.indices[3 * j], i1 = mesh.indices[3 * j + 1],
+                                                 i2 = mesh.indices[3 * j + 2];
+                                  const size_t n = mesh.positions.size();
+                                  bool ok = i0 < n && i1 < n && i2 < n;
+                                  if (ok) {
+                                      const Vec3f p0 = mesh.positions[i0], p1 = mesh.positions[i1],
+                                                  p2 = mesh.positions[i2];
+                                      ok = isFinite(p0) && isFinite(p1) && isFinite(p2) && !isDegenerate(p0, p1, p2);
+                                  }
+                                  usable[meshFirstTriangle_[m] + j] = ok ? 1 : 0;
+                              }
+                          });
+    }
+    std::vector<uint32_t> packedIndex(totalTriangles);
+    size_t usableCount = 0;
+    for (size_t g = 0; g < totalTriangles; ++g) {
+        packedIndex[g] = uint32_t(usableCount);
+        usableCount += usable[g];
+    }
+    skippedCount_ = totalTriangles - usableCount;
+    std::vector<Primitive> candidates(usableCount);
+    std::vector<Bounds3f> bounds(usableCount);
+    for (size_t m = 0; m < scene.meshes.size(); ++m) {
+        const TriangleMesh& mesh = scene.meshes[m];
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, mesh.triangleCount(), 16384),
+                          [&](const tbb::blocked_range<size_t>& range) {
+                              for (size_t j = range.begin(); j != range.end(); ++j) {
+                                  const uint32_t globalIndex = meshFirstTriangle_[m] + uint32_t(j);
+                                  if (!usable[globalIndex]) continue;
+                                  const Vec3f p0 = mesh.positions[mesh.indices[3 * j]],
+                                              p1 = mesh.positions[mesh.indices[3 * j + 1]],
+                                              p2 = mesh.positions[mesh.indices[3 * j + 2]];
+                                  const uint32_t k = packedIndex[globalIndex];
+                                  candidates[k] = {{p0.x, p0.y, p0.z, p1.x, p1.y, p1.z, p2.x, p2.y, p2.z}, globalIndex};
+                                  Bounds3f b;
+                                  b.extend(p0);
+                                  b.extend(p1);
+                                  b.extend(p2);
+                                  bounds[k] = b;
+                              }
+                          });
     }
     for (size_t s = 0; s < scene.spheres.size(); ++s) {
         const Sphere& sphere = scene.spheres[s];

@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <memory>
+
+#include <xmmintrin.h>
+#include <emmintrin.h>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -26,46 +30,81 @@ constexpr int kSahDepthLimit = kBvhMaxDepth - 33;
 
 int binCountFor(uint32_t primitives) { return primitives <= 16 ? 8 : (primitives <= 256 ? 16 : kMaxBins); }
 
-struct BuildRef {
-    float lower[3], upper[3];
-    float centroid[3];
-    uint32_t index = 0;
+// A primitive's box in 32 bytes, for SSE: the index rides in the fourth lane of the lower corner.
+// Trivial, so that scratch arrays of them are not written before use.
+struct alignas(16) BuildRef {
+    float lower[3];
+    uint32_t index;
+    float upper[3];
+    float unused;
+
+    __m128 lowerVector() const { return _mm_load_ps(lower); }  // lane 3 holds the index bits: ignore it
+    __m128 upperVector() const { return _mm_load_ps(upper); }
+    // Twice the centroid: all the binning needs, one multiplication fewer.
+    __m128 doubledCentroid() const { return _mm_add_ps(lowerVector(), upperVector()); }
+    float doubledCentroid(int axis) const { return lower[axis] + upper[axis]; }
+};
+static_assert(sizeof(BuildRef) == 32);
+
+// A box as two SSE vectors (lane 3 unused): min and max are one instruction each. Trivial, so
+// that bins cost nothing until used; start from Box4::empty().
+struct Box4 {
+    __m128 lower, upper;
+
+    static Box4 empty() {
+        return {_mm_set1_ps(std::numeric_limits<float>::infinity()),
+                _mm_set1_ps(-std::numeric_limits<float>::infinity())};
+    }
+
+    void extend(__m128 lo, __m128 hi) {
+        lower = _mm_min_ps(lower, lo);
+        upper = _mm_max_ps(upper, hi);
+    }
+    void extend(const Box4& b) { extend(b.lower, b.upper); }
+    Bounds3f toBounds() const {
+        alignas(16) float lo[4], hi[4];
+        _mm_store_ps(lo, lower);
+        _mm_store_ps(hi, upper);
+        return {{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}};
+    }
+    float halfArea() const { return toBounds().halfArea(); }
 };
 
-// Maps a centroid to one of `count` bins along each axis of the node's centroid bounds.
+// Maps a (doubled) centroid to one of `count` bins along each axis of the node's centroid bounds.
+// Binning and partitioning both call binsOf, so a primitive always lands on the same side.
 struct BinMapping {
     int count = kMaxBins;
-    float origin[3] = {0.0f, 0.0f, 0.0f};
     float scale[3] = {0.0f, 0.0f, 0.0f};  // 0 along an axis where the centroids do not spread
+    __m128 origin4, scale4, lastBin4;
 
-    BinMapping(const Bounds3f& centroidBounds, int binCount) : count(binCount) {
+    BinMapping(const Bounds3f& doubledCentroidBounds, int binCount) : count(binCount) {
         for (int axis = 0; axis < 3; ++axis) {
-            origin[axis] = centroidBounds.lower[axis];
-            const float extent = centroidBounds.upper[axis] - centroidBounds.lower[axis];
+            const float extent = doubledCentroidBounds.upper[axis] - doubledCentroidBounds.lower[axis];
             // Slightly below count / extent so that the largest centroid still lands in the last bin.
             const float s = float(count) * (1.0f - 0x1p-20f) / extent;
             scale[axis] = extent > 0.0f && std::isfinite(s) ? s : 0.0f;
         }
+        const Vec3f& o = doubledCentroidBounds.lower;
+        origin4 = _mm_setr_ps(o.x, o.y, o.z, 0.0f);
+        scale4 = _mm_setr_ps(scale[0], scale[1], scale[2], 0.0f);
+        lastBin4 = _mm_set1_ps(float(count - 1));
     }
     bool canSplit(int axis) const { return scale[axis] > 0.0f; }
+    // The bin along each axis (lane 3 is 0).
+    __m128i binsOf(const BuildRef& ref) const {
+        const __m128 f = _mm_mul_ps(_mm_sub_ps(ref.doubledCentroid(), origin4), scale4);
+        return _mm_cvttps_epi32(_mm_max_ps(_mm_min_ps(f, lastBin4), _mm_setzero_ps()));
+    }
     int binOf(const BuildRef& ref, int axis) const {
-        const float f = (ref.centroid[axis] - origin[axis]) * scale[axis];
-        return std::clamp(int(std::min(f, float(count - 1))), 0, count - 1);
+        alignas(16) int32_t bins[4];
+        _mm_store_si128(reinterpret_cast<__m128i*>(bins), binsOf(ref));
+        return bins[axis];
     }
 };
 
 struct Bin {
-    float lower[3], upper[3];
+    Box4 box;
     uint32_t count;
-
-    void clear() {
-        for (int k = 0; k < 3; ++k) {
-            lower[k] = std::numeric_limits<float>::infinity();
-            upper[k] = -std::numeric_limits<float>::infinity();
-        }
-        count = 0;
-    }
-    Bounds3f bounds() const { return {{lower[0], lower[1], lower[2]}, {upper[0], upper[1], upper[2]}}; }
 };
 
 struct BinSet {
@@ -74,29 +113,23 @@ struct BinSet {
 
     explicit BinSet(int binCount = 0) : count(binCount) {
         for (int axis = 0; axis < 3; ++axis)
-            for (int i = 0; i < count; ++i) bins[axis][i].clear();
+            for (int i = 0; i < count; ++i) bins[axis][i] = {Box4::empty(), 0};
     }
     void add(const BuildRef& ref, const BinMapping& mapping) {
+        alignas(16) int32_t index[4];
+        _mm_store_si128(reinterpret_cast<__m128i*>(index), mapping.binsOf(ref));
+        const __m128 lo = ref.lowerVector(), hi = ref.upperVector();
         for (int axis = 0; axis < 3; ++axis) {
-            if (!mapping.canSplit(axis)) continue;
-            Bin& bin = bins[axis][mapping.binOf(ref, axis)];
-            for (int k = 0; k < 3; ++k) {
-                bin.lower[k] = std::min(bin.lower[k], ref.lower[k]);
-                bin.upper[k] = std::max(bin.upper[k], ref.upper[k]);
-            }
+            Bin& bin = bins[axis][index[axis]];
+            bin.box.extend(lo, hi);
             ++bin.count;
         }
     }
     void merge(const BinSet& other) {
         for (int axis = 0; axis < 3; ++axis)
             for (int i = 0; i < count; ++i) {
-                Bin& bin = bins[axis][i];
-                const Bin& o = other.bins[axis][i];
-                for (int k = 0; k < 3; ++k) {
-                    bin.lower[k] = std::min(bin.lower[k], o.lower[k]);
-                    bin.upper[k] = std::max(bin.upper[k], o.upper[k]);
-                }
-                bin.count += o.count;
+                bins[axis][i].box.extend(other.bins[axis][i].box);
+                bins[axis][i].count += other.bins[axis][i].count;
             }
     }
 };
@@ -107,16 +140,16 @@ struct Split {
     float cost = std::numeric_limits<float>::infinity();
 };
 
+// A node's box and the box of its primitives' doubled centroids.
 struct NodeExtent {
     Bounds3f bounds;
-    Bounds3f centroidBounds;
+    Bounds3f doubledCentroidBounds;
 };
 
 class Builder {
 public:
-    Builder(std::vector<BuildRef>& refs, std::vector<BvhNode>& slots, std::vector<uint8_t>& used,
-            const BvhBuildSettings& settings)
-        : refs_(refs), slots_(slots), used_(used), settings_(settings) {}
+    Builder(BuildRef* refs, BuildRef* scratch, BvhNode* slots, uint8_t* used, const BvhBuildSettings& settings)
+        : refs_(refs), scratch_(scratch), slots_(slots), used_(used), settings_(settings) {}
 
     // Builds the subtree over refs_[begin, end) into the slots [slot, slot + 2 (end - begin) - 1):
     // a subtree over n primitives has at most 2n - 1 nodes, so every subtree knows where its nodes
@@ -127,7 +160,7 @@ public:
 
         Split split;
         BinSet bins;
-        const BinMapping mapping(extent.centroidBounds, binCountFor(n));
+        const BinMapping mapping(extent.doubledCentroidBounds, binCountFor(n));
         if (depth < kSahDepthLimit) split = findSahSplit(begin, end, extent.bounds, mapping, bins);
         const float leafCost = float(n);
         if (n <= uint32_t(settings_.maxLeafSize) && (split.axis < 0 || leafCost <= split.cost))
@@ -136,22 +169,24 @@ public:
         uint32_t mid = begin;
         NodeExtent left, right;
         if (split.axis >= 0) {
-            BuildRef* first = refs_.data() + begin;
-            BuildRef* middle = std::partition(first, refs_.data() + end, [&](const BuildRef& r) {
-                return mapping.binOf(r, split.axis) <= split.bin;
-            });
-            mid = begin + uint32_t(middle - first);
+            auto goesLeft = [&](const BuildRef& r) { return mapping.binOf(r, split.axis) <= split.bin; };
+            if (n >= kParallelBinningSize) {
+                mid = partitionInParallel(begin, end, goesLeft);
+            } else {
+                BuildRef* first = refs_ + begin;
+                mid = begin + uint32_t(std::partition(first, refs_ + end, goesLeft) - first);
+            }
             left = measure(begin, mid);
             right = measure(mid, end);
         } else {
             // No SAH split: every centroid coincides, or the tree is deep. Split at the median
             // along the axis where centroids spread most; nth_element is deterministic.
-            const Vec3f spread = extent.centroidBounds.upper - extent.centroidBounds.lower;
+            const Vec3f spread = extent.doubledCentroidBounds.upper - extent.doubledCentroidBounds.lower;
             split.axis = spread.x >= spread.y && spread.x >= spread.z ? 0 : (spread.y >= spread.z ? 1 : 2);
             mid = begin + n / 2;
-            std::nth_element(refs_.data() + begin, refs_.data() + mid, refs_.data() + end,
+            std::nth_element(refs_ + begin, refs_ + mid, refs_ + end,
                              [axis = split.axis](const BuildRef& a, const BuildRef& b) {
-                                 return a.centroid[axis] < b.centroid[axis];
+                                 return a.doubledCentroid(axis) < b.doubledCentroid(axis);
                              });
             left = measure(begin, mid);
             right = measure(mid, end);
@@ -171,40 +206,69 @@ public:
         return std::max(leftDepth, rightDepth);
     }
 
-    // The bounds of refs_[begin, end) and of their centroids.
+    // The bounds of refs_[begin, end) and of their (doubled) centroids.
     NodeExtent measure(uint32_t begin, uint32_t end) const {
-        auto accumulate = [&](const tbb::blocked_range<uint32_t>& range, NodeExtent e) {
-            float lower[3], upper[3], cLower[3], cUpper[3];
-            for (int k = 0; k < 3; ++k) {
-                lower[k] = e.bounds.lower[k];
-                upper[k] = e.bounds.upper[k];
-                cLower[k] = e.centroidBounds.lower[k];
-                cUpper[k] = e.centroidBounds.upper[k];
-            }
+        struct Extent4 {
+            Box4 bounds = Box4::empty(), centroids = Box4::empty();
+        };
+        auto accumulate = [&](const tbb::blocked_range<uint32_t>& range, Extent4 e) {
             for (uint32_t i = range.begin(); i != range.end(); ++i) {
-                const BuildRef& r = refs_[i];
-                for (int k = 0; k < 3; ++k) {
-                    lower[k] = std::min(lower[k], r.lower[k]);
-                    upper[k] = std::max(upper[k], r.upper[k]);
-                    cLower[k] = std::min(cLower[k], r.centroid[k]);
-                    cUpper[k] = std::max(cUpper[k], r.centroid[k]);
-                }
+                const __m128 lo = refs_[i].lowerVector(), hi = refs_[i].upperVector();
+                e.bounds.extend(lo, hi);
+                const __m128 c = _mm_add_ps(lo, hi);
+                e.centroids.extend(c, c);
             }
-            e.bounds = {{lower[0], lower[1], lower[2]}, {upper[0], upper[1], upper[2]}};
-            e.centroidBounds = {{cLower[0], cLower[1], cLower[2]}, {cUpper[0], cUpper[1], cUpper[2]}};
             return e;
         };
-        if (end - begin < kParallelBinningSize) return accumulate({begin, end}, NodeExtent{});
-        return tbb::parallel_reduce(
-            tbb::blocked_range<uint32_t>(begin, end, 16384), NodeExtent{}, accumulate,
-            [](NodeExtent a, const NodeExtent& b) {
-                a.bounds.extend(b.bounds);
-                a.centroidBounds.extend(b.centroidBounds);
-                return a;
-            });
+        Extent4 e;
+        if (end - begin < kParallelBinningSize) {
+            e = accumulate({begin, end}, Extent4{});
+        } else {
+            e = tbb::parallel_reduce(tbb::blocked_range<uint32_t>(begin, end, 16384), Extent4{}, accumulate,
+                                     [](Extent4 a, const Extent4& b) {
+                                         a.bounds.extend(b.bounds);
+                                         a.centroids.extend(b.centroids);
+                                         return a;
+                                     });
+        }
+        return {e.bounds.toBounds(), e.centroids.toBounds()};
     }
 
 private:
+    // A stable partition in three parallel passes (count per chunk, scatter to the scratch array
+    // by prefix sums, copy back): deterministic, and the root's partition is no longer the part
+    // of the build that cannot use more cores.
+    template <typename Predicate>
+    uint32_t partitionInParallel(uint32_t begin, uint32_t end, const Predicate& goesLeft) {
+        constexpr uint32_t kChunk = 16384;
+        const uint32_t chunks = (end - begin + kChunk - 1) / kChunk;
+        auto chunkBegin = [&](uint32_t c) { return begin + c * kChunk; };
+        auto chunkEnd = [&](uint32_t c) { return std::min(end, begin + (c + 1) * kChunk); };
+        std::vector<uint32_t> leftCount(chunks);
+        tbb::parallel_for(uint32_t(0), chunks, [&](uint32_t c) {
+            uint32_t count = 0;
+            for (uint32_t i = chunkBegin(c); i < chunkEnd(c); ++i) count += goesLeft(refs_[i]) ? 1 : 0;
+            leftCount[c] = count;
+        });
+        std::vector<uint32_t> leftStart(chunks), rightStart(chunks);
+        uint32_t totalLeft = 0;
+        for (uint32_t c = 0; c < chunks; ++c) totalLeft += leftCount[c];
+        for (uint32_t c = 0, left = begin, right = begin + totalLeft; c < chunks; ++c) {
+            leftStart[c] = left;
+            rightStart[c] = right;
+            left += leftCount[c];
+            right += (chunkEnd(c) - chunkBegin(c)) - leftCount[c];
+        }
+        tbb::parallel_for(uint32_t(0), chunks, [&](uint32_t c) {
+            uint32_t left = leftStart[c], right = rightStart[c];
+            for (uint32_t i = chunkBegin(c); i < chunkEnd(c); ++i) scratch_[goesLeft(refs_[i]) ? left++ : right++] = refs_[i];
+        });
+        tbb::parallel_for(uint32_t(0), chunks, [&](uint32_t c) {
+            std::copy(scratch_ + chunkBegin(c), scratch_ + chunkEnd(c), refs_ + chunkBegin(c));
+        });
+        return begin + totalLeft;
+    }
+
     Split findSahSplit(uint32_t begin, uint32_t end, const Bounds3f& bounds, const BinMapping& mapping,
                        BinSet& bins) const {
         Split best;
@@ -232,18 +296,18 @@ private:
             // Right-hand sides of every split, swept from the right; split i puts bins [0, i] left.
             float rightCost[kMaxBins] = {};
             uint32_t rightCount[kMaxBins] = {};
-            Bounds3f accumulated;
+            Box4 accumulated = Box4::empty();
             uint32_t count = 0;
             for (int i = mapping.count - 1; i > 0; --i) {
-                accumulated.extend(axisBins[i].bounds());
+                accumulated.extend(axisBins[i].box);
                 count += axisBins[i].count;
                 rightCost[i - 1] = accumulated.halfArea() * float(count);
                 rightCount[i - 1] = count;
             }
-            accumulated = Bounds3f{};
+            accumulated = Box4::empty();
             count = 0;
             for (int i = 0; i < mapping.count - 1; ++i) {
-                accumulated.extend(axisBins[i].bounds());
+                accumulated.extend(axisBins[i].box);
                 count += axisBins[i].count;
                 if (count == 0 || rightCount[i] == 0) continue;
                 const float cost =
@@ -268,6 +332,7 @@ private:
         node.offset = begin;
         node.count = uint16_t(end - begin);
         node.axis = 0;
+        node.reserved = 0;
         used_[slot] = 1;
         return depth;
     }
@@ -277,12 +342,14 @@ private:
         node.offset = secondChild;
         node.count = 0;
         node.axis = uint8_t(axis);
+        node.reserved = 0;
         used_[slot] = 1;
     }
 
-    std::vector<BuildRef>& refs_;
-    std::vector<BvhNode>& slots_;
-    std::vector<uint8_t>& used_;
+    BuildRef* refs_;
+    BuildRef* scratch_;  // as large as refs_, for partitions in parallel
+    BvhNode* slots_;
+    uint8_t* used_;
     const BvhBuildSettings& settings_;
 };
 
@@ -293,19 +360,21 @@ BvhBuildResult buildBvh(const std::vector<Bounds3f>& primitiveBounds, const BvhB
     const uint32_t n = uint32_t(primitiveBounds.size());
     if (n == 0) return result;
 
-    std::vector<BuildRef> refs(n);
+    // Scratch arrays are left uninitialized (their types are trivial): the build writes what it reads.
+    const std::unique_ptr<BuildRef[]> refs(new BuildRef[n]);
+    const std::unique_ptr<BuildRef[]> scratch(new BuildRef[n]);
     tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n, 16384), [&](const tbb::blocked_range<uint32_t>& range) {
         for (uint32_t i = range.begin(); i != range.end(); ++i) {
             const Bounds3f& b = primitiveBounds[i];
-            const Vec3f c = b.centroid();
-            refs[i] = {{b.lower.x, b.lower.y, b.lower.z}, {b.upper.x, b.upper.y, b.upper.z}, {c.x, c.y, c.z}, i};
+            refs[i] = {{b.lower.x, b.lower.y, b.lower.z}, i, {b.upper.x, b.upper.y, b.upper.z}, 0.0f};
         }
     });
 
     // Node slots with holes (2n - 1, the most a tree over n primitives can need), squeezed out below.
-    std::vector<BvhNode> slots(2 * size_t(n) - 1);
-    std::vector<uint8_t> used(slots.size(), 0);
-    Builder builder(refs, slots, used, settings);
+    const size_t slotCount = 2 * size_t(n) - 1;
+    const std::unique_ptr<BvhNode[]> slots(new BvhNode[slotCount]);
+    std::vector<uint8_t> used(slotCount, 0);
+    Builder builder(refs.get(), scratch.get(), slots.get(), used.data(), settings);
     result.maxDepth = builder.build(0, n, 0, builder.measure(0, n), 0);
 
     // Lay the nodes out again with siblings side by side, each pair on a cache line of its own.

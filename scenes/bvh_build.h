@@ -45,12 +45,14 @@ struct Bounds3f {
 // both children's boxes at their parent, and they arrive in one cache line. Pairs are laid out
 // depth first (a subtree's pairs follow its root's). A leaf's primitives are
 // [offset, offset + count) of the primitive order. The root is node 0; node 1 is padding.
+// Trivial on purpose (no member initializers), so the builder's scratch arrays of nodes are not
+// written before use; BvhNode{} is all zeros.
 struct alignas(32) BvhNode {
-    float bounds[6];       // lower x, y, z, then upper x, y, z
-    uint32_t offset = 0;   // interior: index of the first child; leaf: first primitive
-    uint16_t count = 0;    // primitives in a leaf; 0 marks an interior node
-    uint8_t axis = 0;      // split axis of an interior node
-    uint8_t reserved = 0;  // room for flags (e.g. motion-blurred subtrees)
+    float bounds[6];    // lower x, y, z, then upper x, y, z
+    uint32_t offset;    // interior: index of the first child; leaf: first primitive
+    uint16_t count;     // primitives in a leaf; 0 marks an interior node
+    uint8_t axis;       // split axis of an interior node
+    uint8_t reserved;   // room for flags (e.g. motion-blurred subtrees)
 
     bool isLeaf() const { return count > 0; }
 };

@@ -121,6 +121,12 @@ struct PointLight {
     Rgb intensity;  // radiant intensity, W/sr per channel
 };
 
+// Light from a very distant source arriving along one direction (the sun): hard shadows.
+struct DirectionalLight {
+    Vec3f direction;  // unit, the direction the light travels
+    Rgb irradiance;   // W/m^2 per channel on a surface facing the light
+};
+
 struct Scene {
     std::filesystem::path sourcePath;  // the scene file, for messages and metadata
     CameraDesc camera;
@@ -131,6 +137,7 @@ struct Scene {
     std::vector<TriangleMesh> meshes;
     std::vector<Sphere> spheres;
     std::vector<PointLight> pointLights;
+    std::vector<DirectionalLight> directionalLights;
     Rgb background;  // constant radiance arriving from every direction that escapes the scene
 };
 

@@ -560,13 +560,21 @@ void readShape(const JsonValue& value, const fs::path& folder, Scene& scene) {
     scene.meshes.push_back(std::move(mesh));
 }
 
-PointLight readLight(const JsonValue& value) {
-    value.requiredMember("type").choice({"point"});
-    const JsonObject object(value, {"type", "position", "intensity"});
-    PointLight light;
-    light.position = object.require("position").vec3();
-    light.intensity = object.require("intensity").rgb(0.0f);
-    return light;
+void readLight(const JsonValue& value, Scene& scene) {
+    const size_t type = value.requiredMember("type").choice({"point", "directional"});
+    if (type == 0) {
+        const JsonObject object(value, {"type", "position", "intensity"});
+        PointLight light;
+        light.position = object.require("position").vec3();
+        light.intensity = object.require("intensity").rgb(0.0f);
+        scene.pointLights.push_back(light);
+        return;
+    }
+    const JsonObject object(value, {"type", "direction", "irradiance"});
+    const JsonValue directionValue = object.require("direction");
+    const Vec3f direction = directionValue.vec3();
+    if (!(lengthSquared(direction) > 0.0f)) directionValue.failExpected("a non-zero direction");
+    scene.directionalLights.push_back({normalize(direction), object.require("irradiance").rgb(0.0f)});
 }
 
 }  // namespace
@@ -591,7 +599,7 @@ Scene parseScene(std::string_view jsonText, const fs::path& file) {
     if (auto v = top.get("shapes"))
         for (const JsonValue& shape : v->elements()) readShape(shape, file.parent_path(), scene);
     if (auto v = top.get("lights"))
-        for (const JsonValue& light : v->elements()) scene.pointLights.push_back(readLight(light));
+        for (const JsonValue& light : v->elements()) readLight(light, scene);
     return scene;
 }
 

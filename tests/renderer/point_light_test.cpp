@@ -61,5 +61,29 @@ TEST(PointLight, NothingReachesThePlaneFromBelow) {
     EXPECT_EQ(renderedMeanAt({0.0f, 0.0f, 0.0f}, scene), 0.0);
 }
 
+// A directional light of irradiance E arriving at angle theta from the normal gives a Lambert
+// plane the radiance (a / pi) E cos(theta) everywhere, and an occluder a sharp shadow.
+TEST(DirectionalLight, LambertPlaneMatchesClosedForm) {
+    const float albedo = 0.6f, irradiance = 3.0f;
+    for (float degrees : {0.0f, 30.0f, 60.0f}) {
+        Scene scene;
+        scene.film = {8, 8, 4, FilterKind::Box, 0.5f};
+        scene.camera.verticalFovDegrees = 5.0f;
+        scene.materials = {testing::makeLambert("plane", Rgb(albedo))};
+        scene.meshes.push_back(testing::makeQuad({-50, 0, -50}, {0, 0, 100}, {100, 0, 0}, 0));
+        const float theta = degrees * kPi / 180.0f;
+        scene.directionalLights.push_back({{std::sin(theta), -std::cos(theta), 0.0f}, Rgb(irradiance)});
+        scene.integrator.maxDepth = 1;
+        const double expected = albedo / kPi * irradiance * std::cos(theta);
+        EXPECT_NEAR(renderedMeanAt({1.0f, 0.0f, 2.0f}, scene), expected, 1e-4 * expected) << degrees << " degrees";
+        // A small occluder up-light of the target casts a hard shadow on it (for oblique light, so
+        // that the camera looking straight down does not see the occluder itself).
+        if (degrees == 0.0f) continue;
+        scene.spheres.push_back({"blocker", Vec3f{1.0f, 0.0f, 2.0f} + Vec3f{-std::sin(theta), std::cos(theta), 0.0f} * 0.5f,
+                                 0.2f, 0, {}, {}});
+        EXPECT_EQ(renderedMeanAt({1.0f, 0.0f, 2.0f}, scene), 0.0) << degrees << " degrees, shadowed";
+    }
+}
+
 }  // namespace
 }  // namespace penumbra
