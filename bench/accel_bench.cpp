@@ -32,7 +32,7 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-constexpr int kImageSize = 512;            // coherent rays: one per pixel, in scanline order
+constexpr int kImageSize = 512;                // coherent rays: one per pixel, in scanline order
 constexpr uint64_t kIncoherentRays = 1 << 17;  // of each incoherent kind
 
 struct RaySet {
@@ -80,11 +80,13 @@ BenchScene* benchScene(const std::string& file) {
     const ThinLensCamera camera = makeSceneCamera(b->scene);
     for (int y = 0; y < kImageSize; ++y)
         for (int x = 0; x < kImageSize; ++x)
-            b->coherent.rays.push_back(camera.generateRay({float(x) + 0.5f, float(y) + 0.5f}, {0.5f, 0.5f}, 0.0f));
+            b->coherent.rays.push_back(
+                camera.generateRay({float(x) + 0.5f, float(y) + 0.5f}, {0.5f, 0.5f}, 0.0f));
     CrosscheckOptions options;
     options.rays = 4 * kIncoherentRays;
     for (const CrosscheckRay& r : generateCrosscheckRays(b->scene, *b->embree, options)) {
-        if (r.kind == CrosscheckRayKind::Bounce || r.kind == CrosscheckRayKind::Random) b->incoherent.rays.push_back(r.ray);
+        if (r.kind == CrosscheckRayKind::Bounce || r.kind == CrosscheckRayKind::Random)
+            b->incoherent.rays.push_back(r.ray);
         if (r.kind == CrosscheckRayKind::Shadow) b->shadow.rays.push_back(r.ray);
     }
     b->shadow.segments = true;
@@ -160,10 +162,10 @@ double embreeBytes(const TriangleMesh& mesh) {
     rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
     rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
     RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    void* vertices = rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, sizeof(Vec3f),
-                                             mesh.positions.size());
-    void* indices = rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t),
-                                            mesh.triangleCount());
+    void* vertices = rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                             sizeof(Vec3f), mesh.positions.size());
+    void* indices = rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                            3 * sizeof(uint32_t), mesh.triangleCount());
     std::memcpy(vertices, mesh.positions.data(), mesh.positions.size() * sizeof(Vec3f));
     std::memcpy(indices, mesh.indices.data(), mesh.indices.size() * sizeof(uint32_t));
     rtcCommitGeometry(geometry);
@@ -201,7 +203,8 @@ void registerAll() {
         benchmark::RegisterBenchmark(("TraceCoherent/" + name).c_str(), Trace, file, &BenchScene::coherent)
             ->UseManualTime()
             ->Unit(benchmark::kMillisecond);
-        benchmark::RegisterBenchmark(("TraceIncoherent/" + name).c_str(), Trace, file, &BenchScene::incoherent)
+        benchmark::RegisterBenchmark(("TraceIncoherent/" + name).c_str(), Trace, file,
+                                     &BenchScene::incoherent)
             ->UseManualTime()
             ->Unit(benchmark::kMillisecond);
         benchmark::RegisterBenchmark(("TraceShadow/" + name).c_str(), Trace, file, &BenchScene::shadow)

@@ -32,8 +32,7 @@ inline constexpr uint64_t hashWords(uint64_t first, Words... rest) {
 inline constexpr float bitsToUnitFloat(uint32_t bits) { return float(bits >> 8) * 0x1p-24f; }
 
 inline constexpr uint32_t reverseBits32(uint32_t x) {
-    x = (x << 16) | (x >> 16);
-    x = ((x & 0x00ff00ffu) << 8) | ((x & 0xff00ff00u) >> 8);
+    x = __builtin_bswap32(x);  // bytes in one instruction, then the bits within each byte
     x = ((x & 0x0f0f0f0fu) << 4) | ((x & 0xf0f0f0f0u) >> 4);
     x = ((x & 0x33333333u) << 2) | ((x & 0xccccccccu) >> 2);
     x = ((x & 0x55555555u) << 1) | ((x & 0xaaaaaaaau) >> 1);

@@ -59,12 +59,27 @@ inline constexpr uint32_t nestedUniformScramble(uint32_t x, uint32_t seed) {
     return reverseBits32(laineKarrasPermutation(reverseBits32(x), seed));
 }
 
-// Second dimension of the Sobol sequence (primitive polynomial x + 1).
+// Second dimension of the Sobol sequence (primitive polynomial x + 1): the XOR of the direction
+// numbers of the index's set bits, looked up a byte at a time.
+struct SobolSecondDimensionTables {
+    uint32_t byByte[4][256];
+    constexpr SobolSecondDimensionTables() : byByte{} {
+        uint32_t direction[32] = {};
+        for (uint32_t bit = 0, v = 1u << 31; bit < 32; ++bit, v ^= v >> 1) direction[bit] = v;
+        for (int k = 0; k < 4; ++k)
+            for (uint32_t b = 0; b < 256; ++b) {
+                uint32_t value = 0;
+                for (int j = 0; j < 8; ++j)
+                    if (b & (1u << j)) value ^= direction[8 * k + j];
+                byByte[k][b] = value;
+            }
+    }
+};
+inline constexpr SobolSecondDimensionTables kSobolSecondDimension{};
+
 inline constexpr uint32_t sobolSecondDimension(uint32_t index) {
-    uint32_t result = 0;
-    for (uint32_t v = 1u << 31; index != 0; index >>= 1, v ^= v >> 1)
-        if (index & 1u) result ^= v;
-    return result;
+    const auto& t = kSobolSecondDimension.byByte;
+    return t[0][index & 0xffu] ^ t[1][(index >> 8) & 0xffu] ^ t[2][(index >> 16) & 0xffu] ^ t[3][index >> 24];
 }
 
 }  // namespace detail
@@ -76,14 +91,18 @@ public:
         : kind_(kind), pixelKey_(hashWords(seed, pixelIndex)), sampleIndex_(sampleIndex) {}
 
     float get1D(Dim dim, uint32_t bounce = 0) const {
+        if (frozen_ & dimBit(dim)) [[unlikely]] return 0.5f;
         const uint64_t key = dimensionKey(dim, bounce);
         if (kind_ == SamplerKind::Independent)
             return bitsToUnitFloat(uint32_t(hashWords(key, sampleIndex_)));
+        // The first Sobol dimension is the bit-reversed index, so its Owen scrambling reduces to
+        // reverse(permute(index)).
         const uint32_t index = shuffledIndex(key);
-        return bitsToUnitFloat(detail::nestedUniformScramble(reverseBits32(index), uint32_t(key >> 32)));
+        return bitsToUnitFloat(reverseBits32(detail::laineKarrasPermutation(index, uint32_t(key >> 32))));
     }
 
     Vec2f get2D(Dim dim, uint32_t bounce = 0) const {
+        if (frozen_ & dimBit(dim)) [[unlikely]] return {0.5f, 0.5f};
         const uint64_t key = dimensionKey(dim, bounce);
         if (kind_ == SamplerKind::Independent) {
             const uint64_t bits = hashWords(key, sampleIndex_);
@@ -91,12 +110,18 @@ public:
         }
         const uint32_t index = shuffledIndex(key);
         const uint64_t scrambleSeeds = mix64(key);
-        return {bitsToUnitFloat(detail::nestedUniformScramble(reverseBits32(index), uint32_t(scrambleSeeds))),
+        return {bitsToUnitFloat(reverseBits32(detail::laineKarrasPermutation(index, uint32_t(scrambleSeeds)))),
                 bitsToUnitFloat(detail::nestedUniformScramble(detail::sobolSecondDimension(index),
                                                               uint32_t(scrambleSeeds >> 32)))};
     }
 
     uint32_t sampleIndex() const { return sampleIndex_; }
+
+    // Freezing: the dimensions in `mask` (a set of dimBit(Dim)) return the centre of their domain,
+    // 0.5 or (0.5, 0.5), at every bounce, so that a convergence study can attribute noise to one
+    // effect (`penumbra converge --freeze lens|time|light|pixel`).
+    static constexpr uint32_t dimBit(Dim dim) { return 1u << uint32_t(dim); }
+    void freeze(uint32_t mask) { frozen_ = mask; }
 
 private:
     uint64_t dimensionKey(Dim dim, uint32_t bounce) const {
@@ -110,6 +135,7 @@ private:
     SamplerKind kind_;
     uint64_t pixelKey_;
     uint32_t sampleIndex_;
+    uint32_t frozen_ = 0;
 };
 
 }  // namespace penumbra

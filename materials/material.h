@@ -92,6 +92,18 @@ struct Material {
     // Absorption coefficient sigma_a (per unit length) of the medium behind the surface, for path
     // segments that reach the surface from its back side; black when there is none.
     Rgb interiorAbsorption() const { return type == MaterialType::Dielectric ? dielectric.absorption : Rgb(0.0f); }
+
+    // Reflectance for the albedo AOV (as denoisers expect it): a diffuse albedo, Phong's kd + ks,
+    // a mirror's tint, a conductor's reflectance at normal incidence, white for what transmits.
+    Rgb albedo() const {
+        switch (type) {
+            case MaterialType::Lambert: return lambert.albedo;
+            case MaterialType::Phong: return phong.kd + phong.ks;
+            case MaterialType::Mirror: return mirror.tint;
+            case MaterialType::Conductor: return conductor.reflectance(Vec3f{0.0f, 0.0f, 1.0f});
+            default: return Rgb(1.0f);
+        }
+    }
 };
 
 }  // namespace penumbra

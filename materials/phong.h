@@ -10,7 +10,7 @@
 //
 // The exponent sets the highlight's width. The lobe falls to half its peak at the angle
 // alpha_half = acos(2^(-1/n)):
-//     n = 1: 60 deg,  n = 10: 21.0 deg,  n = 100: 6.7 deg,  n = 1000: 2.1 deg,  n = 10000: 0.67 deg
+//     n = 1: 60 deg,  n = 10: 21.1 deg,  n = 100: 6.7 deg,  n = 1000: 2.1 deg,  n = 10000: 0.67 deg
 // (for large n, alpha_half ~ sqrt(2 ln 2 / n) radians, i.e. ten times the exponent narrows the
 // highlight by sqrt(10)). n = 0 spreads the "specular" part uniformly over the hemisphere around
 // the mirror direction.

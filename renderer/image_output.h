@@ -1,10 +1,14 @@
-// Writing the film: a scene-linear OpenEXR through OpenImageIO with the render's metadata, and a
-// display-referred PNG/JPEG through an OpenColorIO view transform. Files are written under a
-// temporary name in the destination folder and renamed, so no half-written image is ever left.
+// Writing and reading the film: a scene-linear OpenEXR through OpenImageIO that holds the render's
+// metadata, the beauty and AOVs (part "beauty") and the film's exact sums (part "sums", so that a
+// render can be resumed and partial renders merged bit for bit), and a display-referred PNG/JPEG
+// through an OpenColorIO view transform. Files are written under a temporary name in the
+// destination folder and renamed, so no half-written image is ever left. docs/exr-layout.md
+// describes the EXR.
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "renderer/film.h"
@@ -12,19 +16,39 @@
 namespace penumbra {
 
 struct RenderMetadata {
-    int samplesPerPixel = 0;
+    int samplesPerPixel = 0;  // samples each pixel of the window holds (endSample - firstSample)
     uint64_t seed = 0;
     std::string sampler;      // "stratified" / "independent"
     std::string accelerator;  // "embree" / "bvh"
     std::string sceneFile;
+    std::string sceneHash;    // hashFileContents() of the scene file
     double renderSeconds = 0.0;
     std::string version;      // penumbra version string
+    uint32_t firstSample = 0, endSample = 0;  // every pixel of the window holds samples [first, end)
+    std::optional<PixelWindow> crop;          // the pixels rendered; none: the whole image
 };
 
-// Scene-linear RGB (half) with metadata as EXR header attributes named "penumbra:spp",
-// "penumbra:seed", "penumbra:sampler", "penumbra:accel", "penumbra:scene", "penumbra:renderTime",
-// "penumbra:version". Throws InputError naming the path when it cannot be written.
+// Writes the film as a two-part EXR (docs/exr-layout.md): part "beauty" holds FLOAT channels
+// R, G, B, A, albedo.R/G/B, N.X/Y/Z, Z and variance.R/G/B with the metadata as header attributes
+// "penumbra:spp", "penumbra:seed", "penumbra:sampler", "penumbra:accel", "penumbra:scene",
+// "penumbra:sceneHash", "penumbra:renderTime", "penumbra:version", "penumbra:resolution",
+// "penumbra:samples" ("FIRST:END") and "penumbra:crop" ("x0,x1,y0,y1"); part "sums" holds the exact
+// sums as UINT channels. With a crop the data window is the crop (the display window is the whole
+// image). Throws InputError naming the path when it cannot be written.
 void writeExr(const Film& film, const RenderMetadata& metadata, const std::filesystem::path& path);
+
+struct FilmFile {
+    Film film;
+    RenderMetadata metadata;
+};
+
+// Reads back a film written by writeExr, sums bit for bit. Throws InputError naming the path when
+// it cannot be read or is not a film written by penumbra.
+FilmFile readFilmExr(const std::filesystem::path& path);
+
+// "fnv1a64:<16 hex digits>" of a file's bytes: identifies the scene a film was rendered from.
+// Throws InputError naming the path when it cannot be read.
+std::string hashFileContents(const std::filesystem::path& path);
 
 // 8-bit display image (format from the extension: .png, .jpg) through OpenColorIO: the config is
 // $OCIO when set, otherwise penumbra's shipped config; scene_linear to the config's default

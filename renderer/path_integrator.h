@@ -33,6 +33,7 @@
 #include "core/ray_offset.h"
 #include "core/sampler.h"
 #include "materials/material.h"
+#include "renderer/aov.h"
 #include "renderer/lights.h"
 #include "renderer/surface_interaction.h"
 #include "scenes/scene.h"
@@ -90,10 +91,11 @@ inline Ray spawnShadowRay(const SurfaceInteraction& si, const LightSample& ls, f
 
 }  // namespace detail
 
-// Radiance arriving along `ray` (a camera ray) for the sample `sample`.
+// Radiance arriving along `ray` (a camera ray) for the sample `sample`. When `firstHit` is given
+// it receives the first hit's AOVs (hit = false when the ray leaves the scene).
 template <typename Accel>
 Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, const PixelSample& sample,
-                     RayCounters& rays) {
+                     RayCounters& rays, FirstHitAovs* firstHit = nullptr) {
     const LightSet& lights = *ctx.lights;
     Rgb radiance(0.0f), throughput(1.0f);
     float etaScale = 1.0f;  // product of eta^2 over the refractions so far (see Russian roulette above)
@@ -117,6 +119,7 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
         const Vec3f wo = -normalize(ray.direction);
         const Material& material = (*ctx.materials)[si.material];
         const bool woAbove = dot(wo, si.geometricNormal) > 0.0f;
+        if (bounce == 0 && firstHit) *firstHit = {true, hit.t * length(ray.direction), si.shadingNormal, material.albedo()};
 
         // Beer-Lambert absorption along the segment that arrived at the back side.
         if (!woAbove) {

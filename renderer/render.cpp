@@ -87,24 +87,26 @@ struct TileResult {
 template <typename Accel>
 TileResult renderTile(const Accel& accel, const Scene& scene, const ThinLensCamera& camera,
                       const IntegratorContext& ctx, const PixelWindow& tile, uint32_t firstSample,
-                      uint32_t endSample, Film& film) {
+                      uint32_t endSample, uint32_t frozenDims, Film& film) {
     TileResult result;
     for (int y = tile.y0; y < tile.y1; ++y)
         for (int x = tile.x0; x < tile.x1; ++x) {
             PixelSums& pixel = film.at(x, y);
             const uint64_t pixelIndex = uint64_t(y) * uint64_t(scene.film.width) + uint64_t(x);
             for (uint32_t s = firstSample; s < endSample; ++s) {
-                const PixelSample sample(scene.settings.sampler, scene.settings.seed, pixelIndex, s);
+                PixelSample sample(scene.settings.sampler, scene.settings.seed, pixelIndex, s);
+                sample.freeze(frozenDims);
                 const Vec2f offset = sampleFilterOffset(scene.film, sample.get2D(Dim::Pixel));
                 const Vec2f filmPosition{float(x) + 0.5f + offset.x, float(y) + 0.5f + offset.y};
                 const Ray ray = camera.generateRay(filmPosition, sample.get2D(Dim::Lens), sample.get1D(Dim::Time));
-                Rgb radiance = estimateRadiance(accel, ctx, ray, sample, result.rays);
+                FirstHitAovs aovs;
+                Rgb radiance = estimateRadiance(accel, ctx, ray, sample, result.rays, &aovs);
                 if (!radiance.isFinite()) {
                     ++result.nonFinite;
                     if (result.examples.size() < kMaxNonFiniteExamples) result.examples.push_back({x, y, s});
                     radiance = Rgb(0.0f);
                 }
-                pixel.add(radiance, 1.0f);
+                pixel.add(radiance, 1.0f, aovs);
                 ++result.samples;
             }
         }
@@ -131,26 +133,55 @@ RenderStats renderWith(const Accel& accel, const Scene& scene, const RenderOptio
         for (int x = window.x0; x < window.x1; x += tileSize)
             tiles.push_back({x, std::min(x + tileSize, window.x1), y, std::min(y + tileSize, window.y1)});
 
+    // Passes of sample indices (one pass unless options.passSize says otherwise): every pass
+    // renders all tiles, so between passes every pixel holds the same samples.
+    const uint32_t firstSample = std::min(options.firstSample, endSample);
+    const uint32_t passSize = options.passSize > 0 ? options.passSize : std::max(1u, endSample - firstSample);
+    const size_t passes = (size_t(endSample - firstSample) + passSize - 1) / passSize;
+    const size_t totalTiles = tiles.size() * passes;
+
     std::vector<TileResult> results(tiles.size());
     std::atomic<size_t> tilesDone{0};
     std::mutex progressMutex;
     const auto start = Clock::now();
+    Clock::duration callbackTime{};
+    uint32_t passBegin = firstSample, passEnd = firstSample;
     auto renderRange = [&](const tbb::blocked_range<size_t>& range) {
         for (size_t i = range.begin(); i != range.end(); ++i) {
-            results[i] = renderTile(accel, scene, camera, ctx, tiles[i], options.firstSample, endSample, film);
+            TileResult r = renderTile(accel, scene, camera, ctx, tiles[i], passBegin, passEnd, options.frozenDims, film);
+            TileResult& total = results[i];
+            total.rays += r.rays;
+            total.samples += r.samples;
+            total.nonFinite += r.nonFinite;
+            for (const auto& e : r.examples)
+                if (total.examples.size() < kMaxNonFiniteExamples) total.examples.push_back(e);
             const size_t done = ++tilesDone;
             if (options.progress) {
                 std::lock_guard lock(progressMutex);
-                options.progress(done, tiles.size());
+                options.progress(done, totalTiles);
             }
         }
     };
     const int threads = options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
     tbb::task_arena arena(threads);
-    arena.execute([&] { tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), renderRange); });
-
     RenderStats stats;
-    stats.renderSeconds = std::chrono::duration<double>(Clock::now() - start).count();
+    stats.endSample = firstSample;
+    for (passBegin = firstSample; passBegin < endSample; passBegin = passEnd) {
+        if (options.cancel && options.cancel->load()) {
+            stats.cancelled = true;
+            break;
+        }
+        passEnd = passBegin + std::min(passSize, endSample - passBegin);
+        arena.execute([&] { tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), renderRange); });
+        stats.endSample = passEnd;
+        if (options.passDone) {
+            const auto callbackStart = Clock::now();
+            options.passDone(passEnd);
+            callbackTime += Clock::now() - callbackStart;
+        }
+    }
+
+    stats.renderSeconds = std::chrono::duration<double>(Clock::now() - start - callbackTime).count();
     // Tiles are merged in their fixed order, so the reported examples do not depend on scheduling.
     for (const TileResult& r : results) {
         stats.rays += r.rays;

@@ -3,6 +3,7 @@
 // pixel, so the film is bit-identical whatever the thread count or the order tiles finish in.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -16,9 +17,7 @@
 
 namespace penumbra {
 
-struct PixelWindow {
-    int x0 = 0, x1 = 0, y0 = 0, y1 = 0;  // [x0, x1) x [y0, y1)
-};
+// PixelWindow ([x0, x1) x [y0, y1)) is declared in renderer/film.h.
 
 struct RenderOptions {
     AcceleratorKind accelerator = AcceleratorKind::Embree;
@@ -29,6 +28,20 @@ struct RenderOptions {
     int tileSize = 16;
     // Called with (tiles done, tiles in all) as tiles finish, from whichever thread finished one.
     std::function<void(size_t, size_t)> progress;
+    // Passes: with passSize k > 0 every pixel of the window gets samples [a, a + k) before any
+    // pixel gets sample a + k, so at each pass boundary every pixel has the same samples
+    // [firstSample, passEnd). 0: one pass (each tile renders all its samples). The film is the
+    // same bit for bit either way (see ExactSum in film.h).
+    uint32_t passSize = 0;
+    // Called on the calling thread after each pass, with the film consistent at [firstSample,
+    // passEnd): checkpoints and convergence snapshots are taken here.
+    std::function<void(uint32_t passEnd)> passDone;
+    // Checked before each pass: once it reads true no new pass starts (the current one is
+    // finished, so the film stays consistent) and RenderStats::cancelled is set.
+    const std::atomic<bool>* cancel = nullptr;
+    // Sample dimensions frozen at their centre, a mask of PixelSample::dimBit(Dim) (convergence
+    // studies: `penumbra converge --freeze`).
+    uint32_t frozenDims = 0;
 };
 
 // A sample whose radiance was NaN or infinite; it was recorded as black. Re-run it with
@@ -43,6 +56,8 @@ struct RenderStats {
     double renderSeconds = 0.0;  // tracing and shading
     uint64_t samples = 0;
     RayCounters rays;
+    uint32_t endSample = 0;  // every pixel of the window holds samples [firstSample, endSample)
+    bool cancelled = false;  // stopped early through RenderOptions::cancel (endSample tells where)
     uint64_t nonFiniteCount = 0;
     std::vector<NonFiniteSample> nonFiniteExamples;  // the first few, in pixel order
 };

@@ -61,7 +61,8 @@ inline bool hitBox(const BvhNode& node, const TraversalRay& r, float tFar, float
     float t0 = r.tnear, t1 = tFar;
     for (int axis = 0; axis < 3; ++axis) {
         const float slabNear = (node.bounds[r.nearPlane[axis]] - r.origin[axis]) * r.invDir[axis];
-        const float slabFar = (node.bounds[r.farPlane[axis]] - r.origin[axis]) * r.invDir[axis] * kBoxFarScale;
+        const float slabFar =
+            (node.bounds[r.farPlane[axis]] - r.origin[axis]) * r.invDir[axis] * kBoxFarScale;
         t0 = slabNear > t0 ? slabNear : t0;
         t1 = slabFar < t1 ? slabFar : t1;
     }
@@ -105,21 +106,21 @@ BvhAccelerator::BvhAccelerator(const Scene& scene, const BvhBuildSettings& setti
     std::vector<uint8_t> usable(totalTriangles);
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
         const TriangleMesh& mesh = scene.meshes[m];
-        tbb::parallel_for(tbb::blocked_range<size_t>(0, mesh.triangleCount(), 16384),
-                          [&](const tbb::blocked_range<size_t>& range) {
-                              for (size_t j = range.begin(); j != range.end(); ++j) {
-                                  const uint32_t i0 = mesh.indices[3 * j], i1 = mesh.indices[3 * j + 1],
-                                                 i2 = mesh.indices[3 * j + 2];
-                                  const size_t n = mesh.positions.size();
-                                  bool ok = i0 < n && i1 < n && i2 < n;
-                                  if (ok) {
-                                      const Vec3f p0 = mesh.positions[i0], p1 = mesh.positions[i1],
-                                                  p2 = mesh.positions[i2];
-                                      ok = isFinite(p0) && isFinite(p1) && isFinite(p2) && !isDegenerate(p0, p1, p2);
-                                  }
-                                  usable[meshFirstTriangle_[m] + j] = ok ? 1 : 0;
-                              }
-                          });
+        tbb::parallel_for(
+            tbb::blocked_range<size_t>(0, mesh.triangleCount(), 16384),
+            [&](const tbb::blocked_range<size_t>& range) {
+                for (size_t j = range.begin(); j != range.end(); ++j) {
+                    const uint32_t i0 = mesh.indices[3 * j], i1 = mesh.indices[3 * j + 1],
+                                   i2 = mesh.indices[3 * j + 2];
+                    const size_t n = mesh.positions.size();
+                    bool ok = i0 < n && i1 < n && i2 < n;
+                    if (ok) {
+                        const Vec3f p0 = mesh.positions[i0], p1 = mesh.positions[i1], p2 = mesh.positions[i2];
+                        ok = isFinite(p0) && isFinite(p1) && isFinite(p2) && !isDegenerate(p0, p1, p2);
+                    }
+                    usable[meshFirstTriangle_[m] + j] = ok ? 1 : 0;
+                }
+            });
     }
     std::vector<uint32_t> packedIndex(totalTriangles);
     size_t usableCount = 0;
@@ -132,23 +133,24 @@ BvhAccelerator::BvhAccelerator(const Scene& scene, const BvhBuildSettings& setti
     std::vector<Bounds3f> bounds(usableCount);
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
         const TriangleMesh& mesh = scene.meshes[m];
-        tbb::parallel_for(tbb::blocked_range<size_t>(0, mesh.triangleCount(), 16384),
-                          [&](const tbb::blocked_range<size_t>& range) {
-                              for (size_t j = range.begin(); j != range.end(); ++j) {
-                                  const uint32_t globalIndex = meshFirstTriangle_[m] + uint32_t(j);
-                                  if (!usable[globalIndex]) continue;
-                                  const Vec3f p0 = mesh.positions[mesh.indices[3 * j]],
-                                              p1 = mesh.positions[mesh.indices[3 * j + 1]],
-                                              p2 = mesh.positions[mesh.indices[3 * j + 2]];
-                                  const uint32_t k = packedIndex[globalIndex];
-                                  candidates[k] = {{p0.x, p0.y, p0.z, p1.x, p1.y, p1.z, p2.x, p2.y, p2.z}, globalIndex};
-                                  Bounds3f b;
-                                  b.extend(p0);
-                                  b.extend(p1);
-                                  b.extend(p2);
-                                  bounds[k] = b;
-                              }
-                          });
+        tbb::parallel_for(
+            tbb::blocked_range<size_t>(0, mesh.triangleCount(), 16384),
+            [&](const tbb::blocked_range<size_t>& range) {
+                for (size_t j = range.begin(); j != range.end(); ++j) {
+                    const uint32_t globalIndex = meshFirstTriangle_[m] + uint32_t(j);
+                    if (!usable[globalIndex]) continue;
+                    const Vec3f p0 = mesh.positions[mesh.indices[3 * j]],
+                                p1 = mesh.positions[mesh.indices[3 * j + 1]],
+                                p2 = mesh.positions[mesh.indices[3 * j + 2]];
+                    const uint32_t k = packedIndex[globalIndex];
+                    candidates[k] = {{p0.x, p0.y, p0.z, p1.x, p1.y, p1.z, p2.x, p2.y, p2.z}, globalIndex};
+                    Bounds3f b;
+                    b.extend(p0);
+                    b.extend(p1);
+                    b.extend(p2);
+                    bounds[k] = b;
+                }
+            });
     }
     for (size_t s = 0; s < scene.spheres.size(); ++s) {
         const Sphere& sphere = scene.spheres[s];
@@ -156,8 +158,9 @@ BvhAccelerator::BvhAccelerator(const Scene& scene, const BvhBuildSettings& setti
             ++skippedCount_;
             continue;
         }
-        candidates.push_back({{sphere.center.x, sphere.center.y, sphere.center.z, sphere.radius, 0, 0, 0, 0, 0},
-                              triangleCount_ + uint32_t(s)});
+        candidates.push_back(
+            {{sphere.center.x, sphere.center.y, sphere.center.z, sphere.radius, 0, 0, 0, 0, 0},
+             triangleCount_ + uint32_t(s)});
         // center +- radius rounds to nearest; pad by a few ulps so the box surely holds the sphere.
         const float pad = (maxComponent(abs(sphere.center)) + sphere.radius) * 0x1p-20f;
         const Vec3f extent(sphere.radius + pad, sphere.radius + pad, sphere.radius + pad);
@@ -250,7 +253,8 @@ bool BvhAccelerator::traverse(const Ray& ray, Hit* hit) const {
                 const Primitive& p = primitives_[i];
                 if (p.globalIndex < triangleCount_) {
                     TriangleHit th;
-                    if (!intersectTriangleWatertight(r.triangleRay, p.data, ray.tnear, tClosest, th)) continue;
+                    if (!intersectTriangleWatertight(r.triangleRay, p.data, ray.tnear, tClosest, th))
+                        continue;
                     if constexpr (AnyHit) return true;
                     tClosest = th.t;
                     closestB1 = th.b1;
@@ -258,8 +262,8 @@ bool BvhAccelerator::traverse(const Ray& ray, Hit* hit) const {
                     closest = i;
                 } else {
                     float t;
-                    if (!intersectSphere(origin, direction, {p.data[0], p.data[1], p.data[2]}, p.data[3], ray.tnear,
-                                         tClosest, t))
+                    if (!intersectSphere(origin, direction, {p.data[0], p.data[1], p.data[2]}, p.data[3],
+                                         ray.tnear, tClosest, t))
                         continue;
                     if constexpr (AnyHit) return true;
                     tClosest = t;
@@ -284,7 +288,8 @@ bool BvhAccelerator::traverse(const Ray& ray, Hit* hit) const {
     }
 }
 
-void BvhAccelerator::fillHit(const Ray& ray, uint32_t primitive, float t, float b1, float b2, Hit& hit) const {
+void BvhAccelerator::fillHit(const Ray& ray, uint32_t primitive, float t, float b1, float b2,
+                             Hit& hit) const {
     const Primitive& p = primitives_[primitive];
     hit.t = t;
     hit.u = b1;
@@ -294,7 +299,8 @@ void BvhAccelerator::fillHit(const Ray& ray, uint32_t primitive, float t, float 
             p2(p.data[6], p.data[7], p.data[8]);
         hit.geometricNormal = cross(p1 - p0, p2 - p0);
         // The mesh whose range holds the index: the last one starting at or before it.
-        const auto next = std::upper_bound(meshFirstTriangle_.begin(), meshFirstTriangle_.end(), p.globalIndex);
+        const auto next =
+            std::upper_bound(meshFirstTriangle_.begin(), meshFirstTriangle_.end(), p.globalIndex);
         const size_t mesh = size_t(next - meshFirstTriangle_.begin()) - 1;
         hit.geomId = uint32_t(mesh);
         hit.primId = p.globalIndex - meshFirstTriangle_[mesh];

@@ -37,8 +37,8 @@ public:
         size_t primitiveCount = 0;  // triangles and spheres in the tree
         size_t skippedCount = 0;    // degenerate or non-finite primitives left out
         int maxDepth = 0;
-        float sahCost = 0.0f;       // see BvhBuildResult::sahCost
-        size_t memoryBytes = 0;     // everything traversal reads: nodes, primitives, id tables
+        float sahCost = 0.0f;    // see BvhBuildResult::sahCost
+        size_t memoryBytes = 0;  // everything traversal reads: nodes, primitives, id tables
     };
     Stats stats() const;
 

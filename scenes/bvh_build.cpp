@@ -5,8 +5,8 @@
 #include <cmath>
 #include <memory>
 
-#include <xmmintrin.h>
 #include <emmintrin.h>
+#include <xmmintrin.h>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -111,7 +111,9 @@ struct BinSet {
     int count = 0;
     Bin bins[3][kMaxBins];
 
-    explicit BinSet(int binCount = 0) : count(binCount) {
+    explicit BinSet(int binCount = 0) { reset(binCount); }
+    void reset(int binCount) {
+        count = binCount;
         for (int axis = 0; axis < 3; ++axis)
             for (int i = 0; i < count; ++i) bins[axis][i] = {Box4::empty(), 0};
     }
@@ -148,7 +150,8 @@ struct NodeExtent {
 
 class Builder {
 public:
-    Builder(BuildRef* refs, BuildRef* scratch, BvhNode* slots, uint8_t* used, const BvhBuildSettings& settings)
+    Builder(BuildRef* refs, BuildRef* scratch, BvhNode* slots, uint8_t* used,
+            const BvhBuildSettings& settings)
         : refs_(refs), scratch_(scratch), slots_(slots), used_(used), settings_(settings) {}
 
     // Builds the subtree over refs_[begin, end) into the slots [slot, slot + 2 (end - begin) - 1):
@@ -261,7 +264,8 @@ private:
         }
         tbb::parallel_for(uint32_t(0), chunks, [&](uint32_t c) {
             uint32_t left = leftStart[c], right = rightStart[c];
-            for (uint32_t i = chunkBegin(c); i < chunkEnd(c); ++i) scratch_[goesLeft(refs_[i]) ? left++ : right++] = refs_[i];
+            for (uint32_t i = chunkBegin(c); i < chunkEnd(c); ++i)
+                scratch_[goesLeft(refs_[i]) ? left++ : right++] = refs_[i];
         });
         tbb::parallel_for(uint32_t(0), chunks, [&](uint32_t c) {
             std::copy(scratch_ + chunkBegin(c), scratch_ + chunkEnd(c), refs_ + chunkBegin(c));
@@ -278,11 +282,12 @@ private:
             return set;
         };
         if (end - begin < kParallelBinningSize) {
-            bins = accumulate({begin, end}, BinSet(mapping.count));
+            // In place: a BinSet is kilobytes, not to be copied for every node.
+            bins.reset(mapping.count);
+            for (uint32_t i = begin; i != end; ++i) bins.add(refs_[i], mapping);
         } else {
-            bins = tbb::parallel_reduce(tbb::blocked_range<uint32_t>(begin, end, 16384), BinSet(mapping.count),
-                                        accumulate,
-                                        [](BinSet a, const BinSet& b) {
+            bins = tbb::parallel_reduce(tbb::blocked_range<uint32_t>(begin, end, 16384),
+                                        BinSet(mapping.count), accumulate, [](BinSet a, const BinSet& b) {
                                             a.merge(b);
                                             return a;
                                         });
@@ -310,8 +315,8 @@ private:
                 accumulated.extend(axisBins[i].box);
                 count += axisBins[i].count;
                 if (count == 0 || rightCount[i] == 0) continue;
-                const float cost =
-                    settings_.traversalCost + (accumulated.halfArea() * float(count) + rightCost[i]) * invArea;
+                const float cost = settings_.traversalCost +
+                                   (accumulated.halfArea() * float(count) + rightCost[i]) * invArea;
                 if (cost < best.cost) best = {axis, i, cost};
             }
         }
@@ -363,12 +368,13 @@ BvhBuildResult buildBvh(const std::vector<Bounds3f>& primitiveBounds, const BvhB
     // Scratch arrays are left uninitialized (their types are trivial): the build writes what it reads.
     const std::unique_ptr<BuildRef[]> refs(new BuildRef[n]);
     const std::unique_ptr<BuildRef[]> scratch(new BuildRef[n]);
-    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n, 16384), [&](const tbb::blocked_range<uint32_t>& range) {
-        for (uint32_t i = range.begin(); i != range.end(); ++i) {
-            const Bounds3f& b = primitiveBounds[i];
-            refs[i] = {{b.lower.x, b.lower.y, b.lower.z}, i, {b.upper.x, b.upper.y, b.upper.z}, 0.0f};
-        }
-    });
+    tbb::parallel_for(
+        tbb::blocked_range<uint32_t>(0, n, 16384), [&](const tbb::blocked_range<uint32_t>& range) {
+            for (uint32_t i = range.begin(); i != range.end(); ++i) {
+                const Bounds3f& b = primitiveBounds[i];
+                refs[i] = {{b.lower.x, b.lower.y, b.lower.z}, i, {b.upper.x, b.upper.y, b.upper.z}, 0.0f};
+            }
+        });
 
     // Node slots with holes (2n - 1, the most a tree over n primitives can need), squeezed out below.
     const size_t slotCount = 2 * size_t(n) - 1;
@@ -405,16 +411,18 @@ BvhBuildResult buildBvh(const std::vector<Bounds3f>& primitiveBounds, const BvhB
     }
 
     const BvhNode& root = result.nodes[0];
-    const float rootArea = Bounds3f{{root.bounds[0], root.bounds[1], root.bounds[2]},
-                                    {root.bounds[3], root.bounds[4], root.bounds[5]}}
-                               .halfArea();
+    const float rootArea = Bounds3f{
+        {root.bounds[0], root.bounds[1], root.bounds[2]},
+        {root.bounds[3], root.bounds[4],
+         root.bounds[5]}}.halfArea();
     double cost = 0.0;
     for (size_t i = 0; i < result.nodes.size(); ++i) {
         if (i == 1) continue;  // padding
         const BvhNode& node = result.nodes[i];
-        const float area = Bounds3f{{node.bounds[0], node.bounds[1], node.bounds[2]},
-                                    {node.bounds[3], node.bounds[4], node.bounds[5]}}
-                               .halfArea();
+        const float area = Bounds3f{
+            {node.bounds[0], node.bounds[1], node.bounds[2]},
+            {node.bounds[3], node.bounds[4],
+             node.bounds[5]}}.halfArea();
         cost += double(area) * (node.isLeaf() ? double(node.count) : double(settings.traversalCost));
     }
     result.sahCost = rootArea > 0.0f ? float(cost / rootArea) : 0.0f;

@@ -48,11 +48,11 @@ struct Bounds3f {
 // Trivial on purpose (no member initializers), so the builder's scratch arrays of nodes are not
 // written before use; BvhNode{} is all zeros.
 struct alignas(32) BvhNode {
-    float bounds[6];    // lower x, y, z, then upper x, y, z
-    uint32_t offset;    // interior: index of the first child; leaf: first primitive
-    uint16_t count;     // primitives in a leaf; 0 marks an interior node
-    uint8_t axis;       // split axis of an interior node
-    uint8_t reserved;   // room for flags (e.g. motion-blurred subtrees)
+    float bounds[6];   // lower x, y, z, then upper x, y, z
+    uint32_t offset;   // interior: index of the first child; leaf: first primitive
+    uint16_t count;    // primitives in a leaf; 0 marks an interior node
+    uint8_t axis;      // split axis of an interior node
+    uint8_t reserved;  // room for flags (e.g. motion-blurred subtrees)
 
     bool isLeaf() const { return count > 0; }
 };
@@ -69,10 +69,14 @@ struct AlignedAllocator {
     AlignedAllocator() = default;
     template <typename U>
     AlignedAllocator(const AlignedAllocator<U, Alignment>&) {}
-    T* allocate(size_t n) { return static_cast<T*>(::operator new(n * sizeof(T), std::align_val_t(Alignment))); }
+    T* allocate(size_t n) {
+        return static_cast<T*>(::operator new(n * sizeof(T), std::align_val_t(Alignment)));
+    }
     void deallocate(T* p, size_t) { ::operator delete(p, std::align_val_t(Alignment)); }
     template <typename U>
-    bool operator==(const AlignedAllocator<U, Alignment>&) const { return true; }
+    bool operator==(const AlignedAllocator<U, Alignment>&) const {
+        return true;
+    }
 };
 
 using BvhNodeArray = std::vector<BvhNode, AlignedAllocator<BvhNode, 64>>;
@@ -86,9 +90,9 @@ struct BvhBuildSettings {
 };
 
 struct BvhBuildResult {
-    BvhNodeArray nodes;                     // nodes[0] is the root; empty when there are no primitives
-    std::vector<uint32_t> primitiveOrder;   // leaf order -> index into the input bounds
-    int maxDepth = 0;                       // root is depth 0
+    BvhNodeArray nodes;                    // nodes[0] is the root; empty when there are no primitives
+    std::vector<uint32_t> primitiveOrder;  // leaf order -> index into the input bounds
+    int maxDepth = 0;                      // root is depth 0
     // Expected cost of a random ray that meets the root box, by the SAH with the build's costs,
     // in units of one primitive test: a measure of tree quality.
     float sahCost = 0.0f;

@@ -1,5 +1,6 @@
 #include "scenes/embree_accelerator.h"
 
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <stdexcept>
@@ -169,7 +170,15 @@ EmbreeAccelerator::~EmbreeAccelerator() {
     if (device_) rtcReleaseDevice(device_);
 }
 
+// Debian's Embree asserts on rays with NaN or infinite components (and would abort), so such rays
+// are answered here: they hit nothing.
+static bool isTraceable(const Ray& ray) {
+    return isFinite(ray.origin) && isFinite(ray.direction) && lengthSquared(ray.direction) > 0.0f && ray.tnear >= 0.0f && ray.tfar >= ray.tnear &&
+           std::isfinite(ray.time);
+}
+
 bool EmbreeAccelerator::intersect(const Ray& ray, Hit& hit) const {
+    if (!isTraceable(ray)) return false;
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     RTCRayHit rayHit;
@@ -196,6 +205,7 @@ bool EmbreeAccelerator::intersect(const Ray& ray, Hit& hit) const {
 }
 
 bool EmbreeAccelerator::occluded(const Ray& ray) const {
+    if (!isTraceable(ray)) return false;
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     RTCRay r = toEmbreeRay(ray);

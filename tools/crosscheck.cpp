@@ -10,7 +10,6 @@
 #include <nlohmann/json.hpp>
 
 #include "cameras/camera.h"
-#include "scenes/scene_camera.h"
 #include "core/frame.h"
 #include "core/hash.h"
 #include "core/ray_offset.h"
@@ -18,6 +17,7 @@
 #include "renderer/surface_interaction.h"
 #include "scenes/bvh_accelerator.h"
 #include "scenes/embree_accelerator.h"
+#include "scenes/scene_camera.h"
 #include "scenes/scene_loader.h"
 
 namespace penumbra {
@@ -33,7 +33,8 @@ constexpr float kShadowRayEnd = 1.0f - 0x1p-20f;
 // Uniform numbers for one ray: a hash of (seed, kind, index, dimension).
 class RayRandom {
 public:
-    RayRandom(uint64_t seed, CrosscheckRayKind kind, uint64_t index) : seed_(seed), kind_(uint64_t(kind)), index_(index) {}
+    RayRandom(uint64_t seed, CrosscheckRayKind kind, uint64_t index)
+        : seed_(seed), kind_(uint64_t(kind)), index_(index) {}
     float next() { return bitsToUnitFloat(uint32_t(hashWords(seed_, kind_, index_, dimension_++) >> 32)); }
     Vec2f next2() {
         const float a = next();
@@ -44,7 +45,6 @@ private:
     uint64_t seed_, kind_, index_;
     uint64_t dimension_ = 0;
 };
-
 
 struct SceneExtent {
     Vec3f lower{-1.0f, -1.0f, -1.0f}, upper{1.0f, 1.0f, 1.0f};
@@ -190,8 +190,8 @@ std::string describeAnswer(const CrosscheckRay& ray, const BackendAnswer& answer
     std::string text = ray.isSegment() ? "blocked" : "hit";
     if (answer.hasHit) {
         const Hit& h = answer.hit;
-        text += fmt::format(" geom {} prim {} at t {} ({:.9g}), u {:.9g}, v {:.9g}", h.geomId, h.primId, hexFloat(h.t),
-                            h.t, h.u, h.v);
+        text += fmt::format(" geom {} prim {} at t {} ({:.9g}), u {:.9g}, v {:.9g}", h.geomId, h.primId,
+                            hexFloat(h.t), h.t, h.u, h.v);
     }
     return text;
 }
@@ -255,7 +255,8 @@ std::vector<CrosscheckRay> generateCrosscheckRays(const Scene& scene, const Acce
     // bounces; every path vertex gives a bounce ray and a shadow ray to a random point elsewhere.
     std::vector<CrosscheckRay> bounces, shadows;
     const uint64_t maxPaths = 16 * perKind + 1024;  // enough unless the scene is nearly invisible
-    for (uint64_t path = 0; path < maxPaths && (bounces.size() < perKind || shadows.size() < perKind); ++path) {
+    for (uint64_t path = 0; path < maxPaths && (bounces.size() < perKind || shadows.size() < perKind);
+         ++path) {
         RayRandom random(options.seed, CrosscheckRayKind::Bounce, path);
         Ray ray = makeCameraRay(scene, camera, random);
         Hit hit;
@@ -269,7 +270,8 @@ std::vector<CrosscheckRay> generateCrosscheckRays(const Scene& scene, const Acce
             const Vec3f normal = faceForward(si.geometricNormal, -ray.direction);
             if (shadows.size() < perKind && primitives.count() > 1) {
                 const float pick = random.next();
-                const uint64_t target = std::min(uint64_t(pick * double(primitives.count())), primitives.count() - 1);
+                const uint64_t target =
+                    std::min(uint64_t(pick * double(primitives.count())), primitives.count() - 1);
                 const PrimitiveIndex::Point point = primitives.sample(target, random.next2());
                 if (point.geomId != hit.geomId || point.primId != hit.primId)
                     shadows.push_back({makeShadowRay(si.position, si.geometricNormal, point, ray.time),
@@ -279,7 +281,8 @@ std::vector<CrosscheckRay> generateCrosscheckRays(const Scene& scene, const Acce
             next.origin = offsetRayOrigin(si.position, normal);
             next.direction = Frame::fromNormal(normal).toWorld(sampleCosineHemisphere(random.next2()));
             next.time = ray.time;
-            if (bounces.size() < perKind) bounces.push_back({next, CrosscheckRayKind::Bounce, bounces.size()});
+            if (bounces.size() < perKind)
+                bounces.push_back({next, CrosscheckRayKind::Bounce, bounces.size()});
             ray = next;
             found = reference.intersect(ray, hit);
         }
@@ -307,7 +310,8 @@ double MismatchClassifier::pointDistance(const Ray& ray, float a, float b) const
 }
 
 bool MismatchClassifier::sameDistance(const Ray& ray, float a, float b) const {
-    const double travelled = std::max(std::abs(double(a)), std::abs(double(b))) * double(length(ray.direction));
+    const double travelled =
+        std::max(std::abs(double(a)), std::abs(double(b))) * double(length(ray.direction));
     return std::abs(double(a) - double(b)) * double(length(ray.direction)) <=
            double(kDistanceTolerance) * (travelled + double(coordinateMagnitude_));
 }
@@ -315,7 +319,8 @@ bool MismatchClassifier::sameDistance(const Ray& ray, float a, float b) const {
 std::optional<MismatchKind> MismatchClassifier::explainHit(const Ray& ray, const Hit& hit) const {
     if (isNearEdge(scene_, hit)) return MismatchKind::EdgeOrVertex;
     if (incidenceCosine(scene_, ray, hit) < kGrazingCosine) return MismatchKind::Grazing;
-    if (sameDistance(ray, hit.t, ray.tnear) || (std::isfinite(ray.tfar) && sameDistance(ray, hit.t, ray.tfar)))
+    if (sameDistance(ray, hit.t, ray.tnear) ||
+        (std::isfinite(ray.tfar) && sameDistance(ray, hit.t, ray.tfar)))
         return MismatchKind::RangeBoundary;
     return std::nullopt;
 }
@@ -327,7 +332,8 @@ MismatchKind MismatchClassifier::classify(const CrosscheckRay& cray, const Backe
         const Hit& a = ours.hit;
         const Hit& b = embree.hit;
         if (sameDistance(ray, a.t, b.t))
-            return isNearEdge(scene_, a) || isNearEdge(scene_, b) ? MismatchKind::EdgeOrVertex : MismatchKind::Tie;
+            return isNearEdge(scene_, a) || isNearEdge(scene_, b) ? MismatchKind::EdgeOrVertex
+                                                                  : MismatchKind::Tie;
         // One backend missed the nearer surface: why?
         return explainHit(ray, a.t < b.t ? a : b).value_or(MismatchKind::Unexplained);
     }
@@ -337,8 +343,9 @@ MismatchKind MismatchClassifier::classify(const CrosscheckRay& cray, const Backe
     return explainHit(ray, found.hit).value_or(MismatchKind::Unexplained);
 }
 
-CrosscheckReport compareBackends(const Scene& scene, const BvhAccelerator& ours, const EmbreeAccelerator& embree,
-                                 const std::vector<CrosscheckRay>& rays, const CrosscheckOptions& options) {
+CrosscheckReport compareBackends(const Scene& scene, const BvhAccelerator& ours,
+                                 const EmbreeAccelerator& embree, const std::vector<CrosscheckRay>& rays,
+                                 const CrosscheckOptions& options) {
     CrosscheckReport report;
     report.scene = scene.sourcePath.string();
     report.seed = options.seed;
@@ -403,7 +410,8 @@ CrosscheckReport compareBackends(const Scene& scene, const BvhAccelerator& ours,
         // Alternate the backends and keep each one's best of two runs, to damp noise.
         for (int round = 0; round < 2; ++round) {
             report.oursRaysPerSecond = std::max(report.oursRaysPerSecond, measureRaysPerSecond(ours, rays));
-            report.embreeRaysPerSecond = std::max(report.embreeRaysPerSecond, measureRaysPerSecond(embree, rays));
+            report.embreeRaysPerSecond =
+                std::max(report.embreeRaysPerSecond, measureRaysPerSecond(embree, rays));
         }
     }
     return report;
@@ -425,48 +433,57 @@ CrosscheckReport runCrosscheck(const Scene& scene, const CrosscheckOptions& opti
 
 std::string formatCrosscheckText(const CrosscheckReport& report, size_t maxListed) {
     std::string out;
-    out += fmt::format("crosscheck {}: {} rays (seed {}), bvh against embree\n", report.scene, report.rayCount,
-                       report.seed);
-    out += fmt::format("  {:<8} {:>10} {:>10} {:>9} {:>10}\n", "rays", "count", "agree", "hit/miss", "other prim");
+    out += fmt::format("crosscheck {}: {} rays (seed {}), bvh against embree\n", report.scene,
+                       report.rayCount, report.seed);
+    out += fmt::format("  {:<8} {:>10} {:>10} {:>9} {:>10}\n", "rays", "count", "agree", "hit/miss",
+                       "other prim");
     for (int k = 0; k < kCrosscheckRayKindCount; ++k) {
         const CrosscheckKindStats& s = report.byKind[k];
-        out += fmt::format("  {:<8} {:>10} {:>10} {:>9} {:>10}\n", crosscheckRayKindName(CrosscheckRayKind(k)), s.rays,
-                           s.agreements, s.hitMissDisagreements, s.primitiveDisagreements);
+        out +=
+            fmt::format("  {:<8} {:>10} {:>10} {:>9} {:>10}\n", crosscheckRayKindName(CrosscheckRayKind(k)),
+                        s.rays, s.agreements, s.hitMissDisagreements, s.primitiveDisagreements);
     }
-    out += fmt::format("  agreement {:.5f}% ({} of {}), {:.5f}% counting ties; hit/miss disagreements {}, "
-                       "different primitive {}\n",
-                       100.0 * report.agreementRatio(), report.agreements, report.rayCount,
-                       100.0 * report.agreementRatioCountingTies(), report.hitMissDisagreements,
-                       report.primitiveDisagreements);
-    out += fmt::format("  distance on the same primitive ({} hits): relative difference of t max {:.3g}, mean {:.3g}; "
-                       "hit points apart by at most {:.3g}, on average {:.3g} of the scene's coordinate magnitude\n",
-                       report.samePrimitiveHits, report.maxRelativeDistance, report.meanRelativeDistance,
-                       report.maxPointDistance, report.meanPointDistance);
+    out += fmt::format(
+        "  agreement {:.5f}% ({} of {}), {:.5f}% counting ties; hit/miss disagreements {}, "
+        "different primitive {}\n",
+        100.0 * report.agreementRatio(), report.agreements, report.rayCount,
+        100.0 * report.agreementRatioCountingTies(), report.hitMissDisagreements,
+        report.primitiveDisagreements);
+    out += fmt::format(
+        "  distance on the same primitive ({} hits): relative difference of t max {:.3g}, mean {:.3g}; "
+        "hit points apart by at most {:.3g}, on average {:.3g} of the scene's coordinate magnitude\n",
+        report.samePrimitiveHits, report.maxRelativeDistance, report.meanRelativeDistance,
+        report.maxPointDistance, report.meanPointDistance);
     out += "  mismatches:";
     for (int k = 0; k < kMismatchKindCount; ++k)
-        out += fmt::format("{} {} {}", k ? "," : "", mismatchKindName(MismatchKind(k)), report.mismatchesByKind[k]);
+        out += fmt::format("{} {} {}", k ? "," : "", mismatchKindName(MismatchKind(k)),
+                           report.mismatchesByKind[k]);
     out += "\n";
     if (report.oursRaysPerSecond > 0.0 && report.embreeRaysPerSecond > 0.0)
-        out += fmt::format("  throughput (1 thread, same rays): bvh {:.2f} M rays/s, embree {:.2f} M rays/s, "
-                           "bvh/embree {:.2f}\n",
-                           report.oursRaysPerSecond * 1e-6, report.embreeRaysPerSecond * 1e-6,
-                           report.oursRaysPerSecond / report.embreeRaysPerSecond);
+        out += fmt::format(
+            "  throughput (1 thread, same rays): bvh {:.2f} M rays/s, embree {:.2f} M rays/s, "
+            "bvh/embree {:.2f}\n",
+            report.oursRaysPerSecond * 1e-6, report.embreeRaysPerSecond * 1e-6,
+            report.oursRaysPerSecond / report.embreeRaysPerSecond);
     if (report.oursBuildSeconds > 0.0 || report.embreeBuildSeconds > 0.0)
         out += fmt::format("  build: bvh {:.3f} s, embree {:.3f} s\n", report.oursBuildSeconds,
                            report.embreeBuildSeconds);
 
     const size_t listed = std::min(maxListed, report.mismatches.size());
     if (listed > 0) {
-        out += fmt::format("mismatching rays (origin, direction, tnear, tfar as %a floats; first {} of {}):\n", listed,
-                           report.hitMissDisagreements + report.primitiveDisagreements);
+        out +=
+            fmt::format("mismatching rays (origin, direction, tnear, tfar as %a floats; first {} of {}):\n",
+                        listed, report.hitMissDisagreements + report.primitiveDisagreements);
         for (size_t i = 0; i < listed; ++i) {
             const Mismatch& m = report.mismatches[i];
             const Ray& r = m.ray.ray;
-            out += fmt::format("  [{}] {} ray {} ({}): origin ({}, {}, {}) direction ({}, {}, {}) tnear {} tfar {} time {}\n",
-                               mismatchKindName(m.kind), crosscheckRayKindName(m.ray.kind), m.ray.index,
-                               m.ray.isSegment() ? "occluded" : "intersect", hexFloat(r.origin.x), hexFloat(r.origin.y),
-                               hexFloat(r.origin.z), hexFloat(r.direction.x), hexFloat(r.direction.y),
-                               hexFloat(r.direction.z), hexFloat(r.tnear), hexFloat(r.tfar), hexFloat(r.time));
+            out += fmt::format(
+                "  [{}] {} ray {} ({}): origin ({}, {}, {}) direction ({}, {}, {}) tnear {} tfar {} time "
+                "{}\n",
+                mismatchKindName(m.kind), crosscheckRayKindName(m.ray.kind), m.ray.index,
+                m.ray.isSegment() ? "occluded" : "intersect", hexFloat(r.origin.x), hexFloat(r.origin.y),
+                hexFloat(r.origin.z), hexFloat(r.direction.x), hexFloat(r.direction.y),
+                hexFloat(r.direction.z), hexFloat(r.tnear), hexFloat(r.tfar), hexFloat(r.time));
             out += fmt::format("      bvh: {}\n      embree: {}\n", describeAnswer(m.ray, m.ours),
                                describeAnswer(m.ray, m.embree));
         }
@@ -488,10 +505,11 @@ std::string formatCrosscheckJson(const CrosscheckReport& report, size_t maxListe
     json kinds = json::object();
     for (int k = 0; k < kCrosscheckRayKindCount; ++k) {
         const CrosscheckKindStats& s = report.byKind[k];
-        kinds[crosscheckRayKindName(CrosscheckRayKind(k))] = {{"rays", s.rays},
-                                                               {"agreements", s.agreements},
-                                                               {"hitMissDisagreements", s.hitMissDisagreements},
-                                                               {"primitiveDisagreements", s.primitiveDisagreements}};
+        kinds[crosscheckRayKindName(CrosscheckRayKind(k))] = {
+            {"rays", s.rays},
+            {"agreements", s.agreements},
+            {"hitMissDisagreements", s.hitMissDisagreements},
+            {"primitiveDisagreements", s.primitiveDisagreements}};
     }
     j["byKind"] = kinds;
     j["distance"] = {{"samePrimitiveHits", report.samePrimitiveHits},
@@ -500,37 +518,44 @@ std::string formatCrosscheckJson(const CrosscheckReport& report, size_t maxListe
                      {"maxPointDistance", report.maxPointDistance},
                      {"meanPointDistance", report.meanPointDistance}};
     json byKind = json::object();
-    for (int k = 0; k < kMismatchKindCount; ++k) byKind[mismatchKindName(MismatchKind(k))] = report.mismatchesByKind[k];
+    for (int k = 0; k < kMismatchKindCount; ++k)
+        byKind[mismatchKindName(MismatchKind(k))] = report.mismatchesByKind[k];
     j["mismatches"] = byKind;
     j["unexplained"] = report.unexplained();
-    j["throughput"] = {{"bvhRaysPerSecond", report.oursRaysPerSecond},
-                       {"embreeRaysPerSecond", report.embreeRaysPerSecond},
-                       {"ratio", report.embreeRaysPerSecond > 0.0 ? report.oursRaysPerSecond / report.embreeRaysPerSecond
-                                                                  : 0.0}};
+    j["throughput"] = {
+        {"bvhRaysPerSecond", report.oursRaysPerSecond},
+        {"embreeRaysPerSecond", report.embreeRaysPerSecond},
+        {"ratio",
+         report.embreeRaysPerSecond > 0.0 ? report.oursRaysPerSecond / report.embreeRaysPerSecond : 0.0}};
     j["buildSeconds"] = {{"bvh", report.oursBuildSeconds}, {"embree", report.embreeBuildSeconds}};
-    j["tolerances"] = {{"edge", kEdgeTolerance}, {"distance", kDistanceTolerance}, {"grazingCosine", kGrazingCosine}};
+    j["tolerances"] = {
+        {"edge", kEdgeTolerance}, {"distance", kDistanceTolerance}, {"grazingCosine", kGrazingCosine}};
     json list = json::array();
     for (size_t i = 0; i < std::min(maxListed, report.mismatches.size()); ++i) {
         const Mismatch& m = report.mismatches[i];
         auto answer = [&](const BackendAnswer& a) {
             json x = {{"hit", a.hitSomething}};
             if (a.hasHit)
-                x["closest"] = {{"geomId", a.hit.geomId}, {"primId", a.hit.primId}, {"t", hexFloat(a.hit.t)},
-                                {"u", hexFloat(a.hit.u)},     {"v", hexFloat(a.hit.v)}};
+                x["closest"] = {{"geomId", a.hit.geomId},
+                                {"primId", a.hit.primId},
+                                {"t", hexFloat(a.hit.t)},
+                                {"u", hexFloat(a.hit.u)},
+                                {"v", hexFloat(a.hit.v)}};
             return x;
         };
         const Ray& r = m.ray.ray;
-        list.push_back({{"kind", mismatchKindName(m.kind)},
-                        {"rayKind", crosscheckRayKindName(m.ray.kind)},
-                        {"index", m.ray.index},
-                        {"call", m.ray.isSegment() ? "occluded" : "intersect"},
-                        {"origin", {hexFloat(r.origin.x), hexFloat(r.origin.y), hexFloat(r.origin.z)}},
-                        {"direction", {hexFloat(r.direction.x), hexFloat(r.direction.y), hexFloat(r.direction.z)}},
-                        {"tnear", hexFloat(r.tnear)},
-                        {"tfar", hexFloat(r.tfar)},
-                        {"time", hexFloat(r.time)},
-                        {"bvh", answer(m.ours)},
-                        {"embree", answer(m.embree)}});
+        list.push_back(
+            {{"kind", mismatchKindName(m.kind)},
+             {"rayKind", crosscheckRayKindName(m.ray.kind)},
+             {"index", m.ray.index},
+             {"call", m.ray.isSegment() ? "occluded" : "intersect"},
+             {"origin", {hexFloat(r.origin.x), hexFloat(r.origin.y), hexFloat(r.origin.z)}},
+             {"direction", {hexFloat(r.direction.x), hexFloat(r.direction.y), hexFloat(r.direction.z)}},
+             {"tnear", hexFloat(r.tnear)},
+             {"tfar", hexFloat(r.tfar)},
+             {"time", hexFloat(r.time)},
+             {"bvh", answer(m.ours)},
+             {"embree", answer(m.embree)}});
     }
     j["listedMismatches"] = list;
     return j.dump(2) + "\n";

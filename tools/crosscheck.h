@@ -53,7 +53,7 @@ inline constexpr float kGrazingCosine = 1e-3f;      // |cos| between the ray and
 struct CrosscheckRay {
     Ray ray;
     CrosscheckRayKind kind = CrosscheckRayKind::Random;
-    uint64_t index = 0;  // within its kind
+    uint64_t index = 0;                                                   // within its kind
     bool isSegment() const { return kind == CrosscheckRayKind::Shadow; }  // traced with occluded()
 };
 
@@ -125,7 +125,8 @@ std::vector<CrosscheckRay> generateCrosscheckRays(const Scene& scene, const Acce
 class MismatchClassifier {
 public:
     explicit MismatchClassifier(const Scene& scene);
-    MismatchKind classify(const CrosscheckRay& ray, const BackendAnswer& ours, const BackendAnswer& embree) const;
+    MismatchKind classify(const CrosscheckRay& ray, const BackendAnswer& ours,
+                          const BackendAnswer& embree) const;
     // |a - b| along the ray, as a fraction of the scene's coordinate magnitude.
     double pointDistance(const Ray& ray, float a, float b) const;
     // Whether distances a and b along the ray give the same point within the tolerance.
@@ -139,8 +140,9 @@ private:
 };
 
 // Compares the two backends on the given rays.
-CrosscheckReport compareBackends(const Scene& scene, const BvhAccelerator& ours, const EmbreeAccelerator& embree,
-                                 const std::vector<CrosscheckRay>& rays, const CrosscheckOptions& options);
+CrosscheckReport compareBackends(const Scene& scene, const BvhAccelerator& ours,
+                                 const EmbreeAccelerator& embree, const std::vector<CrosscheckRay>& rays,
+                                 const CrosscheckOptions& options);
 
 // Builds both backends, generates the rays and compares.
 CrosscheckReport runCrosscheck(const Scene& scene, const CrosscheckOptions& options);

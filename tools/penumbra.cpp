@@ -2,13 +2,18 @@
 //
 //   penumbra render SCENE [--spp N] [--seed S] [--threads N] [--res WxH] [--accel embree|bvh] [-o PATH] ...
 //   penumbra crosscheck SCENE [--rays N] [--seed S] [--json]
+//   penumbra merge PART.exr... -o OUT.exr
+//   penumbra converge SCENE --spp 1,2,4,...,1024 [--sampler ...] [--reference REF.exr] -o DIR
 //
 // Bad input is reported as "penumbra: error: FILE:LINE: message" (or a JSON pointer instead of
 // the line) with a non-zero exit status, and no output file is written.
 
+#include <signal.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
@@ -22,7 +27,9 @@
 #include "renderer/image_output.h"
 #include "renderer/render.h"
 #include "scenes/scene_loader.h"
+#include "tools/converge.h"
 #include "tools/crosscheck.h"
+#include "tools/merge.h"
 
 namespace fs = std::filesystem;
 using namespace penumbra;
@@ -44,7 +51,29 @@ struct RenderCommand {
     bool noDisplay = false;
     bool quiet = false;
     std::string accel = "embree";
+    std::string resume;                       // a film to continue up to --spp
+    std::optional<double> checkpointMinutes;  // write the film every so often (0: after every pass)
+    std::optional<uint32_t> passSize;         // sample indices per pass
 };
+
+// SIGINT / SIGTERM ask the render to stop at the end of the current pass; the film as of that
+// pass is written and penumbra exits with 128 + the signal's number. A second signal kills.
+std::atomic<bool> gStopRequested{false};
+volatile std::sig_atomic_t gStopSignal = 0;
+
+extern "C" void onStopSignal(int signal) {
+    gStopSignal = signal;
+    gStopRequested.store(true);
+}
+
+void installStopHandlers() {
+    struct sigaction action {};
+    action.sa_handler = onStopSignal;
+    sigemptyset(&action.sa_mask);
+    action.sa_flags = SA_RESETHAND;  // the second signal gets the default action
+    sigaction(SIGINT, &action, nullptr);
+    sigaction(SIGTERM, &action, nullptr);
+}
 
 int parsePositive(const std::string& option, const std::string& text) {
     size_t used = 0;
@@ -149,24 +178,92 @@ int runRender(const RenderCommand& cmd) {
     ProgressLine progress(interactive);
     options.progress = [&](size_t done, size_t total) { progress.update(done, total); };
 
+    // --resume: continue the film in the file from where it ends up to --spp (the same samples,
+    // so the result is the same bit for bit as one render).
+    const std::string sceneHash = hashFileContents(cmd.scenePath);
+    const std::string samplerName(samplerKindName(scene.settings.sampler));
     Film film(scene.film.width, scene.film.height);
+    uint32_t rangeFirst = options.firstSample;
+    double previousSeconds = 0.0;
+    if (!cmd.resume.empty()) {
+        if (!cmd.samples.empty())
+            throw InputError("--resume continues a film up to --spp; it cannot be combined with --samples");
+        FilmFile loaded = readFilmExr(cmd.resume);
+        checkResumable(loaded, cmd.resume,
+                       ResumeTarget{sceneHash, scene.film.width, scene.film.height, scene.settings.seed, samplerName,
+                                    cmd.accel, options.crop, options.endSample});
+        rangeFirst = loaded.metadata.firstSample;
+        options.firstSample = loaded.metadata.endSample;
+        previousSeconds = loaded.metadata.renderSeconds;
+        film = std::move(loaded.film);
+    }
+    auto metadataFor = [&](uint32_t end, double seconds) {
+        RenderMetadata m;
+        m.samplesPerPixel = int(end - rangeFirst);
+        m.seed = scene.settings.seed;
+        m.sampler = samplerName;
+        m.accelerator = cmd.accel;
+        m.sceneFile = cmd.scenePath;
+        m.sceneHash = sceneHash;
+        m.renderSeconds = seconds;
+        m.version = kVersion;
+        m.firstSample = rangeFirst;
+        m.endSample = end;
+        m.crop = options.crop;
+        return m;
+    };
+
+    // Passes: about a million samples each unless --pass-size says otherwise, so that a signal or
+    // a checkpoint waits at most about that long.
+    const PixelWindow window = options.crop.value_or(PixelWindow{0, scene.film.width, 0, scene.film.height});
+    const uint64_t windowPixels = uint64_t(std::max(1, window.width())) * uint64_t(std::max(1, window.height()));
+    options.passSize = cmd.passSize ? *cmd.passSize : uint32_t(std::clamp<uint64_t>((1u << 20) / windowPixels, 1, 1u << 20));
+    if (options.passSize == 0) throw InputError("--pass-size: expected a positive integer");
+    if (cmd.checkpointMinutes && !(*cmd.checkpointMinutes >= 0))
+        throw InputError("--checkpoint: expected a number of minutes >= 0");
+    using Clock = std::chrono::steady_clock;
+    const auto renderStart = Clock::now();
+    auto lastCheckpoint = renderStart;
+    options.passDone = [&](uint32_t passEnd) {
+        if (!cmd.checkpointMinutes || passEnd >= options.endSample) return;
+        const auto now = Clock::now();
+        if (std::chrono::duration<double>(now - lastCheckpoint).count() < *cmd.checkpointMinutes * 60.0) return;
+        writeExr(film, metadataFor(passEnd, previousSeconds + std::chrono::duration<double>(now - renderStart).count()),
+                 exrPath);
+        lastCheckpoint = Clock::now();
+        if (interactive) std::fprintf(stderr, "\r");
+        if (!cmd.quiet) std::fprintf(stderr, "checkpoint: samples [%u, %u) in %s\n", rangeFirst, passEnd, exrPath.string().c_str());
+    };
+    options.cancel = &gStopRequested;
+    installStopHandlers();
+
     const RenderStats stats = render(scene, options, film);
 
-    RenderMetadata metadata;
-    metadata.samplesPerPixel = int(options.endSample - options.firstSample);
-    metadata.seed = scene.settings.seed;
-    metadata.sampler = std::string(samplerKindName(scene.settings.sampler));
-    metadata.accelerator = cmd.accel;
-    metadata.sceneFile = cmd.scenePath;
-    metadata.renderSeconds = stats.renderSeconds;
-    metadata.version = kVersion;
+    const RenderMetadata metadata = metadataFor(stats.endSample, previousSeconds + stats.renderSeconds);
+    if (stats.cancelled) {
+        const int signal = int(gStopSignal);
+        if (interactive) std::fprintf(stderr, "\n");
+        if (stats.endSample == rangeFirst && cmd.resume.empty()) {
+            std::fprintf(stderr, "penumbra: stopped by signal %d before the first pass was complete; nothing written\n",
+                         signal);
+            return 128 + signal;
+        }
+        writeExr(film, metadata, exrPath);
+        if (!cmd.noDisplay) writeDisplayImage(film, displayPath);
+        std::fprintf(stderr,
+                     "penumbra: stopped by signal %d; wrote samples [%u, %u) to %s; continue with: penumbra render %s "
+                     "--spp %u --resume %s -o %s (and the same --seed, --sampler, --res, --crop, --accel)\n",
+                     signal, rangeFirst, stats.endSample, exrPath.string().c_str(), cmd.scenePath.c_str(),
+                     options.endSample, exrPath.string().c_str(), exrPath.string().c_str());
+        return 128 + signal;
+    }
     writeExr(film, metadata, exrPath);
     if (!cmd.noDisplay) writeDisplayImage(film, displayPath);
 
     if (!cmd.quiet) {
         const double seconds = std::max(stats.renderSeconds, 1e-9);
         std::printf("rendered %dx%d, samples %u:%u (%s sampler, seed %llu) in %.2f s (scene build %.2f s)\n",
-                    scene.film.width, scene.film.height, options.firstSample, options.endSample,
+                    scene.film.width, scene.film.height, rangeFirst, stats.endSample,
                     metadata.sampler.c_str(), (unsigned long long)scene.settings.seed, stats.renderSeconds,
                     stats.buildSeconds);
         std::printf("  %.2f M samples/s, %.2f M rays/s (%llu camera, %llu bounce, %llu shadow rays)\n",
@@ -213,6 +310,53 @@ int main(int argc, char** argv) {
     renderApp->add_flag("-q,--quiet", cmd.quiet, "No progress line and no summary");
     renderApp->add_option("--accel", cmd.accel, "Traversal backend: embree (default) or bvh (our own)")
         ->check(CLI::IsMember({"embree", "bvh"}));
+    renderApp->add_option("--resume", cmd.resume,
+                          "Continue the film in this EXR (written by render or merge) up to --spp; it must come from "
+                          "the same scene, resolution, seed, sampler, crop and --accel");
+    renderApp->add_option("--checkpoint", cmd.checkpointMinutes,
+                          "Write the film to the output EXR every MINUTES (fractions allowed; 0: after every pass); "
+                          "SIGINT/SIGTERM always write it before exiting");
+    renderApp->add_option("--pass-size", cmd.passSize,
+                          "Sample indices per pass (default: about a million samples a pass); checkpoints and signals "
+                          "take effect between passes")
+        ->check(CLI::PositiveNumber);
+
+    std::vector<std::string> mergeParts;
+    std::string mergeOutput;
+    bool mergeNoDisplay = false, mergeQuiet = false;
+    CLI::App* mergeApp = app.add_subcommand(
+        "merge", "Add partial renders (--samples ranges, --crop windows) of one scene into one EXR, bit for bit as "
+                 "one render of the union");
+    mergeApp->add_option("PARTS", mergeParts, "EXR files written by penumbra render or merge")->required();
+    mergeApp->add_option("-o,--output", mergeOutput, "Output EXR; a PNG through OpenColorIO is written beside it")
+        ->required();
+    mergeApp->add_flag("--no-display", mergeNoDisplay, "Write only the EXR, no display PNG");
+    mergeApp->add_flag("-q,--quiet", mergeQuiet, "No summary");
+
+    ConvergeCommand convergeCmd;
+    CLI::App* convergeApp = app.add_subcommand(
+        "converge", "Convergence study: error against a reference at each rung of a sample ladder, per sampler; "
+                    "writes convergence.csv/.json/.png and strip.png");
+    convergeApp->add_option("SCENE", convergeCmd.scenePath, "Scene file")->required();
+    convergeApp->add_option("--spp", convergeCmd.spp, "Rungs, e.g. 1,2,4,...,1024 (default 1,2,4,...,256)");
+    convergeApp->add_option("--sampler", convergeCmd.samplers, "Samplers to compare (default stratified,independent)");
+    convergeApp->add_option("--reference", convergeCmd.reference,
+                            "Reference image (a penumbra EXR, or any image with R, G, B of the same size)");
+    convergeApp->add_option("--reference-spp", convergeCmd.referenceSpp,
+                            "Samples per pixel of the rendered reference (default 8 x the top rung, at most 8192)");
+    convergeApp->add_option("--seeds", convergeCmd.seeds, "Renders per sampler with seeds S, S+1, ... (error bars)");
+    convergeApp->add_option("--seed", convergeCmd.seed, "First seed (default: the scene's)");
+    convergeApp->add_option("--freeze", convergeCmd.freeze,
+                            "Fix dimensions at their centre to attribute noise: lens, time, light, pixel (comma-separated)");
+    convergeApp->add_option("--res", convergeCmd.resolution, "Resolution WIDTHxHEIGHT (overrides film.resolution)");
+    convergeApp->add_option("--strip", convergeCmd.strip, "Window x0,x1,y0,y1 shown in strip.png (default: centred square)");
+    convergeApp->add_option("--threads", convergeCmd.threads, "Worker threads; 0 uses every core")
+        ->check(CLI::NonNegativeNumber);
+    convergeApp->add_option("--accel", convergeCmd.accel, "Traversal backend: embree (default) or bvh")
+        ->check(CLI::IsMember({"embree", "bvh"}));
+    convergeApp->add_option("-o,--output", convergeCmd.output, "Output folder")->required();
+    convergeApp->add_flag("--no-plot", convergeCmd.noPlot, "Do not run tools/plot_convergence.py");
+    convergeApp->add_flag("-q,--quiet", convergeCmd.quiet, "No progress lines");
 
     std::string crosscheckScene;
     CrosscheckOptions crosscheckOptions;
@@ -242,6 +386,8 @@ int main(int argc, char** argv) {
     try {
         if (renderApp->parsed()) return runRender(cmd);
         if (crosscheckApp->parsed()) return runCrosscheckCommand(crosscheckScene, crosscheckOptions, crosscheckJson);
+        if (mergeApp->parsed()) return runMergeCommand(mergeParts, mergeOutput, mergeNoDisplay, mergeQuiet);
+        if (convergeApp->parsed()) return runConvergeCommand(convergeCmd);
     } catch (const InputError& e) {
         std::fprintf(stderr, "penumbra: error: %s\n", e.what());
         return 1;

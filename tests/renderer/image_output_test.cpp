@@ -1,4 +1,4 @@
-// Image output: the EXR is the film's mean radiance in half precision with the render metadata,
+// Image output: the EXR's beauty is the film's mean radiance in float precision with the render metadata,
 // the display image is the shipped (or $OCIO's) view transform quantized to 8 bits, and writes
 // are atomic (no temporary file survives, failures are InputErrors naming the path).
 #include "renderer/image_output.h"
@@ -49,7 +49,7 @@ Image readImage(const fs::path& path) {
     image.spec = in->spec();
     image.width = image.spec.width;
     image.height = image.spec.height;
-    image.channels = image.spec.nchannels;
+    image.channels = std::min(image.spec.nchannels, 3);  // R, G, B come first (the EXR has AOVs after them)
     image.pixels.resize(size_t(image.width) * image.height * image.channels);
     EXPECT_TRUE(in->read_image(0, 0, 0, image.channels, OIIO::TypeDesc::FLOAT, image.pixels.data()))
         << in->geterror();
@@ -131,17 +131,17 @@ TEST_F(ImageOutputTest, ExrRoundTripsMeansAndMetadata) {
     ASSERT_EQ(image.width, width);
     ASSERT_EQ(image.height, height);
     ASSERT_EQ(image.channels, 3);
-    EXPECT_EQ(image.spec.format, OIIO::TypeDesc::HALF);
-    EXPECT_EQ(image.spec.channelnames, (std::vector<std::string>{"R", "G", "B"}));
+    EXPECT_EQ(image.spec.nchannels, 14);  // R, G, B, A, albedo, N, Z, variance (docs/exr-layout.md)
+    EXPECT_EQ(image.spec.format, OIIO::TypeDesc::FLOAT);
+    EXPECT_EQ(std::vector<std::string>(image.spec.channelnames.begin(), image.spec.channelnames.begin() + 4),
+              (std::vector<std::string>{"R", "G", "B", "A"}));
 
     const std::vector<float> expected = film.meanRgb();
     ASSERT_EQ(image.pixels.size(), expected.size());
-    for (size_t i = 0; i < expected.size(); ++i) {
-        // Half floats keep 11 significant bits: round-to-nearest is within 2^-11 relative.
-        EXPECT_NEAR(image.pixels[i], expected[i], std::abs(expected[i]) * 0x1p-11f) << "value " << i;
-    }
+    // Floats are stored as they are: the means come back exactly.
+    for (size_t i = 0; i < expected.size(); ++i) EXPECT_EQ(image.pixels[i], expected[i]) << "value " << i;
     // Spot-check one mean by hand: (1*b + 3*3b) / 4 = 2.5 b for red of pixel (2, 0) with b = 1.
-    EXPECT_NEAR(image.pixels[3 * 2], 2.5f, 2.5f * 0x1p-11f);
+    EXPECT_NEAR(image.pixels[3 * 2], 2.5f, 2.5f * 0x1p-20f);
     EXPECT_EQ(image.pixels[3 * (2 * width + 4)], 0.0f);
 
     const OIIO::ImageSpec& spec = image.spec;

@@ -20,8 +20,9 @@ namespace {
 
 bool sameBits(const Ray& a, const Ray& b) {
     return std::memcmp(&a.origin, &b.origin, sizeof(Vec3f)) == 0 &&
-           std::memcmp(&a.direction, &b.direction, sizeof(Vec3f)) == 0 && std::memcmp(&a.tnear, &b.tnear, 4) == 0 &&
-           std::memcmp(&a.tfar, &b.tfar, 4) == 0 && std::memcmp(&a.time, &b.time, 4) == 0;
+           std::memcmp(&a.direction, &b.direction, sizeof(Vec3f)) == 0 &&
+           std::memcmp(&a.tnear, &b.tnear, 4) == 0 && std::memcmp(&a.tfar, &b.tfar, 4) == 0 &&
+           std::memcmp(&a.time, &b.time, 4) == 0;
 }
 
 TEST(Crosscheck, RaySetsAreDeterministicAndSplitIntoFourKinds) {
@@ -45,8 +46,11 @@ TEST(Crosscheck, RaySetsAreDeterministicAndSplitIntoFourKinds) {
     EXPECT_EQ(perKind[size_t(CrosscheckRayKind::Bounce)], 1000);
     EXPECT_EQ(perKind[size_t(CrosscheckRayKind::Shadow)], 1000);
     EXPECT_EQ(perKind[size_t(CrosscheckRayKind::Random)], 1001);
-    for (const CrosscheckRay& r : a)
-        if (r.kind == CrosscheckRayKind::Shadow) EXPECT_LT(r.ray.tfar, 1.0f) << "shadow rays are segments";
+    for (const CrosscheckRay& r : a) {
+        if (r.kind == CrosscheckRayKind::Shadow) {
+            EXPECT_LT(r.ray.tfar, 1.0f) << "shadow rays are segments";
+        }
+    }
 
     options.seed = 6;
     const auto c = generateCrosscheckRays(scene, embree, options);
@@ -66,7 +70,8 @@ protected:
         s.radius = 1;
         scene.spheres.push_back(s);
     }
-    static CrosscheckRay ray(Vec3f origin, Vec3f direction, CrosscheckRayKind kind = CrosscheckRayKind::Random) {
+    static CrosscheckRay ray(Vec3f origin, Vec3f direction,
+                             CrosscheckRayKind kind = CrosscheckRayKind::Random) {
         CrosscheckRay r;
         r.ray.origin = origin;
         r.ray.direction = direction;
@@ -92,7 +97,8 @@ TEST_F(Classification, NamesTheExpectedReasons) {
     const BackendAnswer miss;
     const CrosscheckRay down = ray({0.5f, 0.5f, 1}, {0, 0, -1});
     // A hit on the diagonal that the other backend missed.
-    EXPECT_EQ(classifier.classify(down, hit(0, 0, 1.0f, 0.5f, 0.5f - 1e-7f), miss), MismatchKind::EdgeOrVertex);
+    EXPECT_EQ(classifier.classify(down, hit(0, 0, 1.0f, 0.5f, 0.5f - 1e-7f), miss),
+              MismatchKind::EdgeOrVertex);
     EXPECT_EQ(classifier.classify(down, miss, hit(0, 1, 1.0f, 0.0f, 0.5f)), MismatchKind::EdgeOrVertex);
     // Two coplanar quads at the same distance.
     EXPECT_EQ(classifier.classify(down, hit(0, 0, 1.0f), hit(1, 1, 1.0f)), MismatchKind::Tie);
@@ -104,12 +110,14 @@ TEST_F(Classification, NamesTheExpectedReasons) {
     EXPECT_EQ(classifier.classify(tangent, miss, hit(2, 0, 5.0f, 0, 0)), MismatchKind::Grazing);
     // A shadow segment blocked right at its end.
     CrosscheckRay segment = ray({0.5f, 0.5f, 1}, {0, 0, -1}, CrosscheckRayKind::Shadow);
-    EXPECT_EQ(classifier.classify(segment, hit(0, 0, segment.ray.tfar), BackendAnswer{}), MismatchKind::RangeBoundary);
+    EXPECT_EQ(classifier.classify(segment, hit(0, 0, segment.ray.tfar), BackendAnswer{}),
+              MismatchKind::RangeBoundary);
     // A plain interior hit that the other backend missed is a bug.
     EXPECT_EQ(classifier.classify(down, hit(0, 0, 1.0f), miss), MismatchKind::Unexplained);
     // So is a nearer interior hit one backend skipped for a farther one.
     const CrosscheckRay fromAbove = ray({3, 0, 5}, {0, 0, -1});
-    EXPECT_EQ(classifier.classify(fromAbove, hit(2, 0, 4.0f, 0, 0), hit(0, 0, 5.0f)), MismatchKind::Unexplained);
+    EXPECT_EQ(classifier.classify(fromAbove, hit(2, 0, 4.0f, 0, 0), hit(0, 0, 5.0f)),
+              MismatchKind::Unexplained);
     // And a segment said to be blocked where intersect() finds nothing.
     BackendAnswer blockedWithoutHit;
     blockedWithoutHit.hitSomething = true;
@@ -149,10 +157,13 @@ TEST(Crosscheck, ListedRaysReproduceBitForBit) {
     const nlohmann::json j = nlohmann::json::parse(formatCrosscheckJson(report));
     const auto& listed = j["listedMismatches"].at(0);
     EXPECT_EQ(listed["call"], "occluded");
-    auto parse = [](const nlohmann::json& text) { return std::strtof(text.get<std::string>().c_str(), nullptr); };
+    auto parse = [](const nlohmann::json& text) {
+        return std::strtof(text.get<std::string>().c_str(), nullptr);
+    };
     Ray back;
     back.origin = {parse(listed["origin"][0]), parse(listed["origin"][1]), parse(listed["origin"][2])};
-    back.direction = {parse(listed["direction"][0]), parse(listed["direction"][1]), parse(listed["direction"][2])};
+    back.direction = {parse(listed["direction"][0]), parse(listed["direction"][1]),
+                      parse(listed["direction"][2])};
     back.tnear = parse(listed["tnear"]);
     back.tfar = parse(listed["tfar"]);
     back.time = parse(listed["time"]);

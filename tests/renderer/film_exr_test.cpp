@@ -1,0 +1,299 @@
+// The production film: exact sums (any split of a render, resumed, in passes, cancelled or merged,
+// gives the same bits as one render), the AOVs against closed forms (a sphere's normal and
+// distance), and the EXR round trip (sums bit for bit, metadata, refusal of foreign files).
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "cameras/camera.h"
+#include "core/error.h"
+#include "core/sampler.h"
+#include "renderer/film.h"
+#include "renderer/image_output.h"
+#include "renderer/render.h"
+#include "scenes/scene_camera.h"
+#include "tests/support/scene_builders.h"
+
+namespace penumbra {
+namespace {
+
+namespace fs = std::filesystem;
+
+class FilmFiles : public ::testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() / ("penumbra-film-" + std::to_string(::getpid()) + "-" +
+                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+    fs::path dir_;
+};
+
+Film renderRange(const Scene& scene, uint32_t first, uint32_t end, uint32_t passSize = 0,
+                 std::optional<PixelWindow> crop = std::nullopt) {
+    Film film(scene.film.width, scene.film.height);
+    RenderOptions options;
+    options.firstSample = first;
+    options.endSample = end;
+    options.passSize = passSize;
+    options.crop = crop;
+    render(scene, options, film);
+    return film;
+}
+
+// The sums are exact: a sum does not depend on how its terms are grouped, unlike doubles.
+TEST(ExactSum, GroupingDoesNotChangeTheBits) {
+    std::mt19937 rng(7);
+    std::lognormal_distribution<double> value(0.0, 4.0);  // values over many orders of magnitude
+    std::vector<double> terms(1000);
+    for (double& t : terms) t = float(value(rng));
+    ExactSum inOrder, reversed, halves[2];
+    double doubleInOrder = 0, doubleReversed = 0;
+    for (size_t i = 0; i < terms.size(); ++i) {
+        inOrder.add(terms[i]);
+        reversed.add(terms[terms.size() - 1 - i]);
+        halves[i % 2].add(terms[i]);
+        doubleInOrder += terms[i];
+        doubleReversed += terms[terms.size() - 1 - i];
+    }
+    ExactSum merged = halves[1];
+    merged += halves[0];
+    EXPECT_TRUE(inOrder == reversed);
+    EXPECT_TRUE(inOrder == merged);
+    // Plain doubles do depend on the order here (or this test would show nothing).
+    EXPECT_NE(doubleInOrder, doubleReversed);
+    EXPECT_NEAR(inOrder.value(), doubleInOrder, 1e-12 * doubleInOrder);
+    // Words round-trip, negative values included.
+    ExactSum negative;
+    negative.add(-3.25);
+    uint32_t words[4];
+    negative.toWords(words);
+    EXPECT_TRUE(ExactSum::fromWords(words) == negative);
+    EXPECT_EQ(ExactSum::fromWords(words).value(), -3.25);
+}
+
+TEST(RenderPasses, PassesResumeAndMergeAreBitIdenticalToOneRender) {
+    const Scene scene = testing::makeSmallBoxScene(24, 18, 13);
+    const Film once = renderRange(scene, 0, 13);
+    ASSERT_GT(once.totalSamples(), 0u);
+
+    // In passes of 4 samples (4 + 4 + 4 + 1).
+    EXPECT_TRUE(renderRange(scene, 0, 13, 4).identicalTo(once));
+
+    // Resumed: [0, 5) then [5, 13) into the same film.
+    Film resumed = renderRange(scene, 0, 5);
+    EXPECT_FALSE(resumed.identicalTo(once));
+    RenderOptions more;
+    more.firstSample = 5;
+    more.endSample = 13;
+    render(scene, more, resumed);
+    EXPECT_TRUE(resumed.identicalTo(once));
+
+    // Separate renders merged, in either order; and crops stitched.
+    Film merged = renderRange(scene, 5, 13);
+    merged.merge(renderRange(scene, 0, 5));
+    EXPECT_TRUE(merged.identicalTo(once));
+    Film stitched = renderRange(scene, 0, 13, 0, PixelWindow{0, 10, 0, 18});
+    stitched.merge(renderRange(scene, 0, 13, 0, PixelWindow{10, 24, 0, 18}));
+    EXPECT_TRUE(stitched.identicalTo(once));
+}
+
+TEST(RenderPasses, CancellationStopsAtAPassBoundary) {
+    const Scene scene = testing::makeSmallBoxScene(16, 12, 40);
+    std::atomic<bool> cancel{false};
+    std::vector<uint32_t> passEnds;
+    Film film(16, 12);
+    RenderOptions options;
+    options.passSize = 3;
+    options.cancel = &cancel;
+    options.passDone = [&](uint32_t end) {
+        passEnds.push_back(end);
+        if (end >= 6) cancel = true;  // as a signal handler would, between passes
+    };
+    const RenderStats stats = render(scene, options, film);
+    EXPECT_TRUE(stats.cancelled);
+    EXPECT_EQ(stats.endSample, 6u);
+    EXPECT_EQ(passEnds, (std::vector<uint32_t>{3, 6}));
+    for (int y = 0; y < 12; ++y)
+        for (int x = 0; x < 16; ++x) ASSERT_EQ(film.at(x, y).sampleCount, 6u);
+    EXPECT_TRUE(film.identicalTo(renderRange(scene, 0, 6)));
+}
+
+TEST(Sampler, FrozenDimensionsReturnTheirCentre) {
+    PixelSample sample(SamplerKind::Stratified, 3, 17, 5);
+    const Vec2f lens = sample.get2D(Dim::Lens);
+    const float time = sample.get1D(Dim::Time);
+    sample.freeze(PixelSample::dimBit(Dim::Lens) | PixelSample::dimBit(Dim::LightPosition));
+    EXPECT_EQ(sample.get2D(Dim::Lens).x, 0.5f);
+    EXPECT_EQ(sample.get2D(Dim::Lens).y, 0.5f);
+    EXPECT_EQ(sample.get2D(Dim::LightPosition, 3).x, 0.5f);
+    EXPECT_EQ(sample.get1D(Dim::Time), time);  // others are untouched
+    EXPECT_FALSE(lens.x == 0.5f && lens.y == 0.5f);
+}
+
+// A unit sphere at distance 4 in front of a pinhole camera, filling most of the image, with a box
+// filter of 1e-3 pixels: every sample of a pixel follows (nearly) the pixel centre's ray.
+Scene sphereScene() {
+    Scene scene;
+    scene.film = {40, 30, 4, FilterKind::Box, 1e-3f};
+    scene.camera.lookFrom = {0.3f, 0.2f, 4.0f};
+    scene.camera.lookAt = {0.0f, 0.0f, 0.0f};
+    scene.camera.verticalFovDegrees = 35.0f;
+    scene.materials = {testing::makeLambert("ball", {0.8f, 0.4f, 0.2f})};
+    Sphere ball;
+    ball.center = {0.0f, 0.0f, 0.0f};
+    ball.radius = 1.0f;
+    scene.spheres.push_back(ball);
+    scene.pointLights.push_back({{2.0f, 3.0f, 3.0f}, Rgb(20.0f)});
+    scene.background = Rgb(0.1f);
+    return scene;
+}
+
+TEST(Aovs, SphereNormalDepthAndAlbedoMatchTheClosedForm) {
+    const Scene scene = sphereScene();
+    const Film film = renderRange(scene, 0, 4);
+    const ThinLensCamera camera = makeSceneCamera(scene);
+    int hits = 0, misses = 0;
+    for (int y = 0; y < scene.film.height; ++y)
+        for (int x = 0; x < scene.film.width; ++x) {
+            const PixelSums& p = film.at(x, y);
+            const Ray ray = camera.generateRay({x + 0.5f, y + 0.5f}, {0.5f, 0.5f}, 0.0f);
+            // |o + t d|^2 = 1 with |d| = 1 (double precision).
+            const double ox = ray.origin.x, oy = ray.origin.y, oz = ray.origin.z;
+            const double dx = ray.direction.x, dy = ray.direction.y, dz = ray.direction.z;
+            const double b = ox * dx + oy * dy + oz * dz, c = ox * ox + oy * oy + oz * oz - 1.0;
+            const double disc = b * b - c;
+            if (disc < 0.05) {  // off the sphere, or so close to its outline that the footprint matters
+                if (disc < -0.05) {
+                    ++misses;
+                    EXPECT_TRUE(std::isinf(p.meanDepth())) << x << "," << y;
+                    EXPECT_EQ(p.meanAlbedo().r, 0.0f);
+                    EXPECT_EQ(p.meanNormal().z, 0.0f);
+                }
+                continue;
+            }
+            ++hits;
+            const double t = -b - std::sqrt(disc);
+            const double n[3] = {ox + t * dx, oy + t * dy, oz + t * dz};  // the unit sphere's normal
+            const Vec3f normal = p.meanNormal();
+            EXPECT_NEAR(normal.x, n[0], 2e-4) << x << "," << y;
+            EXPECT_NEAR(normal.y, n[1], 2e-4) << x << "," << y;
+            EXPECT_NEAR(normal.z, n[2], 2e-4) << x << "," << y;
+            EXPECT_NEAR(p.meanDepth(), t, 1e-4 * t) << x << "," << y;
+            EXPECT_NEAR(p.meanAlbedo().r, 0.8f, 1e-6);
+            EXPECT_NEAR(p.meanAlbedo().b, 0.2f, 1e-6);
+        }
+    EXPECT_GT(hits, 300);
+    EXPECT_GT(misses, 50);
+}
+
+TEST_F(FilmFiles, ExrRoundTripKeepsSumsAovsAndMetadata) {
+    Scene scene = sphereScene();
+    const PixelWindow crop{3, 31, 2, 25};
+    const Film film = renderRange(scene, 2, 7, 0, crop);
+
+    RenderMetadata meta;
+    meta.samplesPerPixel = 5;
+    meta.seed = 0xfedcba9876543210ull;
+    meta.sampler = "independent";
+    meta.accelerator = "bvh";
+    meta.sceneFile = "scenes/a b.json";
+    meta.sceneHash = "fnv1a64:0123456789abcdef";
+    meta.renderSeconds = 1.625;
+    meta.version = "9.8.7";
+    meta.firstSample = 2;
+    meta.endSample = 7;
+    meta.crop = crop;
+    const fs::path path = dir_ / "film.exr";
+    writeExr(film, meta, path);
+
+    const FilmFile back = readFilmExr(path);
+    EXPECT_TRUE(back.film.identicalTo(film));
+    const RenderMetadata& m = back.metadata;
+    EXPECT_EQ(m.samplesPerPixel, 5);
+    EXPECT_EQ(m.seed, meta.seed);
+    EXPECT_EQ(m.sampler, meta.sampler);
+    EXPECT_EQ(m.accelerator, meta.accelerator);
+    EXPECT_EQ(m.sceneFile, meta.sceneFile);
+    EXPECT_EQ(m.sceneHash, meta.sceneHash);
+    EXPECT_EQ(m.renderSeconds, meta.renderSeconds);
+    EXPECT_EQ(m.version, meta.version);
+    EXPECT_EQ(m.firstSample, 2u);
+    EXPECT_EQ(m.endSample, 7u);
+    ASSERT_TRUE(m.crop.has_value());
+    EXPECT_TRUE(*m.crop == crop);
+
+    // The beauty part holds the means and AOVs under the channel names other tools read.
+    auto in = OIIO::ImageInput::open(path.string());
+    ASSERT_TRUE(in);
+    const OIIO::ImageSpec spec = in->spec(0, 0);
+    EXPECT_EQ(spec.full_width, 40);
+    EXPECT_EQ(spec.x, 3);
+    EXPECT_EQ(spec.width, 28);
+    std::vector<float> pixels(size_t(spec.width) * spec.height * spec.nchannels);
+    ASSERT_TRUE(in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels.data()));
+    const int x = 20, y = 15;  // on the sphere
+    const float* px = pixels.data() + (size_t(y - spec.y) * spec.width + (x - spec.x)) * spec.nchannels;
+    const PixelSums& p = film.at(x, y);
+    EXPECT_EQ(px[spec.channelindex("R")], p.mean().r);
+    EXPECT_EQ(px[spec.channelindex("A")], 1.0f);
+    EXPECT_EQ(px[spec.channelindex("albedo.G")], p.meanAlbedo().g);
+    EXPECT_EQ(px[spec.channelindex("N.X")], p.meanNormal().x);
+    EXPECT_EQ(px[spec.channelindex("N.Z")], p.meanNormal().z);
+    EXPECT_EQ(px[spec.channelindex("Z")], p.meanDepth());
+    EXPECT_EQ(px[spec.channelindex("variance.B")], p.varianceOfMean().b);
+    EXPECT_GT(p.varianceOfMean().b, 0.0f);
+    EXPECT_EQ(spec.get_string_attribute("penumbra:samples"), "2:7");
+    EXPECT_EQ(spec.get_string_attribute("penumbra:crop"), "3,31,2,25");
+}
+
+TEST_F(FilmFiles, ForeignFilesAreRefusedClearly) {
+    // An EXR that is not ours.
+    const fs::path plain = dir_ / "plain.exr";
+    {
+        auto out = OIIO::ImageOutput::create(plain.string());
+        OIIO::ImageSpec spec(4, 4, 3, OIIO::TypeDesc::FLOAT);
+        std::vector<float> zeros(48, 0.25f);
+        ASSERT_TRUE(out->open(plain.string(), spec));
+        ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, zeros.data()));
+        out->close();
+    }
+    const fs::path text = dir_ / "notes.exr";
+    std::ofstream(text) << "hello";
+    for (const fs::path& path : {plain, text, dir_ / "missing.exr"}) {
+        try {
+            readFilmExr(path);
+            ADD_FAILURE() << "expected an InputError for " << path;
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
+        }
+    }
+    try {
+        readFilmExr(plain);
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("not a film written by penumbra"), std::string::npos) << e.what();
+    }
+}
+
+TEST_F(FilmFiles, SceneHashFollowsTheContents) {
+    const fs::path a = dir_ / "a.json", b = dir_ / "b.json";
+    std::ofstream(a) << "{\"film\": {\"spp\": 4}}";
+    std::ofstream(b) << "{\"film\": {\"spp\": 5}}";
+    EXPECT_EQ(hashFileContents(a), hashFileContents(a));
+    EXPECT_NE(hashFileContents(a), hashFileContents(b));
+    EXPECT_EQ(hashFileContents(a).rfind("fnv1a64:", 0), 0u);
+    EXPECT_THROW(hashFileContents(dir_ / "absent.json"), InputError);
+}
+
+}  // namespace
+}  // namespace penumbra

@@ -1,0 +1,274 @@
+// Production output through the `penumbra` program: resume, merge and checkpoints give the same
+// film bit for bit as one render (through the EXR, so the sums must survive it losslessly), and
+// bad input (parts of different renders, overlapping samples, files that are not ours, a
+// reference of another size) stops with a clear error and overwrites nothing.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "renderer/image_output.h"
+
+namespace fs = std::filesystem;
+
+namespace penumbra {
+namespace {
+
+struct RunResult {
+    int exitCode = -1;
+    std::string output;  // stdout and stderr together
+};
+
+RunResult runShell(const std::string& command) {
+    RunResult result;
+    FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+    if (!pipe) return result;
+    std::array<char, 4096> buffer;
+    size_t n;
+    while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) result.output.append(buffer.data(), n);
+    const int status = pclose(pipe);
+    result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return result;
+}
+
+RunResult runPenumbra(const std::string& arguments) { return runShell(std::string(PENUMBRA_BINARY) + " " + arguments); }
+
+bool contains(const RunResult& r, const std::string& text) { return r.output.find(text) != std::string::npos; }
+
+// A floor, a box casting a soft shadow from an area light, and a sphere.
+const char* kScene = R"({
+  "camera": {"look_from": [0, 1.5, 3], "look_at": [0, 0.3, 0], "fov": 45},
+  "film": {"resolution": [20, 16], "spp": 4},
+  "integrator": {"max_depth": 3},
+  "materials": {"grey": {"type": "lambert", "albedo": 0.5}, "black": {"type": "lambert", "albedo": 0}},
+  "shapes": [
+    {"type": "quad", "corner": [-2, 0, 2], "edge1": [4, 0, 0], "edge2": [0, 0, -4], "material": "grey"},
+    {"type": "sphere", "center": [0.5, 0.3, 0], "radius": 0.3, "material": "grey"},
+    {"type": "quad", "corner": [-0.6, 0, -0.3], "edge1": [0.5, 0, 0], "edge2": [0, 0.6, 0], "material": "grey"},
+    {"type": "quad", "corner": [-1, 2, -1], "edge1": [0, 0, 2], "edge2": [1, 0, 0], "material": "black",
+     "emission": {"radiance": [4, 4, 4]}}
+  ]
+})";
+
+class Production : public ::testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() / ("penumbra-production-" + std::to_string(::getpid()) + "-" +
+                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+        scene_ = write("scene.json", kScene);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+
+    std::string write(const std::string& name, const std::string& text) {
+        const fs::path path = dir_ / name;
+        std::ofstream(path) << text;
+        return path.string();
+    }
+    std::string path(const std::string& name) const { return (dir_ / name).string(); }
+    // Renders and checks success.
+    void render(const std::string& arguments, const std::string& output, const std::string& scene = "") {
+        const RunResult r = runPenumbra("render " + (scene.empty() ? scene_ : scene) + " -q --no-display -o " +
+                                        path(output) + " " + arguments);
+        ASSERT_EQ(r.exitCode, 0) << r.output;
+    }
+    std::string readText(const std::string& name) const {
+        std::ifstream in(dir_ / name);
+        std::stringstream s;
+        s << in.rdbuf();
+        return s.str();
+    }
+    // Runs a command that must fail with a clear message and leave `out.exr` (created here
+    // beforehand) as it was, with no temporary file beside it.
+    RunResult expectFailure(const std::string& arguments, const std::string& mention) {
+        write("out.exr", "precious");
+        size_t filesBefore = 0;
+        for (const auto& e : fs::directory_iterator(dir_)) filesBefore += e.is_regular_file();
+        const RunResult r = runPenumbra(arguments);
+        EXPECT_EQ(r.exitCode, 1) << r.output;
+        EXPECT_TRUE(contains(r, "penumbra: error: ")) << r.output;
+        EXPECT_TRUE(contains(r, mention)) << "expected '" << mention << "' in: " << r.output;
+        EXPECT_EQ(readText("out.exr"), "precious") << "the output was overwritten";
+        size_t filesAfter = 0;
+        for (const auto& e : fs::directory_iterator(dir_)) filesAfter += e.is_regular_file();
+        EXPECT_EQ(filesAfter, filesBefore) << "a file was left behind";
+        return r;
+    }
+
+    fs::path dir_;
+    std::string scene_;
+};
+
+TEST_F(Production, ResumeIsBitIdenticalToOneRender) {
+    render("--spp 12", "once.exr");
+    render("--spp 5", "part.exr");
+    render("--spp 12 --resume " + path("part.exr"), "resumed.exr");
+    const FilmFile once = readFilmExr(path("once.exr"));
+    const FilmFile resumed = readFilmExr(path("resumed.exr"));
+    EXPECT_TRUE(resumed.film.identicalTo(once.film));
+    EXPECT_FALSE(readFilmExr(path("part.exr")).film.identicalTo(once.film));
+    EXPECT_EQ(resumed.metadata.firstSample, 0u);
+    EXPECT_EQ(resumed.metadata.endSample, 12u);
+    EXPECT_EQ(resumed.metadata.samplesPerPixel, 12);
+    // Resuming onto the same file, in passes of 2, with a crop, with another seed and sampler.
+    const std::string opts = "--crop 3,17,2,11 --seed 9 --sampler independent ";
+    render(opts + "--spp 9", "crop-once.exr");
+    render(opts + "--spp 4", "crop.exr");
+    render(opts + "--spp 9 --pass-size 2 --resume " + path("crop.exr"), "crop.exr");
+    EXPECT_TRUE(readFilmExr(path("crop.exr")).film.identicalTo(readFilmExr(path("crop-once.exr")).film));
+}
+
+TEST_F(Production, MergeIsBitIdenticalToOneRender) {
+    render("--spp 12", "once.exr");
+    render("--samples 0:5", "a.exr");
+    render("--samples 5:9", "b.exr");
+    render("--samples 9:12", "c.exr");
+    // The parts in any order: the sums are exact.
+    const RunResult r = runPenumbra("merge " + path("c.exr") + " " + path("a.exr") + " " + path("b.exr") +
+                                    " -q -o " + path("merged.exr"));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_TRUE(fs::exists(path("merged.png")));
+    const FilmFile merged = readFilmExr(path("merged.exr"));
+    EXPECT_TRUE(merged.film.identicalTo(readFilmExr(path("once.exr")).film));
+    EXPECT_EQ(merged.metadata.firstSample, 0u);
+    EXPECT_EQ(merged.metadata.endSample, 12u);
+    EXPECT_FALSE(merged.metadata.crop.has_value());
+
+    // Crops stitched: two halves and a sample split of one of them.
+    render("--spp 12 --crop 0,20,0,7", "top.exr");
+    render("--crop 0,20,7,16 --samples 0:6", "bottom1.exr");
+    render("--crop 0,20,7,16 --samples 6:12", "bottom2.exr");
+    const RunResult s = runPenumbra("merge " + path("top.exr") + " " + path("bottom1.exr") + " " +
+                                    path("bottom2.exr") + " --no-display -q -o " + path("stitched.exr"));
+    ASSERT_EQ(s.exitCode, 0) << s.output;
+    const FilmFile stitched = readFilmExr(path("stitched.exr"));
+    EXPECT_TRUE(stitched.film.identicalTo(readFilmExr(path("once.exr")).film));
+    EXPECT_FALSE(stitched.metadata.crop.has_value());
+    // The merged film can be resumed.
+    render("--spp 16 --resume " + path("stitched.exr"), "more.exr");
+    render("--spp 16", "once16.exr");
+    EXPECT_TRUE(readFilmExr(path("more.exr")).film.identicalTo(readFilmExr(path("once16.exr")).film));
+}
+
+// SIGTERM: the render finishes its pass, writes the film of the last complete pass and exits
+// with 128 + 15; resuming it gives the uninterrupted render.
+TEST_F(Production, CheckpointAfterSigtermResumesToTheSameImage) {
+    const std::string out = path("run.exr");
+    const std::string script = std::string(PENUMBRA_BINARY) + " render " + scene_ + " -q --no-display -o " + out +
+                               " --spp 1000000 --pass-size 2 --checkpoint 0 & pid=$!; "
+                               "i=0; while [ ! -f " + out + " ] && [ $i -lt 3000 ]; do sleep 0.01; i=$((i+1)); done; "
+                               "kill -TERM $pid; wait $pid; echo \"exit=$?\"";
+    const RunResult r = runShell("sh -c '" + script + "'");
+    ASSERT_TRUE(contains(r, "exit=143")) << r.output;
+    EXPECT_TRUE(contains(r, "stopped by signal 15")) << r.output;
+    EXPECT_TRUE(contains(r, "--resume")) << r.output;
+
+    const FilmFile interrupted = readFilmExr(out);
+    const uint32_t k = interrupted.metadata.endSample;
+    EXPECT_EQ(interrupted.metadata.firstSample, 0u);
+    ASSERT_GE(k, 2u);
+    ASSERT_LT(k, 1000000u);
+    EXPECT_EQ(k % 2, 0u) << "a pass boundary";
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 20; ++x) ASSERT_EQ(interrupted.film.at(x, y).sampleCount, k);
+
+    const std::string spp = std::to_string(k + 3);
+    render("--spp " + spp + " --resume " + out, "resumed.exr");
+    render("--spp " + spp, "once.exr");
+    EXPECT_TRUE(readFilmExr(path("resumed.exr")).film.identicalTo(readFilmExr(path("once.exr")).film));
+}
+
+TEST_F(Production, MergingPartsOfDifferentRendersFails) {
+    const std::string other = write("other.json", std::string(kScene).replace(std::string(kScene).find("[4, 4, 4]"), 9, "[5, 5, 5]"));
+    render("--samples 0:2", "a.exr");
+    render("--samples 2:4", "b.exr");
+    render("--samples 2:4", "scene2.exr", other);
+    render("--samples 2:4 --res 22x16", "res.exr");
+    render("--samples 2:4 --seed 3", "seed.exr");
+    render("--samples 2:4 --sampler independent", "sampler.exr");
+    render("--samples 1:3", "overlap.exr");
+    const std::string merge = "merge " + path("a.exr") + " ";
+    const std::string out = " -o " + path("out.exr");
+    expectFailure(merge + path("scene2.exr") + out, "different scenes");
+    expectFailure(merge + path("res.exr") + out, "different resolutions");
+    expectFailure(merge + path("seed.exr") + out, "different seeds");
+    expectFailure(merge + path("sampler.exr") + out, "different samplers");
+    expectFailure(merge + path("b.exr") + " " + path("overlap.exr") + out, "overlap");
+    write("notes.txt", "not an image");
+    expectFailure(merge + path("notes.txt") + out, "notes.txt");
+    // A display PNG; an EXR of someone else's; and one that claims to be ours but lacks the sums.
+    ASSERT_EQ(runPenumbra("render " + scene_ + " -q -o " + path("shown.exr")).exitCode, 0);
+    expectFailure(merge + path("shown.png") + out, "not a film written by penumbra");
+    for (const bool claimsToBeOurs : {false, true}) {
+        auto exr = OIIO::ImageOutput::create(path("foreign.exr"));
+        OIIO::ImageSpec spec(20, 16, 3, OIIO::TypeDesc::FLOAT);
+        if (claimsToBeOurs) spec.attribute("penumbra:film", 1);
+        const std::vector<float> pixels(20 * 16 * 3, 0.5f);
+        ASSERT_TRUE(exr->open(path("foreign.exr"), spec) && exr->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
+        exr->close();
+        expectFailure(merge + path("foreign.exr") + out, claimsToBeOurs ? "penumbra:" : "not a film written by penumbra");
+    }
+}
+
+TEST_F(Production, ResumingSomethingElseFails) {
+    render("--spp 3", "part.exr");
+    const std::string base = "render " + scene_ + " --spp 8 -o " + path("out.exr") + " --resume ";
+    write("notes.txt", "not an image");
+    expectFailure(base + path("notes.txt"), "notes.txt");
+    expectFailure(base + path("part.exr") + " --seed 4", "seed");
+    expectFailure(base + path("part.exr") + " --res 10x8", "10x8");
+    expectFailure(base + path("part.exr") + " --crop 0,4,0,4", "--crop");
+    expectFailure(base + path("part.exr") + " --samples 3:8", "--samples");
+    expectFailure("render " + scene_ + " --spp 2 -o " + path("out.exr") + " --resume " + path("part.exr"), "beyond --spp 2");
+    write("scene.json", std::string(kScene) + "\n// edited\n");
+    expectFailure(base + path("part.exr"), "different scene");
+}
+
+TEST_F(Production, ConvergeWritesItsReportAndRefusesAReferenceOfAnotherSize) {
+    const RunResult ok = runPenumbra("converge " + scene_ + " --spp 1,2,...,8 --reference-spp 16 --seeds 2 -q -o " +
+                                     path("study"));
+    ASSERT_EQ(ok.exitCode, 0) << ok.output;
+    for (const char* file : {"convergence.csv", "convergence.json", "strip.png", "reference.exr"})
+        EXPECT_TRUE(fs::exists(dir_ / "study" / file)) << file;
+    // 2 samplers x 2 seeds x 4 rungs, and a header.
+    const std::string csv = readText("study/convergence.csv");
+    EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 17) << csv;
+    // The plot needs /usr/bin/python3 with matplotlib; without it the report says so.
+    if (runShell("/usr/bin/python3 -c 'import matplotlib'").exitCode == 0) {
+        EXPECT_TRUE(fs::exists(dir_ / "study" / "convergence.png"));
+    }
+
+    // The rendered reference is reusable; one of another size is refused.
+    const RunResult again = runPenumbra("converge " + scene_ + " --spp 1,2 --no-plot -q --reference " +
+                                        path("study/reference.exr") + " -o " + path("study2"));
+    EXPECT_EQ(again.exitCode, 0) << again.output;
+    const RunResult bad = runPenumbra("converge " + scene_ + " --res 24x16 --spp 1,2 --no-plot --reference " +
+                                      path("study/reference.exr") + " -o " + path("study3"));
+    EXPECT_EQ(bad.exitCode, 1) << bad.output;
+    EXPECT_TRUE(contains(bad, "penumbra: error: ")) << bad.output;
+    EXPECT_TRUE(contains(bad, "20x16")) << bad.output;
+    EXPECT_FALSE(fs::exists(dir_ / "study3" / "convergence.csv"));
+}
+
+TEST_F(Production, HelpListsTheNewCommandsAndOptions) {
+    const RunResult renderHelp = runPenumbra("render --help");
+    for (const char* option : {"--resume", "--checkpoint", "--pass-size"})
+        EXPECT_TRUE(contains(renderHelp, option)) << option;
+    const RunResult converge = runPenumbra("converge --help");
+    for (const char* option : {"--spp", "--sampler", "--reference", "--reference-spp", "--seeds", "--freeze", "--res"})
+        EXPECT_TRUE(contains(converge, option)) << option;
+    EXPECT_EQ(runPenumbra("merge --help").exitCode, 0);
+}
+
+}  // namespace
+}  // namespace penumbra

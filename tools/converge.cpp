@@ -1,0 +1,538 @@
+#include "tools/converge.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <numeric>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+#include "core/hash.h"
+#include "renderer/image_output.h"
+#include "renderer/render.h"
+#include "scenes/scene_loader.h"
+
+namespace penumbra {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsOf(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
+
+std::vector<std::string> splitText(const std::string& text, char separator) {
+    std::vector<std::string> parts;
+    size_t start = 0;
+    for (size_t i = 0; i <= text.size(); ++i)
+        if (i == text.size() || text[i] == separator) {
+            parts.push_back(text.substr(start, i - start));
+            start = i + 1;
+        }
+    return parts;
+}
+
+long parseNumber(const std::string& option, const std::string& text, long low, long high) {
+    size_t used = 0;
+    long value = 0;
+    try {
+        value = std::stol(text, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    if (text.empty() || used != text.size() || value < low || value > high)
+        throw InputError(fmt::format("{}: expected an integer in [{}, {}], got '{}'", option, low, high, text));
+    return value;
+}
+
+// Error of a mean image against the reference, over all pixels and channels.
+RungError measure(const Film& film, const std::vector<float>& reference) {
+    double squared = 0, relative = 0;
+    size_t i = 0;
+    for (int y = 0; y < film.height(); ++y)
+        for (int x = 0; x < film.width(); ++x) {
+            const Rgb m = film.at(x, y).mean();
+            for (int c = 0; c < 3; ++c, ++i) {
+                const double r = reference[i];
+                const double d = double(m[c]) - r;
+                squared += d * d;
+                relative += d * d / (r * r + 1e-2);
+            }
+        }
+    RungError e;
+    const double n = double(reference.size());
+    e.mse = squared / n;
+    e.relMse = relative / n;
+    e.rmse = std::sqrt(e.mse);
+    return e;
+}
+
+// The reference from a file: a penumbra film (exact means, and its own variance), or any image
+// with R, G and B channels (e.g. another renderer's converged EXR).
+void loadReference(const std::filesystem::path& path, int width, int height, ConvergenceReport& report) {
+    SourceLocation where;
+    where.file = path.string();
+    auto in = OIIO::ImageInput::open(path.string());
+    if (!in) throw InputError(where, fmt::format("cannot read the reference image: {}", OIIO::geterror()));
+    const OIIO::ImageSpec spec = in->spec();
+    const int fileWidth = spec.full_width, fileHeight = spec.full_height;
+    if (fileWidth != width || fileHeight != height)
+        throw InputError(where, fmt::format("the reference is {}x{} but the study renders {}x{} (set --res to the "
+                                            "reference's size, or render a reference at this size)",
+                                            fileWidth, fileHeight, width, height));
+    report.referenceSource = path.string();
+    report.reference.assign(size_t(width) * height * 3, 0.0f);
+    if (spec.find_attribute("penumbra:film")) {
+        in.reset();
+        const FilmFile file = readFilmExr(path);
+        if (file.metadata.crop)
+            throw InputError(where, "the reference covers only a crop of the image; a reference must cover it all");
+        report.referenceSpp = file.metadata.endSample - file.metadata.firstSample;
+        report.referenceSeed = file.metadata.seed;
+        report.referenceSeconds = file.metadata.renderSeconds;
+        double floor = 0;
+        for (int y = 0; y < height; ++y)
+            for (int x = 0; x < width; ++x) {
+                const Rgb m = file.film.at(x, y).mean(), v = file.film.at(x, y).varianceOfMean();
+                for (int c = 0; c < 3; ++c) {
+                    report.reference[(size_t(y) * width + x) * 3 + c] = m[c];
+                    floor += v[c];
+                }
+            }
+        report.referenceMseFloor = floor / double(report.reference.size());
+        return;
+    }
+    int channel[3];
+    const char* names[3] = {"R", "G", "B"};
+    for (int c = 0; c < 3; ++c) {
+        channel[c] = spec.channelindex(names[c]);
+        if (channel[c] < 0) throw InputError(where, fmt::format("the reference image has no channel '{}'", names[c]));
+    }
+    if (spec.x != 0 || spec.y != 0 || spec.width != width || spec.height != height)
+        throw InputError(where, "the reference image's data window must be the whole image");
+    std::vector<float> pixels(size_t(width) * height * spec.nchannels);
+    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels.data()))
+        throw InputError(where, fmt::format("cannot read the reference image: {}", in->geterror()));
+    for (size_t p = 0; p < size_t(width) * height; ++p)
+        for (int c = 0; c < 3; ++c) report.reference[3 * p + c] = pixels[p * spec.nchannels + channel[c]];
+}
+
+double meanOf(const std::vector<double>& v) { return std::accumulate(v.begin(), v.end(), 0.0) / double(v.size()); }
+double stdOf(const std::vector<double>& v) {
+    if (v.size() < 2) return 0.0;
+    const double m = meanOf(v);
+    double s = 0;
+    for (double x : v) s += (x - m) * (x - m);
+    return std::sqrt(s / double(v.size() - 1));
+}
+
+}  // namespace
+
+double logLogSlope(const std::vector<double>& x, const std::vector<double>& y) {
+    std::vector<double> lx, ly;
+    for (size_t i = 0; i < x.size() && i < y.size(); ++i)
+        if (x[i] > 0 && y[i] > 0) {
+            lx.push_back(std::log(x[i]));
+            ly.push_back(std::log(y[i]));
+        }
+    if (lx.size() < 2) return 0.0;
+    const double mx = meanOf(lx), my = meanOf(ly);
+    double sxy = 0, sxx = 0;
+    for (size_t i = 0; i < lx.size(); ++i) {
+        sxy += (lx[i] - mx) * (ly[i] - my);
+        sxx += (lx[i] - mx) * (lx[i] - mx);
+    }
+    return sxx > 0 ? sxy / sxx : 0.0;
+}
+
+std::vector<uint32_t> parseRungs(const std::string& text) {
+    std::vector<uint32_t> rungs;
+    const std::vector<std::string> parts = splitText(text, ',');
+    for (size_t i = 0; i < parts.size(); ++i) {
+        if (parts[i] == "...") {
+            if (rungs.size() < 2 || i + 1 >= parts.size() || rungs[rungs.size() - 1] % rungs[rungs.size() - 2] != 0 ||
+                rungs[rungs.size() - 1] <= rungs[rungs.size() - 2])
+                throw InputError(fmt::format("--spp: '...' must follow two numbers of which the second is a multiple "
+                                             "of the first, and come before a last number, as in 1,2,4,...,1024; got '{}'",
+                                             text));
+            const uint32_t ratio = rungs[rungs.size() - 1] / rungs[rungs.size() - 2];
+            const uint32_t last = uint32_t(parseNumber("--spp", parts[i + 1], 1, 1 << 24));
+            for (uint64_t v = uint64_t(rungs.back()) * ratio; v < last; v *= ratio) rungs.push_back(uint32_t(v));
+            continue;
+        }
+        rungs.push_back(uint32_t(parseNumber("--spp", parts[i], 1, 1 << 24)));
+    }
+    for (size_t i = 1; i < rungs.size(); ++i)
+        if (rungs[i] <= rungs[i - 1])
+            throw InputError(fmt::format("--spp: the rungs must increase, got '{}'", text));
+    if (rungs.empty()) throw InputError("--spp: no rungs");
+    return rungs;
+}
+
+namespace {
+struct FrozenName {
+    const char* name;
+    Dim dim;
+};
+constexpr FrozenName kFrozenNames[] = {
+    {"pixel", Dim::Pixel}, {"lens", Dim::Lens}, {"time", Dim::Time}, {"light", Dim::LightPosition}};
+}  // namespace
+
+uint32_t parseFrozenDims(const std::string& text) {
+    uint32_t mask = 0;
+    if (text.empty()) return 0;
+    for (const std::string& name : splitText(text, ',')) {
+        bool known = false;
+        for (const FrozenName& f : kFrozenNames)
+            if (name == f.name) {
+                mask |= PixelSample::dimBit(f.dim);
+                known = true;
+            }
+        if (!known)
+            throw InputError(fmt::format("--freeze: unknown dimension '{}' (expected lens, time, light or pixel)", name));
+    }
+    return mask;
+}
+
+std::string frozenDimsName(uint32_t mask) {
+    std::string out;
+    for (const FrozenName& f : kFrozenNames)
+        if (mask & PixelSample::dimBit(f.dim)) {
+            if (!out.empty()) out += ',';
+            out += f.name;
+        }
+    return out;
+}
+
+ConvergenceReport runConvergence(const Scene& scene, const ConvergenceOptions& options) {
+    if (options.rungs.empty()) throw InputError("converge: no rungs (--spp)");
+    for (size_t i = 1; i < options.rungs.size(); ++i)
+        if (options.rungs[i] <= options.rungs[i - 1]) throw InputError("converge: the rungs must increase");
+    if (options.samplers.empty()) throw InputError("converge: no samplers");
+    if (options.seeds < 1) throw InputError("--seeds: expected at least 1");
+    auto log = [&](const std::string& line) {
+        if (options.log) options.log(line);
+    };
+    const int width = scene.film.width, height = scene.film.height;
+    const uint32_t top = options.rungs.back();
+
+    ConvergenceReport report;
+    report.width = width;
+    report.height = height;
+    report.rungs = options.rungs;
+    report.frozenDims = options.frozenDims;
+
+    const int side = std::min({64, width, height});
+    report.stripWindow = options.stripWindow.value_or(
+        PixelWindow{(width - side) / 2, (width - side) / 2 + side, (height - side) / 2, (height - side) / 2 + side});
+    const PixelWindow& sw = report.stripWindow;
+    if (sw.x0 < 0 || sw.y0 < 0 || sw.x1 > width || sw.y1 > height || sw.width() <= 0 || sw.height() <= 0)
+        throw InputError(fmt::format("--strip: the window {},{},{},{} must lie inside the {}x{} image", sw.x0, sw.x1,
+                                     sw.y0, sw.y1, width, height));
+
+    RenderOptions base;
+    base.threads = options.threads;
+    base.accelerator = options.accelerator;
+    base.frozenDims = options.frozenDims;
+
+    if (options.referencePath) {
+        loadReference(*options.referencePath, width, height, report);
+        log(fmt::format("reference: {}", options.referencePath->string()));
+    } else {
+        Scene refScene = scene;
+        refScene.settings.sampler = SamplerKind::Stratified;
+        refScene.settings.seed = mix64(scene.settings.seed ^ 0x7265666572656e63ull);  // not a study seed
+        const uint32_t spp = options.referenceSpp
+                                 ? options.referenceSpp
+                                 : std::max(top, std::min(8 * top, ConvergenceOptions::kMaxReferenceSpp));
+        log(fmt::format("rendering the reference: {}x{}, {} spp (stratified, seed {})", width, height, spp,
+                        refScene.settings.seed));
+        Film film(width, height);
+        RenderOptions o = base;
+        o.endSample = spp;
+        const RenderStats stats = render(refScene, o, film);
+        report.referenceSource = "rendered";
+        report.referenceSpp = spp;
+        report.referenceSeed = refScene.settings.seed;
+        report.referenceSeconds = stats.renderSeconds;
+        report.reference = film.meanRgb();
+        double floor = 0;
+        for (int y = 0; y < height; ++y)
+            for (int x = 0; x < width; ++x) {
+                const Rgb v = film.at(x, y).varianceOfMean();
+                floor += double(v.r) + v.g + v.b;
+            }
+        report.referenceMseFloor = floor / double(report.reference.size());
+        report.referenceFilm = std::move(film);
+        log(fmt::format("  {:.2f} s", stats.renderSeconds));
+    }
+
+    for (SamplerKind sampler : options.samplers) {
+        SamplerStudy study;
+        study.sampler = sampler;
+        for (int k = 0; k < options.seeds; ++k) {
+            Scene s = scene;
+            s.settings.sampler = sampler;
+            s.settings.seed = scene.settings.seed + uint64_t(k);
+            SeedRun run;
+            run.seed = s.settings.seed;
+            Film film(width, height);
+            RenderOptions o = base;
+            o.endSample = top;
+            o.passSize = 1;  // a pass boundary at every sample index, so at every rung
+            size_t next = 0;
+            Clock::duration snapshots{};
+            const auto start = Clock::now();
+            o.passDone = [&](uint32_t end) {
+                if (next >= options.rungs.size() || end != options.rungs[next]) return;
+                const auto t0 = Clock::now();
+                RungError e = measure(film, report.reference);
+                e.spp = end;
+                e.seconds = secondsOf(t0 - start - snapshots);
+                run.rungs.push_back(e);
+                if (k == 0) {
+                    std::vector<float> crop;
+                    crop.reserve(size_t(sw.width()) * sw.height() * 3);
+                    for (int y = sw.y0; y < sw.y1; ++y)
+                        for (int x = sw.x0; x < sw.x1; ++x) {
+                            const Rgb m = film.at(x, y).mean();
+                            crop.insert(crop.end(), {m.r, m.g, m.b});
+                        }
+                    study.strip.push_back(std::move(crop));
+                }
+                ++next;
+                snapshots += Clock::now() - t0;
+            };
+            const RenderStats stats = render(s, o, film);
+            // Rung times count tracing only: leave out the acceleration structure's build.
+            for (RungError& e : run.rungs) e.seconds = std::max(0.0, e.seconds - stats.buildSeconds);
+            std::vector<double> spp, mse;
+            for (const RungError& e : run.rungs) {
+                spp.push_back(e.spp);
+                mse.push_back(e.mse);
+            }
+            run.slope = logLogSlope(spp, mse);
+            log(fmt::format("{} seed {}: RMSE {:.5g} at {} spp after {:.2f} s, slope {:.3f}", samplerKindName(sampler),
+                            run.seed, run.rungs.back().rmse, top, run.rungs.back().seconds, run.slope));
+            study.runs.push_back(std::move(run));
+        }
+        std::vector<double> spp, meanMse, slopes;
+        for (const SeedRun& run : study.runs) slopes.push_back(run.slope);
+        for (size_t r = 0; r < options.rungs.size(); ++r) {
+            std::vector<double> mse, rel, rmse, sec;
+            for (const SeedRun& run : study.runs) {
+                mse.push_back(run.rungs[r].mse);
+                rel.push_back(run.rungs[r].relMse);
+                rmse.push_back(run.rungs[r].rmse);
+                sec.push_back(run.rungs[r].seconds);
+            }
+            RungError m;
+            m.spp = options.rungs[r];
+            m.mse = meanOf(mse);
+            m.relMse = meanOf(rel);
+            m.rmse = meanOf(rmse);
+            m.seconds = meanOf(sec);
+            study.mean.push_back(m);
+            study.mseStd.push_back(stdOf(mse));
+            study.relMseStd.push_back(stdOf(rel));
+            spp.push_back(m.spp);
+            meanMse.push_back(m.mse);
+        }
+        study.slope = logLogSlope(spp, meanMse);
+        study.slopeStd = stdOf(slopes);
+        report.studies.push_back(std::move(study));
+    }
+    return report;
+}
+
+void writeConvergenceReport(const ConvergenceReport& report, const std::string& sceneFile,
+                            const std::filesystem::path& dir) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    SourceLocation where;
+    where.file = dir.string();
+    if (ec) throw InputError(where, fmt::format("cannot create the output folder: {}", ec.message()));
+
+    // CSV: one row per sampler, seed and rung.
+    {
+        std::ofstream csv(dir / "convergence.csv");
+        csv << "sampler,seed,spp,mse,rel_mse,rmse,seconds\n";
+        for (const SamplerStudy& study : report.studies)
+            for (const SeedRun& run : study.runs)
+                for (const RungError& e : run.rungs)
+                    csv << fmt::format("{},{},{},{:.9g},{:.9g},{:.9g},{:.6f}\n", samplerKindName(study.sampler),
+                                       run.seed, e.spp, e.mse, e.relMse, e.rmse, e.seconds);
+        if (!csv) throw InputError(where, "cannot write convergence.csv");
+    }
+
+    using nlohmann::json;
+    json j;
+    j["scene"] = sceneFile;
+    j["resolution"] = {report.width, report.height};
+    j["rungs"] = report.rungs;
+    j["frozen"] = frozenDimsName(report.frozenDims);
+    j["reference"] = {{"source", report.referenceSource},     {"spp", report.referenceSpp},
+                      {"seed", std::to_string(report.referenceSeed)}, {"seconds", report.referenceSeconds},
+                      {"mse_floor", report.referenceMseFloor}};
+    j["samplers"] = json::array();
+    for (const SamplerStudy& study : report.studies) {
+        json s;
+        s["name"] = std::string(samplerKindName(study.sampler));
+        s["slope"] = study.slope;
+        s["slope_std"] = study.slopeStd;
+        s["rungs"] = json::array();
+        for (size_t r = 0; r < study.mean.size(); ++r) {
+            const RungError& e = study.mean[r];
+            s["rungs"].push_back({{"spp", e.spp},
+                                  {"mse", e.mse},
+                                  {"mse_std", study.mseStd[r]},
+                                  {"rel_mse", e.relMse},
+                                  {"rel_mse_std", study.relMseStd[r]},
+                                  {"rmse", e.rmse},
+                                  {"seconds", e.seconds}});
+        }
+        s["runs"] = json::array();
+        for (const SeedRun& run : study.runs) {
+            json rj;
+            rj["seed"] = std::to_string(run.seed);
+            rj["slope"] = run.slope;
+            rj["mse"] = json::array();
+            rj["seconds"] = json::array();
+            for (const RungError& e : run.rungs) {
+                rj["mse"].push_back(e.mse);
+                rj["seconds"].push_back(e.seconds);
+            }
+            s["runs"].push_back(rj);
+        }
+        j["samplers"].push_back(s);
+    }
+    const PixelWindow& sw = report.stripWindow;
+    j["strip"] = {{"file", "strip.png"},
+                  {"window", {sw.x0, sw.x1, sw.y0, sw.y1}},
+                  {"rows", json::array()},
+                  {"columns", report.rungs}};
+    for (const SamplerStudy& study : report.studies) j["strip"]["rows"].push_back(std::string(samplerKindName(study.sampler)));
+    j["strip"]["columns"].push_back("reference");
+    {
+        std::ofstream out(dir / "convergence.json");
+        out << j.dump(2) << "\n";
+        if (!out) throw InputError(where, "cannot write convergence.json");
+    }
+
+    // The strip: the same crop at each rung (columns) for each sampler (rows), the reference last;
+    // small crops are enlarged (nearest neighbour) so that the noise can be seen.
+    const int scale = std::max(1, 128 / std::max(sw.width(), sw.height()));
+    const int tileW = sw.width() * scale, tileH = sw.height() * scale, gap = 2;
+    const int columns = int(report.rungs.size()) + 1, rows = std::max<int>(1, int(report.studies.size()));
+    Film strip(columns * tileW + (columns - 1) * gap, rows * tileH + (rows - 1) * gap);
+    auto paint = [&](int row, int column, const std::vector<float>& rgb, bool fullImage) {
+        for (int y = 0; y < tileH; ++y)
+            for (int x = 0; x < tileW; ++x) {
+                const int sx = x / scale, sy = y / scale;
+                const size_t i = fullImage ? (size_t(sw.y0 + sy) * report.width + sw.x0 + sx) * 3
+                                           : (size_t(sy) * sw.width() + sx) * 3;
+                strip.at(column * (tileW + gap) + x, row * (tileH + gap) + y).add(Rgb(rgb[i], rgb[i + 1], rgb[i + 2]), 1.0f);
+            }
+    };
+    for (int row = 0; row < int(report.studies.size()); ++row) {
+        const SamplerStudy& study = report.studies[row];
+        for (int c = 0; c < int(study.strip.size()); ++c) paint(row, c, study.strip[c], false);
+        paint(row, columns - 1, report.reference, true);
+    }
+    writeDisplayImage(strip, dir / "strip.png");
+}
+
+int runConvergeCommand(const ConvergeCommand& cmd) {
+    Scene scene = loadScene(cmd.scenePath);
+    if (!cmd.resolution.empty()) {
+        const auto parts = splitText(cmd.resolution, 'x');
+        if (parts.size() != 2) throw InputError(fmt::format("--res: expected WIDTHxHEIGHT, got '{}'", cmd.resolution));
+        scene.film.width = int(parseNumber("--res", parts[0], 1, 1 << 16));
+        scene.film.height = int(parseNumber("--res", parts[1], 1, 1 << 16));
+    }
+    if (cmd.seed) scene.settings.seed = *cmd.seed;
+    if (cmd.output.empty()) throw InputError("converge: -o DIR is required");
+
+    ConvergenceOptions options;
+    options.rungs = parseRungs(cmd.spp);
+    options.samplers.clear();
+    for (const std::string& name : splitText(cmd.samplers, ',')) {
+        if (name == "stratified") options.samplers.push_back(SamplerKind::Stratified);
+        else if (name == "independent") options.samplers.push_back(SamplerKind::Independent);
+        else throw InputError(fmt::format("--sampler: expected stratified and/or independent, got '{}'", name));
+    }
+    if (cmd.seeds < 1 || cmd.seeds > 1000) throw InputError(fmt::format("--seeds: expected 1 to 1000, got {}", cmd.seeds));
+    options.seeds = cmd.seeds;
+    options.frozenDims = parseFrozenDims(cmd.freeze);
+    if (!cmd.reference.empty() && cmd.referenceSpp)
+        throw InputError("converge: give either --reference or --reference-spp, not both");
+    if (!cmd.reference.empty()) options.referencePath = cmd.reference;
+    if (cmd.referenceSpp) {
+        if (*cmd.referenceSpp < 1) throw InputError("--reference-spp: expected a positive integer");
+        options.referenceSpp = *cmd.referenceSpp;
+    }
+    if (!cmd.strip.empty()) {
+        const auto parts = splitText(cmd.strip, ',');
+        if (parts.size() != 4) throw InputError(fmt::format("--strip: expected x0,x1,y0,y1, got '{}'", cmd.strip));
+        options.stripWindow = PixelWindow{int(parseNumber("--strip", parts[0], 0, 1 << 16)),
+                                          int(parseNumber("--strip", parts[1], 0, 1 << 16)),
+                                          int(parseNumber("--strip", parts[2], 0, 1 << 16)),
+                                          int(parseNumber("--strip", parts[3], 0, 1 << 16))};
+    }
+    options.threads = cmd.threads;
+    options.accelerator = cmd.accel == "bvh" ? AcceleratorKind::Bvh : AcceleratorKind::Embree;
+    if (!cmd.quiet) options.log = [](const std::string& line) {
+        std::printf("%s\n", line.c_str());
+        std::fflush(stdout);
+    };
+    const std::string sceneHash = hashFileContents(cmd.scenePath);
+
+    const ConvergenceReport report = runConvergence(scene, options);
+    const std::filesystem::path dir(cmd.output);
+    writeConvergenceReport(report, cmd.scenePath, dir);
+    if (report.referenceFilm) {
+        RenderMetadata m;
+        m.samplesPerPixel = int(report.referenceSpp);
+        m.seed = report.referenceSeed;
+        m.sampler = "stratified";
+        m.accelerator = cmd.accel;
+        m.sceneFile = cmd.scenePath;
+        m.sceneHash = sceneHash;
+        m.renderSeconds = report.referenceSeconds;
+        m.version = PENUMBRA_VERSION;
+        m.firstSample = 0;
+        m.endSample = report.referenceSpp;
+        writeExr(*report.referenceFilm, m, dir / "reference.exr");
+    }
+
+    if (!cmd.noPlot) {
+        const std::string python = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+        auto quote = [](const std::string& s) {
+            std::string q = "'";
+            for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+            return q + "'";
+        };
+        const std::string command = fmt::format("{} {} {} {}", python, quote(PENUMBRA_PLOT_SCRIPT),
+                                                quote((dir / "convergence.json").string()),
+                                                quote((dir / "convergence.png").string()));
+        if (std::system(command.c_str()) != 0)
+            std::fprintf(stderr, "penumbra: warning: the plot was not made (needs python3 with matplotlib); run: %s\n",
+                         command.c_str());
+    }
+    if (!cmd.quiet) {
+        std::printf("%-12s %8s %10s %12s %10s\n", "sampler", "slope", "spp", "RMSE", "seconds");
+        for (const SamplerStudy& s : report.studies)
+            std::printf("%-12s %8.3f %10u %12.5g %10.2f\n", std::string(samplerKindName(s.sampler)).c_str(), s.slope,
+                        s.mean.back().spp, s.mean.back().rmse, s.mean.back().seconds);
+        std::printf("wrote %s\n", dir.string().c_str());
+    }
+    return 0;
+}
+
+}  // namespace penumbra

@@ -1,0 +1,51 @@
+// `penumbra merge` and the checks behind `penumbra render --resume`: films rendered from the same
+// scene, resolution, seed, sampler and backend, over sample ranges and pixel windows that do not
+// overlap, are added pixel by pixel. The film's sums are exact (ExactSum, renderer/film.h), so a
+// merge gives the same bits as one render of the union, in whatever order the parts come.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "renderer/image_output.h"
+
+namespace penumbra {
+
+struct MergeResult {
+    FilmFile merged;
+    // False when the parts do not give every pixel of the merged window the same contiguous
+    // sample range (e.g. a gap between ranges, or crops that leave holes): the per-pixel counts
+    // are in the "spp" channel, but such a film cannot be resumed. `note` says why.
+    bool uniform = true;
+    std::string note;
+};
+
+// Merges films read with readFilmExr; `names` (the files, for messages) parallel `parts`.
+// Throws InputError when they are not parts of one render or overlap.
+MergeResult mergeFilms(const std::vector<FilmFile>& parts, const std::vector<std::string>& names);
+
+// Reads and merges the files; nothing is written.
+MergeResult mergeFilmFiles(const std::vector<std::filesystem::path>& paths);
+
+// What a render that continues `file` must agree on.
+struct ResumeTarget {
+    std::string sceneHash;
+    int width = 0, height = 0;
+    uint64_t seed = 0;
+    std::string sampler, accelerator;
+    std::optional<PixelWindow> crop;
+    uint32_t endSample = 0;  // the render is to end at this sample index
+};
+
+// Throws InputError (naming `path`) unless `file` is a film that a render of `target` can
+// continue: same scene contents, resolution, seed, sampler, backend and crop, every pixel of the
+// window holding the same samples [first, end), and end <= target.endSample.
+void checkResumable(const FilmFile& file, const std::string& path, const ResumeTarget& target);
+
+// `penumbra merge PART... -o OUT.exr`: writes OUT.exr (and OUT.png unless noDisplay); returns the
+// exit status. Nothing is written when a check fails.
+int runMergeCommand(const std::vector<std::string>& parts, const std::string& output, bool noDisplay, bool quiet);
+
+}  // namespace penumbra
