@@ -82,13 +82,31 @@ inline constexpr uint32_t sobolSecondDimension(uint32_t index) {
     return t[0][index & 0xffu] ^ t[1][(index >> 8) & 0xffu] ^ t[2][(index >> 16) & 0xffu] ^ t[3][index >> 24];
 }
 
+// The same, bit-reversed: the form Owen scrambling works on, which saves a reversal per sample.
+struct ReversedSobolSecondDimensionTables {
+    uint32_t byByte[4][256];
+    constexpr ReversedSobolSecondDimensionTables() : byByte{} {
+        for (int k = 0; k < 4; ++k)
+            for (uint32_t b = 0; b < 256; ++b) byByte[k][b] = reverseBits32(kSobolSecondDimension.byByte[k][b]);
+    }
+};
+inline constexpr ReversedSobolSecondDimensionTables kReversedSobolSecondDimension{};
+
+inline constexpr uint32_t reversedSobolSecondDimension(uint32_t index) {
+    const auto& t = kReversedSobolSecondDimension.byByte;
+    return t[0][index & 0xffu] ^ t[1][(index >> 8) & 0xffu] ^ t[2][(index >> 16) & 0xffu] ^ t[3][index >> 24];
+}
+
 }  // namespace detail
 
 // The sample values of one (pixel, sample index) under a given sampler and seed.
 class PixelSample {
 public:
     PixelSample(SamplerKind kind, uint64_t seed, uint64_t pixelIndex, uint32_t sampleIndex)
-        : kind_(kind), pixelKey_(hashWords(seed, pixelIndex)), sampleIndex_(sampleIndex) {}
+        : kind_(kind),
+          pixelKey_(hashWords(seed, pixelIndex)),
+          sampleIndex_(sampleIndex),
+          reversedSampleIndex_(reverseBits32(sampleIndex)) {}
 
     float get1D(Dim dim, uint32_t bounce = 0) const {
         if (frozen_ & dimBit(dim)) [[unlikely]] return 0.5f;
@@ -108,11 +126,13 @@ public:
             const uint64_t bits = hashWords(key, sampleIndex_);
             return {bitsToUnitFloat(uint32_t(bits)), bitsToUnitFloat(uint32_t(bits >> 32))};
         }
+        // Three seeds from the dimension's key: the shuffle (low half), x's scramble (high half) and
+        // y's scramble (the high half of the key times an odd constant, another well-mixed word).
         const uint32_t index = shuffledIndex(key);
-        const uint64_t scrambleSeeds = mix64(key);
-        return {bitsToUnitFloat(reverseBits32(detail::laineKarrasPermutation(index, uint32_t(scrambleSeeds)))),
-                bitsToUnitFloat(detail::nestedUniformScramble(detail::sobolSecondDimension(index),
-                                                              uint32_t(scrambleSeeds >> 32)))};
+        const uint32_t yScrambleSeed = uint32_t((key * 0x9e3779b97f4a7c15ULL) >> 32);
+        return {bitsToUnitFloat(reverseBits32(detail::laineKarrasPermutation(index, uint32_t(key >> 32)))),
+                bitsToUnitFloat(reverseBits32(detail::laineKarrasPermutation(
+                    detail::reversedSobolSecondDimension(index), yScrambleSeed)))};
     }
 
     uint32_t sampleIndex() const { return sampleIndex_; }
@@ -129,12 +149,13 @@ private:
     }
     // The per-dimension shuffle: a permutation of every aligned power-of-two block of indices.
     uint32_t shuffledIndex(uint64_t key) const {
-        return detail::nestedUniformScramble(sampleIndex_, uint32_t(key));
+        return reverseBits32(detail::laineKarrasPermutation(reversedSampleIndex_, uint32_t(key)));
     }
 
     SamplerKind kind_;
     uint64_t pixelKey_;
     uint32_t sampleIndex_;
+    uint32_t reversedSampleIndex_;
     uint32_t frozen_ = 0;
 };
 

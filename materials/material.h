@@ -38,6 +38,12 @@ enum class MaterialType : uint8_t { Lambert, Phong, Dielectric, ThinDielectric, 
 
 struct Material {
     MaterialType type = MaterialType::Lambert;
+
+    // Whether sample() chooses between lobes with its uLobe argument; when not, the integrator
+    // need not draw that sample dimension.
+    bool usesLobeSample() const {
+        return type == MaterialType::Phong || type == MaterialType::Dielectric || type == MaterialType::ThinDielectric;
+    }
     bool twoSided = true;  // reflectors only; false: black seen from the back
     Lambert lambert;
     Phong phong;

@@ -163,7 +163,8 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
         }
 
         // Continue the path by sampling the BSDF.
-        const auto bs = material.sample(woLocal, sample.get1D(Dim::BsdfLobe, bounce),
+        const float uLobe = material.usesLobeSample() ? sample.get1D(Dim::BsdfLobe, bounce) : 0.5f;
+        const auto bs = material.sample(woLocal, uLobe,
                                         sample.get2D(Dim::BsdfDirection, bounce), woAbove);
         if (!bs) break;
         const Vec3f wi = frame.toWorld(bs->wi);

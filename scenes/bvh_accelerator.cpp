@@ -78,17 +78,55 @@ bool isDegenerate(Vec3f p0, Vec3f p1, Vec3f p2) {
     return ay * bz - az * by == 0.0 && az * bx - ax * bz == 0.0 && ax * by - ay * bx == 0.0;
 }
 
+
+// A box padded on every side by `pad` plus a few ulps of its largest coordinate.
+Bounds3f padded(const Bounds3f& b, float pad) {
+    const float scale = std::max(maxComponent(abs(b.lower)), maxComponent(abs(b.upper)));
+    const float p = pad + scale * 0x1p-18f;
+    return {b.lower - Vec3f(p, p, p), b.upper + Vec3f(p, p, p)};
+}
+
+// A world box holding `objectBox` under `motion` at every time of the shutter. Each key segment is
+// sampled at kSamples + 1 evenly spaced fractions (the transformed corners bound the transformed
+// box, the transform being affine), and the result is padded by how far any object point can move
+// between samples: within a segment a point p moves at most |dT| + theta * max|S| |p| + max|dS| |p|
+// per unit of the segment fraction, theta being the slerp's rotation angle.
+Bounds3f boundsOverShutter(const MotionTransform& motion, const Bounds3f& objectBox) {
+    constexpr int kSamples = 64;
+    Vec3f corners[8];
+    float radius = 0.0f;
+    for (int c = 0; c < 8; ++c) {
+        corners[c] = {(c & 1) ? objectBox.upper.x : objectBox.lower.x, (c & 2) ? objectBox.upper.y : objectBox.lower.y,
+                      (c & 4) ? objectBox.upper.z : objectBox.lower.z};
+        radius = std::max(radius, length(corners[c]));
+    }
+    Bounds3f result;
+    float pad = 0.0f;
+    const size_t segments = motion.keys.size() - 1;
+    for (size_t seg = 0; seg < segments; ++seg) {
+        const TransformKey& a = motion.keys[seg];
+        const TransformKey& b = motion.keys[seg + 1];
+        const float norms = std::sqrt(a.rotation.dot(a.rotation) * b.rotation.dot(b.rotation));
+        const float cosHalf = norms > 0.0f ? std::min(std::abs(a.rotation.dot(b.rotation)) / norms, 1.0f) : 0.0f;
+        // 2 acos(cos) is the rotation angle; a margin covers the normalized lerp of close keys
+        // and rounding.
+        const float theta = 2.0f * std::acos(cosHalf) * 1.05f + 1e-4f;
+        const float maxScale = std::max(maxComponent(abs(a.scale)), maxComponent(abs(b.scale)));
+        const float scaleChange = maxComponent(abs(b.scale - a.scale));
+        const float speed = length(b.translation - a.translation) + theta * maxScale * radius + scaleChange * radius;
+        pad = std::max(pad, speed / float(kSamples));  // twice the half spacing, for safety
+        for (int i = 0; i <= kSamples; ++i) {
+            const float time = (float(seg) + float(i) / float(kSamples)) / float(segments);
+            const Transform toWorld = motion.at(time);
+            for (const Vec3f& c : corners) result.extend(toWorld.applyPoint(c));
+        }
+    }
+    return padded(result, pad);
+}
+
 }  // namespace
 
 BvhAccelerator::BvhAccelerator(const Scene& scene, const BvhBuildSettings& settings) {
-    for (const TriangleMesh& mesh : scene.meshes)
-        if (mesh.deforms() || mesh.motion.moves())
-            throw InputError("the bvh backend does not handle motion blur yet ('" + mesh.name +
-                             "' moves); use the embree backend");
-    for (const Sphere& sphere : scene.spheres)
-        if (sphere.motion.moves())
-            throw InputError("the bvh backend does not handle motion blur yet ('" + sphere.name +
-                             "' moves); use the embree backend");
     size_t totalTriangles = 0;
     meshFirstTriangle_.reserve(scene.meshes.size() + 1);
     for (const TriangleMesh& mesh : scene.meshes) {
@@ -103,9 +141,10 @@ BvhAccelerator::BvhAccelerator(const Scene& scene, const BvhBuildSettings& setti
 
     // The primitives that can be hit, with their boxes: which triangles qualify is decided in
     // parallel, then they are packed in order (by a prefix sum) in parallel.
-    std::vector<uint8_t> usable(totalTriangles);
+    std::vector<uint8_t> usable(totalTriangles, 0);
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
         const TriangleMesh& mesh = scene.meshes[m];
+        if (mesh.deforms() || mesh.motion.moves()) continue;  // special primitives, below
         tbb::parallel_for(
             tbb::blocked_range<size_t>(0, mesh.triangleCount(), 16384),
             [&](const tbb::blocked_range<size_t>& range) {
@@ -128,7 +167,10 @@ BvhAccelerator::BvhAccelerator(const Scene& scene, const BvhBuildSettings& setti
         packedIndex[g] = uint32_t(usableCount);
         usableCount += usable[g];
     }
-    skippedCount_ = totalTriangles - usableCount;
+    size_t movingTriangles = 0;
+    for (const TriangleMesh& mesh : scene.meshes)
+        if (mesh.deforms() || mesh.motion.moves()) movingTriangles += mesh.triangleCount();
+    skippedCount_ = totalTriangles - movingTriangles - usableCount;
     std::vector<Primitive> candidates(usableCount);
     std::vector<Bounds3f> bounds(usableCount);
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
@@ -138,7 +180,7 @@ BvhAccelerator::BvhAccelerator(const Scene& scene, const BvhBuildSettings& setti
             [&](const tbb::blocked_range<size_t>& range) {
                 for (size_t j = range.begin(); j != range.end(); ++j) {
                     const uint32_t globalIndex = meshFirstTriangle_[m] + uint32_t(j);
-                    if (!usable[globalIndex]) continue;
+                    if (!usable[globalIndex]) continue;  // also every triangle of a moving mesh
                     const Vec3f p0 = mesh.positions[mesh.indices[3 * j]],
                                 p1 = mesh.positions[mesh.indices[3 * j + 1]],
                                 p2 = mesh.positions[mesh.indices[3 * j + 2]];
@@ -154,6 +196,7 @@ BvhAccelerator::BvhAccelerator(const Scene& scene, const BvhBuildSettings& setti
     }
     for (size_t s = 0; s < scene.spheres.size(); ++s) {
         const Sphere& sphere = scene.spheres[s];
+        if (sphere.motion.moves()) continue;  // an instance, below
         if (!isFinite(sphere.center) || !std::isfinite(sphere.radius) || !(sphere.radius > 0.0f)) {
             ++skippedCount_;
             continue;
@@ -167,6 +210,9 @@ BvhAccelerator::BvhAccelerator(const Scene& scene, const BvhBuildSettings& setti
         bounds.push_back({sphere.center - extent, sphere.center + extent});
     }
 
+    specialBase_ = triangleCount_ + uint32_t(scene.spheres.size());
+    addMovingPrimitives(scene, settings, candidates, bounds);
+
     BvhBuildResult built = buildBvh(bounds, settings);
     nodes_ = std::move(built.nodes);
     maxDepth_ = built.maxDepth;
@@ -179,6 +225,131 @@ BvhAccelerator::BvhAccelerator(const Scene& scene, const BvhBuildSettings& setti
                       });
 }
 
+void BvhAccelerator::addMovingPrimitives(const Scene& scene, const BvhBuildSettings& settings,
+                                         std::vector<Primitive>& candidates, std::vector<Bounds3f>& bounds) {
+    auto addSpecial = [&](const Special& special, const Bounds3f& box) {
+        if (uint64_t(specialBase_) + specials_.size() >= kNoHit)
+            throw std::length_error("BvhAccelerator: more than 2^32 - 1 primitives");
+        candidates.push_back({{0, 0, 0, 0, 0, 0, 0, 0, 0}, specialBase_ + uint32_t(specials_.size())});
+        bounds.push_back(box);
+        specials_.push_back(special);
+    };
+    // An instance: the shape alone, in object space, in a tree of its own.
+    auto addInstance = [&](Scene&& child, const MotionTransform& motion, uint32_t geomId, uint32_t primId) {
+        auto accelerator = std::make_unique<BvhAccelerator>(child, settings);
+        skippedCount_ += accelerator->skippedCount_;
+        if (accelerator->nodes_.empty()) return;
+        const float* b = accelerator->nodes_[0].bounds;
+        const Bounds3f objectBox{{b[0], b[1], b[2]}, {b[3], b[4], b[5]}};
+        const Bounds3f worldBox = boundsOverShutter(motion, objectBox);
+        if (!isFinite(worldBox.lower) || !isFinite(worldBox.upper)) {
+            ++skippedCount_;
+            return;
+        }
+        Special special{};
+        special.geomId = geomId;
+        special.primId = primId;
+        special.source = uint32_t(instances_.size());
+        special.isInstance = true;
+        instances_.push_back({motion, std::move(accelerator)});
+        addSpecial(special, worldBox);
+    };
+    for (size_t m = 0; m < scene.meshes.size(); ++m) {
+        const TriangleMesh& mesh = scene.meshes[m];
+        if (mesh.motion.moves()) {
+            Scene child;
+            child.meshes.push_back(mesh);
+            child.meshes[0].motion.keys.clear();
+            child.meshes[0].normals.clear();
+            child.meshes[0].uvs.clear();
+            addInstance(std::move(child), mesh.motion, uint32_t(m), kNoHit);
+            continue;
+        }
+        if (!mesh.deforms()) continue;
+        const uint32_t source = uint32_t(deformingMeshes_.size());
+        deformingMeshes_.push_back(mesh.positionKeys);
+        size_t vertexCount = mesh.positions.size();
+        for (const auto& key : mesh.positionKeys) vertexCount = std::min(vertexCount, key.size());
+        for (size_t j = 0; j < mesh.triangleCount(); ++j) {
+            Special special{};
+            special.geomId = uint32_t(m);
+            special.primId = uint32_t(j);
+            special.source = source;
+            bool ok = true;
+            Bounds3f box;
+            for (int k = 0; k < 3; ++k) {
+                special.vertex[k] = mesh.indices[3 * j + k];
+                ok = ok && special.vertex[k] < vertexCount;
+            }
+            // Linear interpolation keeps every point of the triangle inside the union of its boxes
+            // at the keys (up to rounding, which the padding covers).
+            for (size_t key = 0; ok && key < mesh.positionKeys.size(); ++key)
+                for (int k = 0; k < 3; ++k) {
+                    const Vec3f p = mesh.positionKeys[key][special.vertex[k]];
+                    ok = ok && isFinite(p);
+                    box.extend(p);
+                }
+            if (!ok) {
+                ++skippedCount_;
+                continue;
+            }
+            addSpecial(special, padded(box, 0.0f));
+        }
+    }
+    for (size_t s = 0; s < scene.spheres.size(); ++s) {
+        const Sphere& sphere = scene.spheres[s];
+        if (!sphere.motion.moves()) continue;
+        Scene child;
+        child.spheres.push_back(sphere);
+        child.spheres[0].motion.keys.clear();
+        addInstance(std::move(child), sphere.motion, sphereGeomId_, uint32_t(s));
+    }
+}
+
+template <bool AnyHit>
+bool BvhAccelerator::intersectSpecial(const Ray& ray, const WatertightRay& triangleRay, uint32_t index,
+                                      float tFar, float& t, float& b1, float& b2, Hit& instanceHit) const {
+    if (!std::isfinite(ray.time)) return false;
+    const Special& special = specials_[index];
+    if (!special.isInstance) {
+        // The vertices at ray.time, exactly as renderer/surface_interaction.h computes them.
+        const auto& keys = deformingMeshes_[special.source];
+        const Vec3f p0 = interpolateKeys(keys, special.vertex[0], ray.time),
+                    p1 = interpolateKeys(keys, special.vertex[1], ray.time),
+                    p2 = interpolateKeys(keys, special.vertex[2], ray.time);
+        const float vertices[9] = {p0.x, p0.y, p0.z, p1.x, p1.y, p1.z, p2.x, p2.y, p2.z};
+        TriangleHit th;
+        if (!intersectTriangleWatertight(triangleRay, vertices, ray.tnear, tFar, th)) return false;
+        t = th.t;
+        b1 = th.b1;
+        b2 = th.b2;
+        return true;
+    }
+    const Instance& instance = instances_[special.source];
+    // The same transform the shading code places the hit with; the direction is not normalized,
+    // so t is the same in both spaces.
+    const Transform toWorld = instance.motion.at(ray.time);
+    const Transform toObject = toWorld.inverse();
+    Ray objectRay = ray;
+    objectRay.origin = toObject.applyPoint(ray.origin);
+    objectRay.direction = toObject.applyVector(ray.direction);
+    objectRay.tfar = tFar;
+    if constexpr (AnyHit) {
+        return instance.child->occluded(objectRay);
+    } else {
+        Hit h;
+        if (!instance.child->intersect(objectRay, h)) return false;
+        t = h.t;
+        b1 = h.u;
+        b2 = h.v;
+        instanceHit = h;
+        instanceHit.geometricNormal = toWorld.applyNormal(h.geometricNormal);
+        instanceHit.geomId = special.geomId;
+        if (special.primId != kNoHit) instanceHit.primId = special.primId;
+        return true;
+    }
+}
+
 BvhAccelerator::Stats BvhAccelerator::stats() const {
     Stats s;
     s.nodeCount = nodes_.size();
@@ -188,7 +359,14 @@ BvhAccelerator::Stats BvhAccelerator::stats() const {
     s.maxDepth = maxDepth_;
     s.sahCost = sahCost_;
     s.memoryBytes = nodes_.capacity() * sizeof(BvhNode) + primitives_.capacity() * sizeof(Primitive) +
-                    meshFirstTriangle_.capacity() * sizeof(uint32_t);
+                    meshFirstTriangle_.capacity() * sizeof(uint32_t) + specials_.capacity() * sizeof(Special);
+    for (const auto& keys : deformingMeshes_)
+        for (const auto& key : keys) s.memoryBytes += key.capacity() * sizeof(Vec3f);
+    for (const Instance& instance : instances_) {
+        const Stats child = instance.child->stats();
+        s.memoryBytes += child.memoryBytes;
+        s.primitiveCount += child.primitiveCount;
+    }
     return s;
 }
 
@@ -206,6 +384,7 @@ bool BvhAccelerator::traverse(const Ray& ray, Hit* hit) const {
     float tClosest = ray.tfar;
     uint32_t closest = kNoHit;
     float closestB1 = 0.0f, closestB2 = 0.0f;
+    Hit instanceHit;  // the closest hit's, when it is a moving instance
 
     // Nodes still to visit, with the distance where the ray enters them: a node entered beyond
     // the closest hit found since it was pushed is skipped. The builder bounds the tree's depth,
@@ -260,7 +439,7 @@ bool BvhAccelerator::traverse(const Ray& ray, Hit* hit) const {
                     closestB1 = th.b1;
                     closestB2 = th.b2;
                     closest = i;
-                } else {
+                } else if (p.globalIndex < specialBase_) {
                     float t;
                     if (!intersectSphere(origin, direction, {p.data[0], p.data[1], p.data[2]}, p.data[3],
                                          ray.tnear, tClosest, t))
@@ -269,6 +448,16 @@ bool BvhAccelerator::traverse(const Ray& ray, Hit* hit) const {
                     tClosest = t;
                     closestB1 = closestB2 = 0.0f;
                     closest = i;
+                } else {
+                    float t, b1 = 0.0f, b2 = 0.0f;
+                    if (!intersectSpecial<AnyHit>(ray, r.triangleRay, p.globalIndex - specialBase_, tClosest, t, b1,
+                                                  b2, instanceHit))
+                        continue;
+                    if constexpr (AnyHit) return true;
+                    tClosest = t;
+                    closestB1 = b1;
+                    closestB2 = b2;
+                    closest = i;
                 }
             }
         }
@@ -276,7 +465,7 @@ bool BvhAccelerator::traverse(const Ray& ray, Hit* hit) const {
         for (;;) {
             if (top == 0) {
                 if (closest == kNoHit) return false;
-                if constexpr (!AnyHit) fillHit(ray, closest, tClosest, closestB1, closestB2, *hit);
+                if constexpr (!AnyHit) fillHit(ray, closest, tClosest, closestB1, closestB2, instanceHit, *hit);
                 return true;
             }
             const Pending& pending = stack[--top];
@@ -289,7 +478,7 @@ bool BvhAccelerator::traverse(const Ray& ray, Hit* hit) const {
 }
 
 void BvhAccelerator::fillHit(const Ray& ray, uint32_t primitive, float t, float b1, float b2,
-                             Hit& hit) const {
+                             const Hit& specialHit, Hit& hit) const {
     const Primitive& p = primitives_[primitive];
     hit.t = t;
     hit.u = b1;
@@ -304,6 +493,20 @@ void BvhAccelerator::fillHit(const Ray& ray, uint32_t primitive, float t, float 
         const size_t mesh = size_t(next - meshFirstTriangle_.begin()) - 1;
         hit.geomId = uint32_t(mesh);
         hit.primId = p.globalIndex - meshFirstTriangle_[mesh];
+    } else if (p.globalIndex >= specialBase_) {
+        const Special& special = specials_[p.globalIndex - specialBase_];
+        if (special.isInstance) {
+            hit = specialHit;
+            hit.t = t;
+            return;
+        }
+        const auto& keys = deformingMeshes_[special.source];
+        const Vec3f p0 = interpolateKeys(keys, special.vertex[0], ray.time),
+                    p1 = interpolateKeys(keys, special.vertex[1], ray.time),
+                    p2 = interpolateKeys(keys, special.vertex[2], ray.time);
+        hit.geometricNormal = cross(p1 - p0, p2 - p0);
+        hit.geomId = special.geomId;
+        hit.primId = special.primId;
     } else {
         // As Embree reports sphere hits: the unnormalized normal is the hit point minus the centre.
         hit.geometricNormal = ray.at(t) - Vec3f(p.data[0], p.data[1], p.data[2]);

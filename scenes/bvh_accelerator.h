@@ -8,20 +8,26 @@
 // non-finite data are left out and never hit; a ray with a NaN or infinite component, a zero
 // direction or tnear > tfar hits nothing.
 //
-// Motion blur is not handled yet: a scene where something moves is refused with an InputError,
-// and Ray::time is ignored. Room is left for it: primitives are referenced by a global index
-// (their vertex keys can live beside the static data), and nodes have a spare byte for flags such
-// as "this subtree moves".
+// Motion blur, interpolated exactly as Embree is given it and as renderer/surface_interaction.h
+// shades it: a deforming mesh's triangles are boxed by the union of their boxes over all keys and
+// intersected at Ray::time with vertices from interpolateKeys; a shape with a moving transform is
+// an instance, a bottom-level BvhAccelerator over its object-space geometry, boxed in the top level
+// conservatively over the whole shutter and intersected with the ray taken into object space by
+// motion.at(time).inverse() (the direction is not normalized, so t carries over). These are
+// "special" primitives whose global index is past the spheres', so a static scene pays nothing.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "scenes/accelerator.h"
 #include "scenes/bvh_build.h"
 
 namespace penumbra {
+
+struct WatertightRay;
 
 class BvhAccelerator final : public Accelerator {
 public:
@@ -51,16 +57,40 @@ private:
         uint32_t globalIndex;
     };
 
+    void addMovingPrimitives(const Scene& scene, const BvhBuildSettings& settings,
+                             std::vector<Primitive>& candidates, std::vector<Bounds3f>& bounds);
     template <bool AnyHit>
     bool traverse(const Ray& ray, Hit* hit) const;
     void prefetchBelow(const BvhNode& node) const;
-    void fillHit(const Ray& ray, uint32_t primitive, float t, float b1, float b2, Hit& hit) const;
+    void fillHit(const Ray& ray, uint32_t primitive, float t, float b1, float b2, const Hit& specialHit,
+                 Hit& hit) const;
+
+    // Deforming triangles and moving instances, referenced by globalIndex - specialBase_.
+    struct Special {
+        uint32_t geomId, primId;  // as reported (accelerator.h)
+        uint32_t source;          // index into deformingMeshes_ or instances_
+        uint32_t vertex[3];       // deforming triangle: its vertex indices
+        bool isInstance;
+    };
+    struct Instance {
+        MotionTransform motion;
+        std::unique_ptr<BvhAccelerator> child;  // object space, never moving
+    };
+    // Intersects special primitive `index` within [ray.tnear, tFar]; on a hit sets t and, for a
+    // deforming triangle, the barycentrics, or for an instance, `instanceHit`.
+    template <bool AnyHit>
+    bool intersectSpecial(const Ray& ray, const WatertightRay& triangleRay, uint32_t index, float tFar, float& t, float& b1, float& b2,
+                          Hit& instanceHit) const;
 
     BvhNodeArray nodes_;
     std::vector<Primitive> primitives_;
     std::vector<uint32_t> meshFirstTriangle_;  // global index of each mesh's first triangle, then the total
     uint32_t triangleCount_ = 0;
     uint32_t sphereGeomId_ = 0;
+    uint32_t specialBase_ = 0;  // triangleCount_ + number of spheres
+    std::vector<Special> specials_;
+    std::vector<std::vector<std::vector<Vec3f>>> deformingMeshes_;  // position keys
+    std::vector<Instance> instances_;
     size_t skippedCount_ = 0;
     int maxDepth_ = 0;
     float sahCost_ = 0.0f;

@@ -70,7 +70,7 @@ void installStopHandlers() {
     struct sigaction action {};
     action.sa_handler = onStopSignal;
     sigemptyset(&action.sa_mask);
-    action.sa_flags = SA_RESETHAND;  // the second signal gets the default action
+    action.sa_flags = SA_RESETHAND | SA_RESTART;  // the second signal gets the default action
     sigaction(SIGINT, &action, nullptr);
     sigaction(SIGTERM, &action, nullptr);
 }

@@ -29,9 +29,15 @@ struct PixelEstimate {
     double mean, standardError;
 };
 
-PixelEstimate renderMean(const Scene& scene) {
+RenderOptions optionsFor(AcceleratorKind accelerator) {
+    RenderOptions options;
+    options.accelerator = accelerator;
+    return options;
+}
+
+PixelEstimate renderMean(const Scene& scene, AcceleratorKind accelerator) {
     Film film(scene.film.width, scene.film.height);
-    render(scene, RenderOptions{}, film);
+    render(scene, optionsFor(accelerator), film);
     double sum = 0, sumSquares = 0, count = 0;
     for (int y = 0; y < film.height(); ++y)
         for (int x = 0; x < film.width(); ++x) {
@@ -70,12 +76,18 @@ Scene movingQuadScene(std::vector<TransformKey> keys, bool deform) {
     return scene;
 }
 
-TEST(MotionBlur, MovingQuadCoversThePixelForTheExactShutterFraction) {
+// Every case runs on both traversal backends, which interpolate motion the same way.
+class MotionBlur : public ::testing::TestWithParam<AcceleratorKind> {};
+
+INSTANTIATE_TEST_SUITE_P(Backends, MotionBlur, ::testing::Values(AcceleratorKind::Embree, AcceleratorKind::Bvh),
+                         [](const auto& info) { return std::string(info.param == AcceleratorKind::Bvh ? "Bvh" : "Embree"); });
+
+TEST_P(MotionBlur, MovingQuadCoversThePixelForTheExactShutterFraction) {
     // The quad's left edge goes from x = -3 to x = +1 over the shutter (through x = -1 at the
     // middle key): it covers x = 0 while the edge is in [-1, 0], i.e. for t in [0.5, 0.75].
     for (bool deform : {false, true}) {
         const Scene scene = movingQuadScene({translation({-3, 0, 0}), translation({-1, 0, 0}), translation({1, 0, 0})}, deform);
-        const PixelEstimate e = renderMean(scene);
+        const PixelEstimate e = renderMean(scene, GetParam());
         // Each sample is 0 or 1 (Bernoulli, p = 0.75): the film's i.i.d. standard error bounds the
         // stratified sampler's error.
         EXPECT_NEAR(e.mean, 0.75, 5.0 * e.standardError + 1e-6) << (deform ? "per-vertex keys" : "transform keys");
@@ -83,16 +95,16 @@ TEST(MotionBlur, MovingQuadCoversThePixelForTheExactShutterFraction) {
     }
 }
 
-TEST(MotionBlur, UnevenSpeedBetweenKeysIsFollowed) {
+TEST_P(MotionBlur, UnevenSpeedBetweenKeysIsFollowed) {
     // Keys at x = -1, 0, 4: the edge crosses [-1, 0] during the first half exactly.
     const Scene scene = movingQuadScene({translation({-1, 0, 0}), translation({0, 0, 0}), translation({4, 0, 0})}, false);
-    const PixelEstimate e = renderMean(scene);
+    const PixelEstimate e = renderMean(scene, GetParam());
     EXPECT_NEAR(e.mean, 0.5, 5.0 * e.standardError + 1e-6);
 }
 
 // A "clock hand" (a bar from the centre outwards) turning a full circle during the shutter sweeps
 // a rotationally symmetric image; half a turn does not.
-double rotationalAsymmetry(float totalDegrees) {
+double rotationalAsymmetry(float totalDegrees, AcceleratorKind accelerator) {
     Scene scene;
     const int size = 32;
     scene.film = {size, size, 64, FilterKind::Box, 0.5f};
@@ -110,7 +122,7 @@ double rotationalAsymmetry(float totalDegrees) {
     }
     scene.meshes.push_back(hand);
     Film film(size, size);
-    render(scene, RenderOptions{}, film);
+    render(scene, optionsFor(accelerator), film);
     // Compare each pixel with the one a quarter turn away, normalised by their noise.
     double chiSquare = 0;
     int count = 0;
@@ -127,23 +139,23 @@ double rotationalAsymmetry(float totalDegrees) {
     return count ? chiSquare / count : 0.0;
 }
 
-TEST(MotionBlur, FullTurnLeavesARotationallySymmetricImage) {
+TEST_P(MotionBlur, FullTurnLeavesARotationallySymmetricImage) {
     // Per pixel pair, (a - b)^2 / (var a + var b) has mean 1 when the image is symmetric (and
     // below 1 with stratification, whose variance estimate is pessimistic).
-    const double fullTurn = rotationalAsymmetry(360.0f);
+    const double fullTurn = rotationalAsymmetry(360.0f, GetParam());
     // With about 1000 pixel pairs the statistic has a standard deviation near 0.05 under symmetry.
     EXPECT_LT(fullTurn, 1.5);
-    const double halfTurn = rotationalAsymmetry(180.0f);
+    const double halfTurn = rotationalAsymmetry(180.0f, GetParam());
     EXPECT_GT(halfTurn, 10.0) << "the control (half a turn) should be clearly asymmetric";
 }
 
-TEST(MotionBlur, CameraMotionBlursLikeObjectMotion) {
+TEST_P(MotionBlur, CameraMotionBlursLikeObjectMotion) {
     // Moving the camera right by 4 units is the static quad moving left by 4, relative to it.
     Scene scene = movingQuadScene({translation({0, 0, 0}), translation({0, 0, 0})}, false);
     scene.meshes[0].motion.keys.clear();
     // Quad static at x in [0, 1]; camera from x = -1 to x = 3 covers it for t in [0.25, 0.5].
     scene.camera.motion = {CameraPose{{-1, 0, 0}, {-1, 0, -1}, {0, 1, 0}}, CameraPose{{3, 0, 0}, {3, 0, -1}, {0, 1, 0}}};
-    const PixelEstimate e = renderMean(scene);
+    const PixelEstimate e = renderMean(scene, GetParam());
     EXPECT_NEAR(e.mean, 0.75, 5.0 * e.standardError + 1e-6);
 }
 
