@@ -42,6 +42,7 @@
 #include "renderer/lights.h"
 #include "renderer/path_integrator.h"
 #include "renderer/render.h"
+#include "renderer/scene_materials.h"
 #include "scenes/embree_accelerator.h"
 #include "scenes/scene_camera.h"
 #include "scenes/scene_loader.h"
@@ -85,52 +86,6 @@ struct RecordingAccelerator {
     }
 };
 
-// The material table render.cpp builds (its buildMaterials), for the kinds scenes can name.
-std::vector<Material> buildMaterials(const Scene& scene) {
-    std::vector<Material> materials;
-    for (const MaterialDesc& desc : scene.materials) {
-        Material m;
-        m.twoSided = desc.twoSided;
-        const FresnelModel fresnel = desc.fresnel == FresnelKind::Schlick ? FresnelModel::Schlick : FresnelModel::Exact;
-        switch (desc.kind) {
-            case MaterialKind::Lambert:
-                m.type = MaterialType::Lambert;
-                m.lambert.albedo = desc.albedo;
-                break;
-            case MaterialKind::Phong:
-                m.type = MaterialType::Phong;
-                m.phong.kd = desc.diffuse;
-                m.phong.ks = desc.specular;
-                m.phong.exponent = desc.exponent;
-                break;
-            case MaterialKind::Dielectric:
-                m.type = MaterialType::Dielectric;
-                m.dielectric.eta = desc.eta;
-                m.dielectric.fresnel = fresnel;
-                m.dielectric.absorption = desc.absorption;
-                break;
-            case MaterialKind::ThinDielectric:
-                m.type = MaterialType::ThinDielectric;
-                m.thinDielectric.eta = desc.eta;
-                m.thinDielectric.fresnel = fresnel;
-                break;
-            case MaterialKind::Mirror:
-                m.type = MaterialType::Mirror;
-                m.mirror.tint = desc.tint;
-                break;
-            case MaterialKind::Conductor:
-                m.type = MaterialType::Conductor;
-                m.conductor.eta = desc.conductorEta;
-                m.conductor.k = desc.k;
-                break;
-            default:
-                throw std::runtime_error("penumbra_ray_throughput: a material kind it does not know; update "
-                                         "buildMaterials to match renderer/render.cpp");
-        }
-        materials.push_back(m);
-    }
-    return materials;
-}
 
 // render.cpp's sampleFilterOffset.
 Vec2f sampleFilterOffset(const FilmDesc& film, Vec2f u) {

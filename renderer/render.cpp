@@ -10,10 +10,11 @@
 #include <tbb/task_arena.h>
 
 #include "cameras/camera.h"
-#include "scenes/scene_camera.h"
 #include "core/error.h"
+#include "renderer/scene_materials.h"
 #include "scenes/bvh_accelerator.h"
 #include "scenes/embree_accelerator.h"
+#include "scenes/scene_camera.h"
 
 namespace penumbra {
 
@@ -23,49 +24,6 @@ using Clock = std::chrono::steady_clock;
 
 constexpr size_t kMaxNonFiniteExamples = 8;
 
-std::vector<Material> buildMaterials(const Scene& scene) {
-    std::vector<Material> materials;
-    materials.reserve(scene.materials.size());
-    for (const MaterialDesc& desc : scene.materials) {
-        Material m;
-        m.twoSided = desc.twoSided;
-        const FresnelModel fresnel = desc.fresnel == FresnelKind::Schlick ? FresnelModel::Schlick : FresnelModel::Exact;
-        switch (desc.kind) {
-            case MaterialKind::Lambert:
-                m.type = MaterialType::Lambert;
-                m.lambert.albedo = desc.albedo;
-                break;
-            case MaterialKind::Phong:
-                m.type = MaterialType::Phong;
-                m.phong.kd = desc.diffuse;
-                m.phong.ks = desc.specular;
-                m.phong.exponent = desc.exponent;
-                break;
-            case MaterialKind::Dielectric:
-                m.type = MaterialType::Dielectric;
-                m.dielectric.eta = desc.eta;
-                m.dielectric.fresnel = fresnel;
-                m.dielectric.absorption = desc.absorption;
-                break;
-            case MaterialKind::ThinDielectric:
-                m.type = MaterialType::ThinDielectric;
-                m.thinDielectric.eta = desc.eta;
-                m.thinDielectric.fresnel = fresnel;
-                break;
-            case MaterialKind::Mirror:
-                m.type = MaterialType::Mirror;
-                m.mirror.tint = desc.tint;
-                break;
-            case MaterialKind::Conductor:
-                m.type = MaterialType::Conductor;
-                m.conductor.eta = desc.conductorEta;
-                m.conductor.k = desc.k;
-                break;
-        }
-        materials.push_back(m);
-    }
-    return materials;
-}
 
 
 // Offset of a sample from the pixel centre, drawn from the reconstruction filter.

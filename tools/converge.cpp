@@ -17,6 +17,7 @@
 #include "core/hash.h"
 #include "renderer/image_output.h"
 #include "renderer/render.h"
+#include "tools/split_text.h"
 #include "scenes/scene_loader.h"
 
 namespace penumbra {
@@ -27,16 +28,6 @@ using Clock = std::chrono::steady_clock;
 
 double secondsOf(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
 
-std::vector<std::string> splitText(const std::string& text, char separator) {
-    std::vector<std::string> parts;
-    size_t start = 0;
-    for (size_t i = 0; i <= text.size(); ++i)
-        if (i == text.size() || text[i] == separator) {
-            parts.push_back(text.substr(start, i - start));
-            start = i + 1;
-        }
-    return parts;
-}
 
 long parseNumber(const std::string& option, const std::string& text, long low, long high) {
     size_t used = 0;

@@ -27,6 +27,7 @@
 #include "renderer/image_output.h"
 #include "renderer/render.h"
 #include "scenes/scene_loader.h"
+#include "tools/split_text.h"
 #include "tools/converge.h"
 #include "tools/crosscheck.h"
 #include "tools/merge.h"
@@ -88,16 +89,6 @@ int parsePositive(const std::string& option, const std::string& text) {
     return int(value);
 }
 
-std::vector<std::string> split(const std::string& text, char separator) {
-    std::vector<std::string> parts;
-    size_t start = 0;
-    for (size_t i = 0; i <= text.size(); ++i)
-        if (i == text.size() || text[i] == separator) {
-            parts.push_back(text.substr(start, i - start));
-            start = i + 1;
-        }
-    return parts;
-}
 
 int parseNonNegative(const std::string& option, const std::string& text) {
     if (text == "0") return 0;
@@ -143,7 +134,7 @@ int runRender(const RenderCommand& cmd) {
         else throw InputError(fmt::format("--sampler: expected 'stratified' or 'independent', got '{}'", cmd.sampler));
     }
     if (!cmd.resolution.empty()) {
-        const auto parts = split(cmd.resolution, 'x');
+        const auto parts = splitText(cmd.resolution, 'x');
         if (parts.size() != 2) throw InputError(fmt::format("--res: expected WIDTHxHEIGHT, got '{}'", cmd.resolution));
         scene.film.width = parsePositive("--res", parts[0]);
         scene.film.height = parsePositive("--res", parts[1]);
@@ -154,7 +145,7 @@ int runRender(const RenderCommand& cmd) {
     options.accelerator = cmd.accel == "bvh" ? AcceleratorKind::Bvh : AcceleratorKind::Embree;
     options.endSample = uint32_t(scene.film.samplesPerPixel);
     if (!cmd.samples.empty()) {
-        const auto parts = split(cmd.samples, ':');
+        const auto parts = splitText(cmd.samples, ':');
         if (parts.size() != 2) throw InputError(fmt::format("--samples: expected FIRST:END, got '{}'", cmd.samples));
         options.firstSample = uint32_t(parseNonNegative("--samples", parts[0]));
         options.endSample = uint32_t(parsePositive("--samples", parts[1]));
@@ -162,7 +153,7 @@ int runRender(const RenderCommand& cmd) {
             throw InputError(fmt::format("--samples: FIRST must be below END, got '{}'", cmd.samples));
     }
     if (!cmd.crop.empty()) {
-        const auto parts = split(cmd.crop, ',');
+        const auto parts = splitText(cmd.crop, ',');
         if (parts.size() != 4) throw InputError(fmt::format("--crop: expected x0,x1,y0,y1, got '{}'", cmd.crop));
         options.crop = PixelWindow{parseNonNegative("--crop", parts[0]), parseNonNegative("--crop", parts[1]),
                                    parseNonNegative("--crop", parts[2]), parseNonNegative("--crop", parts[3])};
