@@ -257,7 +257,7 @@ TraceResult traceAll(const Tracer& tracer, const Recording& rec, int threads, in
     return result;
 }
 
-// Random rays for context (the "raw Embree, random rays" figure): origins uniform in
+// Random rays, for context (bare Embree on random rays): origins uniform in
 // the scene's bounding box, directions uniform on the sphere, unbounded.
 Recording randomRays(const Scene& scene, size_t count) {
     Vec3f lo{1e30f, 1e30f, 1e30f}, hi{-1e30f, -1e30f, -1e30f};

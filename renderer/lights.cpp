@@ -96,6 +96,8 @@ LightSet::LightSet(const Scene& scene) : background_(scene.background) {
         // Power through a disk the size of the scene, from every direction (pbrt-v4's estimate).
         power.push_back(4.0 * kPi * kPi * sceneRadius * sceneRadius * double(background_.luminance()));
     }
+    for (const Light& light : lights_)
+        hasAreaLights_ |= light.type == LightType::Triangle || light.type == LightType::Sphere;
     choice_ = DiscreteDistribution(power);
 }
 

@@ -44,6 +44,9 @@ public:
     explicit LightSet(const Scene& scene);
 
     bool empty() const { return choice_.empty(); }
+    // Whether a ray can find emission by hitting something (an area light or the background);
+    // with only point and directional lights it cannot.
+    bool emitsAlongRays() const { return hasAreaLights_ || !background_.isBlack(); }
     size_t size() const { return lights_.size(); }
 
     std::optional<LightSample> sample(Vec3f reference, float uChoice, Vec2f uPoint) const;
@@ -66,6 +69,7 @@ private:
     std::vector<int32_t> meshFirstLight_;    // per mesh: index of its first triangle light, or -1
     std::vector<int32_t> sphereLight_;       // per sphere: its light index, or -1
     int32_t backgroundLight_ = -1;
+    bool hasAreaLights_ = false;
     Rgb background_;
 };
 

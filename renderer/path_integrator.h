@@ -182,6 +182,9 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
             if (sample.get1D(Dim::RussianRoulette, bounce) >= survival) break;
             throughput *= 1.0f / survival;
         }
+        // The ray past the last vertex only looks for emission; without emitters it could hit,
+        // it is not traced (as Embree's pathtracer counts path length).
+        if (int(bounce) + 1 >= ctx.maxDepth && !lights.emitsAlongRays()) break;
         ray = detail::spawnRay(si, wi, ray.time);
         ++rays.extension;
     }
