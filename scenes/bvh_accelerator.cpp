@@ -3,13 +3,16 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "core/error.h"
+#include "scenes/bvh_box4.h"
 #include "scenes/ray_sphere.h"
 #include "scenes/ray_triangle.h"
 
@@ -19,55 +22,10 @@ namespace {
 
 constexpr uint32_t kNoHit = std::numeric_limits<uint32_t>::max();
 
-// pbrt-v4's gamma(n) = n u / (1 - n u), u = 2^-24: a bound on the relative error of n rounded
-// float operations.
-constexpr float gamma(int n) {
-    constexpr float u = 0x1p-24f;
-    return float(n) * u / (1.0f - float(n) * u);
-}
-// The slab test's far distances are enlarged by this factor so that rounding can never make a
-// ray that touches a box miss it (pbrt-v4, Bounds3::IntersectP; PBR 4th ed. section 6.8.2).
-constexpr float kBoxFarScale = 1.0f + 2.0f * gamma(3);
-
 bool isTraceable(const Ray& ray) {
     if (!isFinite(ray.origin) || !isFinite(ray.direction)) return false;
     if (ray.direction.x == 0.0f && ray.direction.y == 0.0f && ray.direction.z == 0.0f) return false;
     return ray.tnear <= ray.tfar;  // false when either is NaN
-}
-
-// The ray in the forms the box and triangle tests want, computed once per ray.
-struct TraversalRay {
-    float origin[3];
-    float invDir[3];
-    int nearPlane[3], farPlane[3];  // indices into BvhNode::bounds: the slab planes met first and last
-    float tnear;
-    WatertightRay triangleRay;
-
-    explicit TraversalRay(const Ray& ray) : tnear(ray.tnear), triangleRay(ray.origin, ray.direction) {
-        for (int axis = 0; axis < 3; ++axis) {
-            origin[axis] = ray.origin[axis];
-            invDir[axis] = 1.0f / ray.direction[axis];  // +-infinity for +-0: the slab comparisons cope
-            const bool negative = std::signbit(ray.direction[axis]);
-            nearPlane[axis] = negative ? axis + 3 : axis;
-            farPlane[axis] = negative ? axis : axis + 3;
-        }
-    }
-};
-
-// Slab test against [tnear, tFar]; tEntry is where the ray enters the box. A NaN slab distance
-// (0 * infinity: the origin on a slab plane of an axis the ray does not move along) is skipped by
-// the comparisons' order, which keeps the test conservative.
-inline bool hitBox(const BvhNode& node, const TraversalRay& r, float tFar, float& tEntry) {
-    float t0 = r.tnear, t1 = tFar;
-    for (int axis = 0; axis < 3; ++axis) {
-        const float slabNear = (node.bounds[r.nearPlane[axis]] - r.origin[axis]) * r.invDir[axis];
-        const float slabFar =
-            (node.bounds[r.farPlane[axis]] - r.origin[axis]) * r.invDir[axis] * kBoxFarScale;
-        t0 = slabNear > t0 ? slabNear : t0;
-        t1 = slabFar < t1 ? slabFar : t1;
-    }
-    tEntry = t0;
-    return t0 <= t1;
 }
 
 bool isDegenerate(Vec3f p0, Vec3f p1, Vec3f p2) {
@@ -213,10 +171,13 @@ BvhAccelerator::BvhAccelerator(const Scene& scene, const BvhBuildSettings& setti
     specialBase_ = triangleCount_ + uint32_t(scene.spheres.size());
     addMovingPrimitives(scene, settings, candidates, bounds);
 
-    BvhBuildResult built = buildBvh(bounds, settings);
-    nodes_ = std::move(built.nodes);
-    maxDepth_ = built.maxDepth;
-    sahCost_ = built.sahCost;
+    const BvhBuildResult built = buildBvh(bounds, settings);
+    Bvh4 wide = collapseToBvh4(built, settings.traversalCost);
+    nodes_ = std::move(wide.nodes);
+    bounds_ = wide.bounds;
+    leafCount_ = wide.leafCount;
+    maxDepth_ = wide.maxDepth;
+    sahCost_ = wide.sahCost;
     primitives_.resize(candidates.size());
     tbb::parallel_for(tbb::blocked_range<size_t>(0, candidates.size(), 16384),
                       [&](const tbb::blocked_range<size_t>& range) {
@@ -239,9 +200,7 @@ void BvhAccelerator::addMovingPrimitives(const Scene& scene, const BvhBuildSetti
         auto accelerator = std::make_unique<BvhAccelerator>(child, settings);
         skippedCount_ += accelerator->skippedCount_;
         if (accelerator->nodes_.empty()) return;
-        const float* b = accelerator->nodes_[0].bounds;
-        const Bounds3f objectBox{{b[0], b[1], b[2]}, {b[3], b[4], b[5]}};
-        const Bounds3f worldBox = boundsOverShutter(motion, objectBox);
+        const Bounds3f worldBox = boundsOverShutter(motion, accelerator->bounds_);
         if (!isFinite(worldBox.lower) || !isFinite(worldBox.upper)) {
             ++skippedCount_;
             return;
@@ -353,12 +312,12 @@ bool BvhAccelerator::intersectSpecial(const Ray& ray, const WatertightRay& trian
 BvhAccelerator::Stats BvhAccelerator::stats() const {
     Stats s;
     s.nodeCount = nodes_.size();
-    for (const BvhNode& node : nodes_) s.leafCount += node.isLeaf() ? 1 : 0;
+    s.leafCount = leafCount_;
     s.primitiveCount = primitives_.size();
     s.skippedCount = skippedCount_;
     s.maxDepth = maxDepth_;
     s.sahCost = sahCost_;
-    s.memoryBytes = nodes_.capacity() * sizeof(BvhNode) + primitives_.capacity() * sizeof(Primitive) +
+    s.memoryBytes = nodes_.capacity() * sizeof(Bvh4Node) + primitives_.capacity() * sizeof(Primitive) +
                     meshFirstTriangle_.capacity() * sizeof(uint32_t) + specials_.capacity() * sizeof(Special);
     for (const auto& keys : deformingMeshes_)
         for (const auto& key : keys) s.memoryBytes += key.capacity() * sizeof(Vec3f);
@@ -370,15 +329,57 @@ BvhAccelerator::Stats BvhAccelerator::stats() const {
     return s;
 }
 
-void BvhAccelerator::prefetchBelow(const BvhNode& node) const {
-    __builtin_prefetch(node.isLeaf() ? static_cast<const void*>(&primitives_[node.offset])
-                                     : static_cast<const void*>(&nodes_[node.offset]));
+// Asks for what child i of `node` leads to (its node, two cache lines, or its first primitives)
+// as soon as the ray is known to enter it: incoherent rays wait on memory more than they compute,
+// and these loads then overlap with each other and with the work on nearer children.
+void BvhAccelerator::prefetchChild(const Bvh4Node& node, int i) const {
+    if (node.isLeaf(i)) {
+        __builtin_prefetch(&primitives_[node.child[i]]);
+    } else {
+        const char* p = reinterpret_cast<const char*>(&nodes_[node.child[i]]);
+        __builtin_prefetch(p);
+        __builtin_prefetch(p + 64);
+    }
 }
+
+namespace {
+
+// A child still to visit, with the distance where the ray enters its box.
+struct PendingChild {
+    uint32_t child;  // as Bvh4Node::child
+    uint32_t count;  // as Bvh4Node::count: 0 for an interior node
+    float tEntry;
+};
+
+inline void orderFarToNear(PendingChild& a, PendingChild& b) {
+    if (a.tEntry < b.tEntry) std::swap(a, b);
+}
+
+// Sorts 2 to 4 pending children by entry distance, the nearest last (on top of the stack), with
+// sorting networks (Knuth, TAOCP vol. 3, section 5.3.4). Equal distances keep their slot order.
+inline void sortFarToNear(PendingChild* c, int n) {
+    if (n == 2) {
+        orderFarToNear(c[0], c[1]);
+    } else if (n == 3) {
+        orderFarToNear(c[0], c[1]);
+        orderFarToNear(c[1], c[2]);
+        orderFarToNear(c[0], c[1]);
+    } else {
+        orderFarToNear(c[0], c[1]);
+        orderFarToNear(c[2], c[3]);
+        orderFarToNear(c[0], c[2]);
+        orderFarToNear(c[1], c[3]);
+        orderFarToNear(c[1], c[2]);
+    }
+}
+
+}  // namespace
 
 template <bool AnyHit>
 bool BvhAccelerator::traverse(const Ray& ray, Hit* hit) const {
     if (nodes_.empty() || !isTraceable(ray)) return false;
-    const TraversalRay r(ray);
+    const BoxRay4 boxRay(ray.origin, ray.direction, ray.tnear);
+    const WatertightRay triangleRay(ray.origin, ray.direction);
     const Vec3f origin = ray.origin, direction = ray.direction;
 
     float tClosest = ray.tfar;
@@ -386,54 +387,43 @@ bool BvhAccelerator::traverse(const Ray& ray, Hit* hit) const {
     float closestB1 = 0.0f, closestB2 = 0.0f;
     Hit instanceHit;  // the closest hit's, when it is a moving instance
 
-    // Nodes still to visit, with the distance where the ray enters them: a node entered beyond
-    // the closest hit found since it was pushed is skipped. The builder bounds the tree's depth,
-    // and at most one node per level is waiting.
-    struct Pending {
-        uint32_t node;
-        float tEntry;
-    };
-    Pending stack[kBvhMaxDepth];
+    // Children still to visit: one deferred child entered beyond the closest hit found since is
+    // skipped. Each level of the tree (at most kBvhMaxDepth) leaves at most kBvhWidth - 1 waiting.
+    PendingChild stack[(kBvhWidth - 1) * kBvhMaxDepth];
     int top = 0;
-
-    float tEntry;
-    if (!hitBox(nodes_[0], r, tClosest, tEntry)) return false;
-    uint32_t current = 0;
+    PendingChild current{0, 0, ray.tnear};  // the root
     for (;;) {
-        const BvhNode& node = nodes_[current];
-        if (!node.isLeaf()) {
-            const uint32_t first = node.offset, second = node.offset + 1;
-            // Incoherent rays wait on memory more than they compute: ask for what each child
-            // leads to (its children's pair, or its primitives) before testing the children, so
-            // those loads overlap with the box tests and with each other.
-            prefetchBelow(nodes_[first]);
-            prefetchBelow(nodes_[second]);
-            float tFirst, tSecond;
-            const bool hitFirst = hitBox(nodes_[first], r, tClosest, tFirst);
-            const bool hitSecond = hitBox(nodes_[second], r, tClosest, tSecond);
-            if (hitFirst && hitSecond) {
-                assert(top < kBvhMaxDepth);
-                // Front to back: the nearer child now, the other later.
-                if (tSecond < tFirst) {
-                    stack[top++] = {first, tFirst};
-                    current = second;
-                } else {
-                    stack[top++] = {second, tSecond};
-                    current = first;
+        if (current.count == 0) {
+            const Bvh4Node& node = nodes_[current.child];
+            __m128 tEntry4;
+            int mask = intersectBoxes4(node, boxRay, tClosest, tEntry4);
+            if (mask != 0) {
+                alignas(16) float tEntry[kBvhWidth];
+                _mm_store_ps(tEntry, tEntry4);
+                if ((mask & (mask - 1)) == 0) {  // one child: straight there
+                    const int i = __builtin_ctz(unsigned(mask));
+                    current = {node.child[i], node.count[i], tEntry[i]};
+                    continue;
                 }
-                continue;
-            }
-            if (hitFirst || hitSecond) {
-                current = hitFirst ? first : second;
+                // Several: all pushed, sorted so the nearest is on top, and that one taken now.
+                const int first = top;
+                do {
+                    const int i = __builtin_ctz(unsigned(mask));
+                    mask &= mask - 1;
+                    prefetchChild(node, i);
+                    assert(top < int(std::size(stack)));
+                    stack[top++] = {node.child[i], node.count[i], tEntry[i]};
+                } while (mask != 0);
+                sortFarToNear(stack + first, top - first);
+                current = stack[--top];
                 continue;
             }
         } else {
-            for (uint32_t i = node.offset, end = node.offset + node.count; i < end; ++i) {
+            for (uint32_t i = current.child, end = current.child + current.count; i < end; ++i) {
                 const Primitive& p = primitives_[i];
                 if (p.globalIndex < triangleCount_) {
                     TriangleHit th;
-                    if (!intersectTriangleWatertight(r.triangleRay, p.data, ray.tnear, tClosest, th))
-                        continue;
+                    if (!intersectTriangleWatertight(triangleRay, p.data, ray.tnear, tClosest, th)) continue;
                     if constexpr (AnyHit) return true;
                     tClosest = th.t;
                     closestB1 = th.b1;
@@ -450,7 +440,7 @@ bool BvhAccelerator::traverse(const Ray& ray, Hit* hit) const {
                     closest = i;
                 } else {
                     float t, b1 = 0.0f, b2 = 0.0f;
-                    if (!intersectSpecial<AnyHit>(ray, r.triangleRay, p.globalIndex - specialBase_, tClosest, t, b1,
+                    if (!intersectSpecial<AnyHit>(ray, triangleRay, p.globalIndex - specialBase_, tClosest, t, b1,
                                                   b2, instanceHit))
                         continue;
                     if constexpr (AnyHit) return true;
@@ -461,16 +451,16 @@ bool BvhAccelerator::traverse(const Ray& ray, Hit* hit) const {
                 }
             }
         }
-        // Next: the most recently deferred node that may still hold something nearer.
+        // Next: the most recently deferred child that may still hold something nearer.
         for (;;) {
             if (top == 0) {
                 if (closest == kNoHit) return false;
                 if constexpr (!AnyHit) fillHit(ray, closest, tClosest, closestB1, closestB2, instanceHit, *hit);
                 return true;
             }
-            const Pending& pending = stack[--top];
+            const PendingChild& pending = stack[--top];
             if (pending.tEntry <= tClosest) {
-                current = pending.node;
+                current = pending;
                 break;
             }
         }

@@ -1,5 +1,7 @@
-// Our own traversal backend, the second path beside Embree: a binary BVH over the triangles of
-// every mesh and the spheres (scenes/bvh_build.h), traversed front to back with a fixed stack.
+// Our own traversal backend, the second path beside Embree: a 4-wide BVH over the triangles of
+// every mesh and the spheres (a binary SAH tree, scenes/bvh_build.h, collapsed by
+// scenes/bvh_wide.h), its four child boxes tested at once with SSE (scenes/bvh_box4.h) and
+// traversed front to back with a fixed stack.
 // It is meant to agree with Embree hit for hit (tools/crosscheck.h measures how well): the
 // triangle test is watertight (scenes/ray_triangle.h), the box test conservative, and hits are
 // reported with Embree's conventions (accelerator.h).
@@ -24,6 +26,7 @@
 
 #include "scenes/accelerator.h"
 #include "scenes/bvh_build.h"
+#include "scenes/bvh_wide.h"
 
 namespace penumbra {
 
@@ -38,12 +41,12 @@ public:
     bool occluded(const Ray& ray) const override;
 
     struct Stats {
-        size_t nodeCount = 0;
+        size_t nodeCount = 0;  // 4-wide nodes
         size_t leafCount = 0;
         size_t primitiveCount = 0;  // triangles and spheres in the tree
         size_t skippedCount = 0;    // degenerate or non-finite primitives left out
-        int maxDepth = 0;
-        float sahCost = 0.0f;    // see BvhBuildResult::sahCost
+        int maxDepth = 0;        // of the 4-wide tree
+        float sahCost = 0.0f;    // of the 4-wide tree, see Bvh4::sahCost
         size_t memoryBytes = 0;  // everything traversal reads: nodes, primitives, id tables
     };
     Stats stats() const;
@@ -61,7 +64,7 @@ private:
                              std::vector<Primitive>& candidates, std::vector<Bounds3f>& bounds);
     template <bool AnyHit>
     bool traverse(const Ray& ray, Hit* hit) const;
-    void prefetchBelow(const BvhNode& node) const;
+    void prefetchChild(const Bvh4Node& node, int i) const;
     void fillHit(const Ray& ray, uint32_t primitive, float t, float b1, float b2, const Hit& specialHit,
                  Hit& hit) const;
 
@@ -82,7 +85,8 @@ private:
     bool intersectSpecial(const Ray& ray, const WatertightRay& triangleRay, uint32_t index, float tFar, float& t, float& b1, float& b2,
                           Hit& instanceHit) const;
 
-    BvhNodeArray nodes_;
+    Bvh4NodeArray nodes_;
+    Bounds3f bounds_;  // of everything in the tree
     std::vector<Primitive> primitives_;
     std::vector<uint32_t> meshFirstTriangle_;  // global index of each mesh's first triangle, then the total
     uint32_t triangleCount_ = 0;
@@ -92,6 +96,7 @@ private:
     std::vector<std::vector<std::vector<Vec3f>>> deformingMeshes_;  // position keys
     std::vector<Instance> instances_;
     size_t skippedCount_ = 0;
+    size_t leafCount_ = 0;
     int maxDepth_ = 0;
     float sahCost_ = 0.0f;
 };

@@ -20,6 +20,7 @@
 #include "renderer/render.h"
 #include "scenes/bvh_accelerator.h"
 #include "scenes/bvh_build.h"
+#include "scenes/bvh_wide.h"
 #include "scenes/embree_accelerator.h"
 #include "scenes/mesh_import.h"
 #include "tests/support/scene_builders.h"
@@ -430,6 +431,84 @@ TEST(BvhBuild, TheTreeDoesNotDependOnTheThreadCount) {
     ASSERT_EQ(one.nodes.size(), many.nodes.size());
     EXPECT_EQ(std::memcmp(one.nodes.data(), many.nodes.data(), one.nodes.size() * sizeof(BvhNode)), 0);
     EXPECT_EQ(one.primitiveOrder, many.primitiveOrder);
+}
+
+// The 4-wide tree: every primitive in exactly one leaf, inside its leaf's box; every interior
+// child's boxes inside the box its parent holds for it; 2 to 4 children a node (1 for a tree that
+// is a single leaf); no deeper than the binary tree.
+void expectWellFormedWide(const Bvh4& wide, const BvhBuildResult& binary, const std::vector<Bounds3f>& input) {
+    ASSERT_FALSE(wide.nodes.empty());
+    EXPECT_EQ(reinterpret_cast<uintptr_t>(wide.nodes.data()) % 64, 0u) << "nodes start on a cache line";
+    EXPECT_LE(wide.maxDepth, binary.maxDepth);
+    auto contains = [](const Bounds3f& outer, const Bounds3f& inner) {
+        for (int k = 0; k < 3; ++k)
+            if (inner.lower[k] < outer.lower[k] || inner.upper[k] > outer.upper[k]) return false;
+        return true;
+    };
+    std::vector<int> seen(input.size(), 0);
+    std::vector<int> parents(wide.nodes.size(), 0);
+    size_t leaves = 0;
+    for (size_t n = 0; n < wide.nodes.size(); ++n) {
+        const Bvh4Node& node = wide.nodes[n];
+        int children = 0;
+        for (int i = 0; i < kBvhWidth; ++i) {
+            const Bounds3f box = node.childBounds(i);
+            if (node.child[i] == kBvhEmptySlot) {
+                EXPECT_TRUE(box.isEmpty()) << "node " << n << " slot " << i;
+                continue;
+            }
+            ++children;
+            ASSERT_TRUE(contains(wide.bounds, box));
+            if (node.isLeaf(i)) {
+                ++leaves;
+                EXPECT_LE(node.count[i], BvhBuildSettings{}.maxLeafSize);
+                for (uint32_t p = node.child[i]; p < node.child[i] + node.count[i]; ++p) {
+                    const uint32_t primitive = binary.primitiveOrder.at(p);
+                    ++seen[primitive];
+                    ASSERT_TRUE(contains(box, input[primitive])) << "leaf does not hold its primitive";
+                }
+            } else {
+                ASSERT_GT(node.child[i], n) << "children come after their parent";
+                ASSERT_LT(node.child[i], wide.nodes.size());
+                ++parents[node.child[i]];
+                const Bvh4Node& c = wide.nodes[node.child[i]];
+                for (int j = 0; j < kBvhWidth; ++j)
+                    if (c.child[j] != kBvhEmptySlot)
+                        ASSERT_TRUE(contains(box, c.childBounds(j))) << "node " << n << " child " << i;
+            }
+        }
+        EXPECT_LE(children, kBvhWidth);
+        EXPECT_GE(children, input.size() > 1 ? 2 : 1) << "node " << n;
+    }
+    for (size_t n = 1; n < parents.size(); ++n) ASSERT_EQ(parents[n], 1) << "node " << n;
+    for (size_t i = 0; i < seen.size(); ++i) ASSERT_EQ(seen[i], 1) << "primitive " << i;
+    EXPECT_EQ(leaves, wide.leafCount);
+}
+
+TEST(BvhBuild, WideTreesAreWellFormed) {
+    for (size_t count : {1u, 2u, 5u, 100u, 20000u}) {
+        const auto input = randomTriangleBounds(count, count);
+        const BvhBuildResult binary = buildBvh(input);
+        const Bvh4 wide = collapseToBvh4(binary);
+        expectWellFormedWide(wide, binary, input);
+        if (count >= 100) {
+            // Opening the widest child first fills nodes: well under half the binary node count.
+            EXPECT_LT(wide.nodes.size(), binary.nodes.size() / 2);
+            EXPECT_LT(wide.maxDepth, binary.maxDepth);
+        }
+    }
+    std::vector<Bounds3f> same(5000, Bounds3f{{0, 0, 0}, {1, 1, 1}});
+    const BvhBuildResult binary = buildBvh(same);
+    expectWellFormedWide(collapseToBvh4(binary), binary, same);
+}
+
+TEST(BvhBuild, TheWideTreeDoesNotDependOnTheThreadCount) {
+    const auto input = randomTriangleBounds(200000, 8);
+    Bvh4 one, many;
+    tbb::task_arena(1).execute([&] { one = collapseToBvh4(buildBvh(input)); });
+    tbb::task_arena(4).execute([&] { many = collapseToBvh4(buildBvh(input)); });
+    ASSERT_EQ(one.nodes.size(), many.nodes.size());
+    EXPECT_EQ(std::memcmp(one.nodes.data(), many.nodes.data(), one.nodes.size() * sizeof(Bvh4Node)), 0);
 }
 
 TEST(BvhAccelerator, AcceptsMovingScenes) {
