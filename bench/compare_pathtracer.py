@@ -302,14 +302,17 @@ def markdown(res):
         lines.append(f"| bare Embree on the same rays, plain scene (M/s) | "
                      f"{fmt(rays.get('median_bare_plain_embree_mrays_per_s'))} | | "
                      f"{fmt(rays.get('render_over_bare_plain_embree'), '.1%') if rays.get('render_over_bare_plain_embree') is not None else 'n/a'} of bare | |")
+        rob = rays.get("bare_plain_embree_robust_mrays_per_s")
+        if rob:
+            lines.append(f"| bare Embree on the same rays, plain scene with RTC_SCENE_FLAG_ROBUST (M/s, median) | "
+                         f"{fmt(median(rob))} | | | |")
         rnd = rays.get("random_rays_plain_embree_mrays_per_s")
         if rnd:
             lines.append(f"| bare Embree, random rays, plain scene (M/s, median) | {fmt(median(rnd))} | | | |")
         hist = rays.get("bounce_rays_per_path_histogram")
         if hist and rays.get("recorded_rays"):
-            lines.append(f"| rays that Embree's pathtracer does not trace: the bounce ray after the last vertex "
-                         f"(paths reaching max_depth) | {fmt(100.0 * hist[-1] / rays['recorded_rays'], '.1f', '%')} "
-                         f"of the render's rays | | | |")
+            lines.append(f"| bounce rays past the last vertex (emission only; Embree's pathtracer traces none) | "
+                         f"{fmt(100.0 * hist[-1] / rays['recorded_rays'], '.1f', '%')} of the render's rays | | | |")
         lines.append(f"| replay traces the render's rays (crop counts equal) | {rays.get('replay_verified')} | | | |")
         pr = rays.get("penumbra_cli_mrays_per_s")
         if pr:

@@ -4,8 +4,9 @@
 //       takes its rays per second: camera, bounce and shadow rays over the render time;
 //   (b) records a sample of the very rays that render traces and retraces them bare, with
 //       rtcIntersect1 / rtcOccluded1 through EmbreeAccelerator (the same Embree scene as the
-//       render: robust flag, high build quality) and through a plain Embree scene (default
-//       flags, medium quality: how Embree's own tutorials build), on the same threads;
+//       render: high build quality, the robust flag when the scene is "watertight") and through
+//       a plain Embree scene (default flags, medium quality: how Embree's own tutorials build;
+//       and once more with the robust flag, to tell its cost apart), on the same threads;
 // alternating (a) and (b) --repeat times, and prints the figures as JSON.
 //
 // Recording: the integrator (renderer/path_integrator.h) is a template over the traversal
@@ -159,9 +160,11 @@ inline RTCRay toRtcRay(const RecordedRay& r) {
 struct PlainEmbreeScene {
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
-    explicit PlainEmbreeScene(const Scene& s) {
+    // robust: with RTC_SCENE_FLAG_ROBUST as EmbreeAccelerator sets it (to tell its cost apart).
+    explicit PlainEmbreeScene(const Scene& s, bool robust = false) {
         device = rtcNewDevice(nullptr);
         scene = rtcNewScene(device);
+        if (robust) rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
         for (const TriangleMesh& mesh : s.meshes) {
             if (mesh.triangleCount() == 0) continue;
             if (mesh.motion.moves() || mesh.deforms())
@@ -326,8 +329,9 @@ int run(int argc, char** argv) {
     Scene scene = loadScene(scenePath);
     if (renderSpp > 0) scene.film.samplesPerPixel = renderSpp;
     const uint32_t spp = uint32_t(scene.film.samplesPerPixel);
-    const EmbreeAccelerator accel(scene);
+    const EmbreeAccelerator accel(scene, EmbreeOptions{.robust = scene.settings.watertight});
     const PlainEmbreeScene plain(scene);
+    const PlainEmbreeScene plainRobust(scene, true);
 
     // 1. Check that the replay follows the render: a crop rendered by render() and replayed in full
     //    must trace exactly the same rays, kind by kind.
@@ -359,9 +363,10 @@ int run(int argc, char** argv) {
     const double recordSeconds = secondsSince(recordStart);
     uint64_t kinds[3] = {0, 0, 0};
     for (const RecordedRay& r : rec.rays) ++kinds[r.kind];
-    // Bounce rays per path. A path that reaches max_depth traces one bounce ray beyond its last
-    // next-event estimation, which only looks for emitters that BSDF sampling hits: with point
-    // lights only (and a black background) it can add nothing. Embree's pathtracer does not trace it.
+    // Bounce rays per path. The last bin counts paths that trace a bounce ray past their last
+    // next-event estimation (at max_depth), which only looks for emitters that BSDF sampling
+    // hits; the integrator skips it when nothing can be hit that way (point lights only, black
+    // background), as Embree's pathtracer never traces it.
     std::vector<uint64_t> bounceHistogram(size_t(std::max(0, scene.integrator.maxDepth)) + 1, 0);
     for (size_t i = 0; i < rec.rays.size();) {
         size_t bounces = 0, j = i + 1;
@@ -377,7 +382,8 @@ int run(int argc, char** argv) {
 
     // 3. Alternate: full render (a), bare retrace (b), `repeat` times.
     const int passes = std::max(1, int(20'000'000 / std::max<size_t>(1, rec.rays.size())));
-    std::vector<double> renderMrays, renderSeconds, bareMrays, plainMrays, randomMrays, randomPlainMrays;
+    std::vector<double> renderMrays, renderSeconds, bareMrays, plainMrays, plainRobustMrays, randomMrays,
+        randomPlainMrays;
     uint64_t renderRays = 0, checksum = 0;
     for (int r = 0; r < repeat; ++r) {
         RenderOptions options;
@@ -390,13 +396,15 @@ int run(int argc, char** argv) {
 
         const TraceResult bare = traceAll(AcceleratorTracer{&accel}, rec, threads, passes);
         const TraceResult barePlain = traceAll(plain, rec, threads, passes);
+        const TraceResult barePlainRobust = traceAll(plainRobust, rec, threads, passes);
+        plainRobustMrays.push_back(barePlainRobust.mraysPerSecond());
         const TraceResult rnd = traceAll(AcceleratorTracer{&accel}, random, threads, 4);
         const TraceResult rndPlain = traceAll(plain, random, threads, 4);
         bareMrays.push_back(bare.mraysPerSecond());
         plainMrays.push_back(barePlain.mraysPerSecond());
         randomMrays.push_back(rnd.mraysPerSecond());
         randomPlainMrays.push_back(rndPlain.mraysPerSecond());
-        checksum += bare.hits + barePlain.hits + rnd.hits + rndPlain.hits;
+        checksum += bare.hits + barePlain.hits + barePlainRobust.hits + rnd.hits + rndPlain.hits;
         std::fprintf(stderr,
                      "repetition %d: render %.2f Mrays/s (%.2f s); bare retrace %.2f Mrays/s (accelerator), %.2f "
                      "(plain scene); random rays %.2f / %.2f Mrays/s\n",
@@ -427,6 +435,7 @@ int run(int argc, char** argv) {
         "  \"render_mrays_per_s\": %s,\n"
         "  \"bare_accelerator_mrays_per_s\": %s,\n"
         "  \"bare_plain_embree_mrays_per_s\": %s,\n"
+        "  \"bare_plain_embree_robust_mrays_per_s\": %s,\n"
         "  \"random_rays_accelerator_mrays_per_s\": %s,\n"
         "  \"random_rays_plain_embree_mrays_per_s\": %s,\n"
         "  \"median_render_mrays_per_s\": %.4f,\n"
@@ -443,7 +452,8 @@ int run(int argc, char** argv) {
         (unsigned long long)kinds[0], (unsigned long long)kinds[1], (unsigned long long)kinds[2], histogram.c_str(),
         recordSeconds,
         passes, (unsigned long long)renderRays, jsonList(renderSeconds).c_str(), jsonList(renderMrays).c_str(),
-        jsonList(bareMrays).c_str(), jsonList(plainMrays).c_str(), jsonList(randomMrays).c_str(),
+        jsonList(bareMrays).c_str(), jsonList(plainMrays).c_str(), jsonList(plainRobustMrays).c_str(),
+        jsonList(randomMrays).c_str(),
         jsonList(randomPlainMrays).c_str(), medRender, medBare, medPlain, medBare > 0 ? medRender / medBare : 0.0,
         medPlain > 0 ? medRender / medPlain : 0.0, (unsigned long long)checksum);
     std::fputs(buf, stdout);

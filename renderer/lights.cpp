@@ -101,9 +101,7 @@ LightSet::LightSet(const Scene& scene) : background_(scene.background) {
     choice_ = DiscreteDistribution(power);
 }
 
-std::optional<LightSample> LightSet::sample(Vec3f reference, float uChoice, Vec2f u) const {
-    if (choice_.empty()) return std::nullopt;
-    const uint32_t index = choice_.sample(uChoice);
+std::optional<LightSample> LightSet::sample(uint32_t index, Vec3f reference, Vec2f u) const {
     const float choicePdf = choice_.probability(index);
     const Light& light = lights_[index];
     LightSample ls{};

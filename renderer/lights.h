@@ -49,7 +49,14 @@ public:
     bool emitsAlongRays() const { return hasAreaLights_ || !background_.isBlack(); }
     size_t size() const { return lights_.size(); }
 
-    std::optional<LightSample> sample(Vec3f reference, float uChoice, Vec2f uPoint) const;
+    // Next-event estimation in two steps, so that the point sample is only drawn when it is used:
+    // choose() picks a light by power, sample() a point on it. Point and directional lights
+    // (isDelta) ignore uPoint; choose() with a single light ignores u.
+    uint32_t choose(float u) const { return choice_.sample(u); }
+    bool isDelta(uint32_t light) const {
+        return lights_[light].type == LightType::Point || lights_[light].type == LightType::Directional;
+    }
+    std::optional<LightSample> sample(uint32_t light, Vec3f reference, Vec2f uPoint) const;
 
     // Emitted radiance leaving a surface point towards `towardsViewer` (0 for non-emitters).
     Rgb emitted(const SurfaceInteraction& si, Vec3f towardsViewer) const;

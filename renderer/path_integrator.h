@@ -144,8 +144,11 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
 
         // Next-event estimation.
         if (!lights.empty() && !material.isPurelySpecular()) {
-            const auto ls = lights.sample(si.position, sample.get1D(Dim::LightChoice, bounce),
-                                          sample.get2D(Dim::LightPosition, bounce));
+            // Sample values that would not be used are not drawn (each dimension is keyed on its
+            // own, so skipping one leaves the others as they are).
+            const uint32_t light = lights.choose(lights.size() > 1 ? sample.get1D(Dim::LightChoice, bounce) : 0.5f);
+            const auto ls = lights.sample(light, si.position,
+                                          lights.isDelta(light) ? Vec2f{0.5f, 0.5f} : sample.get2D(Dim::LightPosition, bounce));
             const Vec3f wiLocal = ls ? frame.toLocal(ls->direction) : Vec3f{};
             // Reflection needs the light on wo's side of the geometric surface, transmission on the other.
             const bool reflects = woLocal.z * wiLocal.z > 0.0f;

@@ -47,6 +47,7 @@ TileResult renderTile(const Accel& accel, const Scene& scene, const ThinLensCame
                       const IntegratorContext& ctx, const PixelWindow& tile, uint32_t firstSample,
                       uint32_t endSample, uint32_t frozenDims, Film& film) {
     TileResult result;
+    const bool sceneMoves = scene.hasMotion();
     for (int y = tile.y0; y < tile.y1; ++y)
         for (int x = tile.x0; x < tile.x1; ++x) {
             PixelSums& pixel = film.at(x, y);
@@ -56,7 +57,10 @@ TileResult renderTile(const Accel& accel, const Scene& scene, const ThinLensCame
                 sample.freeze(frozenDims);
                 const Vec2f offset = sampleFilterOffset(scene.film, sample.get2D(Dim::Pixel));
                 const Vec2f filmPosition{float(x) + 0.5f + offset.x, float(y) + 0.5f + offset.y};
-                const Ray ray = camera.generateRay(filmPosition, sample.get2D(Dim::Lens), sample.get1D(Dim::Time));
+                // Dimensions that nothing reads are not drawn (the others do not depend on them).
+                const Vec2f lens = camera.usesLensSample() ? sample.get2D(Dim::Lens) : Vec2f{0.5f, 0.5f};
+                const float time = sceneMoves ? sample.get1D(Dim::Time) : 0.5f;
+                const Ray ray = camera.generateRay(filmPosition, lens, time);
                 FirstHitAovs aovs;
                 Rgb radiance = estimateRadiance(accel, ctx, ray, sample, result.rays, &aovs);
                 if (!radiance.isFinite()) {
@@ -164,7 +168,7 @@ RenderStats render(const Scene& scene, const RenderOptions& options, Film& film)
     const auto buildStart = Clock::now();
     switch (options.accelerator) {
         case AcceleratorKind::Embree: {
-            const EmbreeAccelerator accel(scene);
+            const EmbreeAccelerator accel(scene, EmbreeOptions{.robust = scene.settings.watertight});
             const double buildSeconds = std::chrono::duration<double>(Clock::now() - buildStart).count();
             RenderStats stats = renderWith(accel, scene, options, film);
             stats.buildSeconds = buildSeconds;

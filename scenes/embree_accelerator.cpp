@@ -64,11 +64,11 @@ RTCGeometry newSphereGeometry(RTCDevice device, const std::vector<const Sphere*>
     return geometry;
 }
 
-RTCScene newScene(RTCDevice device) {
+RTCScene newScene(RTCDevice device, const EmbreeOptions& options) {
     RTCScene scene = rtcNewScene(device);
     // Robust mode avoids the optimizations that let rays slip through shared edges; high build
     // quality because scenes are built once and traced billions of times.
-    rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
+    if (options.robust) rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
     rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
     return scene;
 }
@@ -118,12 +118,12 @@ RTCRay toEmbreeRay(const Ray& ray) {
 
 }  // namespace
 
-EmbreeAccelerator::EmbreeAccelerator(const Scene& scene) {
+EmbreeAccelerator::EmbreeAccelerator(const Scene& scene, EmbreeOptions options) {
     device_ = rtcNewDevice(nullptr);
     if (!device_) throwEmbreeError(nullptr, "creating the device");
     rtcSetDeviceErrorFunction(device_, reportEmbreeError, nullptr);
 
-    scene_ = newScene(device_);
+    scene_ = newScene(device_, options);
     for (size_t i = 0; i < scene.meshes.size(); ++i) {
         const TriangleMesh& mesh = scene.meshes[i];
         if (mesh.triangleCount() == 0) continue;
@@ -131,7 +131,7 @@ EmbreeAccelerator::EmbreeAccelerator(const Scene& scene) {
             attach(scene_, newTriangleGeometry(device_, mesh), unsigned(i));
             continue;
         }
-        RTCScene child = newScene(device_);
+        RTCScene child = newScene(device_, options);
         instancedScenes_.push_back(child);
         attach(child, newTriangleGeometry(device_, mesh), 0);
         rtcCommitScene(child);
@@ -149,7 +149,7 @@ EmbreeAccelerator::EmbreeAccelerator(const Scene& scene) {
     } else {
         for (size_t s = 0; s < scene.spheres.size(); ++s) {
             const Sphere& sphere = scene.spheres[s];
-            RTCScene child = newScene(device_);
+            RTCScene child = newScene(device_, options);
             instancedScenes_.push_back(child);
             attach(child, newSphereGeometry(device_, {&sphere}), 0);
             rtcCommitScene(child);

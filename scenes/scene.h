@@ -52,6 +52,10 @@ struct IntegratorDesc {
 struct RenderSettings {
     SamplerKind sampler = SamplerKind::Stratified;
     uint64_t seed = 0;
+    // Watertight traversal with Embree (its robust mode): no ray slips through an edge shared by
+    // two triangles. Off, Embree uses its faster default traversal (as Embree's own tutorials do),
+    // which rarely lets a ray through such an edge. Our BVH is always watertight.
+    bool watertight = true;
 };
 
 enum class MaterialKind : uint8_t { Lambert, Phong, Dielectric, ThinDielectric, Mirror, Conductor };
@@ -139,6 +143,16 @@ struct Scene {
     std::vector<PointLight> pointLights;
     std::vector<DirectionalLight> directionalLights;
     Rgb background;  // constant radiance arriving from every direction that escapes the scene
+
+    // Whether any shape moves or deforms over the shutter or the camera moves: otherwise a ray's
+    // time changes nothing.
+    bool hasMotion() const {
+        for (const TriangleMesh& mesh : meshes)
+            if (mesh.deforms() || mesh.motion.moves()) return true;
+        for (const Sphere& sphere : spheres)
+            if (sphere.motion.moves()) return true;
+        return !camera.motion.empty();
+    }
 };
 
 }  // namespace penumbra

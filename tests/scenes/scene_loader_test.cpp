@@ -62,6 +62,7 @@ TEST(SceneLoader, ReadsEveryKey) {
     EXPECT_EQ(scene.integrator.rouletteStartDepth, 2);
     EXPECT_EQ(scene.settings.sampler, SamplerKind::Independent);
     EXPECT_EQ(scene.settings.seed, 42u);
+    EXPECT_FALSE(scene.settings.watertight);
     EXPECT_EQ(scene.background, Rgb(0.1f, 0.2f, 0.3f));
 
     ASSERT_EQ(scene.materials.size(), 3u);  // in file order
@@ -494,6 +495,9 @@ TEST(SceneErrors, ValuesOutOfRange) {
 
     e = catchInputError([] { parseScene(R"({"render": {"seed": 1.5}})", "s.json"); });
     EXPECT_CONTAINS(e.what(), "/render/seed: expected an integer >= 0, found 1.5");
+
+    e = catchInputError([] { parseScene(R"({"render": {"watertight": 1}})", "s.json"); });
+    EXPECT_EQ(e.where().jsonPointer, "/render/watertight");
 
     e = catchInputError([] {
         sceneWithShape(
