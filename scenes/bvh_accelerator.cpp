@@ -13,6 +13,7 @@
 
 #include "core/error.h"
 #include "scenes/bvh_box4.h"
+#include "scenes/bvh_triangle4.h"
 #include "scenes/ray_sphere.h"
 #include "scenes/ray_triangle.h"
 
@@ -172,18 +173,49 @@ BvhAccelerator::BvhAccelerator(const Scene& scene, const BvhBuildSettings& setti
     addMovingPrimitives(scene, settings, candidates, bounds);
 
     const BvhBuildResult built = buildBvh(bounds, settings);
-    Bvh4 wide = collapseToBvh4(built, settings.traversalCost);
+    Bvh4 wide = collapseToBvh4(built, settings);
     nodes_ = std::move(wide.nodes);
     bounds_ = wide.bounds;
     leafCount_ = wide.leafCount;
     maxDepth_ = wide.maxDepth;
     sahCost_ = wide.sahCost;
-    primitives_.resize(candidates.size());
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, candidates.size(), 16384),
-                      [&](const tbb::blocked_range<size_t>& range) {
-                          for (size_t i = range.begin(); i != range.end(); ++i)
-                              primitives_[i] = candidates[built.primitiveOrder[i]];
-                      });
+    primitiveCount_ = candidates.size();
+
+    // Each leaf's primitives into blocks of four; the leaf then names its first block.
+    struct Leaf {
+        uint32_t first, count, firstBlock;  // first: in the builder's primitive order
+    };
+    std::vector<Leaf> leaves;
+    leaves.reserve(leafCount_);
+    uint64_t blockCount = 0;
+    for (Bvh4Node& node : nodes_)
+        for (int i = 0; i < kBvhWidth; ++i) {
+            if (!node.isLeaf(i)) continue;
+            leaves.push_back({node.child[i], node.count[i], uint32_t(blockCount)});
+            node.child[i] = uint32_t(blockCount);
+            blockCount += (node.count[i] + 3) / 4;
+        }
+    if (uint64_t(blockCount) * 4 >= kNoHit) throw std::length_error("BvhAccelerator: too many primitive blocks");
+    blocks_.resize(blockCount);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, leaves.size(), 4096), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t l = range.begin(); l != range.end(); ++l) {
+            const Leaf& leaf = leaves[l];
+            for (uint32_t k = 0; k < (leaf.count + 3) / 4 * 4; ++k) {
+                PrimitiveBlock& block = blocks_[leaf.firstBlock + k / 4];
+                const Primitive p = k < leaf.count ? candidates[built.primitiveOrder[leaf.first + k]]
+                                                   : Primitive{{0, 0, 0, 0, 0, 0, 0, 0, 0}, kNoHit};
+                for (int j = 0; j < 9; ++j) block.data[j][k % 4] = p.data[j];
+                block.globalIndex[k % 4] = p.globalIndex;
+            }
+        }
+    });
+}
+
+BvhAccelerator::Primitive BvhAccelerator::primitiveAt(const PrimitiveBlock& block, int lane) {
+    Primitive p;
+    for (int j = 0; j < 9; ++j) p.data[j] = block.data[j][lane];
+    p.globalIndex = block.globalIndex[lane];
+    return p;
 }
 
 void BvhAccelerator::addMovingPrimitives(const Scene& scene, const BvhBuildSettings& settings,
@@ -313,11 +345,11 @@ BvhAccelerator::Stats BvhAccelerator::stats() const {
     Stats s;
     s.nodeCount = nodes_.size();
     s.leafCount = leafCount_;
-    s.primitiveCount = primitives_.size();
+    s.primitiveCount = primitiveCount_;
     s.skippedCount = skippedCount_;
     s.maxDepth = maxDepth_;
     s.sahCost = sahCost_;
-    s.memoryBytes = nodes_.capacity() * sizeof(Bvh4Node) + primitives_.capacity() * sizeof(Primitive) +
+    s.memoryBytes = nodes_.capacity() * sizeof(Bvh4Node) + blocks_.capacity() * sizeof(PrimitiveBlock) +
                     meshFirstTriangle_.capacity() * sizeof(uint32_t) + specials_.capacity() * sizeof(Special);
     for (const auto& keys : deformingMeshes_)
         for (const auto& key : keys) s.memoryBytes += key.capacity() * sizeof(Vec3f);
@@ -334,7 +366,7 @@ BvhAccelerator::Stats BvhAccelerator::stats() const {
 // and these loads then overlap with each other and with the work on nearer children.
 void BvhAccelerator::prefetchChild(const Bvh4Node& node, int i) const {
     if (node.isLeaf(i)) {
-        __builtin_prefetch(&primitives_[node.child[i]]);
+        __builtin_prefetch(&blocks_[node.child[i]]);
     } else {
         const char* p = reinterpret_cast<const char*>(&nodes_[node.child[i]]);
         __builtin_prefetch(p);
@@ -375,12 +407,96 @@ inline void sortFarToNear(PendingChild* c, int n) {
 
 }  // namespace
 
+namespace {
+
+// Bit l set when lane l of the block holds a triangle (a global index below triangleCount, compared
+// unsigned: SSE2 compares signed, so both sides have their sign bits flipped).
+inline int triangleLanes(const uint32_t* globalIndex, uint32_t triangleCount) {
+    const __m128i flip = _mm_set1_epi32(int32_t(0x80000000u));
+    const __m128i index = _mm_xor_si128(_mm_load_si128(reinterpret_cast<const __m128i*>(globalIndex)), flip);
+    const __m128i bound = _mm_xor_si128(_mm_set1_epi32(int32_t(triangleCount)), flip);
+    return _mm_movemask_ps(_mm_castsi128_ps(_mm_cmplt_epi32(index, bound)));
+}
+
+}  // namespace
+
+// A block of triangles only (nearly every block) is tested four at a time. The result is the one
+// primitive-by-primitive testing in leaf order gives (each test accepting t <= the closest t so
+// far): the smallest t, and of equal ones the last in leaf order. Other blocks go one by one.
+template <bool AnyHit>
+bool BvhAccelerator::intersectLeaf(const Ray& ray, const WatertightRay& triangleRay,
+                                   const WatertightRay4& triangleRay4, uint32_t firstBlock, uint32_t count,
+                                   float& tClosest, uint32_t& closest, float& closestB1, float& closestB2,
+                                   Hit& instanceHit) const {
+    bool found = false;
+    for (uint32_t b = firstBlock; count > 0; ++b) {
+        const int lanes = count < 4 ? int(count) : 4;
+        count -= uint32_t(lanes);
+        const PrimitiveBlock& block = blocks_[b];
+        const int used = (1 << lanes) - 1;
+        if ((triangleLanes(block.globalIndex, triangleCount_) & used) == used) {
+            TriangleHits4 h;
+            intersectTrianglesWatertight4(triangleRay4, block.data, ray.tnear, tClosest, h);
+            int hit = h.hit & used;
+            for (int rest = h.fallback & used; rest != 0; rest &= rest - 1) {
+                const int lane = __builtin_ctz(unsigned(rest));
+                const Primitive p = primitiveAt(block, lane);
+                TriangleHit th;
+                if (!intersectTriangleWatertight(triangleRay, p.data, ray.tnear, tClosest, th)) continue;
+                h.t[lane] = th.t;
+                h.b1[lane] = th.b1;
+                h.b2[lane] = th.b2;
+                hit |= 1 << lane;
+            }
+            if (hit == 0) continue;
+            if constexpr (AnyHit) return true;
+            int best = __builtin_ctz(unsigned(hit));
+            for (int rest = hit & (hit - 1); rest != 0; rest &= rest - 1) {
+                const int lane = __builtin_ctz(unsigned(rest));
+                if (h.t[lane] <= h.t[best]) best = lane;
+            }
+            tClosest = h.t[best];
+            closestB1 = h.b1[best];
+            closestB2 = h.b2[best];
+            closest = 4 * b + uint32_t(best);
+            found = true;
+            continue;
+        }
+        for (int lane = 0; lane < lanes; ++lane) {
+            const Primitive p = primitiveAt(block, lane);
+            float t, b1 = 0.0f, b2 = 0.0f;
+            if (p.globalIndex < triangleCount_) {
+                TriangleHit th;
+                if (!intersectTriangleWatertight(triangleRay, p.data, ray.tnear, tClosest, th)) continue;
+                t = th.t;
+                b1 = th.b1;
+                b2 = th.b2;
+            } else if (p.globalIndex < specialBase_) {
+                if (!intersectSphere(ray.origin, ray.direction, {p.data[0], p.data[1], p.data[2]}, p.data[3],
+                                     ray.tnear, tClosest, t))
+                    continue;
+            } else {
+                if (!intersectSpecial<AnyHit>(ray, triangleRay, p.globalIndex - specialBase_, tClosest, t, b1, b2,
+                                              instanceHit))
+                    continue;
+            }
+            if constexpr (AnyHit) return true;
+            tClosest = t;
+            closestB1 = b1;
+            closestB2 = b2;
+            closest = 4 * b + uint32_t(lane);
+            found = true;
+        }
+    }
+    return found;
+}
+
 template <bool AnyHit>
 bool BvhAccelerator::traverse(const Ray& ray, Hit* hit) const {
     if (nodes_.empty() || !isTraceable(ray)) return false;
     const BoxRay4 boxRay(ray.origin, ray.direction, ray.tnear);
     const WatertightRay triangleRay(ray.origin, ray.direction);
-    const Vec3f origin = ray.origin, direction = ray.direction;
+    const WatertightRay4 triangleRay4(triangleRay);
 
     float tClosest = ray.tfar;
     uint32_t closest = kNoHit;
@@ -419,36 +535,9 @@ bool BvhAccelerator::traverse(const Ray& ray, Hit* hit) const {
                 continue;
             }
         } else {
-            for (uint32_t i = current.child, end = current.child + current.count; i < end; ++i) {
-                const Primitive& p = primitives_[i];
-                if (p.globalIndex < triangleCount_) {
-                    TriangleHit th;
-                    if (!intersectTriangleWatertight(triangleRay, p.data, ray.tnear, tClosest, th)) continue;
-                    if constexpr (AnyHit) return true;
-                    tClosest = th.t;
-                    closestB1 = th.b1;
-                    closestB2 = th.b2;
-                    closest = i;
-                } else if (p.globalIndex < specialBase_) {
-                    float t;
-                    if (!intersectSphere(origin, direction, {p.data[0], p.data[1], p.data[2]}, p.data[3],
-                                         ray.tnear, tClosest, t))
-                        continue;
-                    if constexpr (AnyHit) return true;
-                    tClosest = t;
-                    closestB1 = closestB2 = 0.0f;
-                    closest = i;
-                } else {
-                    float t, b1 = 0.0f, b2 = 0.0f;
-                    if (!intersectSpecial<AnyHit>(ray, triangleRay, p.globalIndex - specialBase_, tClosest, t, b1,
-                                                  b2, instanceHit))
-                        continue;
-                    if constexpr (AnyHit) return true;
-                    tClosest = t;
-                    closestB1 = b1;
-                    closestB2 = b2;
-                    closest = i;
-                }
+            if (intersectLeaf<AnyHit>(ray, triangleRay, triangleRay4, current.child, current.count, tClosest, closest, closestB1,
+                                      closestB2, instanceHit)) {
+                if constexpr (AnyHit) return true;
             }
         }
         // Next: the most recently deferred child that may still hold something nearer.
@@ -469,7 +558,7 @@ bool BvhAccelerator::traverse(const Ray& ray, Hit* hit) const {
 
 void BvhAccelerator::fillHit(const Ray& ray, uint32_t primitive, float t, float b1, float b2,
                              const Hit& specialHit, Hit& hit) const {
-    const Primitive& p = primitives_[primitive];
+    const Primitive p = primitiveAt(blocks_[primitive / 4], int(primitive % 4));
     hit.t = t;
     hit.u = b1;
     hit.v = b2;

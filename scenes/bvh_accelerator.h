@@ -31,6 +31,7 @@
 namespace penumbra {
 
 struct WatertightRay;
+struct WatertightRay4;
 
 class BvhAccelerator final : public Accelerator {
 public:
@@ -52,13 +53,27 @@ public:
     Stats stats() const;
 
 private:
-    // One primitive in leaf order, 40 bytes: a triangle's three vertices, or a sphere's centre and
-    // radius in the first four floats. globalIndex numbers all triangles of all meshes in order,
-    // then the spheres, so it is a triangle exactly when it is below triangleCount_.
+    // One primitive, 40 bytes: a triangle's three vertices, or a sphere's centre and radius in the
+    // first four floats. globalIndex numbers all triangles of all meshes in order, then the
+    // spheres, so it is a triangle exactly when it is below triangleCount_.
     struct Primitive {
         float data[9];
         uint32_t globalIndex;
     };
+    // Up to four primitives of one leaf, one per lane, laid out for the 4-wide triangle test
+    // (scenes/bvh_triangle4.h): data[k][lane] is Primitive::data[k]. A leaf of n primitives has
+    // ceil(n / 4) blocks, the last one's unused lanes with globalIndex kNoHit; leaves' blocks are
+    // in leaf order. Lane `l` of block `b` is primitive 4 b + l.
+    struct alignas(32) PrimitiveBlock {
+        float data[9][4];
+        uint32_t globalIndex[4];
+    };
+    static Primitive primitiveAt(const PrimitiveBlock& block, int lane);
+    template <bool AnyHit>
+    bool intersectLeaf(const Ray& ray, const WatertightRay& triangleRay, const WatertightRay4& triangleRay4,
+                       uint32_t firstBlock, uint32_t count,
+                       float& tClosest, uint32_t& closest, float& closestB1, float& closestB2,
+                       Hit& instanceHit) const;
 
     void addMovingPrimitives(const Scene& scene, const BvhBuildSettings& settings,
                              std::vector<Primitive>& candidates, std::vector<Bounds3f>& bounds);
@@ -87,7 +102,8 @@ private:
 
     Bvh4NodeArray nodes_;
     Bounds3f bounds_;  // of everything in the tree
-    std::vector<Primitive> primitives_;
+    std::vector<PrimitiveBlock, AlignedAllocator<PrimitiveBlock, 64>> blocks_;
+    size_t primitiveCount_ = 0;
     std::vector<uint32_t> meshFirstTriangle_;  // global index of each mesh's first triangle, then the total
     uint32_t triangleCount_ = 0;
     uint32_t sphereGeomId_ = 0;

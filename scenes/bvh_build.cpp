@@ -165,7 +165,7 @@ public:
         BinSet bins;
         const BinMapping mapping(extent.doubledCentroidBounds, binCountFor(n));
         if (depth < kSahDepthLimit) split = findSahSplit(begin, end, extent.bounds, mapping, bins);
-        const float leafCost = float(n);
+        const float leafCost = leafCostOf(n);
         if (n <= uint32_t(settings_.maxLeafSize) && (split.axis < 0 || leafCost <= split.cost))
             return writeLeaf(begin, end, slot, extent.bounds, depth);
 
@@ -238,6 +238,12 @@ public:
     }
 
 private:
+    // The SAH's cost of testing n primitives, in blocks tested together.
+    float leafCostOf(uint32_t n) const {
+        const uint32_t block = uint32_t(settings_.primitivesPerBlock);
+        return float((n + block - 1) / block);
+    }
+
     // A stable partition in three parallel passes (count per chunk, scatter to the scratch array
     // by prefix sums, copy back): deterministic, and the root's partition is no longer the part
     // of the build that cannot use more cores.
@@ -306,7 +312,7 @@ private:
             for (int i = mapping.count - 1; i > 0; --i) {
                 accumulated.extend(axisBins[i].box);
                 count += axisBins[i].count;
-                rightCost[i - 1] = accumulated.halfArea() * float(count);
+                rightCost[i - 1] = accumulated.halfArea() * leafCostOf(count);
                 rightCount[i - 1] = count;
             }
             accumulated = Box4::empty();
@@ -316,7 +322,7 @@ private:
                 count += axisBins[i].count;
                 if (count == 0 || rightCount[i] == 0) continue;
                 const float cost = settings_.traversalCost +
-                                   (accumulated.halfArea() * float(count) + rightCost[i]) * invArea;
+                                   (accumulated.halfArea() * leafCostOf(count) + rightCost[i]) * invArea;
                 if (cost < best.cost) best = {axis, i, cost};
             }
         }
@@ -423,7 +429,8 @@ BvhBuildResult buildBvh(const std::vector<Bounds3f>& primitiveBounds, const BvhB
             {node.bounds[0], node.bounds[1], node.bounds[2]},
             {node.bounds[3], node.bounds[4],
              node.bounds[5]}}.halfArea();
-        cost += double(area) * (node.isLeaf() ? double(node.count) : double(settings.traversalCost));
+        const double blocks = double((node.count + settings.primitivesPerBlock - 1) / settings.primitivesPerBlock);
+        cost += double(area) * (node.isLeaf() ? blocks : double(settings.traversalCost));
     }
     result.sahCost = rootArea > 0.0f ? float(cost / rootArea) : 0.0f;
 

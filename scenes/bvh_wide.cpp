@@ -27,7 +27,7 @@ Bvh4Node emptyNode() {
 
 }  // namespace
 
-Bvh4 collapseToBvh4(const BvhBuildResult& binary, float traversalCost) {
+Bvh4 collapseToBvh4(const BvhBuildResult& binary, const BvhBuildSettings& settings) {
     Bvh4 wide;
     if (binary.nodes.empty()) return wide;
     const BvhNodeArray& in = binary.nodes;
@@ -48,7 +48,7 @@ Bvh4 collapseToBvh4(const BvhBuildResult& binary, float traversalCost) {
         const Pending p = stack.back();
         stack.pop_back();
         wide.maxDepth = std::max(wide.maxDepth, p.depth);
-        cost += double(traversalCost) * double(boundsOf(in[p.binaryNode]).halfArea());
+        cost += double(settings.traversalCost) * double(boundsOf(in[p.binaryNode]).halfArea());
 
         // Open the interior child of largest area until there are four children or only leaves;
         // an opened child's two children take its place, so the order stays spatial.
@@ -98,7 +98,8 @@ Bvh4 collapseToBvh4(const BvhBuildResult& binary, float traversalCost) {
                 node.child[i] = c.offset;
                 node.count[i] = c.count;
                 ++wide.leafCount;
-                cost += double(c.count) * double(boundsOf(c).halfArea());
+                const int blocks = (c.count + settings.primitivesPerBlock - 1) / settings.primitivesPerBlock;
+                cost += double(blocks) * double(boundsOf(c).halfArea());
             } else {
                 node.child[i] = childIndex[i];
                 node.count[i] = 0;

@@ -47,13 +47,13 @@ struct Bvh4 {
     Bounds3f bounds;      // the root's box
     size_t leafCount = 0;
     int maxDepth = 0;  // of the wide tree, root at depth 0; never more than the binary tree's
-    // The SAH cost of the wide tree, in units of one primitive test per ray that meets the root
-    // box, with one 4-wide node test costing `traversalCost` (see BvhBuildSettings).
+    // The SAH cost of the wide tree, in units of one block test per ray that meets the root box,
+    // with one 4-wide node test costing the settings' traversalCost (see BvhBuildSettings).
     float sahCost = 0.0f;
 };
 
 // Collapses a binary tree (its primitive order carries over unchanged). A binary tree that is a
 // single leaf becomes a root with one leaf child.
-Bvh4 collapseToBvh4(const BvhBuildResult& binary, float traversalCost = BvhBuildSettings{}.traversalCost);
+Bvh4 collapseToBvh4(const BvhBuildResult& binary, const BvhBuildSettings& settings = {});
 
 }  // namespace penumbra
