@@ -225,6 +225,9 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
     sums.alpha_channel = -1;
     sums.z_channel = -1;
     sums.attribute("oiio:subimagename", "sums");
+    // Lossless at any level; level 1 deflates the low words of the sums, which are noise that
+    // no level compresses much, markedly faster than the default level at the same size (within 1%).
+    sums.attribute("compression", "zip:1");
 
     const size_t pixelCount = size_t(window.width()) * window.height();
     std::vector<float> beautyPixels(pixelCount * beautyNames.size());
