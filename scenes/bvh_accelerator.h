@@ -102,7 +102,7 @@ private:
 
     Bvh4NodeArray nodes_;
     Bounds3f bounds_;  // of everything in the tree
-    std::vector<PrimitiveBlock, AlignedAllocator<PrimitiveBlock, 64>> blocks_;
+    std::vector<PrimitiveBlock, HugePageAllocator<PrimitiveBlock, 64>> blocks_;
     size_t primitiveCount_ = 0;
     std::vector<uint32_t> meshFirstTriangle_;  // global index of each mesh's first triangle, then the total
     uint32_t triangleCount_ = 0;

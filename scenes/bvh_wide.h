@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "scenes/bvh_build.h"
+#include "scenes/bvh_huge_pages.h"
 
 namespace penumbra {
 
@@ -39,7 +40,7 @@ static_assert(sizeof(Bvh4Node) == 128, "4-wide BVH nodes are meant to be two cac
 
 inline constexpr uint32_t kBvhEmptySlot = 0xffffffffu;
 
-using Bvh4NodeArray = std::vector<Bvh4Node, AlignedAllocator<Bvh4Node, 64>>;
+using Bvh4NodeArray = std::vector<Bvh4Node, HugePageAllocator<Bvh4Node, 64>>;
 
 struct Bvh4 {
     Bvh4NodeArray nodes;  // nodes[0] is the root; a node's interior children are side by side; empty
