@@ -3,6 +3,7 @@
 // of SAH-based Bounding Volume Hierarchies" (IEEE Symposium on Interactive Ray Tracing, 2007),
 // parallel over subtrees with TBB. The result depends only on the input, never on the number of
 // threads or on scheduling: every subtree owns a fixed range of primitives and of node slots.
+// Traversal walks this tree collapsed into a 4-wide one (scenes/bvh_wide.h).
 #pragma once
 
 #include <cstddef>
@@ -82,7 +83,9 @@ struct AlignedAllocator {
 using BvhNodeArray = std::vector<BvhNode, AlignedAllocator<BvhNode, 64>>;
 
 struct BvhBuildSettings {
-    int maxLeafSize = 4;
+    // Two blocks of four: fewer levels to wait on, and the SAH still picks smaller leaves where
+    // they pay (measured on the bunny and the dragon, bench/README.md).
+    int maxLeafSize = 8;
     // Primitives tested together in a leaf: a leaf of n primitives costs ceil(n / primitivesPerBlock)
     // block tests (as in Embree's builders; ours tests four triangles at once, bvh_triangle4.h).
     int primitivesPerBlock = 4;
