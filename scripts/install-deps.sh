@@ -10,6 +10,7 @@ packages=(
     libcli11-dev nlohmann-json3-dev libtinyobjloader-dev libassimp-dev zlib1g-dev libfmt-dev
     libgtest-dev libgmock-dev libbenchmark-dev
     python3 python3-numpy python3-openimageio python3-matplotlib
+    embree-tools time  # bench/compare_pathtracer.py: Embree's pathtracer and GNU time
 )
 
 missing=()
