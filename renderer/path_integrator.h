@@ -115,6 +115,7 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
             }
             break;
         }
+        canonicalizeHit(*ctx.scene, ray, hit);
         const SurfaceInteraction si = makeSurfaceInteraction(*ctx.scene, ray, hit);
         const Vec3f wo = -normalize(ray.direction);
         const Material& material = (*ctx.materials)[si.material];

@@ -10,6 +10,8 @@
 #include "core/ray.h"
 #include "core/sampling.h"
 #include "scenes/accelerator.h"
+#include "scenes/ray_sphere.h"
+#include "scenes/ray_triangle.h"
 #include "scenes/scene.h"
 
 namespace penumbra {
@@ -37,6 +39,41 @@ inline void placeInWorld(const Transform& toWorld, SurfaceInteraction& si) {
 }
 
 }  // namespace detail
+
+// The same hit whichever backend found it: t and the barycentrics of the primitive the backend
+// reports are recomputed with the tests our BVH uses (scenes/ray_triangle.h, ray_sphere.h; moving
+// shapes in object space, as the BVH's instances do), so that whenever Embree and the BVH find the
+// same primitive everything downstream sees the same bits, and renders with either backend are
+// bit-identical unless some hit differs. Embree rounds differently (its Plücker-form test); should
+// our test miss the primitive (a ray along an edge), the backend's values stay.
+inline void canonicalizeHit(const Scene& scene, const Ray& ray, Hit& hit) {
+    Vec3f origin = ray.origin, direction = ray.direction;
+    const MotionTransform& motion =
+        hit.geomId < scene.meshes.size() ? scene.meshes[hit.geomId].motion : scene.spheres[hit.primId].motion;
+    if (motion.moves()) {
+        // Into object space exactly as the BVH takes a ray into an instance.
+        const Transform toObject = motion.at(ray.time).inverse();
+        origin = toObject.applyPoint(ray.origin);
+        direction = toObject.applyVector(ray.direction);
+    }
+    if (hit.geomId < scene.meshes.size()) {
+        const TriangleMesh& mesh = scene.meshes[hit.geomId];
+        const uint32_t* index = &mesh.indices[3 * size_t(hit.primId)];
+        const Vec3f p0 = detail::vertexAt(mesh, index[0], ray.time), p1 = detail::vertexAt(mesh, index[1], ray.time),
+                    p2 = detail::vertexAt(mesh, index[2], ray.time);
+        const float vertices[9] = {p0.x, p0.y, p0.z, p1.x, p1.y, p1.z, p2.x, p2.y, p2.z};
+        TriangleHit th;
+        if (intersectTriangleWatertight(WatertightRay(origin, direction), vertices, ray.tnear, ray.tfar, th)) {
+            hit.t = th.t;
+            hit.u = th.b1;
+            hit.v = th.b2;
+        }
+    } else {
+        const Sphere& sphere = scene.spheres[hit.primId];
+        float t;
+        if (intersectSphere(origin, direction, sphere.center, sphere.radius, ray.tnear, ray.tfar, t)) hit.t = t;
+    }
+}
 
 inline SurfaceInteraction makeSurfaceInteraction(const Scene& scene, const Ray& ray, const Hit& hit) {
     SurfaceInteraction si;
