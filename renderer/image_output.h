@@ -1,9 +1,10 @@
-// Writing and reading the film: a scene-linear OpenEXR through OpenImageIO that holds the render's
-// metadata, the beauty and AOVs (part "beauty") and the film's exact sums (part "sums", so that a
-// render can be resumed and partial renders merged bit for bit), and a display-referred PNG/JPEG
-// through an OpenColorIO view transform. Files are written under a temporary name in the
-// destination folder and renamed, so no half-written image is ever left. docs/exr-layout.md
-// describes the EXR.
+// Writing and reading the film: a scene-linear OpenEXR (written and read with OpenEXR directly,
+// renderer/film_exr.cpp) that holds the render's metadata, the beauty and AOVs (part "beauty") and
+// the film's exact sums (part "sums", so that a render can be resumed and partial renders merged
+// bit for bit), and a display-referred PNG/JPEG through an OpenColorIO view transform (encoded by
+// the image plugin, renderer/image_plugin.h, loaded on first use). Files are written under a
+// temporary name in the destination folder and renamed, so no half-written image is ever left.
+// docs/exr-layout.md describes the EXR.
 #pragma once
 
 #include <cstdint>
@@ -46,13 +47,20 @@ struct FilmFile {
 // it cannot be read or is not a film written by penumbra.
 FilmFile readFilmExr(const std::filesystem::path& path);
 
+// Whether `path` is an EXR written by writeExr (its first part has "penumbra:film"); never throws.
+bool isPenumbraFilm(const std::filesystem::path& path);
+
 // "fnv1a64:<16 hex digits>" of a file's bytes: identifies the scene a film was rendered from.
 // Throws InputError naming the path when it cannot be read.
 std::string hashFileContents(const std::filesystem::path& path);
 
+// The "Software" attribute of the images penumbra writes: "penumbra VERSION".
+std::string penumbraSoftwareName();
+
 // 8-bit display image (format from the extension: .png, .jpg) through OpenColorIO: the config is
 // $OCIO when set, otherwise penumbra's shipped config; scene_linear to the config's default
-// display and view (sRGB) unless `display` / `view` name others.
+// display and view (sRGB) unless `display` / `view` name others. Loads the image plugin, which
+// encodes the file; throws InputError naming the plugin's file when it cannot be loaded.
 void writeDisplayImage(const Film& film, const std::filesystem::path& path, const std::string& display = "",
                        const std::string& view = "");
 

@@ -1,7 +1,5 @@
 #include "tools/converge.h"
 
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -16,6 +14,7 @@
 #include "core/error.h"
 #include "core/hash.h"
 #include "renderer/image_output.h"
+#include "renderer/image_plugin_loader.h"
 #include "renderer/render.h"
 #include "tools/split_text.h"
 #include "scenes/scene_loader.h"
@@ -65,23 +64,21 @@ RungError measure(const Film& film, const std::vector<float>& reference) {
 }
 
 // The reference from a file: a penumbra film (exact means, and its own variance), or any image
-// with R, G and B channels (e.g. another renderer's converged EXR).
+// with R, G and B channels (e.g. another renderer's converged EXR), read through the image plugin.
 void loadReference(const std::filesystem::path& path, int width, int height, ConvergenceReport& report) {
     SourceLocation where;
     where.file = path.string();
-    auto in = OIIO::ImageInput::open(path.string());
-    if (!in) throw InputError(where, fmt::format("cannot read the reference image: {}", OIIO::geterror()));
-    const OIIO::ImageSpec spec = in->spec();
-    const int fileWidth = spec.full_width, fileHeight = spec.full_height;
-    if (fileWidth != width || fileHeight != height)
-        throw InputError(where, fmt::format("the reference is {}x{} but the study renders {}x{} (set --res to the "
-                                            "reference's size, or render a reference at this size)",
-                                            fileWidth, fileHeight, width, height));
+    auto checkSize = [&](int fileWidth, int fileHeight) {
+        if (fileWidth != width || fileHeight != height)
+            throw InputError(where, fmt::format("the reference is {}x{} but the study renders {}x{} (set --res to the "
+                                                "reference's size, or render a reference at this size)",
+                                                fileWidth, fileHeight, width, height));
+    };
     report.referenceSource = path.string();
     report.reference.assign(size_t(width) * height * 3, 0.0f);
-    if (spec.find_attribute("penumbra:film")) {
-        in.reset();
+    if (isPenumbraFilm(path)) {
         const FilmFile file = readFilmExr(path);
+        checkSize(file.film.width(), file.film.height());
         if (file.metadata.crop)
             throw InputError(where, "the reference covers only a crop of the image; a reference must cover it all");
         report.referenceSpp = file.metadata.endSample - file.metadata.firstSample;
@@ -99,19 +96,20 @@ void loadReference(const std::filesystem::path& path, int width, int height, Con
         report.referenceMseFloor = floor / double(report.reference.size());
         return;
     }
-    int channel[3];
+    const PenumbraImagePlugin& plugin = imagePlugin();
+    char error[1024];
+    PenumbraImageInfo info;
+    if (!plugin.readInfo(path.c_str(), &info, error, sizeof error))
+        throw InputError(where, fmt::format("cannot read the reference image: {}", error));
+    checkSize(info.fullWidth, info.fullHeight);
     const char* names[3] = {"R", "G", "B"};
-    for (int c = 0; c < 3; ++c) {
-        channel[c] = spec.channelindex(names[c]);
-        if (channel[c] < 0) throw InputError(where, fmt::format("the reference image has no channel '{}'", names[c]));
-    }
-    if (spec.x != 0 || spec.y != 0 || spec.width != width || spec.height != height)
+    for (int c = 0; c < 3; ++c)
+        if (info.rgbChannel[c] < 0)
+            throw InputError(where, fmt::format("the reference image has no channel '{}'", names[c]));
+    if (info.x != 0 || info.y != 0 || info.width != width || info.height != height)
         throw InputError(where, "the reference image's data window must be the whole image");
-    std::vector<float> pixels(size_t(width) * height * spec.nchannels);
-    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels.data()))
-        throw InputError(where, fmt::format("cannot read the reference image: {}", in->geterror()));
-    for (size_t p = 0; p < size_t(width) * height; ++p)
-        for (int c = 0; c < 3; ++c) report.reference[3 * p + c] = pixels[p * spec.nchannels + channel[c]];
+    if (!plugin.readRgb(path.c_str(), report.reference.data(), error, sizeof error))
+        throw InputError(where, fmt::format("cannot read the reference image: {}", error));
 }
 
 double meanOf(const std::vector<double>& v) { return std::accumulate(v.begin(), v.end(), 0.0) / double(v.size()); }

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <filesystem>
@@ -255,6 +256,136 @@ TEST_F(FilmFiles, ExrRoundTripKeepsSumsAovsAndMetadata) {
     EXPECT_GT(p.varianceOfMean().b, 0.0f);
     EXPECT_EQ(spec.get_string_attribute("penumbra:samples"), "2:7");
     EXPECT_EQ(spec.get_string_attribute("penumbra:crop"), "3,31,2,25");
+}
+
+// The layout of docs/exr-layout.md as OpenImageIO (and so other tools) sees it.
+TEST_F(FilmFiles, ExrLayoutAsOpenImageIoReadsIt) {
+    const PixelWindow crop{1, 7, 2, 5};
+    Film film(8, 6);
+    film.at(3, 3).add(Rgb(0.5f, 1.0f, 2.0f), 1.0f);
+    RenderMetadata meta;
+    meta.samplesPerPixel = 3;
+    meta.seed = 42;
+    meta.sampler = "stratified";
+    meta.accelerator = "embree";
+    meta.sceneFile = "s.json";
+    meta.sceneHash = "fnv1a64:0000000000000001";
+    meta.renderSeconds = 0.5;
+    meta.version = "1.2.3";
+    meta.firstSample = 4;
+    meta.endSample = 7;
+    meta.crop = crop;
+    const fs::path path = dir_ / "layout.exr";
+    writeExr(film, meta, path);
+
+    auto in = OIIO::ImageInput::open(path.string());
+    ASSERT_TRUE(in) << OIIO::geterror();
+    EXPECT_STREQ(in->format_name(), "openexr");
+    const OIIO::ImageSpec beauty = in->spec(0, 0);
+    EXPECT_EQ(beauty.get_string_attribute("oiio:subimagename"), "beauty");
+    EXPECT_EQ(beauty.get_string_attribute("compression"), "zip");
+    EXPECT_EQ(beauty.format, OIIO::TypeDesc::FLOAT);
+    EXPECT_TRUE(beauty.channelformats.empty());  // all FLOAT
+    std::vector<std::string> names(beauty.channelnames.begin(), beauty.channelnames.end());
+    std::sort(names.begin(), names.end());
+    EXPECT_EQ(names, (std::vector<std::string>{"A", "B", "G", "N.X", "N.Y", "N.Z", "R", "Z", "albedo.B", "albedo.G",
+                                               "albedo.R", "variance.B", "variance.G", "variance.R"}));
+    EXPECT_EQ(beauty.full_x, 0);
+    EXPECT_EQ(beauty.full_y, 0);
+    EXPECT_EQ(beauty.full_width, 8);
+    EXPECT_EQ(beauty.full_height, 6);
+    EXPECT_EQ(beauty.x, 1);
+    EXPECT_EQ(beauty.y, 2);
+    EXPECT_EQ(beauty.width, 6);
+    EXPECT_EQ(beauty.height, 3);
+    EXPECT_EQ(beauty.get_int_attribute("penumbra:film"), 1);
+    EXPECT_EQ(beauty.get_int_attribute("penumbra:spp"), 3);
+    EXPECT_EQ(beauty.get_string_attribute("penumbra:seed"), "42");
+    EXPECT_EQ(beauty.get_string_attribute("penumbra:sampler"), "stratified");
+    EXPECT_EQ(beauty.get_string_attribute("penumbra:accel"), "embree");
+    EXPECT_EQ(beauty.get_string_attribute("penumbra:scene"), "s.json");
+    EXPECT_EQ(beauty.get_string_attribute("penumbra:sceneHash"), "fnv1a64:0000000000000001");
+    double seconds = 0;
+    EXPECT_TRUE(beauty.getattribute("penumbra:renderTime", OIIO::TypeDesc::DOUBLE, &seconds));
+    EXPECT_EQ(seconds, 0.5);
+    EXPECT_EQ(beauty.get_string_attribute("penumbra:version"), "1.2.3");
+    EXPECT_EQ(beauty.get_string_attribute("penumbra:resolution"), "8x6");
+    EXPECT_EQ(beauty.get_string_attribute("penumbra:samples"), "4:7");
+    EXPECT_EQ(beauty.get_string_attribute("penumbra:crop"), "1,7,2,5");
+    EXPECT_EQ(std::string(beauty.get_string_attribute("Software")).rfind("penumbra ", 0), 0u);
+
+    ASSERT_TRUE(in->seek_subimage(1, 0));
+    const OIIO::ImageSpec sums = in->spec(1, 0);
+    EXPECT_EQ(sums.get_string_attribute("oiio:subimagename"), "sums");
+    EXPECT_EQ(sums.get_string_attribute("compression"), "zip");
+    EXPECT_EQ(sums.nchannels, 15 * 4 + 1);
+    for (int c = 0; c < sums.nchannels; ++c) EXPECT_EQ(sums.channelformat(c), OIIO::TypeDesc::UINT32) << c;
+    for (const char* name : {"sum.R.w0", "sum.R.w3", "sumsq.B.w2", "sum.weight.w1", "sum.albedo.G.w0", "sum.N.Z.w3",
+                             "sum.Z.w0", "sum.hits.w3", "spp"})
+        EXPECT_GE(sums.channelindex(name), 0) << name;
+    EXPECT_EQ(sums.x, 1);
+    EXPECT_EQ(sums.width, 6);
+    EXPECT_EQ(sums.full_width, 8);
+    std::vector<uint32_t> words(size_t(sums.width) * sums.height * sums.nchannels);
+    ASSERT_TRUE(in->read_image(1, 0, 0, sums.nchannels, OIIO::TypeDesc::UINT32, words.data()));
+    const uint32_t* px = words.data() + (size_t(3 - 2) * 6 + (3 - 1)) * sums.nchannels;
+    EXPECT_EQ(px[sums.channelindex("spp")], 1u);
+    uint32_t expected[4];
+    film.at(3, 3).radiance[2].toWords(expected);
+    for (int w = 0; w < 4; ++w) EXPECT_EQ(px[sums.channelindex("sum.B.w" + std::to_string(w))], expected[w]);
+}
+
+// An EXR that claims to be penumbra's (a film whose sums part or metadata was tampered with).
+void writeTampered(const fs::path& path, bool withSums, const std::string& seed, const std::string& dropChannel) {
+    auto out = OIIO::ImageOutput::create(path.string());
+    OIIO::ImageSpec beauty(4, 2, 3, OIIO::TypeDesc::FLOAT);
+    beauty.attribute("oiio:subimagename", "beauty");
+    beauty.attribute("penumbra:film", 1);
+    beauty.attribute("penumbra:seed", seed);
+    beauty.attribute("penumbra:samples", "0:1");
+    beauty.attribute("penumbra:resolution", "4x2");
+    beauty.attribute("penumbra:crop", "0,4,0,2");
+    OIIO::ImageSpec sums(4, 2, 0, OIIO::TypeDesc::UINT32);
+    sums.channelnames.clear();
+    for (const char* sum : {"sum.R", "sum.G", "sum.B", "sumsq.R", "sumsq.G", "sumsq.B", "sum.weight", "sum.albedo.R",
+                            "sum.albedo.G", "sum.albedo.B", "sum.N.X", "sum.N.Y", "sum.N.Z", "sum.Z", "sum.hits"})
+        for (int w = 0; w < 4; ++w)
+            if (std::string(sum) + ".w" + std::to_string(w) != dropChannel)
+                sums.channelnames.push_back(std::string(sum) + ".w" + std::to_string(w));
+    sums.channelnames.push_back("spp");
+    sums.nchannels = int(sums.channelnames.size());
+    sums.attribute("oiio:subimagename", "sums");
+    const OIIO::ImageSpec specs[2] = {beauty, sums};
+    const std::vector<float> pixels(4 * 2 * 3, 0.0f);
+    const std::vector<uint32_t> words(4 * 2 * 61, 0u);
+    ASSERT_TRUE(out->open(path.string(), withSums ? 2 : 1, specs)) << out->geterror();
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
+    if (withSums) {
+        ASSERT_TRUE(out->open(path.string(), sums, OIIO::ImageOutput::AppendSubimage)) << out->geterror();
+        ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT32, words.data()));
+    }
+    out->close();
+}
+
+TEST_F(FilmFiles, TamperedFilmsAreRefusedNamingWhatIsWrong) {
+    const fs::path path = dir_ / "tampered.exr";
+    auto expectRefusal = [&](const std::string& mention) {
+        try {
+            readFilmExr(path);
+            ADD_FAILURE() << "expected an InputError mentioning " << mention;
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find(mention), std::string::npos) << e.what();
+        }
+    };
+    writeTampered(path, true, "7", "");
+    EXPECT_EQ(readFilmExr(path).metadata.seed, 7u);  // the control: well formed
+    writeTampered(path, false, "7", "");
+    expectRefusal("no \"sums\" part");
+    writeTampered(path, true, "7", "sum.N.Y.w2");
+    expectRefusal("no channel 'sum.N.Y.w2'");
+    writeTampered(path, true, "-3", "");
+    expectRefusal("malformed penumbra:seed '-3'");
 }
 
 TEST_F(FilmFiles, ForeignFilesAreRefusedClearly) {

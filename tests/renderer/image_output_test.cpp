@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "renderer/image_plugin_loader.h"
 
 namespace penumbra {
 namespace {
@@ -325,6 +326,18 @@ TEST_F(ImageOutputTest, UnwritablePathThrowsAndLeavesNoTemporaryFile) {
     }
     EXPECT_EQ(listFolder(dir_), (std::vector<std::string>{"blocker", "target.exr"}));
     EXPECT_EQ(listFolder(folderTarget), std::vector<std::string>{"keep"});
+}
+
+// The EXR needs no OpenImageIO; the display image loads the plugin that holds it. (Each test
+// runs in a process of its own, so nothing has loaded the plugin before.)
+TEST_F(ImageOutputTest, OnlyTheDisplayImageLoadsTheImagePlugin) {
+    const Film film = greyRamp({0.5f, 1.0f});
+    writeExr(film, RenderMetadata{}, dir_ / "film.exr");
+    readFilmExr(dir_ / "film.exr");
+    EXPECT_FALSE(imagePluginLoaded());
+    writeDisplayImage(film, dir_ / "film.png");
+    EXPECT_TRUE(imagePluginLoaded());
+    EXPECT_TRUE(fs::is_regular_file(imagePluginPath())) << imagePluginPath();
 }
 
 TEST(ShippedOcioConfig, ValidatesAndEncodesSrgb) {

@@ -233,6 +233,48 @@ TEST_F(Production, ConvergeWritesItsReportAndRefusesAReferenceOfAnotherSize) {
     EXPECT_FALSE(fs::exists(dir_ / "study3" / "convergence.csv"));
 }
 
+// Any image with R, G and B channels serves as a reference (read through the image plugin).
+TEST_F(Production, ConvergeTakesAReferenceImageOfAnotherRenderer) {
+    for (const bool withGreen : {true, false}) {
+        auto out = OIIO::ImageOutput::create(path("other.exr"));
+        OIIO::ImageSpec spec(20, 16, withGreen ? 3 : 2, OIIO::TypeDesc::FLOAT);
+        if (!withGreen) spec.channelnames = {"R", "B"};
+        const std::vector<float> pixels(size_t(20) * 16 * spec.nchannels, 0.25f);
+        ASSERT_TRUE(out->open(path("other.exr"), spec) && out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
+        out->close();
+        const RunResult r = runPenumbra("converge " + scene_ + " --spp 1,2 --no-plot -q --reference " +
+                                        path("other.exr") + " -o " + path("study"));
+        if (withGreen) {
+            EXPECT_EQ(r.exitCode, 0) << r.output;
+            EXPECT_NE(readText("study/convergence.json").find(path("other.exr")), std::string::npos);
+        } else {
+            EXPECT_EQ(r.exitCode, 1) << r.output;
+            EXPECT_TRUE(contains(r, "no channel 'G'")) << r.output;
+        }
+    }
+}
+
+// OpenImageIO loads some 260 shared libraries (0.4 s at start-up): the program must not link
+// it, and loads the image plugin that does only to write a display image.
+TEST_F(Production, OpenImageIoIsLoadedOnlyForTheDisplayImage) {
+    const RunResult ldd = runShell(std::string("ldd ") + PENUMBRA_BINARY);
+    ASSERT_EQ(ldd.exitCode, 0) << ldd.output;
+    EXPECT_TRUE(contains(ldd, "libOpenEXR")) << ldd.output;
+    EXPECT_FALSE(contains(ldd, "OpenImageIO")) << ldd.output;
+
+    // LD_DEBUG=files lists every shared object the dynamic loader opens, dlopen included.
+    const std::string render = "LD_DEBUG=files " + std::string(PENUMBRA_BINARY) + " render " + scene_ + " -q --spp 1 -o ";
+    const RunResult noDisplay = runShell(render + path("a.exr") + " --no-display");
+    ASSERT_EQ(noDisplay.exitCode, 0) << noDisplay.output;
+    EXPECT_FALSE(contains(noDisplay, "penumbra_image_plugin")) << noDisplay.output;
+    EXPECT_FALSE(contains(noDisplay, "OpenImageIO")) << noDisplay.output;
+    const RunResult display = runShell(render + path("b.exr"));
+    ASSERT_EQ(display.exitCode, 0) << display.output;
+    EXPECT_TRUE(contains(display, "penumbra_image_plugin")) << display.output;
+    EXPECT_TRUE(contains(display, "OpenImageIO")) << display.output;
+    EXPECT_TRUE(fs::is_regular_file(dir_ / "b.png"));
+}
+
 TEST_F(Production, HelpListsTheNewCommandsAndOptions) {
     const RunResult renderHelp = runPenumbra("render --help");
     for (const char* option : {"--resume", "--checkpoint", "--pass-size"})
