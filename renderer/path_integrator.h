@@ -91,6 +91,14 @@ inline Ray spawnShadowRay(const SurfaceInteraction& si, const LightSample& ls, f
 
 }  // namespace detail
 
+// Whether a backend's hits already carry the t and barycentrics that canonicalizeHit would
+// compute (our BVH's do: they come from the same tests), so the integrator need not redo them.
+template <typename Accel>
+constexpr bool reportsCanonicalHits() {
+    if constexpr (requires { Accel::kReportsCanonicalHits; }) return Accel::kReportsCanonicalHits;
+    return false;
+}
+
 // Radiance arriving along `ray` (a camera ray) for the sample `sample`. When `firstHit` is given
 // it receives the first hit's AOVs (hit = false when the ray leaves the scene).
 template <typename Accel>
@@ -115,7 +123,7 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
             }
             break;
         }
-        canonicalizeHit(*ctx.scene, ray, hit);
+        if constexpr (!reportsCanonicalHits<Accel>()) canonicalizeHit(*ctx.scene, ray, hit);
         const SurfaceInteraction si = makeSurfaceInteraction(*ctx.scene, ray, hit);
         const Vec3f wo = -normalize(ray.direction);
         const Material& material = (*ctx.materials)[si.material];

@@ -39,6 +39,9 @@ class BvhAccelerator final : public Accelerator {
 public:
     explicit BvhAccelerator(const Scene& scene, const BvhBuildSettings& settings = {});
 
+    // Hits come from the tests renderer/surface_interaction.h's canonicalizeHit uses, bit for bit.
+    static constexpr bool kReportsCanonicalHits = true;
+
     std::string_view name() const override { return "bvh"; }
     bool intersect(const Ray& ray, Hit& hit) const override;
     bool occluded(const Ray& ray) const override;
