@@ -11,9 +11,12 @@
 #include <OpenEXR/ImfOutputPart.h>
 #include <OpenEXR/ImfPartType.h>
 #include <OpenEXR/ImfStringAttribute.h>
+#include <OpenEXR/ImfThreading.h>
 #include <OpenEXR/ImfTestFile.h>
 
+#include <algorithm>
 #include <cstdint>
+#include <thread>
 #include <string>
 #include <vector>
 
@@ -197,6 +200,17 @@ FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& fi
     return result;
 }
 
+// OpenEXR compresses and decompresses blocks of lines on its own global thread pool, which has no
+// threads until it is given some (then a file's blocks are spread over them).
+int exrThreads() {
+    static const int threads = [] {
+        const int n = int(std::max(1u, std::thread::hardware_concurrency()));
+        Imf::setGlobalThreadCount(n);
+        return n;
+    }();
+    return threads;
+}
+
 }  // namespace
 
 void writeExr(const Film& film, const RenderMetadata& metadata, const std::filesystem::path& path) {
@@ -264,7 +278,9 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
     writeFileAtomically(path, "EXR image", [&](const std::string& tmp, std::string& error) {
         try {
             const Imf::Header headers[2] = {beauty, sums};
-            Imf::MultiPartOutputFile file(tmp.c_str(), headers, 2);
+            // Compressed on every core; the bytes do not depend on the thread count, since each
+            // block of lines is compressed on its own.
+            Imf::MultiPartOutputFile file(tmp.c_str(), headers, 2, false, exrThreads());
             Imf::OutputPart beautyPart(file, 0);
             beautyPart.setFrameBuffer(interleaved(Imf::FLOAT, beautyPixels.data(), beautyNames, data));
             beautyPart.writePixels(window.height());
@@ -293,7 +309,7 @@ FilmFile readFilmExr(const std::filesystem::path& path) {
     if (!std::filesystem::is_regular_file(path)) fail(path, "no such file");
     if (!Imf::isOpenExrFile(path.c_str())) fail(path, fmt::format("{}: it is not an OpenEXR file", kNotOurs));
     try {
-        Imf::MultiPartInputFile file(path.c_str());
+        Imf::MultiPartInputFile file(path.c_str(), exrThreads());
         return readFilm(path, file);
     } catch (const InputError&) {
         throw;
