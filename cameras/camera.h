@@ -39,10 +39,9 @@ public:
     // the ray's time is the shutter fraction timeSample.
     Ray generateRay(Vec2f filmPosition, Vec2f lensSample, float timeSample) const;
 
-    // Whether generateRay reads lensSample (a lens of non-zero aperture) and timeSample (a moving
-    // camera): samples that are not read need not be drawn.
+    // Whether generateRay reads lensSample (a lens of non-zero aperture): a sample that is not read
+    // need not be drawn.
     bool usesLensSample() const { return apertureRadius_ > 0.0f; }
-    bool moves() const { return !motion_.empty(); }
 
     // The camera-to-world transform at a shutter fraction.
     Transform cameraToWorld(float time = 0.0f) const;

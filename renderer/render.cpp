@@ -45,9 +45,8 @@ struct TileResult {
 template <typename Accel>
 TileResult renderTile(const Accel& accel, const Scene& scene, const ThinLensCamera& camera,
                       const IntegratorContext& ctx, const PixelWindow& tile, uint32_t firstSample,
-                      uint32_t endSample, uint32_t frozenDims, Film& film) {
+                      uint32_t endSample, uint32_t frozenDims, bool sceneMoves, Film& film) {
     TileResult result;
-    const bool sceneMoves = scene.hasMotion();
     for (int y = tile.y0; y < tile.y1; ++y)
         for (int x = tile.x0; x < tile.x1; ++x) {
             PixelSums& pixel = film.at(x, y);
@@ -87,6 +86,7 @@ RenderStats renderWith(const Accel& accel, const Scene& scene, const RenderOptio
     ctx.maxDepth = scene.integrator.maxDepth;
     ctx.rouletteStartDepth = scene.integrator.rouletteStartDepth;
 
+    const bool sceneMoves = scene.hasMotion();  // otherwise no time sample is drawn
     const PixelWindow window = options.crop.value_or(PixelWindow{0, scene.film.width, 0, scene.film.height});
     const uint32_t endSample = options.endSample ? options.endSample : uint32_t(scene.film.samplesPerPixel);
     const int tileSize = std::max(1, options.tileSize);
@@ -110,7 +110,8 @@ RenderStats renderWith(const Accel& accel, const Scene& scene, const RenderOptio
     uint32_t passBegin = firstSample, passEnd = firstSample;
     auto renderRange = [&](const tbb::blocked_range<size_t>& range) {
         for (size_t i = range.begin(); i != range.end(); ++i) {
-            TileResult r = renderTile(accel, scene, camera, ctx, tiles[i], passBegin, passEnd, options.frozenDims, film);
+            TileResult r = renderTile(accel, scene, camera, ctx, tiles[i], passBegin, passEnd, options.frozenDims,
+                                      sceneMoves, film);
             TileResult& total = results[i];
             total.rays += r.rays;
             total.samples += r.samples;
