@@ -39,6 +39,7 @@
 #include <tbb/task_arena.h>
 
 #include "core/sampling.h"
+#include "renderer/camera_samples.h"
 #include "renderer/film.h"
 #include "renderer/lights.h"
 #include "renderer/path_integrator.h"
@@ -88,15 +89,6 @@ struct RecordingAccelerator {
 };
 
 
-// render.cpp's sampleFilterOffset.
-Vec2f sampleFilterOffset(const FilmDesc& film, Vec2f u) {
-    switch (film.filter) {
-        case FilterKind::Box: return {(2.0f * u.x - 1.0f) * film.filterRadius, (2.0f * u.y - 1.0f) * film.filterRadius};
-        case FilterKind::Tent: return {sampleTent(u.x, film.filterRadius), sampleTent(u.y, film.filterRadius)};
-    }
-    return {0.0f, 0.0f};
-}
-
 // Replays the render's paths for the given pixels (all samples [0, spp) of each), in render
 // order, and returns the rays they trace; one chunk per pixel.
 struct Recording {
@@ -110,12 +102,8 @@ Recording recordPaths(const Scene& scene, const EmbreeAccelerator& accel, const 
     const ThinLensCamera camera = makeSceneCamera(scene);
     const LightSet lights(scene);
     const std::vector<Material> materials = buildMaterials(scene);
-    IntegratorContext ctx;
-    ctx.scene = &scene;
-    ctx.lights = &lights;
-    ctx.materials = &materials;
-    ctx.maxDepth = scene.integrator.maxDepth;
-    ctx.rouletteStartDepth = scene.integrator.rouletteStartDepth;
+    const IntegratorContext ctx = IntegratorContext::forScene(scene, lights, materials);
+    const bool sceneMoves = scene.hasMotion();
 
     Recording rec;
     RecordingAccelerator recorder{&accel, &rec.rays};
@@ -125,9 +113,7 @@ Recording recordPaths(const Scene& scene, const EmbreeAccelerator& accel, const 
         const int y = int(pixelIndex / uint64_t(scene.film.width));
         for (uint32_t s = 0; s < spp; ++s) {
             const PixelSample sample(scene.settings.sampler, scene.settings.seed, pixelIndex, s);
-            const Vec2f offset = sampleFilterOffset(scene.film, sample.get2D(Dim::Pixel));
-            const Vec2f filmPosition{float(x) + 0.5f + offset.x, float(y) + 0.5f + offset.y};
-            const Ray ray = camera.generateRay(filmPosition, sample.get2D(Dim::Lens), sample.get1D(Dim::Time));
+            const Ray ray = generateCameraRay(camera, scene.film, sceneMoves, sample, x, y);
             recorder.first = true;
             estimateRadiance(recorder, ctx, ray, sample, rec.counters);
         }

@@ -57,6 +57,11 @@ struct IntegratorContext {
     const std::vector<Material>* materials = nullptr;
     int maxDepth = 64;
     int rouletteStartDepth = 3;
+
+    // The context of a scene's render: its lights and materials, and its integrator settings.
+    static IntegratorContext forScene(const Scene& scene, const LightSet& lights, const std::vector<Material>& materials) {
+        return {&scene, &lights, &materials, scene.integrator.maxDepth, scene.integrator.rouletteStartDepth};
+    }
 };
 
 namespace detail {

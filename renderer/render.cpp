@@ -11,6 +11,7 @@
 
 #include "cameras/camera.h"
 #include "core/error.h"
+#include "renderer/camera_samples.h"
 #include "renderer/scene_materials.h"
 #include "scenes/bvh_accelerator.h"
 #include "scenes/embree_accelerator.h"
@@ -23,17 +24,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 constexpr size_t kMaxNonFiniteExamples = 8;
-
-
-
-// Offset of a sample from the pixel centre, drawn from the reconstruction filter.
-Vec2f sampleFilterOffset(const FilmDesc& film, Vec2f u) {
-    switch (film.filter) {
-        case FilterKind::Box: return {(2.0f * u.x - 1.0f) * film.filterRadius, (2.0f * u.y - 1.0f) * film.filterRadius};
-        case FilterKind::Tent: return {sampleTent(u.x, film.filterRadius), sampleTent(u.y, film.filterRadius)};
-    }
-    return {0.0f, 0.0f};
-}
 
 struct TileResult {
     RayCounters rays;
@@ -54,12 +44,7 @@ TileResult renderTile(const Accel& accel, const Scene& scene, const ThinLensCame
             for (uint32_t s = firstSample; s < endSample; ++s) {
                 PixelSample sample(scene.settings.sampler, scene.settings.seed, pixelIndex, s);
                 sample.freeze(frozenDims);
-                const Vec2f offset = sampleFilterOffset(scene.film, sample.get2D(Dim::Pixel));
-                const Vec2f filmPosition{float(x) + 0.5f + offset.x, float(y) + 0.5f + offset.y};
-                // Dimensions that nothing reads are not drawn (the others do not depend on them).
-                const Vec2f lens = camera.usesLensSample() ? sample.get2D(Dim::Lens) : Vec2f{0.5f, 0.5f};
-                const float time = sceneMoves ? sample.get1D(Dim::Time) : 0.5f;
-                const Ray ray = camera.generateRay(filmPosition, lens, time);
+                const Ray ray = generateCameraRay(camera, scene.film, sceneMoves, sample, x, y);
                 FirstHitAovs aovs;
                 Rgb radiance = estimateRadiance(accel, ctx, ray, sample, result.rays, &aovs);
                 if (!radiance.isFinite()) {
@@ -79,12 +64,7 @@ RenderStats renderWith(const Accel& accel, const Scene& scene, const RenderOptio
     const ThinLensCamera camera = makeSceneCamera(scene);
     const LightSet lights(scene);
     const std::vector<Material> materials = buildMaterials(scene);
-    IntegratorContext ctx;
-    ctx.scene = &scene;
-    ctx.lights = &lights;
-    ctx.materials = &materials;
-    ctx.maxDepth = scene.integrator.maxDepth;
-    ctx.rouletteStartDepth = scene.integrator.rouletteStartDepth;
+    const IntegratorContext ctx = IntegratorContext::forScene(scene, lights, materials);
 
     const bool sceneMoves = scene.hasMotion();  // otherwise no time sample is drawn
     const PixelWindow window = options.crop.value_or(PixelWindow{0, scene.film.width, 0, scene.film.height});
