@@ -9,10 +9,10 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
-#include <new>
 #include <vector>
 
 #include "core/vec.h"
+#include "scenes/bvh_huge_pages.h"
 
 namespace penumbra {
 
@@ -42,8 +42,8 @@ struct Bounds3f {
 };
 
 // One node in 32 bytes. The two children of an interior node are siblings in the array, at
-// `offset` and `offset + 1`, and every such pair starts on a 64-byte boundary: traversal tests
-// both children's boxes at their parent, and they arrive in one cache line. Pairs are laid out
+// `offset` and `offset + 1`, and every such pair starts on a 64-byte boundary, so both children's
+// boxes arrive in one cache line (the collapse into 4-wide nodes, bvh_wide.h, reads them together). Pairs are laid out
 // depth first (a subtree's pairs follow its root's). A leaf's primitives are
 // [offset, offset + count) of the primitive order. The root is node 0; node 1 is padding.
 // Trivial on purpose (no member initializers), so the builder's scratch arrays of nodes are not
@@ -59,28 +59,8 @@ struct alignas(32) BvhNode {
 };
 static_assert(sizeof(BvhNode) == 32, "BVH nodes are meant to be 32 bytes");
 
-// Allocates with a given alignment (the node array wants cache-line alignment).
-template <typename T, size_t Alignment>
-struct AlignedAllocator {
-    using value_type = T;
-    template <typename U>
-    struct rebind {
-        using other = AlignedAllocator<U, Alignment>;
-    };
-    AlignedAllocator() = default;
-    template <typename U>
-    AlignedAllocator(const AlignedAllocator<U, Alignment>&) {}
-    T* allocate(size_t n) {
-        return static_cast<T*>(::operator new(n * sizeof(T), std::align_val_t(Alignment)));
-    }
-    void deallocate(T* p, size_t) { ::operator delete(p, std::align_val_t(Alignment)); }
-    template <typename U>
-    bool operator==(const AlignedAllocator<U, Alignment>&) const {
-        return true;
-    }
-};
-
-using BvhNodeArray = std::vector<BvhNode, AlignedAllocator<BvhNode, 64>>;
+// Cache-line aligned (a sibling pair shares a line); large arrays on huge pages.
+using BvhNodeArray = std::vector<BvhNode, HugePageAllocator<BvhNode, 64>>;
 
 struct BvhBuildSettings {
     // Two blocks of four: fewer levels to wait on, and the SAH still picks smaller leaves where
