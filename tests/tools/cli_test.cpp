@@ -1,35 +1,19 @@
 // The `penumbra` program end to end: bad input gives a clear message naming the place, a
 // non-zero exit status and no output file; good input writes the EXR and the PNG.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
+
+#include "tests/support/run_command.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-struct RunResult {
-    int exitCode = -1;
-    std::string output;  // stdout and stderr together
-};
-
-RunResult runPenumbra(const std::string& arguments) {
-    const std::string command = std::string(PENUMBRA_BINARY) + " " + arguments + " 2>&1";
-    RunResult result;
-    FILE* pipe = popen(command.c_str(), "r");
-    if (!pipe) return result;
-    std::array<char, 4096> buffer;
-    size_t n;
-    while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) result.output.append(buffer.data(), n);
-    const int status = pclose(pipe);
-    result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return result;
-}
+using penumbra::testing::RunResult;
+using penumbra::testing::runPenumbra;
 
 class CommandLine : public ::testing::Test {
 protected:
@@ -55,7 +39,9 @@ protected:
         EXPECT_NE(r.output.find("penumbra: error: "), std::string::npos) << r.output;
         EXPECT_FALSE(fs::exists(output)) << "an output file was left behind";
         EXPECT_FALSE(fs::exists(dir_ / "out" / "image.png")) << "an output file was left behind";
-        if (fs::exists(dir_ / "out")) EXPECT_TRUE(fs::is_empty(dir_ / "out")) << "temporary files were left behind";
+        if (fs::exists(dir_ / "out")) {
+            EXPECT_TRUE(fs::is_empty(dir_ / "out")) << "temporary files were left behind";
+        }
         return r;
     }
     fs::path dir_;

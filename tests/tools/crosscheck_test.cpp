@@ -1,10 +1,7 @@
 // `penumbra crosscheck` (tools/crosscheck.h): its ray sets are deterministic, its classification
 // of disagreements says what it should, and its output reproduces the rays it lists.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <array>
-#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <string>
@@ -12,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "scenes/embree_accelerator.h"
+#include "tests/support/run_command.h"
 #include "tests/support/scene_builders.h"
 #include "tools/crosscheck.h"
 
@@ -176,17 +174,11 @@ TEST(Crosscheck, ListedRaysReproduceBitForBit) {
 // The subcommand end to end, on the example Cornell box (which has coplanar boxes on its floor:
 // ties, explained).
 TEST(Crosscheck, CommandLine) {
-    const std::string command = std::string(PENUMBRA_BINARY) + " crosscheck " + PENUMBRA_SOURCE_DIR +
-                                "/scenes/cornell-box.json --rays 20000 --seed 3 --json 2>&1";
-    FILE* pipe = popen(command.c_str(), "r");
-    ASSERT_NE(pipe, nullptr);
-    std::string output;
-    std::array<char, 4096> buffer;
-    size_t n;
-    while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) output.append(buffer.data(), n);
-    const int status = pclose(pipe);
-    ASSERT_TRUE(WIFEXITED(status));
-    EXPECT_EQ(WEXITSTATUS(status), 0) << output;
+    const testing::RunResult run = testing::runPenumbra(std::string("crosscheck ") + PENUMBRA_SOURCE_DIR +
+                                                        "/scenes/cornell-box.json --rays 20000 --seed 3 --json");
+    ASSERT_NE(run.exitCode, -1) << "did not run or exit normally";
+    EXPECT_EQ(run.exitCode, 0) << run.output;
+    const std::string& output = run.output;
     const nlohmann::json j = nlohmann::json::parse(output);
     EXPECT_EQ(j["rays"], 20000);
     EXPECT_EQ(j["seed"], 3);

@@ -3,44 +3,27 @@
 // bad input (parts of different renders, overlapping samples, files that are not ours, a
 // reference of another size) stops with a clear error and overwrites nothing.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
 
 #include "renderer/image_output.h"
+#include "tests/support/run_command.h"
 
 namespace fs = std::filesystem;
 
 namespace penumbra {
 namespace {
 
-struct RunResult {
-    int exitCode = -1;
-    std::string output;  // stdout and stderr together
-};
-
-RunResult runShell(const std::string& command) {
-    RunResult result;
-    FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-    if (!pipe) return result;
-    std::array<char, 4096> buffer;
-    size_t n;
-    while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) result.output.append(buffer.data(), n);
-    const int status = pclose(pipe);
-    result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return result;
-}
-
-RunResult runPenumbra(const std::string& arguments) { return runShell(std::string(PENUMBRA_BINARY) + " " + arguments); }
+using testing::RunResult;
+using testing::runPenumbra;
+using testing::runShell;
 
 bool contains(const RunResult& r, const std::string& text) { return r.output.find(text) != std::string::npos; }
 
