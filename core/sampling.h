@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/trig.h"
 #include "core/vec.h"
 
 namespace penumbra {
@@ -15,15 +16,14 @@ inline constexpr float kInvPi = std::numbers::inv_pi_v<float>;
 inline Vec2f sampleUniformDiskConcentric(Vec2f u) {
     const float ox = 2.0f * u.x - 1.0f, oy = 2.0f * u.y - 1.0f;
     if (ox == 0.0f && oy == 0.0f) return {0.0f, 0.0f};
-    float r, theta;
+    // theta = (pi/4)(oy/ox), or pi/2 - (pi/4)(ox/oy) whose cosine and sine are those of
+    // (pi/4)(ox/oy) swapped: either way an angle in [-pi/4, pi/4].
     if (std::abs(ox) > std::abs(oy)) {
-        r = ox;
-        theta = (kPi / 4.0f) * (oy / ox);
-    } else {
-        r = oy;
-        theta = kPi / 2.0f - (kPi / 4.0f) * (ox / oy);
+        const Vec2f cs = cosSinQuarterPi((kPi / 4.0f) * (oy / ox));
+        return {ox * cs.x, ox * cs.y};
     }
-    return {r * std::cos(theta), r * std::sin(theta)};
+    const Vec2f cs = cosSinQuarterPi((kPi / 4.0f) * (ox / oy));
+    return {oy * cs.y, oy * cs.x};
 }
 
 // Cosine-weighted direction on the +z hemisphere (Malley's method); pdf = cos(theta) / pi.

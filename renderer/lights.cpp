@@ -101,23 +101,12 @@ LightSet::LightSet(const Scene& scene) : background_(scene.background) {
     choice_ = DiscreteDistribution(power);
 }
 
-std::optional<LightSample> LightSet::sample(uint32_t index, Vec3f reference, Vec2f u) const {
+std::optional<LightSample> LightSet::sampleOther(uint32_t index, Vec3f reference, Vec2f u) const {
     const float choicePdf = choice_.probability(index);
     const Light& light = lights_[index];
     LightSample ls{};
     switch (light.type) {
-        case LightType::Point: {
-            const Vec3f toLight = light.center - reference;
-            const float distanceSquared = lengthSquared(toLight);
-            if (!(distanceSquared > 0.0f)) return std::nullopt;
-            ls.distance = std::sqrt(distanceSquared);
-            ls.direction = toLight / ls.distance;
-            ls.point = light.center;
-            ls.radiance = light.radiance / distanceSquared;
-            ls.pdf = choicePdf;
-            ls.isDelta = true;
-            return ls;
-        }
+        case LightType::Point: return samplePoint(index, reference);
         case LightType::Directional: {
             ls.direction = -light.normal;
             ls.distance = std::numeric_limits<float>::infinity();
@@ -222,7 +211,7 @@ int32_t LightSet::lightIndexOf(uint32_t geomId, uint32_t primId) const {
     return primId < sphereLight_.size() ? sphereLight_[primId] : -1;
 }
 
-Rgb LightSet::emitted(const SurfaceInteraction& si, Vec3f towardsViewer) const {
+Rgb LightSet::emittedByAreaLight(const SurfaceInteraction& si, Vec3f towardsViewer) const {
     const int32_t index = lightIndexOf(si.geomId, si.primId);
     if (index < 0) return Rgb(0.0f);
     const Light& light = lights_[index];

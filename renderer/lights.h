@@ -3,6 +3,7 @@
 // to its power, then a point on it (triangles by area, spheres by the solid angle they subtend).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -56,10 +57,16 @@ public:
     bool isDelta(uint32_t light) const {
         return lights_[light].type == LightType::Point || lights_[light].type == LightType::Directional;
     }
-    std::optional<LightSample> sample(uint32_t light, Vec3f reference, Vec2f uPoint) const;
+    std::optional<LightSample> sample(uint32_t light, Vec3f reference, Vec2f uPoint) const {
+        // Point lights, the common case, inline; the other kinds in lights.cpp.
+        if (lights_[light].type == LightType::Point) return samplePoint(light, reference);
+        return sampleOther(light, reference, uPoint);
+    }
 
     // Emitted radiance leaving a surface point towards `towardsViewer` (0 for non-emitters).
-    Rgb emitted(const SurfaceInteraction& si, Vec3f towardsViewer) const;
+    Rgb emitted(const SurfaceInteraction& si, Vec3f towardsViewer) const {
+        return hasAreaLights_ ? emittedByAreaLight(si, towardsViewer) : Rgb(0.0f);
+    }
     Rgb background() const { return background_; }
 
     // Density with which sample() from `reference` would have produced the emitter point `si`
@@ -68,6 +75,22 @@ public:
     float pdfOfBackground() const;
 
 private:
+    std::optional<LightSample> samplePoint(uint32_t index, Vec3f reference) const {
+        const Light& light = lights_[index];
+        const Vec3f toLight = light.center - reference;
+        const float distanceSquared = lengthSquared(toLight);
+        if (!(distanceSquared > 0.0f)) return std::nullopt;
+        LightSample ls{};
+        ls.distance = std::sqrt(distanceSquared);
+        ls.direction = toLight / ls.distance;
+        ls.point = light.center;
+        ls.radiance = light.radiance / distanceSquared;
+        ls.pdf = choice_.probability(index);
+        ls.isDelta = true;
+        return ls;
+    }
+    std::optional<LightSample> sampleOther(uint32_t index, Vec3f reference, Vec2f uPoint) const;
+    Rgb emittedByAreaLight(const SurfaceInteraction& si, Vec3f towardsViewer) const;
     int32_t lightIndexOf(uint32_t geomId, uint32_t primId) const;
     float solidAnglePdf(const Light& light, Vec3f reference, Vec3f point) const;
 

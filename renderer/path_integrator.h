@@ -57,10 +57,12 @@ struct IntegratorContext {
     const std::vector<Material>* materials = nullptr;
     int maxDepth = 64;
     int rouletteStartDepth = 3;
+    bool canonicalHits = true;  // RenderSettings::canonicalHits
 
     // The context of a scene's render: its lights and materials, and its integrator settings.
     static IntegratorContext forScene(const Scene& scene, const LightSet& lights, const std::vector<Material>& materials) {
-        return {&scene, &lights, &materials, scene.integrator.maxDepth, scene.integrator.rouletteStartDepth};
+        return {&scene, &lights, &materials, scene.integrator.maxDepth, scene.integrator.rouletteStartDepth,
+                scene.settings.canonicalHits};
     }
 };
 
@@ -128,8 +130,9 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
             }
             break;
         }
-        if constexpr (!reportsCanonicalHits<Accel>()) canonicalizeHit(*ctx.scene, ray, hit);
-        const SurfaceInteraction si = makeSurfaceInteraction(*ctx.scene, ray, hit);
+        const SurfaceInteraction si = reportsCanonicalHits<Accel>() || !ctx.canonicalHits
+                                          ? resolveHit<true>(*ctx.scene, ray, hit)
+                                          : resolveHit<false>(*ctx.scene, ray, hit);
         const Vec3f wo = -normalize(ray.direction);
         const Material& material = (*ctx.materials)[si.material];
         const bool woAbove = dot(wo, si.geometricNormal) > 0.0f;

@@ -38,6 +38,43 @@ inline void placeInWorld(const Transform& toWorld, SurfaceInteraction& si) {
     si.shadingNormal = faceForward(normalize(toWorld.applyNormal(si.shadingNormal)), si.geometricNormal);
 }
 
+// Replaces the hit's t and barycentrics with those of our watertight test on triangle (p0, p1, p2),
+// unless that test misses it (a ray along an edge), when the backend's values stay.
+inline void recomputeTriangleHit(Vec3f origin, Vec3f direction, Vec3f p0, Vec3f p1, Vec3f p2, const Ray& ray, Hit& hit) {
+    const float vertices[9] = {p0.x, p0.y, p0.z, p1.x, p1.y, p1.z, p2.x, p2.y, p2.z};
+    TriangleHit th;
+    if (intersectTriangleWatertight(WatertightRay(origin, direction), vertices, ray.tnear, ray.tfar, th)) {
+        hit.t = th.t;
+        hit.u = th.b1;
+        hit.v = th.b2;
+    }
+}
+
+// The shading point at the hit's barycentrics on triangle (p0, p1, p2) of `mesh` (`index`: its three
+// vertex indices), in the mesh's own space; the caller places it in the world for moving meshes.
+// False for a degenerate triangle, which has no normal: the caller then turns both normals
+// towards the ray.
+inline bool triangleInteraction(const TriangleMesh& mesh, const uint32_t* index, Vec3f p0, Vec3f p1, Vec3f p2,
+                                const Hit& hit, SurfaceInteraction& si) {
+    si.geomId = hit.geomId;
+    si.primId = hit.primId;
+    const float b1 = hit.u, b2 = hit.v, b0 = 1.0f - b1 - b2;
+    si.position = p0 * b0 + p1 * b1 + p2 * b2;
+    const Vec3f n = cross(p1 - p0, p2 - p0);
+    const float nLength = length(n);
+    si.geometricNormal = nLength > 0.0f ? n / nLength : Vec3f{0.0f, 0.0f, 1.0f};
+    si.shadingNormal = si.geometricNormal;
+    // Vertex normals are only used for meshes that do not deform (they would need keys too).
+    if (!mesh.normals.empty() && !mesh.deforms()) {
+        const Vec3f ns = mesh.normals[index[0]] * b0 + mesh.normals[index[1]] * b1 + mesh.normals[index[2]] * b2;
+        const float nsLength = length(ns);
+        if (nsLength > 0.0f) si.shadingNormal = faceForward(ns / nsLength, si.geometricNormal);
+    }
+    if (!mesh.uvs.empty()) si.uv = mesh.uvs[index[0]] * b0 + mesh.uvs[index[1]] * b1 + mesh.uvs[index[2]] * b2;
+    si.material = mesh.material;
+    return nLength > 0.0f;
+}
+
 }  // namespace detail
 
 // The same hit whichever backend found it: t and the barycentrics of the primitive the backend
@@ -59,15 +96,9 @@ inline void canonicalizeHit(const Scene& scene, const Ray& ray, Hit& hit) {
     if (hit.geomId < scene.meshes.size()) {
         const TriangleMesh& mesh = scene.meshes[hit.geomId];
         const uint32_t* index = &mesh.indices[3 * size_t(hit.primId)];
-        const Vec3f p0 = detail::vertexAt(mesh, index[0], ray.time), p1 = detail::vertexAt(mesh, index[1], ray.time),
-                    p2 = detail::vertexAt(mesh, index[2], ray.time);
-        const float vertices[9] = {p0.x, p0.y, p0.z, p1.x, p1.y, p1.z, p2.x, p2.y, p2.z};
-        TriangleHit th;
-        if (intersectTriangleWatertight(WatertightRay(origin, direction), vertices, ray.tnear, ray.tfar, th)) {
-            hit.t = th.t;
-            hit.u = th.b1;
-            hit.v = th.b2;
-        }
+        detail::recomputeTriangleHit(origin, direction, detail::vertexAt(mesh, index[0], ray.time),
+                                     detail::vertexAt(mesh, index[1], ray.time),
+                                     detail::vertexAt(mesh, index[2], ray.time), ray, hit);
     } else {
         const Sphere& sphere = scene.spheres[hit.primId];
         float t;
@@ -77,30 +108,14 @@ inline void canonicalizeHit(const Scene& scene, const Ray& ray, Hit& hit) {
 
 inline SurfaceInteraction makeSurfaceInteraction(const Scene& scene, const Ray& ray, const Hit& hit) {
     SurfaceInteraction si;
-    si.geomId = hit.geomId;
-    si.primId = hit.primId;
     if (hit.geomId < scene.meshes.size()) {
         const TriangleMesh& mesh = scene.meshes[hit.geomId];
-        const uint32_t i0 = mesh.indices[3 * hit.primId], i1 = mesh.indices[3 * hit.primId + 1],
-                       i2 = mesh.indices[3 * hit.primId + 2];
-        const Vec3f p0 = detail::vertexAt(mesh, i0, ray.time), p1 = detail::vertexAt(mesh, i1, ray.time),
-                    p2 = detail::vertexAt(mesh, i2, ray.time);
-        const float b1 = hit.u, b2 = hit.v, b0 = 1.0f - b1 - b2;
-        si.position = p0 * b0 + p1 * b1 + p2 * b2;
-        const Vec3f n = cross(p1 - p0, p2 - p0);
-        const float nLength = length(n);
-        si.geometricNormal = nLength > 0.0f ? n / nLength : Vec3f{0.0f, 0.0f, 1.0f};
-        si.shadingNormal = si.geometricNormal;
-        // Vertex normals are only used for meshes that do not deform (they would need keys too).
-        if (!mesh.normals.empty() && !mesh.deforms()) {
-            const Vec3f ns = mesh.normals[i0] * b0 + mesh.normals[i1] * b1 + mesh.normals[i2] * b2;
-            const float nsLength = length(ns);
-            if (nsLength > 0.0f) si.shadingNormal = faceForward(ns / nsLength, si.geometricNormal);
-        }
-        if (!mesh.uvs.empty()) si.uv = mesh.uvs[i0] * b0 + mesh.uvs[i1] * b1 + mesh.uvs[i2] * b2;
-        si.material = mesh.material;
+        const uint32_t* index = &mesh.indices[3 * size_t(hit.primId)];
+        const bool hasNormal = detail::triangleInteraction(mesh, index, detail::vertexAt(mesh, index[0], ray.time),
+                                                           detail::vertexAt(mesh, index[1], ray.time),
+                                                           detail::vertexAt(mesh, index[2], ray.time), hit, si);
         if (mesh.motion.moves()) detail::placeInWorld(mesh.motion.at(ray.time), si);
-        if (!(nLength > 0.0f)) si.geometricNormal = si.shadingNormal = normalize(-ray.direction);
+        if (!hasNormal) si.geometricNormal = si.shadingNormal = normalize(-ray.direction);
     } else {
         const Sphere& sphere = scene.spheres[hit.primId];
         // The hit point, reprojected onto the sphere in the sphere's own space.
@@ -120,9 +135,31 @@ inline SurfaceInteraction makeSurfaceInteraction(const Scene& scene, const Ray& 
         si.uv = {phi < 0.0f ? phi / (2.0f * kPi) + 1.0f : phi / (2.0f * kPi),
                  std::acos(std::clamp(outward.z, -1.0f, 1.0f)) / kPi};
         si.material = sphere.material;
+        si.geomId = hit.geomId;
+        si.primId = hit.primId;
         if (sphere.motion.moves()) detail::placeInWorld(toWorld, si);
     }
     return si;
+}
+
+// canonicalizeHit (unless `kHitIsCanonical`: the backend's hits already are) and then
+// makeSurfaceInteraction, with a still mesh's vertices loaded once for both.
+template <bool kHitIsCanonical>
+inline SurfaceInteraction resolveHit(const Scene& scene, const Ray& ray, Hit& hit) {
+    if (hit.geomId < scene.meshes.size()) {
+        const TriangleMesh& mesh = scene.meshes[hit.geomId];
+        if (!mesh.motion.moves() && !mesh.deforms()) [[likely]] {
+            const uint32_t* index = &mesh.indices[3 * size_t(hit.primId)];
+            const Vec3f p0 = mesh.positions[index[0]], p1 = mesh.positions[index[1]], p2 = mesh.positions[index[2]];
+            if constexpr (!kHitIsCanonical) detail::recomputeTriangleHit(ray.origin, ray.direction, p0, p1, p2, ray, hit);
+            SurfaceInteraction si;
+            if (!detail::triangleInteraction(mesh, index, p0, p1, p2, hit, si)) [[unlikely]]
+                si.geometricNormal = si.shadingNormal = normalize(-ray.direction);
+            return si;
+        }
+    }
+    if constexpr (!kHitIsCanonical) canonicalizeHit(scene, ray, hit);
+    return makeSurfaceInteraction(scene, ray, hit);
 }
 
 }  // namespace penumbra

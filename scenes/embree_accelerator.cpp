@@ -173,8 +173,11 @@ EmbreeAccelerator::~EmbreeAccelerator() {
 // Debian's Embree asserts on rays with NaN or infinite components (and would abort), so such rays
 // are answered here: they hit nothing.
 static bool isTraceable(const Ray& ray) {
-    return isFinite(ray.origin) && isFinite(ray.direction) && lengthSquared(ray.direction) > 0.0f && ray.tnear >= 0.0f && ray.tfar >= ray.tnear &&
-           std::isfinite(ray.time);
+    // x - x is 0 for a finite x and NaN otherwise, so one comparison checks all seven values.
+    const Vec3f o = ray.origin, d = ray.direction;
+    const float finite = (o.x - o.x) + (o.y - o.y) + (o.z - o.z) + (d.x - d.x) + (d.y - d.y) + (d.z - d.z) +
+                         (ray.time - ray.time);
+    return finite == 0.0f && lengthSquared(d) > 0.0f && ray.tnear >= 0.0f && ray.tfar >= ray.tnear;
 }
 
 bool EmbreeAccelerator::intersect(const Ray& ray, Hit& hit) const {

@@ -56,6 +56,10 @@ struct RenderSettings {
     // two triangles. Off, Embree uses its faster default traversal (as Embree's own tutorials do),
     // which rarely lets a ray through such an edge. Our BVH is always watertight.
     bool watertight = true;
+    // Canonical hits: Embree's hits are recomputed with our BVH's triangle and sphere tests
+    // (renderer/surface_interaction.h), so that renders with either backend are bit-identical
+    // wherever both find the same primitives. Off, Embree's own t and barycentrics are shaded.
+    bool canonicalHits = true;
 };
 
 enum class MaterialKind : uint8_t { Lambert, Phong, Dielectric, ThinDielectric, Mirror, Conductor };

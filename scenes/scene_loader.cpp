@@ -126,13 +126,14 @@ IntegratorDesc readIntegrator(const JsonValue& value) {
 }
 
 RenderSettings readRender(const JsonValue& value) {
-    const JsonObject object(value, {"sampler", "seed", "watertight"});
+    const JsonObject object(value, {"sampler", "seed", "watertight", "canonical_hits"});
     RenderSettings settings;
     if (auto v = object.get("sampler"))
         settings.sampler = v->choice({"stratified", "independent"}) == 0 ? SamplerKind::Stratified
                                                                          : SamplerKind::Independent;
     if (auto v = object.get("seed")) settings.seed = v->unsignedInteger();
     if (auto v = object.get("watertight")) settings.watertight = v->boolean();
+    if (auto v = object.get("canonical_hits")) settings.canonicalHits = v->boolean();
     return settings;
 }
 

@@ -63,6 +63,7 @@ TEST(SceneLoader, ReadsEveryKey) {
     EXPECT_EQ(scene.settings.sampler, SamplerKind::Independent);
     EXPECT_EQ(scene.settings.seed, 42u);
     EXPECT_FALSE(scene.settings.watertight);
+    EXPECT_FALSE(scene.settings.canonicalHits);
     EXPECT_EQ(scene.background, Rgb(0.1f, 0.2f, 0.3f));
 
     ASSERT_EQ(scene.materials.size(), 3u);  // in file order
@@ -121,6 +122,8 @@ TEST(SceneLoader, EmptySceneIsValidAndUsesDefaults) {
     EXPECT_EQ(scene.film.width, FilmDesc{}.width);
     EXPECT_EQ(scene.film.samplesPerPixel, FilmDesc{}.samplesPerPixel);
     EXPECT_EQ(scene.integrator.maxDepth, IntegratorDesc{}.maxDepth);
+    EXPECT_TRUE(scene.settings.watertight);
+    EXPECT_TRUE(scene.settings.canonicalHits);
 }
 
 TEST(SceneLoader, CornellBox) {
@@ -498,6 +501,9 @@ TEST(SceneErrors, ValuesOutOfRange) {
 
     e = catchInputError([] { parseScene(R"({"render": {"watertight": 1}})", "s.json"); });
     EXPECT_EQ(e.where().jsonPointer, "/render/watertight");
+
+    e = catchInputError([] { parseScene(R"({"render": {"canonical_hits": "yes"}})", "s.json"); });
+    EXPECT_EQ(e.where().jsonPointer, "/render/canonical_hits");
 
     e = catchInputError([] {
         sceneWithShape(

@@ -1,0 +1,18 @@
+// sin and cos of an angle in [-pi/4, pi/4] by short polynomials (the minimax coefficients of
+// Cephes' sinf/cosf, within about one ulp there). Cheaper than a libm call for the warps that need
+// only this range, and the same bits on every machine (libm picks its code by CPU features).
+#pragma once
+
+#include "core/vec.h"
+
+namespace penumbra {
+
+// (cos a, sin a) for |a| <= pi / 4.
+inline Vec2f cosSinQuarterPi(float a) {
+    const float z = a * a;
+    const float sine = a + a * z * (-1.6666654611e-1f + z * (8.3321608736e-3f + z * -1.9515295891e-4f));
+    const float cosine = 1.0f - 0.5f * z + z * z * (4.166664568298827e-2f + z * (-1.388731625493765e-3f + z * 2.443315711809948e-5f));
+    return {cosine, sine};
+}
+
+}  // namespace penumbra
