@@ -71,6 +71,15 @@ struct Material {
         }
     }
     std::optional<BsdfSample> sample(Vec3f wo, float uLobe, Vec2f u, bool front) const {
+        // Lambert, the most common case, is small enough to inline into the integrator.
+        if (type == MaterialType::Lambert && (twoSided || front)) {
+            const auto s = lambert.sample(wo, u);
+            if (!s) return std::nullopt;
+            return BsdfSample{s->wi, s->weight, s->pdf, false};
+        }
+        return sampleAny(wo, uLobe, u, front);
+    }
+    [[gnu::noinline]] std::optional<BsdfSample> sampleAny(Vec3f wo, float uLobe, Vec2f u, bool front) const {
         if (!twoSided && !front) return std::nullopt;
         std::optional<SpecularSample> specular;
         switch (type) {
