@@ -16,11 +16,13 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <memory>
 #include <thread>
 #include <string>
 #include <vector>
 
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include "core/error.h"
 #include "renderer/atomic_file.h"
@@ -36,8 +38,12 @@ namespace {
     throw InputError(where, message);
 }
 
-// The EXR layout (docs/exr-layout.md). Version 1: the first layout with a "sums" part.
-constexpr int kFilmLayoutVersion = 1;
+// The EXR layout (docs/exr-layout.md). Version 1: every sum as four words in part "sums".
+// Version 2 (written): high words that only repeat the sign are left out, and the words are
+// spread over part "sums" (ZIP) and part "sums.noise" (RLE) by how they compress.
+constexpr int kFilmLayoutVersion = 2;
+const char* const kSumsPart = "sums";
+const char* const kNoisePart = "sums.noise";
 
 const std::vector<std::string>& beautyChannels() {
     static const std::vector<std::string> names = {"R", "G", "B", "A", "albedo.R", "albedo.G", "albedo.B",
@@ -46,8 +52,8 @@ const std::vector<std::string>& beautyChannels() {
     return names;
 }
 
-// The exact sums of PixelSums in a fixed order, each stored as four UINT channels NAME.w0..w3
-// (the 128-bit integer of an ExactSum, least significant word first), then "spp".
+// The exact sums of PixelSums in a fixed order, each as UINT channels NAME.w0..w3 (the 128-bit
+// integer of an ExactSum, least significant word first), then "spp".
 constexpr int kSumCount = 15;
 const char* const kSumNames[kSumCount] = {"sum.R", "sum.G", "sum.B", "sumsq.R", "sumsq.G", "sumsq.B",
                                           "sum.weight", "sum.albedo.R", "sum.albedo.G", "sum.albedo.B",
@@ -63,6 +69,10 @@ ExactSum& sumAt(PixelSums& p, int i) {
 }
 const ExactSum& sumAt(const PixelSums& p, int i) { return sumAt(const_cast<PixelSums&>(p), i); }
 
+// Every word of every sum (channel 4 * sum + word), then "spp": the channels of layout version 1,
+// and the order of the in-memory words of both versions.
+constexpr int kSppChannel = 4 * kSumCount;
+constexpr size_t kWordsPerPixel = 4 * kSumCount + 1;
 const std::vector<std::string>& sumChannels() {
     static const std::vector<std::string> names = [] {
         std::vector<std::string> n;
@@ -72,6 +82,16 @@ const std::vector<std::string>& sumChannels() {
         return n;
     }();
     return names;
+}
+
+// The word that sign-extends `word` (all zeros or all ones).
+uint32_t signWord(uint32_t word) { return (word >> 31) ? ~0u : 0u; }
+
+// How many low words hold the sum: the words above them repeat the sign of the highest one.
+int wordsNeeded(const uint32_t words[4]) {
+    int n = 4;
+    while (n > 1 && words[n - 1] == signWord(words[n - 2])) --n;
+    return n;
 }
 
 std::string formatWindow(const PixelWindow& w) { return fmt::format("{},{},{},{}", w.x0, w.x1, w.y0, w.y1); }
@@ -122,9 +142,9 @@ FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& fi
     if (!beauty.findTypedAttribute<Imf::IntAttribute>("penumbra:film"))
         fail(path, fmt::format("{}: it has no penumbra:film attribute", kNotOurs));
     const int layout = intAttribute(beauty, "penumbra:film");
-    if (layout != kFilmLayoutVersion)
-        fail(path, fmt::format("film layout version {} is not supported (this penumbra reads version {})", layout,
-                               kFilmLayoutVersion));
+    if (layout < 1 || layout > kFilmLayoutVersion)
+        fail(path, fmt::format("film layout version {} is not supported (this penumbra reads versions 1 to {})",
+                               layout, kFilmLayoutVersion));
 
     const Imath::Box2i display = beauty.displayWindow();
     const int fullWidth = display.max.x - display.min.x + 1, fullHeight = display.max.y - display.min.y + 1;
@@ -168,34 +188,81 @@ FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& fi
         fail(path, "the data window does not match penumbra:crop");
     if (window != PixelWindow{0, fullWidth, 0, fullHeight}) m.crop = window;
 
-    int sumsPart = -1;
-    for (int p = 0; p < file.parts(); ++p)
-        if (file.header(p).hasName() && file.header(p).name() == "sums") sumsPart = p;
-    if (sumsPart < 0) fail(path, fmt::format("{}: it has no \"sums\" part", kNotOurs));
-    const Imf::Header& sums = file.header(sumsPart);
-    if (sums.dataWindow() != data) fail(path, "the \"sums\" part's data window differs from the beauty's");
-    const std::vector<std::string>& names = sumChannels();
-    for (const std::string& name : names) {
-        const Imf::Channel* channel = sums.channels().findChannel(name);
-        if (!channel) fail(path, fmt::format("the \"sums\" part has no channel '{}'", name));
-        if (channel->type != Imf::UINT) fail(path, fmt::format("channel '{}' of the \"sums\" part is not UINT", name));
+    // The parts that hold sum words: "sums" (both versions) and "sums.noise" (version 2).
+    std::vector<int> sumParts;
+    for (int p = 0; p < file.parts(); ++p) {
+        const Imf::Header& h = file.header(p);
+        if (h.hasName() && (h.name() == kSumsPart || (layout >= 2 && h.name() == kNoisePart))) {
+            if (h.dataWindow() != data)
+                fail(path, fmt::format("the \"{}\" part's data window differs from the beauty's", h.name()));
+            sumParts.push_back(p);
+        }
     }
-    std::vector<uint32_t> words(size_t(window.width()) * window.height() * names.size());
-    try {
-        Imf::InputPart part(file, sumsPart);
-        part.setFrameBuffer(interleaved(Imf::UINT, words.data(), names, data));
-        part.readPixels(data.min.y, data.max.y);
-    } catch (const std::exception& e) {
-        fail(path, fmt::format("cannot read the \"sums\" part: {}", e.what()));
+    if (std::none_of(sumParts.begin(), sumParts.end(), [&](int p) { return file.header(p).name() == kSumsPart; }))
+        fail(path, fmt::format("{}: it has no \"sums\" part", kNotOurs));
+
+    // Where each word is stored: a part, and its index among the channels read from that part.
+    // Version 1 stores every word; version 2 leaves out those it can restore (see writeExr).
+    const std::vector<std::string>& names = sumChannels();
+    struct Source {
+        int part = -1;
+        size_t index = 0;
+    };
+    std::vector<Source> source(kWordsPerPixel);
+    std::vector<std::vector<std::string>> namesOf(file.parts());
+    for (int c = 0; c < int(kWordsPerPixel); ++c)
+        for (int p : sumParts)
+            if (const Imf::Channel* channel = file.header(p).channels().findChannel(names[c])) {
+                if (channel->type != Imf::UINT)
+                    fail(path, fmt::format("channel '{}' of the \"{}\" part is not UINT", names[c],
+                                           file.header(p).name()));
+                if (source[c].part < 0) {
+                    source[c] = {p, namesOf[p].size()};
+                    namesOf[p].push_back(names[c]);
+                }
+            }
+    for (int c = 0; c < int(kWordsPerPixel); ++c)
+        if (source[c].part < 0 && (layout == 1 || c == kSppChannel))
+            fail(path, fmt::format("the \"sums\" part has no channel '{}'", names[c]));
+
+    const size_t pixelCount = size_t(window.width()) * window.height();
+    std::vector<std::unique_ptr<uint32_t[]>> buffers(file.parts());
+    for (int p : sumParts) {
+        if (namesOf[p].empty()) continue;
+        buffers[p].reset(new uint32_t[pixelCount * namesOf[p].size()]);
+        try {
+            Imf::InputPart part(file, p);
+            part.setFrameBuffer(interleaved(Imf::UINT, buffers[p].get(), namesOf[p], data));
+            part.readPixels(data.min.y, data.max.y);
+        } catch (const std::exception& e) {
+            fail(path, fmt::format("cannot read the \"{}\" part: {}", file.header(p).name(), e.what()));
+        }
+    }
+    auto word = [&](int c, size_t pixel) {
+        const Source& from = source[c];
+        return buffers[from.part][pixel * namesOf[from.part].size() + from.index];
+    };
+    int highest[kSumCount];  // per sum, its highest stored word (-1: none)
+    for (int s = 0; s < kSumCount; ++s) {
+        highest[s] = -1;
+        for (int w = 0; w < 4; ++w)
+            if (source[4 * s + w].part >= 0) highest[s] = w;
     }
 
     size_t i = 0;
     for (int y = window.y0; y < window.y1; ++y)
         for (int x = window.x0; x < window.x1; ++x, ++i) {
-            const uint32_t* px = words.data() + i * names.size();
             PixelSums& p = result.film.at(x, y);
-            for (int s = 0; s < kSumCount; ++s) sumAt(p, s) = ExactSum::fromWords(px + 4 * s);
-            p.sampleCount = px[4 * kSumCount];
+            for (int s = 0; s < kSumCount; ++s) {
+                // A word left out is 0 below the highest stored one, and its sign extension above.
+                uint32_t words[4] = {};
+                for (int w = 0; w <= highest[s]; ++w)
+                    if (source[4 * s + w].part >= 0) words[w] = word(4 * s + w, i);
+                const uint32_t sign = highest[s] >= 0 ? signWord(words[highest[s]]) : 0u;
+                for (int w = highest[s] + 1; w < 4; ++w) words[w] = sign;
+                sumAt(p, s) = ExactSum::fromWords(words);
+            }
+            p.sampleCount = word(kSppChannel, i);
         }
     return result;
 }
@@ -224,7 +291,6 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
 
     // Part 0, "beauty": what viewers and compositors read; it carries the metadata.
     Imf::Header beauty(boxOf(full), data);
-    beauty.compression() = Imf::ZIP_COMPRESSION;
     beauty.insert("Software", Imf::StringAttribute(penumbraSoftwareName()));
     beauty.insert("penumbra:film", Imf::IntAttribute(kFilmLayoutVersion));
     beauty.insert("penumbra:spp", Imf::IntAttribute(metadata.samplesPerPixel));
@@ -240,53 +306,130 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
     beauty.insert("penumbra:samples",
                   Imf::StringAttribute(fmt::format("{}:{}", metadata.firstSample, metadata.endSample)));
     beauty.insert("penumbra:crop", Imf::StringAttribute(formatWindow(window)));
-
-    // Part 1, "sums": the film itself, losslessly, with the same windows and metadata.
-    Imf::Header sums = beauty;
-    sums.setName("sums");
-    sums.setType(Imf::SCANLINEIMAGE);
-    // Lossless at any level; level 1 deflates the low words of the sums, which are noise that
-    // no level compresses much, markedly faster than the default level at the same size (within 1%).
-    sums.zipCompressionLevel() = 1;
-    beauty.setName("beauty");
     beauty.setType(Imf::SCANLINEIMAGE);
 
-    const std::vector<std::string>& beautyNames = beautyChannels();
-    const std::vector<std::string>& sumNames = sumChannels();
-    for (const std::string& name : beautyNames) beauty.channels().insert(name, Imf::Channel(Imf::FLOAT));
-    for (const std::string& name : sumNames) sums.channels().insert(name, Imf::Channel(Imf::UINT));
+    // Parts "sums" and "sums.noise": the film itself, losslessly, with the same windows and metadata.
+    Imf::Header sums = beauty, noise = beauty;
+    sums.setName(kSumsPart);
+    sums.compression() = Imf::ZIP_COMPRESSION;
+    sums.zipCompressionLevel() = 1;
+    noise.setName(kNoisePart);
+    noise.compression() = Imf::RLE_COMPRESSION;
+    beauty.setName("beauty");
+    // RLE: on the beauty's noisy floats, deflate (ZIP, any level) takes about three times as long,
+    // as long as all the rest of the write, for a file about a sixth smaller.
+    beauty.compression() = Imf::RLE_COMPRESSION;
 
-    const size_t pixelCount = size_t(window.width()) * window.height();
-    std::vector<float> beautyPixels(pixelCount * beautyNames.size());
-    std::vector<uint32_t> sumWords(pixelCount * sumNames.size());
-    size_t i = 0;
-    for (int y = window.y0; y < window.y1; ++y)
-        for (int x = window.x0; x < window.x1; ++x, ++i) {
-            const PixelSums& p = film.at(x, y);
+    const std::vector<std::string>& beautyNames = beautyChannels();
+    for (const std::string& name : beautyNames) beauty.channels().insert(name, Imf::Channel(Imf::FLOAT));
+
+    const int width = window.width(), height = window.height();
+    const size_t pixelCount = size_t(width) * height;
+    // Every element is written below, so no buffer is zero-filled first.
+    std::unique_ptr<float[]> beautyPixels(new float[pixelCount * beautyNames.size()]);
+
+    // First pass, rows on every core: the beauty, and what decides which sum words are stored where.
+    struct WordStats {
+        int neededWords[kSumCount];  // per sum, the most low words a pixel needs (wordsNeeded)
+        // Per word: the OR over the pixels (0: zero everywhere), how many pixels repeat their left
+        // neighbour's nonzero value, and how many differ from it.
+        uint32_t bits[kSppChannel];
+        uint64_t repeats[kSppChannel], changes[kSppChannel];
+    };
+    std::vector<WordStats> rowStats(height);
+    tbb::parallel_for(0, height, [&](int row) {
+        WordStats& stats = rowStats[row];
+        stats = {};
+        std::fill(std::begin(stats.neededWords), std::end(stats.neededWords), 1);
+        uint32_t words[2][kSppChannel];  // this pixel's and its left neighbour's
+        float* out = beautyPixels.get() + size_t(row) * width * beautyNames.size();
+        for (int x = 0; x < width; ++x) {
+            const PixelSums& p = film.at(window.x0 + x, window.y0 + row);
             const Rgb mean = p.mean(), albedo = p.meanAlbedo(), variance = p.varianceOfMean();
             const Vec3f normal = p.meanNormal();
             const float values[] = {mean.r,   mean.g,   mean.b,   p.sampleCount > 0 ? 1.0f : 0.0f,
                                     albedo.r, albedo.g, albedo.b, normal.x,
                                     normal.y, normal.z, p.meanDepth(), variance.r,
                                     variance.g, variance.b};
-            std::copy(std::begin(values), std::end(values), beautyPixels.begin() + i * beautyNames.size());
-            uint32_t* words = sumWords.data() + i * sumNames.size();
-            for (int s = 0; s < kSumCount; ++s) sumAt(p, s).toWords(words + 4 * s);
-            words[4 * kSumCount] = p.sampleCount;
+            out = std::copy(std::begin(values), std::end(values), out);
+            uint32_t* w = words[x & 1];
+            const uint32_t* left = words[(x & 1) ^ 1];
+            for (int s = 0; s < kSumCount; ++s) {
+                sumAt(p, s).toWords(w + 4 * s);
+                stats.neededWords[s] = std::max(stats.neededWords[s], wordsNeeded(w + 4 * s));
+            }
+            for (int c = 0; c < kSppChannel; ++c) stats.bits[c] |= w[c];
+            if (x == 0) continue;
+            for (int c = 0; c < kSppChannel; ++c) {
+                stats.repeats[c] += w[c] == left[c] && w[c] != 0;
+                stats.changes[c] += w[c] != left[c];
+            }
         }
+    });
+    WordStats total = {};
+    std::fill(std::begin(total.neededWords), std::end(total.neededWords), 1);
+    for (const WordStats& row : rowStats) {
+        for (int s = 0; s < kSumCount; ++s) total.neededWords[s] = std::max(total.neededWords[s], row.neededWords[s]);
+        for (int c = 0; c < kSppChannel; ++c) {
+            total.bits[c] |= row.bits[c];
+            total.repeats[c] += row.repeats[c];
+            total.changes[c] += row.changes[c];
+        }
+    }
+
+    // Stored: the low words each sum needs (the highest of them always, when it is above w0),
+    // less those that are zero in every pixel; the reader restores the rest. A word that repeats
+    // a nonzero value at least as often as it changes goes to "sums" (ZIP level 1: deflate codes
+    // such runs nearly for free, while RLE, which sees the bytes of a word alternately, hardly
+    // shrinks them); the others to "sums.noise" (RLE: deflate takes several times as long on
+    // them, to save little). spp goes to "sums".
+    std::vector<int> zipChannels{kSppChannel}, rleChannels;
+    for (int s = 0; s < kSumCount; ++s)
+        for (int w = 0; w < total.neededWords[s]; ++w) {
+            const int c = 4 * s + w;
+            if (total.bits[c] == 0 && !(w > 0 && w == total.neededWords[s] - 1)) continue;
+            (total.repeats[c] >= total.changes[c] ? zipChannels : rleChannels).push_back(c);
+        }
+    std::vector<std::string> zipNames, rleNames;
+    for (int c : zipChannels) zipNames.push_back(sumChannels()[c]);
+    for (int c : rleChannels) rleNames.push_back(sumChannels()[c]);
+    for (const std::string& name : zipNames) sums.channels().insert(name, Imf::Channel(Imf::UINT));
+    for (const std::string& name : rleNames) noise.channels().insert(name, Imf::Channel(Imf::UINT));
+
+    // Second pass: the stored words of each part, interleaved pixel by pixel.
+    std::unique_ptr<uint32_t[]> zipWords(new uint32_t[pixelCount * zipChannels.size()]);
+    std::unique_ptr<uint32_t[]> rleWords(new uint32_t[pixelCount * rleChannels.size()]);
+    tbb::parallel_for(0, height, [&](int row) {
+        uint32_t* zipOut = zipWords.get() + size_t(row) * width * zipChannels.size();
+        uint32_t* rleOut = rleWords.get() + size_t(row) * width * rleChannels.size();
+        uint32_t words[kWordsPerPixel];
+        for (int x = 0; x < width; ++x) {
+            const PixelSums& p = film.at(window.x0 + x, window.y0 + row);
+            for (int s = 0; s < kSumCount; ++s) sumAt(p, s).toWords(words + 4 * s);
+            words[kSppChannel] = p.sampleCount;
+            for (int c : zipChannels) *zipOut++ = words[c];
+            for (int c : rleChannels) *rleOut++ = words[c];
+        }
+    });
 
     writeFileAtomically(path, "EXR image", [&](const std::string& tmp, std::string& error) {
         try {
-            const Imf::Header headers[2] = {beauty, sums};
+            const Imf::Header headers[3] = {beauty, sums, noise};
+            const int parts = rleChannels.empty() ? 2 : 3;
             // Compressed on every core; the bytes do not depend on the thread count, since each
             // block of lines is compressed on its own.
-            Imf::MultiPartOutputFile file(tmp.c_str(), headers, 2, false, exrThreads());
+            Imf::MultiPartOutputFile file(tmp.c_str(), headers, parts, false, exrThreads());
             Imf::OutputPart beautyPart(file, 0);
-            beautyPart.setFrameBuffer(interleaved(Imf::FLOAT, beautyPixels.data(), beautyNames, data));
-            beautyPart.writePixels(window.height());
+            beautyPart.setFrameBuffer(interleaved(Imf::FLOAT, beautyPixels.get(), beautyNames, data));
+            beautyPart.writePixels(height);
             Imf::OutputPart sumsPart(file, 1);
-            sumsPart.setFrameBuffer(interleaved(Imf::UINT, sumWords.data(), sumNames, data));
-            sumsPart.writePixels(window.height());
+            sumsPart.setFrameBuffer(interleaved(Imf::UINT, zipWords.get(), zipNames, data));
+            sumsPart.writePixels(height);
+            if (parts == 3) {
+                Imf::OutputPart noisePart(file, 2);
+                noisePart.setFrameBuffer(interleaved(Imf::UINT, rleWords.get(), rleNames, data));
+                noisePart.writePixels(height);
+            }
             return true;
         } catch (const std::exception& e) {  // OpenEXR throws Iex exceptions
             error = e.what();

@@ -1,9 +1,10 @@
 // Writing and reading the film: a scene-linear OpenEXR (written and read with OpenEXR directly,
 // renderer/film_exr.cpp) that holds the render's metadata, the beauty and AOVs (part "beauty") and
-// the film's exact sums (part "sums", so that a render can be resumed and partial renders merged
-// bit for bit), and a display-referred PNG/JPEG through an OpenColorIO view transform (encoded by
-// the image plugin, renderer/image_plugin.h, loaded on first use). Files are written under a
-// temporary name in the destination folder and renamed, so no half-written image is ever left.
+// the film's exact sums (parts "sums" and "sums.noise", so that a render can be resumed and
+// partial renders merged bit for bit), and a display-referred PNG/JPEG through an OpenColorIO view
+// transform (encoded by the image plugin, renderer/image_plugin.h, loaded on first use). Files are
+// written under a temporary name in the destination folder and renamed, so no half-written image
+// is ever left.
 // docs/exr-layout.md describes the EXR.
 #pragma once
 
@@ -29,13 +30,13 @@ struct RenderMetadata {
     std::optional<PixelWindow> crop;          // the pixels rendered; none: the whole image
 };
 
-// Writes the film as a two-part EXR (docs/exr-layout.md): part "beauty" holds FLOAT channels
+// Writes the film as a multi-part EXR (docs/exr-layout.md): part "beauty" holds FLOAT channels
 // R, G, B, A, albedo.R/G/B, N.X/Y/Z, Z and variance.R/G/B with the metadata as header attributes
 // "penumbra:spp", "penumbra:seed", "penumbra:sampler", "penumbra:accel", "penumbra:scene",
 // "penumbra:sceneHash", "penumbra:renderTime", "penumbra:version", "penumbra:resolution",
-// "penumbra:samples" ("FIRST:END") and "penumbra:crop" ("x0,x1,y0,y1"); part "sums" holds the exact
-// sums as UINT channels. With a crop the data window is the crop (the display window is the whole
-// image). Throws InputError naming the path when it cannot be written.
+// "penumbra:samples" ("FIRST:END") and "penumbra:crop" ("x0,x1,y0,y1"); parts "sums" and
+// "sums.noise" hold the exact sums as UINT channels. With a crop the data window is the crop (the
+// display window is the whole image). Throws InputError naming the path when it cannot be written.
 void writeExr(const Film& film, const RenderMetadata& metadata, const std::filesystem::path& path);
 
 struct FilmFile {

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <random>
 #include <string>
 #include <vector>
@@ -283,7 +284,7 @@ TEST_F(FilmFiles, ExrLayoutAsOpenImageIoReadsIt) {
     EXPECT_STREQ(in->format_name(), "openexr");
     const OIIO::ImageSpec beauty = in->spec(0, 0);
     EXPECT_EQ(beauty.get_string_attribute("oiio:subimagename"), "beauty");
-    EXPECT_EQ(beauty.get_string_attribute("compression"), "zip");
+    EXPECT_EQ(beauty.get_string_attribute("compression"), "rle");
     EXPECT_EQ(beauty.format, OIIO::TypeDesc::FLOAT);
     EXPECT_TRUE(beauty.channelformats.empty());  // all FLOAT
     std::vector<std::string> names(beauty.channelnames.begin(), beauty.channelnames.end());
@@ -298,7 +299,7 @@ TEST_F(FilmFiles, ExrLayoutAsOpenImageIoReadsIt) {
     EXPECT_EQ(beauty.y, 2);
     EXPECT_EQ(beauty.width, 6);
     EXPECT_EQ(beauty.height, 3);
-    EXPECT_EQ(beauty.get_int_attribute("penumbra:film"), 1);
+    EXPECT_EQ(beauty.get_int_attribute("penumbra:film"), 2);
     EXPECT_EQ(beauty.get_int_attribute("penumbra:spp"), 3);
     EXPECT_EQ(beauty.get_string_attribute("penumbra:seed"), "42");
     EXPECT_EQ(beauty.get_string_attribute("penumbra:sampler"), "stratified");
@@ -314,50 +315,96 @@ TEST_F(FilmFiles, ExrLayoutAsOpenImageIoReadsIt) {
     EXPECT_EQ(beauty.get_string_attribute("penumbra:crop"), "1,7,2,5");
     EXPECT_EQ(std::string(beauty.get_string_attribute("Software")).rfind("penumbra ", 0), 0u);
 
-    ASSERT_TRUE(in->seek_subimage(1, 0));
-    const OIIO::ImageSpec sums = in->spec(1, 0);
-    EXPECT_EQ(sums.get_string_attribute("oiio:subimagename"), "sums");
-    EXPECT_EQ(sums.get_string_attribute("compression"), "zip");
-    EXPECT_EQ(sums.nchannels, 15 * 4 + 1);
-    for (int c = 0; c < sums.nchannels; ++c) EXPECT_EQ(sums.channelformat(c), OIIO::TypeDesc::UINT32) << c;
-    for (const char* name : {"sum.R.w0", "sum.R.w3", "sumsq.B.w2", "sum.weight.w1", "sum.albedo.G.w0", "sum.N.Z.w3",
-                             "sum.Z.w0", "sum.hits.w3", "spp"})
-        EXPECT_GE(sums.channelindex(name), 0) << name;
-    EXPECT_EQ(sums.x, 1);
-    EXPECT_EQ(sums.width, 6);
-    EXPECT_EQ(sums.full_width, 8);
-    std::vector<uint32_t> words(size_t(sums.width) * sums.height * sums.nchannels);
-    ASSERT_TRUE(in->read_image(1, 0, 0, sums.nchannels, OIIO::TypeDesc::UINT32, words.data()));
-    const uint32_t* px = words.data() + (size_t(3 - 2) * 6 + (3 - 1)) * sums.nchannels;
-    EXPECT_EQ(px[sums.channelindex("spp")], 1u);
-    uint32_t expected[4];
-    film.at(3, 3).radiance[2].toWords(expected);
-    for (int w = 0; w < 4; ++w) EXPECT_EQ(px[sums.channelindex("sum.B.w" + std::to_string(w))], expected[w]);
+    // The sums: part "sums" (zip), and "sums.noise" (rle) when some word changes more often than
+    // it repeats. The one sample, of weight 1, makes every sum a multiple of 2^-16 below 2^15, so
+    // each nonzero sum needs its words w0 and w1, and w0 is zero: only w1 is stored.
+    const PixelSums& sample = film.at(3, 3);
+    std::map<std::string, uint32_t> words;  // channel -> its value at pixel (3, 3)
+    for (int subimage = 1; in->seek_subimage(subimage, 0); ++subimage) {
+        const OIIO::ImageSpec sums = in->spec(subimage, 0);
+        const std::string part = sums.get_string_attribute("oiio:subimagename");
+        ASSERT_TRUE(part == "sums" || part == "sums.noise") << part;
+        EXPECT_EQ(sums.get_string_attribute("compression"), part == "sums" ? "zip" : "rle");
+        for (int c = 0; c < sums.nchannels; ++c) EXPECT_EQ(sums.channelformat(c), OIIO::TypeDesc::UINT32) << c;
+        EXPECT_EQ(sums.x, 1);
+        EXPECT_EQ(sums.width, 6);
+        EXPECT_EQ(sums.full_width, 8);
+        if (part == "sums") {
+            EXPECT_GE(sums.channelindex("spp"), 0);
+        }
+        std::vector<uint32_t> pixels(size_t(sums.width) * sums.height * sums.nchannels);
+        ASSERT_TRUE(in->read_image(subimage, 0, 0, sums.nchannels, OIIO::TypeDesc::UINT32, pixels.data()));
+        const uint32_t* px = pixels.data() + (size_t(3 - 2) * 6 + (3 - 1)) * sums.nchannels;
+        for (int c = 0; c < sums.nchannels; ++c) EXPECT_TRUE(words.emplace(sums.channelnames[c], px[c]).second);
+    }
+    std::map<std::string, uint32_t> expected = {{"spp", 1u}};
+    const std::pair<const char*, const ExactSum*> nonzero[] = {
+        {"sum.R", &sample.radiance[0]},        {"sum.G", &sample.radiance[1]},        {"sum.B", &sample.radiance[2]},
+        {"sumsq.R", &sample.radianceSquared[0]}, {"sumsq.G", &sample.radianceSquared[1]},
+        {"sumsq.B", &sample.radianceSquared[2]}, {"sum.weight", &sample.weight}};
+    for (const auto& [name, sum] : nonzero) {
+        uint32_t w[4];
+        sum->toWords(w);
+        EXPECT_EQ(w[0], 0u) << name;
+        EXPECT_NE(w[1], 0u) << name;
+        expected[std::string(name) + ".w1"] = w[1];
+    }
+    EXPECT_EQ(words, expected);
+    EXPECT_EQ(words["sum.B.w1"], 2u << 16);  // 2.0 in units of 2^-48
 }
 
-// An EXR that claims to be penumbra's (a film whose sums part or metadata was tampered with).
-void writeTampered(const fs::path& path, bool withSums, const std::string& seed, const std::string& dropChannel) {
+// A film's sums in the order of docs/exr-layout.md.
+std::vector<const ExactSum*> sumsInLayoutOrder(const PixelSums& p) {
+    return {&p.radiance[0], &p.radiance[1], &p.radiance[2], &p.radianceSquared[0], &p.radianceSquared[1],
+            &p.radianceSquared[2], &p.weight, &p.albedo[0], &p.albedo[1], &p.albedo[2], &p.normal[0],
+            &p.normal[1], &p.normal[2], &p.depth, &p.hitWeight};
+}
+
+// A film in layout version 1 as its writer stored it (every sum as four words w0..w3 in part
+// "sums", whole image, samples 0:1), written here by hand; or one tampered with: no sums part, a
+// channel left out, a malformed seed, another layout version.
+void writeLayout1(const fs::path& path, const Film& film, bool withSums, const std::string& seed,
+                  const std::string& dropChannel, int version = 1) {
+    const int width = film.width(), height = film.height();
     auto out = OIIO::ImageOutput::create(path.string());
-    OIIO::ImageSpec beauty(4, 2, 3, OIIO::TypeDesc::FLOAT);
+    OIIO::ImageSpec beauty(width, height, 3, OIIO::TypeDesc::FLOAT);
     beauty.attribute("oiio:subimagename", "beauty");
-    beauty.attribute("penumbra:film", 1);
+    beauty.attribute("penumbra:film", version);
     beauty.attribute("penumbra:seed", seed);
     beauty.attribute("penumbra:samples", "0:1");
-    beauty.attribute("penumbra:resolution", "4x2");
-    beauty.attribute("penumbra:crop", "0,4,0,2");
-    OIIO::ImageSpec sums(4, 2, 0, OIIO::TypeDesc::UINT32);
+    beauty.attribute("penumbra:resolution", std::to_string(width) + "x" + std::to_string(height));
+    beauty.attribute("penumbra:crop", "0," + std::to_string(width) + ",0," + std::to_string(height));
+    OIIO::ImageSpec sums(width, height, 0, OIIO::TypeDesc::UINT32);
     sums.channelnames.clear();
+    std::vector<bool> keep;
     for (const char* sum : {"sum.R", "sum.G", "sum.B", "sumsq.R", "sumsq.G", "sumsq.B", "sum.weight", "sum.albedo.R",
                             "sum.albedo.G", "sum.albedo.B", "sum.N.X", "sum.N.Y", "sum.N.Z", "sum.Z", "sum.hits"})
-        for (int w = 0; w < 4; ++w)
-            if (std::string(sum) + ".w" + std::to_string(w) != dropChannel)
-                sums.channelnames.push_back(std::string(sum) + ".w" + std::to_string(w));
-    sums.channelnames.push_back("spp");
+        for (int w = 0; w < 4; ++w) {
+            const std::string name = std::string(sum) + ".w" + std::to_string(w);
+            keep.push_back(name != dropChannel);
+            if (keep.back()) sums.channelnames.push_back(name);
+        }
+    const bool withSpp = dropChannel != "spp";
+    if (withSpp) sums.channelnames.push_back("spp");
     sums.nchannels = int(sums.channelnames.size());
     sums.attribute("oiio:subimagename", "sums");
     const OIIO::ImageSpec specs[2] = {beauty, sums};
-    const std::vector<float> pixels(4 * 2 * 3, 0.0f);
-    const std::vector<uint32_t> words(4 * 2 * 61, 0u);
+    std::vector<float> pixels;
+    std::vector<uint32_t> words;
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            const PixelSums& p = film.at(x, y);
+            const Rgb mean = p.mean();
+            pixels.insert(pixels.end(), {mean.r, mean.g, mean.b});
+            size_t k = 0;
+            for (const ExactSum* sum : sumsInLayoutOrder(p)) {
+                uint32_t w[4];
+                sum->toWords(w);
+                for (uint32_t word : w)
+                    if (keep[k++]) words.push_back(word);
+            }
+            if (withSpp) words.push_back(p.sampleCount);
+        }
     ASSERT_TRUE(out->open(path.string(), withSums ? 2 : 1, specs)) << out->geterror();
     ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
     if (withSums) {
@@ -365,6 +412,73 @@ void writeTampered(const fs::path& path, bool withSums, const std::string& seed,
         ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT32, words.data()));
     }
     out->close();
+}
+
+// Sums of every size: one that needs all four words, some that need three, two or one, negative
+// ones, words that are zero in every pixel, one whose second word is zero in every pixel but
+// still needed (its first word has the top bit set), a sum that is zero everywhere; some words
+// change from pixel to pixel and some repeat.
+Film filmOfEveryWordCount() {
+    Film film(7, 5);
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> value(0.0f, 4.0f);
+    for (int y = 0; y < 5; ++y)
+        for (int x = 0; x < 7; ++x) film.at(x, y).add(Rgb(value(rng), value(rng), 0.5f), 1.0f);
+    film.at(0, 0).radiance[0].add(0x1p46);  // the most one addition may add,
+    film.at(0, 0).radiance[0].add(0x1p46);  // twice: 2^95 units needs all four words
+    film.at(1, 0).depth.add(-0x1p46);       // -2^94 units: three words
+    film.at(4, 3).depth.add(0x1p40);        // 2^88 units: w0 and w1 are zero in every pixel
+    film.at(2, 1).albedo[0].add(0x1p-17);   // 2^31 units: w0 = 0x80000000, w1 = 0 but needed
+    film.at(3, 2).normal[1].add(-0x1p-40);  // -256 units: one word, sign-extended
+    film.at(5, 4).normal[1].add(-0x1p-44);  // -16 units
+    return film;
+}
+
+TEST_F(FilmFiles, Layout2StoresOnlyTheWordsItNeedsAndRestoresTheRest) {
+    const Film film = filmOfEveryWordCount();
+    RenderMetadata meta;
+    meta.seed = 5;
+    meta.firstSample = 0;
+    meta.endSample = 1;
+    const fs::path path = dir_ / "words.exr";
+    writeExr(film, meta, path);
+    EXPECT_TRUE(readFilmExr(path).film.identicalTo(film));
+
+    std::map<std::string, std::string> partOf;  // channel -> part
+    auto in = OIIO::ImageInput::open(path.string());
+    ASSERT_TRUE(in) << OIIO::geterror();
+    for (int subimage = 1; in->seek_subimage(subimage, 0); ++subimage) {
+        const OIIO::ImageSpec& spec = in->spec();
+        for (const std::string& name : spec.channelnames)
+            partOf[name] = spec.get_string_attribute("oiio:subimagename");
+    }
+    auto stored = [&](const std::string& channel) { return partOf.count(channel) > 0; };
+    for (int w = 0; w < 4; ++w) EXPECT_TRUE(stored("sum.R.w" + std::to_string(w))) << w;
+    EXPECT_FALSE(stored("sum.G.w2"));  // below 2^15: the high words only repeat the sign
+    EXPECT_FALSE(stored("sum.G.w3"));
+    EXPECT_TRUE(stored("sum.Z.w2"));
+    EXPECT_FALSE(stored("sum.Z.w0") || stored("sum.Z.w1"));  // multiples of 2^40 units: zero everywhere
+    EXPECT_FALSE(stored("sum.Z.w3"));
+    EXPECT_TRUE(stored("sum.albedo.R.w0") && stored("sum.albedo.R.w1"));
+    EXPECT_FALSE(stored("sum.albedo.R.w2"));
+    EXPECT_TRUE(stored("sum.N.Y.w0"));
+    EXPECT_FALSE(stored("sum.N.Y.w1"));
+    EXPECT_FALSE(stored("sum.weight.w0"));  // whole numbers of samples of weight 1
+    EXPECT_FALSE(stored("sum.hits.w0") || stored("sum.hits.w1"));  // no sample hit anything
+    // The same weight everywhere repeats; a random radiance changes.
+    EXPECT_EQ(partOf["sum.weight.w1"], "sums");
+    EXPECT_EQ(partOf["spp"], "sums");
+    EXPECT_EQ(partOf["sum.G.w1"], "sums.noise");
+}
+
+TEST_F(FilmFiles, Layout1FilmsStillRead) {
+    const Film film = filmOfEveryWordCount();
+    const fs::path path = dir_ / "layout1.exr";
+    writeLayout1(path, film, true, "11", "");
+    const FilmFile back = readFilmExr(path);
+    EXPECT_TRUE(back.film.identicalTo(film));
+    EXPECT_EQ(back.metadata.seed, 11u);
+    EXPECT_EQ(back.metadata.endSample, 1u);
 }
 
 TEST_F(FilmFiles, TamperedFilmsAreRefusedNamingWhatIsWrong) {
@@ -378,14 +492,19 @@ TEST_F(FilmFiles, TamperedFilmsAreRefusedNamingWhatIsWrong) {
             EXPECT_NE(std::string(e.what()).find(mention), std::string::npos) << e.what();
         }
     };
-    writeTampered(path, true, "7", "");
+    const Film zeros(4, 2);
+    writeLayout1(path, zeros, true, "7", "");
     EXPECT_EQ(readFilmExr(path).metadata.seed, 7u);  // the control: well formed
-    writeTampered(path, false, "7", "");
+    writeLayout1(path, zeros, false, "7", "");
     expectRefusal("no \"sums\" part");
-    writeTampered(path, true, "7", "sum.N.Y.w2");
+    writeLayout1(path, zeros, true, "7", "sum.N.Y.w2");  // layout 1 stores every word
     expectRefusal("no channel 'sum.N.Y.w2'");
-    writeTampered(path, true, "-3", "");
+    writeLayout1(path, zeros, true, "7", "spp", 2);
+    expectRefusal("no channel 'spp'");
+    writeLayout1(path, zeros, true, "-3", "");
     expectRefusal("malformed penumbra:seed '-3'");
+    writeLayout1(path, zeros, true, "7", "", 3);
+    expectRefusal("film layout version 3");
 }
 
 TEST_F(FilmFiles, ForeignFilesAreRefusedClearly) {
