@@ -198,9 +198,12 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
         previousPosition = si.position;
 
         if (int(bounce) + 1 >= ctx.rouletteStartDepth) {
+            // A path that survives for certain draws no sample (u < 1 never ends it).
             const float survival = std::min(1.0f, (throughput * etaScale).maxComponent());
-            if (sample.get1D(Dim::RussianRoulette, bounce) >= survival) break;
-            throughput *= 1.0f / survival;
+            if (survival < 1.0f) {
+                if (sample.get1D(Dim::RussianRoulette, bounce) >= survival) break;
+                throughput *= 1.0f / survival;
+            }
         }
         // The ray past the last vertex only looks for emission; without emitters it could hit,
         // it is not traced (as Embree's pathtracer counts path length).
