@@ -16,6 +16,7 @@ ThinLensCamera::ThinLensCamera(const ThinLensCameraParams& p) {
         throw InputError("camera: fov must lie in (0, 180) degrees");
     if (p.filmWidth <= 0 || p.filmHeight <= 0) throw InputError("camera: film resolution must be positive");
     cameraToWorld_ = *toWorld;
+    pinholeOrigin_ = cameraToWorld_.applyPoint({0.0f, 0.0f, 0.0f});
     halfHeight_ = std::tan(0.5f * p.verticalFovDegrees * kPi / 180.0f);
     halfWidth_ = halfHeight_ * float(p.filmWidth) / float(p.filmHeight);
     invWidth_ = 1.0f / float(p.filmWidth);
@@ -62,7 +63,7 @@ Ray ThinLensCamera::generateRay(Vec2f filmPosition, Vec2f lensSample, float time
     Ray ray;
     ray.time = timeSample;
     if (motion_.empty()) {
-        ray.origin = cameraToWorld_.applyPoint(origin);
+        ray.origin = apertureRadius_ > 0.0f ? cameraToWorld_.applyPoint(origin) : pinholeOrigin_;
         ray.direction = normalize(cameraToWorld_.applyVector(direction));
     } else {
         const Transform toWorld = cameraToWorld(ray.time);

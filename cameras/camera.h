@@ -51,6 +51,7 @@ private:
     Vec2f sampleAperture(Vec2f u) const;
 
     Transform cameraToWorld_;
+    Vec3f pinholeOrigin_;  // cameraToWorld_ applied to the camera-space origin, once
     std::vector<CameraPose> motion_;
     float halfHeight_ = 1.0f;  // of the image plane at z = 1
     float halfWidth_ = 1.0f;
