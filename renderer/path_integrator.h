@@ -106,11 +106,18 @@ constexpr bool reportsCanonicalHits() {
     return false;
 }
 
+// What the backend found for a camera ray that the caller traced already (with others, as a packet).
+struct TracedRay {
+    bool found = false;
+    Hit hit;
+};
+
 // Radiance arriving along `ray` (a camera ray) for the sample `sample`. When `firstHit` is given
-// it receives the first hit's AOVs (hit = false when the ray leaves the scene).
+// it receives the first hit's AOVs (hit = false when the ray leaves the scene). When `traced` is
+// given it is what tracing `ray` found, and the ray is not traced again.
 template <typename Accel>
 Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, const PixelSample& sample,
-                     RayCounters& rays, FirstHitAovs* firstHit = nullptr) {
+                     RayCounters& rays, FirstHitAovs* firstHit = nullptr, const TracedRay* traced = nullptr) {
     const LightSet& lights = *ctx.lights;
     Rgb radiance(0.0f), throughput(1.0f);
     float etaScale = 1.0f;  // product of eta^2 over the refractions so far (see Russian roulette above)
@@ -121,7 +128,14 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
 
     for (uint32_t bounce = 0;; ++bounce) {
         Hit hit;
-        if (!accel.intersect(ray, hit)) {
+        bool found;
+        if (bounce == 0 && traced) {
+            found = traced->found;
+            hit = traced->hit;
+        } else {
+            found = accel.intersect(ray, hit);
+        }
+        if (!found) {
             const Rgb background = lights.background();
             if (!background.isBlack()) {
                 const float weight =

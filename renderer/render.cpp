@@ -32,28 +32,58 @@ struct TileResult {
     std::vector<NonFiniteSample> examples;
 };
 
+// Whether the backend traces coherent rays as packets (EmbreeAccelerator::intersectPacket).
+template <typename Accel>
+constexpr int packetSize() {
+    if constexpr (requires { Accel::kPacketSize; }) return Accel::kPacketSize;
+    return 1;
+}
+
 template <typename Accel>
 TileResult renderTile(const Accel& accel, const Scene& scene, const ThinLensCamera& camera,
                       const IntegratorContext& ctx, const PixelWindow& tile, uint32_t firstSample,
                       uint32_t endSample, uint32_t frozenDims, bool sceneMoves, Film& film) {
+    constexpr int kPacket = packetSize<Accel>();
     TileResult result;
     for (int y = tile.y0; y < tile.y1; ++y)
         for (int x = tile.x0; x < tile.x1; ++x) {
             PixelSums& pixel = film.at(x, y);
             const uint64_t pixelIndex = uint64_t(y) * uint64_t(scene.film.width) + uint64_t(x);
-            for (uint32_t s = firstSample; s < endSample; ++s) {
-                PixelSample sample(scene.settings.sampler, scene.settings.seed, pixelIndex, s);
-                sample.freeze(frozenDims);
-                const Ray ray = generateCameraRay(camera, scene.film, sceneMoves, sample, x, y);
-                FirstHitAovs aovs;
-                Rgb radiance = estimateRadiance(accel, ctx, ray, sample, result.rays, &aovs);
-                if (!radiance.isFinite()) {
-                    ++result.nonFinite;
-                    if (result.examples.size() < kMaxNonFiniteExamples) result.examples.push_back({x, y, s});
-                    radiance = Rgb(0.0f);
+            // A pixel's camera rays are traced in packets of sample indices aligned to multiples of
+            // the packet size, so every sample's camera ray meets the same kernel in the same lane
+            // whatever range [firstSample, endSample) is rendered (resumes and merges stay exact).
+            for (uint32_t groupStart = firstSample; groupStart < endSample;) {
+                const uint32_t groupEnd = std::min(endSample, (groupStart / kPacket + 1) * kPacket);
+                const int count = int(groupEnd - groupStart);
+                Ray cameraRays[kPacket];
+                TracedRay traced[kPacket];
+                for (int i = 0; i < count; ++i) {
+                    PixelSample sample(scene.settings.sampler, scene.settings.seed, pixelIndex, groupStart + i);
+                    sample.freeze(frozenDims);
+                    cameraRays[i] = generateCameraRay(camera, scene.film, sceneMoves, sample, x, y);
                 }
-                pixel.add(radiance, 1.0f, aovs);
-                ++result.samples;
+                if constexpr (kPacket > 1) {
+                    Hit hits[kPacket];
+                    bool found[kPacket];
+                    accel.intersectPacket(cameraRays, count, hits, found);
+                    for (int i = 0; i < count; ++i) traced[i] = {found[i], hits[i]};
+                }
+                for (int i = 0; i < count; ++i) {
+                    const uint32_t s = groupStart + i;
+                    PixelSample sample(scene.settings.sampler, scene.settings.seed, pixelIndex, s);
+                    sample.freeze(frozenDims);
+                    FirstHitAovs aovs;
+                    Rgb radiance = estimateRadiance(accel, ctx, cameraRays[i], sample, result.rays, &aovs,
+                                                    kPacket > 1 ? &traced[i] : nullptr);
+                    if (!radiance.isFinite()) {
+                        ++result.nonFinite;
+                        if (result.examples.size() < kMaxNonFiniteExamples) result.examples.push_back({x, y, s});
+                        radiance = Rgb(0.0f);
+                    }
+                    pixel.add(radiance, 1.0f, aovs);
+                    ++result.samples;
+                }
+                groupStart = groupEnd;
             }
         }
     return result;

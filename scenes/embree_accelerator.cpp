@@ -194,17 +194,58 @@ bool EmbreeAccelerator::intersect(const Ray& ray, Hit& hit) const {
     hit.u = rayHit.hit.u;
     hit.v = rayHit.hit.v;
     hit.geometricNormal = {rayHit.hit.Ng_x, rayHit.hit.Ng_y, rayHit.hit.Ng_z};
-    // Map Embree's ids back to the scene's (see accelerator.h).
     const unsigned instance = rayHit.hit.instID[0];
-    const unsigned geomId = instance != RTC_INVALID_GEOMETRY_ID ? instance : rayHit.hit.geomID;
+    setIds(instance != RTC_INVALID_GEOMETRY_ID ? instance : rayHit.hit.geomID, rayHit.hit.primID, hit);
+    return true;
+}
+
+void EmbreeAccelerator::setIds(unsigned geomId, unsigned primId, Hit& hit) const {
     if (geomId > sphereGeomId_) {
         hit.geomId = sphereGeomId_;
         hit.primId = movingSphereOfGeomId_[geomId - sphereGeomId_ - 1];
     } else {
         hit.geomId = geomId;
-        hit.primId = rayHit.hit.primID;
+        hit.primId = primId;
     }
-    return true;
+}
+
+void EmbreeAccelerator::intersectPacket(const Ray* rays, int count, Hit* hits, bool* found) const {
+    alignas(32) int valid[kPacketSize];
+    RTCRayHit8 packet;
+    for (int i = 0; i < kPacketSize; ++i) {
+        const bool traced = i < count && isTraceable(rays[i]);
+        valid[i] = traced ? -1 : 0;
+        const Ray& ray = rays[traced ? i : 0];
+        packet.ray.org_x[i] = ray.origin.x;
+        packet.ray.org_y[i] = ray.origin.y;
+        packet.ray.org_z[i] = ray.origin.z;
+        packet.ray.dir_x[i] = ray.direction.x;
+        packet.ray.dir_y[i] = ray.direction.y;
+        packet.ray.dir_z[i] = ray.direction.z;
+        packet.ray.tnear[i] = ray.tnear;
+        packet.ray.tfar[i] = ray.tfar;
+        packet.ray.time[i] = ray.time;
+        packet.ray.mask[i] = 0xffffffffu;
+        packet.ray.id[i] = unsigned(i);
+        packet.ray.flags[i] = 0;
+        packet.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+        packet.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    }
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    rtcIntersect8(valid, scene_, &context, &packet);
+    for (int i = 0; i < count; ++i) {
+        found[i] = valid[i] && packet.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
+        if (!found[i]) continue;
+        Hit& hit = hits[i];
+        hit.t = packet.ray.tfar[i];
+        hit.u = packet.hit.u[i];
+        hit.v = packet.hit.v[i];
+        hit.geometricNormal = {packet.hit.Ng_x[i], packet.hit.Ng_y[i], packet.hit.Ng_z[i]};
+        const unsigned instance = packet.hit.instID[0][i];
+        setIds(instance != RTC_INVALID_GEOMETRY_ID ? instance : packet.hit.geomID[i], packet.hit.primID[i], hit);
+    }
 }
 
 bool EmbreeAccelerator::occluded(const Ray& ray) const {

@@ -26,7 +26,17 @@ public:
     bool intersect(const Ray& ray, Hit& hit) const override;
     bool occluded(const Ray& ray) const override;
 
+    // Up to kPacketSize coherent rays (a pixel's camera rays) traced together with Embree's packet
+    // kernel, which traverses once for all of them; found[i] and hits[i] as intersect() gives them.
+    // The packet kernel rounds like itself, not necessarily like the single-ray one, so a ray
+    // traced here must always be traced here (the render loop does so for every camera ray).
+    static constexpr int kPacketSize = 8;
+    void intersectPacket(const Ray* rays, int count, Hit* hits, bool* found) const;
+
 private:
+    // Scene ids from Embree's (see accelerator.h).
+    void setIds(unsigned geomId, unsigned primId, Hit& hit) const;
+
     RTCDevice device_ = nullptr;
     RTCScene scene_ = nullptr;
     std::vector<RTCScene> instancedScenes_;  // one per moving object, released with the backend
