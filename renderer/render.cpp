@@ -49,6 +49,11 @@ TileResult renderTile(const Accel& accel, const Scene& scene, const ThinLensCame
         for (int x = tile.x0; x < tile.x1; ++x) {
             PixelSums& pixel = film.at(x, y);
             const uint64_t pixelIndex = uint64_t(y) * uint64_t(scene.film.width) + uint64_t(x);
+            const auto sampleOf = [&](uint32_t s) {
+                PixelSample sample(scene.settings.sampler, scene.settings.seed, pixelIndex, s);
+                sample.freeze(frozenDims);
+                return sample;
+            };
             // A pixel's camera rays are traced in packets of sample indices aligned to multiples of
             // the packet size, so every sample's camera ray meets the same kernel in the same lane
             // whatever range [firstSample, endSample) is rendered (resumes and merges stay exact).
@@ -57,11 +62,8 @@ TileResult renderTile(const Accel& accel, const Scene& scene, const ThinLensCame
                 const int count = int(groupEnd - groupStart);
                 Ray cameraRays[kPacket];
                 TracedRay traced[kPacket];
-                for (int i = 0; i < count; ++i) {
-                    PixelSample sample(scene.settings.sampler, scene.settings.seed, pixelIndex, groupStart + i);
-                    sample.freeze(frozenDims);
-                    cameraRays[i] = generateCameraRay(camera, scene.film, sceneMoves, sample, x, y);
-                }
+                for (int i = 0; i < count; ++i)
+                    cameraRays[i] = generateCameraRay(camera, scene.film, sceneMoves, sampleOf(groupStart + i), x, y);
                 if constexpr (kPacket > 1) {
                     Hit hits[kPacket];
                     bool found[kPacket];
@@ -70,10 +72,8 @@ TileResult renderTile(const Accel& accel, const Scene& scene, const ThinLensCame
                 }
                 for (int i = 0; i < count; ++i) {
                     const uint32_t s = groupStart + i;
-                    PixelSample sample(scene.settings.sampler, scene.settings.seed, pixelIndex, s);
-                    sample.freeze(frozenDims);
                     FirstHitAovs aovs;
-                    Rgb radiance = estimateRadiance(accel, ctx, cameraRays[i], sample, result.rays, &aovs,
+                    Rgb radiance = estimateRadiance(accel, ctx, cameraRays[i], sampleOf(s), result.rays, &aovs,
                                                     kPacket > 1 ? &traced[i] : nullptr);
                     if (!radiance.isFinite()) {
                         ++result.nonFinite;
