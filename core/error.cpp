@@ -5,8 +5,13 @@ namespace penumbra {
 std::string SourceLocation::describe() const {
     std::string out = file;
     if (line > 0) {
-        out += ":" + std::to_string(line);
-        if (column > 0) out += ":" + std::to_string(column);
+        // Appended piece by piece: GCC 12 warns (-Wrestrict, falsely) on ":" + std::to_string(...).
+        out += ':';
+        out += std::to_string(line);
+        if (column > 0) {
+            out += ':';
+            out += std::to_string(column);
+        }
     }
     if (!jsonPointer.empty()) out += (out.empty() ? "" : ": ") + jsonPointer;
     return out;
