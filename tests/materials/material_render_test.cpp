@@ -55,7 +55,7 @@ void expectMean(const ImageMean& image, Rgb expected, double relativeFloor, cons
 
 MaterialDesc describe(MaterialKind kind) {
     MaterialDesc m;
-    m.name = "m";
+    m.name = std::string("m");  // not = "m": GCC 12 warns falsely (-Wrestrict) on that assignment
     m.kind = kind;
     return m;
 }
