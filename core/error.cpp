@@ -22,6 +22,12 @@ static std::string composeMessage(const SourceLocation& where, const std::string
     return place.empty() ? message : place + ": " + message;
 }
 
+void throwFileError(const std::filesystem::path& file, const std::string& message) {
+    SourceLocation where;
+    where.file = file.string();
+    throw InputError(where, message);
+}
+
 InputError::InputError(SourceLocation where, const std::string& message)
     : std::runtime_error(composeMessage(where, message)), where_(std::move(where)), message_(message) {}
 

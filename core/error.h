@@ -4,6 +4,7 @@
 // and exits non-zero.
 #pragma once
 
+#include <filesystem>
 #include <stdexcept>
 #include <string>
 
@@ -30,5 +31,8 @@ private:
     SourceLocation where_;
     std::string message_;
 };
+
+// An InputError about a whole file (no line or pointer): "FILE: message".
+[[noreturn]] void throwFileError(const std::filesystem::path& file, const std::string& message);
 
 }  // namespace penumbra

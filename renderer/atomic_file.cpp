@@ -12,12 +12,6 @@ namespace penumbra {
 
 namespace {
 
-[[noreturn]] void fail(const std::filesystem::path& path, const std::string& message) {
-    SourceLocation where;
-    where.file = path.string();
-    throw InputError(where, message);
-}
-
 // "<folder>/<stem>.tmp-<pid><ext>": same folder (so the rename is atomic, never across file
 // systems) and same extension.
 std::filesystem::path temporaryPathFor(const std::filesystem::path& path) {
@@ -35,14 +29,14 @@ void writeFileAtomically(const std::filesystem::path& path, const char* what,
     const std::filesystem::path parent = path.parent_path();
     if (!parent.empty()) {
         std::filesystem::create_directories(parent, ec);
-        if (ec) fail(path, fmt::format("cannot create folder '{}' for the {}: {}", parent.string(), what, ec.message()));
+        if (ec) throwFileError(path, fmt::format("cannot create folder '{}' for the {}: {}", parent.string(), what, ec.message()));
     }
 
     const std::filesystem::path tmp = temporaryPathFor(path);
     auto cleanupAndFail = [&](const std::string& message) {
         std::error_code ignored;
         std::filesystem::remove(tmp, ignored);
-        fail(path, fmt::format("cannot write the {}: {}", what, message));
+        throwFileError(path, fmt::format("cannot write the {}: {}", what, message));
     };
 
     std::string error;

@@ -32,12 +32,6 @@ namespace penumbra {
 
 namespace {
 
-[[noreturn]] void fail(const std::filesystem::path& path, const std::string& message) {
-    SourceLocation where;
-    where.file = path.string();
-    throw InputError(where, message);
-}
-
 // The EXR layout (docs/exr-layout.md). Version 1: every sum as four words in part "sums".
 // Version 2 (written): high words that only repeat the sign are left out, and the words are
 // spread over part "sums" (ZIP) and part "sums.noise" (RLE) by how they compress.
@@ -140,17 +134,17 @@ const char* const kNotOurs = "is not a film written by penumbra (render or merge
 FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& file) {
     const Imf::Header& beauty = file.header(0);
     if (!beauty.findTypedAttribute<Imf::IntAttribute>("penumbra:film"))
-        fail(path, fmt::format("{}: it has no penumbra:film attribute", kNotOurs));
+        throwFileError(path, fmt::format("{}: it has no penumbra:film attribute", kNotOurs));
     const int layout = intAttribute(beauty, "penumbra:film");
     if (layout < 1 || layout > kFilmLayoutVersion)
-        fail(path, fmt::format("film layout version {} is not supported (this penumbra reads versions 1 to {})",
+        throwFileError(path, fmt::format("film layout version {} is not supported (this penumbra reads versions 1 to {})",
                                layout, kFilmLayoutVersion));
 
     const Imath::Box2i display = beauty.displayWindow();
     const int fullWidth = display.max.x - display.min.x + 1, fullHeight = display.max.y - display.min.y + 1;
     if (display.min.x != 0 || display.min.y != 0 || fullWidth <= 0 || fullHeight <= 0 ||
         stringAttribute(beauty, "penumbra:resolution") != fmt::format("{}x{}", fullWidth, fullHeight))
-        fail(path, "the display window does not match penumbra:resolution");
+        throwFileError(path, "the display window does not match penumbra:resolution");
 
     FilmFile result{Film(fullWidth, fullHeight), {}};
     RenderMetadata& m = result.metadata;
@@ -170,14 +164,14 @@ FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& fi
     } catch (const std::exception&) {
         ok = false;
     }
-    if (!ok) fail(path, fmt::format("malformed penumbra:seed '{}'", seed));
+    if (!ok) throwFileError(path, fmt::format("malformed penumbra:seed '{}'", seed));
 
     const std::string samples = stringAttribute(beauty, "penumbra:samples");
     const size_t colon = samples.find(':');
     ok = colon != std::string::npos;
     const int first = ok ? parseIntStrict(samples.substr(0, colon), ok) : 0;
     const int end = ok ? parseIntStrict(samples.substr(colon + 1), ok) : 0;
-    if (!ok || first < 0 || end < first) fail(path, fmt::format("malformed penumbra:samples '{}'", samples));
+    if (!ok || first < 0 || end < first) throwFileError(path, fmt::format("malformed penumbra:samples '{}'", samples));
     m.firstSample = uint32_t(first);
     m.endSample = uint32_t(end);
 
@@ -185,7 +179,7 @@ FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& fi
     const PixelWindow window = windowOf(data);
     if (window.x0 < 0 || window.y0 < 0 || window.x1 > fullWidth || window.y1 > fullHeight ||
         stringAttribute(beauty, "penumbra:crop") != formatWindow(window))
-        fail(path, "the data window does not match penumbra:crop");
+        throwFileError(path, "the data window does not match penumbra:crop");
     if (window != PixelWindow{0, fullWidth, 0, fullHeight}) m.crop = window;
 
     // The parts that hold sum words: "sums" (both versions) and "sums.noise" (version 2).
@@ -194,12 +188,12 @@ FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& fi
         const Imf::Header& h = file.header(p);
         if (h.hasName() && (h.name() == kSumsPart || (layout >= 2 && h.name() == kNoisePart))) {
             if (h.dataWindow() != data)
-                fail(path, fmt::format("the \"{}\" part's data window differs from the beauty's", h.name()));
+                throwFileError(path, fmt::format("the \"{}\" part's data window differs from the beauty's", h.name()));
             sumParts.push_back(p);
         }
     }
     if (std::none_of(sumParts.begin(), sumParts.end(), [&](int p) { return file.header(p).name() == kSumsPart; }))
-        fail(path, fmt::format("{}: it has no \"sums\" part", kNotOurs));
+        throwFileError(path, fmt::format("{}: it has no \"sums\" part", kNotOurs));
 
     // Where each word is stored: a part, and its index among the channels read from that part.
     // Version 1 stores every word; version 2 leaves out those it can restore (see writeExr).
@@ -214,7 +208,7 @@ FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& fi
         for (int p : sumParts)
             if (const Imf::Channel* channel = file.header(p).channels().findChannel(names[c])) {
                 if (channel->type != Imf::UINT)
-                    fail(path, fmt::format("channel '{}' of the \"{}\" part is not UINT", names[c],
+                    throwFileError(path, fmt::format("channel '{}' of the \"{}\" part is not UINT", names[c],
                                            file.header(p).name()));
                 if (source[c].part < 0) {
                     source[c] = {p, namesOf[p].size()};
@@ -223,7 +217,7 @@ FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& fi
             }
     for (int c = 0; c < int(kWordsPerPixel); ++c)
         if (source[c].part < 0 && (layout == 1 || c == kSppChannel))
-            fail(path, fmt::format("the \"sums\" part has no channel '{}'", names[c]));
+            throwFileError(path, fmt::format("the \"sums\" part has no channel '{}'", names[c]));
 
     const size_t pixelCount = size_t(window.width()) * window.height();
     std::vector<std::unique_ptr<uint32_t[]>> buffers(file.parts());
@@ -235,7 +229,7 @@ FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& fi
             part.setFrameBuffer(interleaved(Imf::UINT, buffers[p].get(), namesOf[p], data));
             part.readPixels(data.min.y, data.max.y);
         } catch (const std::exception& e) {
-            fail(path, fmt::format("cannot read the \"{}\" part: {}", file.header(p).name(), e.what()));
+            throwFileError(path, fmt::format("cannot read the \"{}\" part: {}", file.header(p).name(), e.what()));
         }
     }
     auto word = [&](int c, size_t pixel) {
@@ -285,7 +279,7 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
     const PixelWindow window = metadata.crop.value_or(full);
     if (window.x0 < 0 || window.y0 < 0 || window.x1 > film.width() || window.y1 > film.height() ||
         window.width() <= 0 || window.height() <= 0)
-        fail(path, fmt::format("cannot write the EXR image: the crop window {} does not lie inside the {}x{} image",
+        throwFileError(path, fmt::format("cannot write the EXR image: the crop window {} does not lie inside the {}x{} image",
                                formatWindow(window), film.width(), film.height()));
     const Imath::Box2i data = boxOf(window);
 
@@ -449,15 +443,15 @@ bool isPenumbraFilm(const std::filesystem::path& path) {
 }
 
 FilmFile readFilmExr(const std::filesystem::path& path) {
-    if (!std::filesystem::is_regular_file(path)) fail(path, "no such file");
-    if (!Imf::isOpenExrFile(path.c_str())) fail(path, fmt::format("{}: it is not an OpenEXR file", kNotOurs));
+    if (!std::filesystem::is_regular_file(path)) throwFileError(path, "no such file");
+    if (!Imf::isOpenExrFile(path.c_str())) throwFileError(path, fmt::format("{}: it is not an OpenEXR file", kNotOurs));
     try {
         Imf::MultiPartInputFile file(path.c_str(), exrThreads());
         return readFilm(path, file);
     } catch (const InputError&) {
         throw;
     } catch (const std::exception& e) {  // OpenEXR throws Iex exceptions
-        fail(path, fmt::format("cannot read the image: {}", e.what()));
+        throwFileError(path, fmt::format("cannot read the image: {}", e.what()));
     }
 }
 

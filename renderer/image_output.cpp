@@ -29,10 +29,6 @@ SourceLocation fileLocation(const std::string& file) {
     return where;
 }
 
-[[noreturn]] void fail(const std::filesystem::path& path, const std::string& message) {
-    throw InputError(fileLocation(path.string()), message);
-}
-
 // The OCIO config: $OCIO when set and non-empty, otherwise the shipped one. CreateFromEnv rather
 // than GetCurrentConfig, because GetCurrentConfig caches the first config it loads and would
 // ignore later changes of $OCIO within the process.
@@ -65,7 +61,7 @@ uint8_t quantize8(float v) {
 
 std::string hashFileContents(const std::filesystem::path& path) {
     std::ifstream in(path, std::ios::binary);
-    if (!in) fail(path, "cannot read the file to hash it");
+    if (!in) throwFileError(path, "cannot read the file to hash it");
     uint64_t hash = 0xcbf29ce484222325ull;  // FNV-1a, 64 bits
     char buffer[1 << 16];
     while (in) {
@@ -75,7 +71,7 @@ std::string hashFileContents(const std::filesystem::path& path) {
             hash *= 0x100000001b3ull;
         }
     }
-    if (in.bad()) fail(path, "cannot read the file to hash it");
+    if (in.bad()) throwFileError(path, "cannot read the file to hash it");
     return fmt::format("fnv1a64:{:016x}", hash);
 }
 
@@ -86,7 +82,7 @@ void writeDisplayImage(const Film& film, const std::filesystem::path& path, cons
     std::string extension = path.extension().string();
     std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
     if (extension != ".png" && extension != ".jpg" && extension != ".jpeg")
-        fail(path, fmt::format("unsupported display image format '{}' (expected .png, .jpg or .jpeg)", extension));
+        throwFileError(path, fmt::format("unsupported display image format '{}' (expected .png, .jpg or .jpeg)", extension));
 
     const OCIO::ConstConfigRcPtr config = loadOcioConfig();
 
@@ -115,7 +111,7 @@ void writeDisplayImage(const Film& film, const std::filesystem::path& path, cons
             processor->getDefaultCPUProcessor()->apply(image);
         }
     } catch (const OCIO::Exception& e) {
-        fail(path, fmt::format("OpenColorIO cannot convert scene_linear to display '{}', view '{}': {}", displayName,
+        throwFileError(path, fmt::format("OpenColorIO cannot convert scene_linear to display '{}', view '{}': {}", displayName,
                                viewName, e.what()));
     }
 
