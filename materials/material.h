@@ -72,22 +72,19 @@ struct Material {
     }
     std::optional<BsdfSample> sample(Vec3f wo, float uLobe, Vec2f u, bool front) const {
         // Lambert, the most common case, is small enough to inline into the integrator.
-        if (type == MaterialType::Lambert && (twoSided || front)) {
-            const auto s = lambert.sample(wo, u);
-            if (!s) return std::nullopt;
-            return BsdfSample{s->wi, s->weight, s->pdf, false};
-        }
+        if (type == MaterialType::Lambert && (twoSided || front)) return sampleLambert(wo, u);
         return sampleAny(wo, uLobe, u, front);
+    }
+    std::optional<BsdfSample> sampleLambert(Vec3f wo, Vec2f u) const {
+        const auto s = lambert.sample(wo, u);
+        if (!s) return std::nullopt;
+        return BsdfSample{s->wi, s->weight, s->pdf, false};
     }
     [[gnu::noinline]] std::optional<BsdfSample> sampleAny(Vec3f wo, float uLobe, Vec2f u, bool front) const {
         if (!twoSided && !front) return std::nullopt;
         std::optional<SpecularSample> specular;
         switch (type) {
-            case MaterialType::Lambert: {
-                const auto s = lambert.sample(wo, u);
-                if (!s) return std::nullopt;
-                return BsdfSample{s->wi, s->weight, s->pdf, false};
-            }
+            case MaterialType::Lambert: return sampleLambert(wo, u);
             case MaterialType::Phong: {
                 const auto s = phong.sample(wo, uLobe, u);
                 if (!s) return std::nullopt;
