@@ -127,6 +127,10 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
     ++rays.primary;
 
     for (uint32_t bounce = 0;; ++bounce) {
+        // Drawn before the ray is traced although it is used after: the draw does not depend on
+        // the hit, so the CPU computes it while the traversal runs rather than after it. (A path
+        // that ends here has drawn it in vain; that costs less than the wait.)
+        const Vec2f uDirection = sample.get2D(Dim::BsdfDirection, bounce);
         Hit hit;
         bool found;
         if (bounce == 0 && traced) {
@@ -198,8 +202,7 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
 
         // Continue the path by sampling the BSDF.
         const float uLobe = material.usesLobeSample() ? sample.get1D(Dim::BsdfLobe, bounce) : 0.5f;
-        const auto bs = material.sample(woLocal, uLobe,
-                                        sample.get2D(Dim::BsdfDirection, bounce), woAbove);
+        const auto bs = material.sample(woLocal, uLobe, uDirection, woAbove);
         if (!bs) break;
         const Vec3f wi = frame.toWorld(bs->wi);
         // A reflection that crosses the geometric surface, or a transmission that does not.

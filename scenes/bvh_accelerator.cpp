@@ -24,7 +24,7 @@ namespace {
 constexpr uint32_t kNoHit = std::numeric_limits<uint32_t>::max();
 
 bool isTraceable(const Ray& ray) {
-    if (!isFinite(ray.origin) || !isFinite(ray.direction)) return false;
+    if (!isFinite(ray.origin) || !isFinite(ray.direction) || !std::isfinite(ray.time)) return false;
     if (ray.direction.x == 0.0f && ray.direction.y == 0.0f && ray.direction.z == 0.0f) return false;
     return ray.tnear <= ray.tfar;  // false when either is NaN
 }

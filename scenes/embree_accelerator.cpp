@@ -99,23 +99,6 @@ RTCGeometry newMotionInstance(RTCDevice device, RTCScene child, const MotionTran
     return instance;
 }
 
-RTCRay toEmbreeRay(const Ray& ray) {
-    RTCRay r;
-    r.org_x = ray.origin.x;
-    r.org_y = ray.origin.y;
-    r.org_z = ray.origin.z;
-    r.tnear = ray.tnear;
-    r.dir_x = ray.direction.x;
-    r.dir_y = ray.direction.y;
-    r.dir_z = ray.direction.z;
-    r.time = ray.time;
-    r.tfar = ray.tfar;
-    r.mask = 0xffffffffu;
-    r.id = 0;
-    r.flags = 0;
-    return r;
-}
-
 }  // namespace
 
 EmbreeAccelerator::EmbreeAccelerator(const Scene& scene, EmbreeOptions options) {
@@ -170,50 +153,12 @@ EmbreeAccelerator::~EmbreeAccelerator() {
     if (device_) rtcReleaseDevice(device_);
 }
 
-// Debian's Embree asserts on rays with NaN or infinite components (and would abort), so such rays
-// are answered here: they hit nothing.
-static bool isTraceable(const Ray& ray) {
-    // x - x is 0 for a finite x and NaN otherwise, so one comparison checks all seven values.
-    const Vec3f o = ray.origin, d = ray.direction;
-    const float finite = (o.x - o.x) + (o.y - o.y) + (o.z - o.z) + (d.x - d.x) + (d.y - d.y) + (d.z - d.z) +
-                         (ray.time - ray.time);
-    return finite == 0.0f && lengthSquared(d) > 0.0f && ray.tnear >= 0.0f && ray.tfar >= ray.tnear;
-}
-
-bool EmbreeAccelerator::intersect(const Ray& ray, Hit& hit) const {
-    if (!isTraceable(ray)) return false;
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    RTCRayHit rayHit;
-    rayHit.ray = toEmbreeRay(ray);
-    rayHit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rayHit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(scene_, &context, &rayHit);
-    if (rayHit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-    hit.t = rayHit.ray.tfar;
-    hit.u = rayHit.hit.u;
-    hit.v = rayHit.hit.v;
-    hit.geometricNormal = {rayHit.hit.Ng_x, rayHit.hit.Ng_y, rayHit.hit.Ng_z};
-    const unsigned instance = rayHit.hit.instID[0];
-    setIds(instance != RTC_INVALID_GEOMETRY_ID ? instance : rayHit.hit.geomID, rayHit.hit.primID, hit);
-    return true;
-}
-
-void EmbreeAccelerator::setIds(unsigned geomId, unsigned primId, Hit& hit) const {
-    if (geomId > sphereGeomId_) {
-        hit.geomId = sphereGeomId_;
-        hit.primId = movingSphereOfGeomId_[geomId - sphereGeomId_ - 1];
-    } else {
-        hit.geomId = geomId;
-        hit.primId = primId;
-    }
-}
-
 void EmbreeAccelerator::intersectPacket(const Ray* rays, int count, Hit* hits, bool* found) const {
     alignas(32) int valid[kPacketSize];
     RTCRayHit8 packet;
     for (int i = 0; i < kPacketSize; ++i) {
-        const bool traced = i < count && isTraceable(rays[i]);
+        __m128 orgTnear, dirTime;
+        const bool traced = i < count && traceableRows(rays[i], orgTnear, dirTime);
         valid[i] = traced ? -1 : 0;
         const Ray& ray = rays[traced ? i : 0];
         packet.ray.org_x[i] = ray.origin.x;
@@ -246,16 +191,6 @@ void EmbreeAccelerator::intersectPacket(const Ray* rays, int count, Hit* hits, b
         const unsigned instance = packet.hit.instID[0][i];
         setIds(instance != RTC_INVALID_GEOMETRY_ID ? instance : packet.hit.geomID[i], packet.hit.primID[i], hit);
     }
-}
-
-bool EmbreeAccelerator::occluded(const Ray& ray) const {
-    if (!isTraceable(ray)) return false;
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    RTCRay r = toEmbreeRay(ray);
-    rtcOccluded1(scene_, &context, &r);
-    // Embree marks an occluded ray by setting tfar to -infinity.
-    return r.tfar < 0.0f;
 }
 
 }  // namespace penumbra

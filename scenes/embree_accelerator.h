@@ -1,9 +1,13 @@
-// The Embree backend: every Embree call of penumbra lives in embree_accelerator.cpp.
+// The Embree backend: every Embree call of penumbra lives in embree_accelerator.{h,cpp}. The
+// per-ray calls are inline here so that the integrator's rays reach Embree without a call of ours
+// in between (no copy of the ray through memory, no prologue).
 #pragma once
 
 #include <embree3/rtcore.h>
 
+#include <cstddef>
 #include <vector>
+#include <xmmintrin.h>
 
 #include "scenes/accelerator.h"
 
@@ -34,8 +38,24 @@ public:
     void intersectPacket(const Ray* rays, int count, Hit* hits, bool* found) const;
 
 private:
+    // Embree's first two rows of a ray, (org, tnear) and (dir, time), when Embree may trace it:
+    // Debian's Embree asserts on rays with NaN or infinite components (and would abort), so such
+    // rays are answered without it (they hit nothing). Two unaligned loads of our Ray (origin,
+    // direction, tnear, tfar, time) and one finiteness test for all eight values (x * 0 is 0 for a
+    // finite x, NaN otherwise); tfar may be infinite.
+    static bool traceableRows(const Ray& ray, __m128& orgTnear, __m128& dirTime);
+    // `ray` in Embree's layout; false (and `out` unset) when Embree must not trace it.
+    static bool toTraceableEmbreeRay(const Ray& ray, RTCRay& out);
     // Scene ids from Embree's (see accelerator.h).
-    void setIds(unsigned geomId, unsigned primId, Hit& hit) const;
+    void setIds(unsigned geomId, unsigned primId, Hit& hit) const {
+        if (geomId > sphereGeomId_) [[unlikely]] {
+            hit.geomId = sphereGeomId_;
+            hit.primId = movingSphereOfGeomId_[geomId - sphereGeomId_ - 1];
+        } else {
+            hit.geomId = geomId;
+            hit.primId = primId;
+        }
+    }
 
     RTCDevice device_ = nullptr;
     RTCScene scene_ = nullptr;
@@ -43,5 +63,59 @@ private:
     uint32_t sphereGeomId_ = 0;              // == meshes.size(): all static spheres
     std::vector<uint32_t> movingSphereOfGeomId_;  // geomId - sphereGeomId_ - 1 -> sphere index
 };
+
+inline bool EmbreeAccelerator::traceableRows(const Ray& ray, __m128& orgTnear, __m128& dirTime) {
+    static_assert(offsetof(Ray, direction) == 12 && offsetof(Ray, tnear) == 24 && offsetof(Ray, time) == 32);
+    const __m128 a = _mm_loadu_ps(&ray.origin.x);     // ox oy oz dx
+    const __m128 b = _mm_loadu_ps(&ray.direction.x);  // dx dy dz tnear
+    const __m128 time = _mm_load_ss(&ray.time);
+    orgTnear = _mm_shuffle_ps(a, _mm_shuffle_ps(a, b, _MM_SHUFFLE(3, 3, 2, 2)), _MM_SHUFFLE(2, 0, 1, 0));
+    dirTime = _mm_shuffle_ps(b, _mm_shuffle_ps(b, time, _MM_SHUFFLE(0, 0, 2, 2)), _MM_SHUFFLE(2, 0, 1, 0));
+    const __m128 zero = _mm_setzero_ps();
+    const __m128 finite =
+        _mm_and_ps(_mm_cmpeq_ps(_mm_mul_ps(orgTnear, zero), zero), _mm_cmpeq_ps(_mm_mul_ps(dirTime, zero), zero));
+    return _mm_movemask_ps(finite) == 0xf && lengthSquared(ray.direction) > 0.0f && ray.tnear >= 0.0f &&
+           ray.tfar >= ray.tnear;
+}
+
+inline bool EmbreeAccelerator::toTraceableEmbreeRay(const Ray& ray, RTCRay& out) {
+    __m128 orgTnear, dirTime;
+    if (!traceableRows(ray, orgTnear, dirTime)) return false;
+    _mm_store_ps(&out.org_x, orgTnear);
+    _mm_store_ps(&out.dir_x, dirTime);
+    out.tfar = ray.tfar;
+    out.mask = 0xffffffffu;
+    out.id = 0;
+    out.flags = 0;
+    return true;
+}
+
+inline bool EmbreeAccelerator::intersect(const Ray& ray, Hit& hit) const {
+    RTCRayHit rayHit;
+    if (!toTraceableEmbreeRay(ray, rayHit.ray)) return false;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    rayHit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rayHit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene_, &context, &rayHit);
+    if (rayHit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+    hit.t = rayHit.ray.tfar;
+    hit.u = rayHit.hit.u;
+    hit.v = rayHit.hit.v;
+    hit.geometricNormal = {rayHit.hit.Ng_x, rayHit.hit.Ng_y, rayHit.hit.Ng_z};
+    const unsigned instance = rayHit.hit.instID[0];
+    setIds(instance != RTC_INVALID_GEOMETRY_ID ? instance : rayHit.hit.geomID, rayHit.hit.primID, hit);
+    return true;
+}
+
+inline bool EmbreeAccelerator::occluded(const Ray& ray) const {
+    RTCRay r;
+    if (!toTraceableEmbreeRay(ray, r)) return false;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    rtcOccluded1(scene_, &context, &r);
+    // Embree marks an occluded ray by setting tfar to -infinity.
+    return r.tfar < 0.0f;
+}
 
 }  // namespace penumbra

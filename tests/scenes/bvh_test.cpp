@@ -252,14 +252,19 @@ TEST_P(BothBackends, InvalidRaysHitNothing) {
     scene.spheres.push_back(makeSphere({0, 0, -3}, 1.0f));
     const auto built = build(scene);
     const Accelerator& accel = *built;
-    const std::vector<Ray> rays = {makeRay({kNaN, 0, 1}, {0, 0, -1}),
-                                   makeRay({0, 0, 1}, {0, kNaN, -1}),
-                                   makeRay({0, 0, 1}, {kNaN, kNaN, kNaN}),
-                                   makeRay({0, 0, 1}, {0, 0, -1}, kNaN),
-                                   makeRay({0, 0, 1}, {0, 0, -1}, 0.0f, kNaN),
-                                   makeRay({kInf, 0, 1}, {0, 0, -1}),
-                                   makeRay({0, 0, 1}, {0, 0, 0}),
-                                   makeRay({0, 0, 1}, {0, 0, -1}, 2.0f, 1.0f)};
+    std::vector<Ray> rays = {makeRay({kNaN, 0, 1}, {0, 0, -1}),
+                             makeRay({0, 0, 1}, {0, kNaN, -1}),
+                             makeRay({0, 0, 1}, {kNaN, kNaN, kNaN}),
+                             makeRay({0, 0, 1}, {0, 0, -1}, kNaN),
+                             makeRay({0, 0, 1}, {0, 0, -1}, 0.0f, kNaN),
+                             makeRay({kInf, 0, 1}, {0, 0, -1}),
+                             makeRay({0, 0, 1}, {0, 0, 0}),
+                             makeRay({0, 0, 1}, {0, 0, -1}, 2.0f, 1.0f),
+                             makeRay({0, 0, 1}, {0, -kInf, -1}),
+                             makeRay({0, 0, 1}, {0, 0, -1}, kInf, kInf)};
+    Ray timeless = makeRay({0, 0, 1}, {0, 0, -1});
+    timeless.time = kNaN;
+    rays.push_back(timeless);
     for (const Ray& ray : rays) {
         Hit hit;
         EXPECT_FALSE(accel.intersect(ray, hit));
