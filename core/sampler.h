@@ -20,6 +20,11 @@
 #include <cstdint>
 #include <string_view>
 
+#if defined(__SSE4_1__)
+#include <smmintrin.h>
+#include <tmmintrin.h>
+#endif
+
 #include "core/hash.h"
 #include "core/vec.h"
 
@@ -97,6 +102,37 @@ inline constexpr uint32_t reversedSobolSecondDimension(uint32_t index) {
     return t[0][index & 0xffu] ^ t[1][(index >> 8) & 0xffu] ^ t[2][(index >> 16) & 0xffu] ^ t[3][index >> 24];
 }
 
+// The two coordinates of a stratified 2D sample from its shuffled index: the first and second
+// Sobol dimensions of `index`, each Owen-scrambled with its own seed, as floats in [0, 1).
+inline Vec2f scrambledSobolPairScalar(uint32_t index, uint32_t xSeed, uint32_t ySeed) {
+    return {bitsToUnitFloat(reverseBits32(laineKarrasPermutation(index, xSeed))),
+            bitsToUnitFloat(reverseBits32(laineKarrasPermutation(reversedSobolSecondDimension(index), ySeed)))};
+}
+
+// The same values, with x and y in two lanes of one SSE register where SSE4.1 is there (the
+// x86-64-v3 build): the hash's multiplies, the bit reversal (a byte shuffle and two nibble
+// look-ups) and the conversion to float once for both. Integer operations, so the same bits.
+inline Vec2f scrambledSobolPair(uint32_t index, uint32_t xSeed, uint32_t ySeed) {
+#if defined(__SSE4_1__)
+    __m128i x = _mm_add_epi32(_mm_setr_epi32(int(index), int(reversedSobolSecondDimension(index)), 0, 0),
+                              _mm_setr_epi32(int(xSeed), int(ySeed), 0, 0));
+    for (const uint32_t factor : {0x6c50b47cu, 0xb82f1e52u, 0xc7afe638u, 0x8d22f6e6u})
+        x = _mm_xor_si128(x, _mm_mullo_epi32(x, _mm_set1_epi32(int(factor))));
+    // Reversal: bytes in reverse order within each lane, then each byte's bits from two nibbles.
+    x = _mm_shuffle_epi8(x, _mm_setr_epi8(3, 2, 1, 0, 7, 6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12));
+    const __m128i lowNibbles = _mm_set1_epi8(0x0f);
+    const __m128i reversedAsHigh = _mm_setr_epi8(0x00, 0x80, 0x40, 0xc0, 0x20, 0xa0, 0x60, 0xe0, 0x10, 0x90,
+                                                 0x50, 0xd0, 0x30, 0xb0, 0x70, 0xf0);
+    const __m128i reversedAsLow = _mm_srli_epi16(reversedAsHigh, 4);  // no bits cross a byte: the low nibbles are 0
+    x = _mm_or_si128(_mm_shuffle_epi8(reversedAsHigh, _mm_and_si128(x, lowNibbles)),
+                     _mm_shuffle_epi8(reversedAsLow, _mm_and_si128(_mm_srli_epi16(x, 4), lowNibbles)));
+    const __m128 unit = _mm_mul_ps(_mm_cvtepi32_ps(_mm_srli_epi32(x, 8)), _mm_set1_ps(0x1p-24f));
+    return {_mm_cvtss_f32(unit), _mm_cvtss_f32(_mm_shuffle_ps(unit, unit, _MM_SHUFFLE(1, 1, 1, 1)))};
+#else
+    return scrambledSobolPairScalar(index, xSeed, ySeed);
+#endif
+}
+
 }  // namespace detail
 
 // The sample values of one (pixel, sample index) under a given sampler and seed.
@@ -128,11 +164,8 @@ public:
         }
         // Three seeds from the dimension's key: the shuffle (low half), x's scramble (high half) and
         // y's scramble (the high half of the key times an odd constant, another well-mixed word).
-        const uint32_t index = shuffledIndex(key);
         const uint32_t yScrambleSeed = uint32_t((key * 0x9e3779b97f4a7c15ULL) >> 32);
-        return {bitsToUnitFloat(reverseBits32(detail::laineKarrasPermutation(index, uint32_t(key >> 32)))),
-                bitsToUnitFloat(reverseBits32(detail::laineKarrasPermutation(
-                    detail::reversedSobolSecondDimension(index), yScrambleSeed)))};
+        return detail::scrambledSobolPair(shuffledIndex(key), uint32_t(key >> 32), yScrambleSeed);
     }
 
     uint32_t sampleIndex() const { return sampleIndex_; }
