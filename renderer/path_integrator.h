@@ -68,9 +68,10 @@ struct IntegratorContext {
 
 namespace detail {
 
-// A ray leaving `si` in direction `direction`, offset off the surface on that side.
-inline Ray spawnRay(const SurfaceInteraction& si, Vec3f direction, float time) {
-    const Vec3f side = dot(direction, si.geometricNormal) >= 0.0f ? si.geometricNormal : -si.geometricNormal;
+// A ray leaving `si` in direction `direction`, offset off the surface on that side
+// (`cosGeometric`: dot(direction, si.geometricNormal), which the caller has computed already).
+inline Ray spawnRay(const SurfaceInteraction& si, Vec3f direction, float cosGeometric, float time) {
+    const Vec3f side = cosGeometric >= 0.0f ? si.geometricNormal : -si.geometricNormal;
     Ray ray;
     ray.origin = offsetRayOrigin(si.position, side);
     ray.direction = direction;
@@ -79,9 +80,9 @@ inline Ray spawnRay(const SurfaceInteraction& si, Vec3f direction, float time) {
 }
 
 // A shadow ray from `si` to a point on a light; both ends are moved off their surfaces, so the
-// segment [0, 1) of the unnormalized direction may be tested in full.
-inline Ray spawnShadowRay(const SurfaceInteraction& si, const LightSample& ls, float time) {
-    const Vec3f side = dot(ls.direction, si.geometricNormal) >= 0.0f ? si.geometricNormal : -si.geometricNormal;
+// segment [0, 1) of the unnormalized direction may be tested in full. `cosGeometric` as for spawnRay.
+inline Ray spawnShadowRay(const SurfaceInteraction& si, const LightSample& ls, float cosGeometric, float time) {
+    const Vec3f side = cosGeometric >= 0.0f ? si.geometricNormal : -si.geometricNormal;
     Ray ray;
     ray.origin = offsetRayOrigin(si.position, side);
     ray.time = time;
@@ -187,11 +188,12 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
             const Vec3f wiLocal = ls ? frame.toLocal(ls->direction) : Vec3f{};
             // Reflection needs the light on wo's side of the geometric surface, transmission on the other.
             const bool reflects = woLocal.z * wiLocal.z > 0.0f;
-            if (ls && !ls->radiance.isBlack() && ((dot(ls->direction, si.geometricNormal) > 0.0f) == woAbove) == reflects) {
+            const float cosLight = ls ? dot(ls->direction, si.geometricNormal) : 0.0f;
+            if (ls && !ls->radiance.isBlack() && ((cosLight > 0.0f) == woAbove) == reflects) {
                 const Rgb f = material.eval(woLocal, wiLocal, woAbove) * std::abs(wiLocal.z);
                 if (!f.isBlack()) {
                     ++rays.shadow;
-                    if (!accel.occluded(detail::spawnShadowRay(si, *ls, ray.time))) {
+                    if (!accel.occluded(detail::spawnShadowRay(si, *ls, cosLight, ray.time))) {
                         const float weight =
                             ls->isDelta ? 1.0f : powerHeuristic(ls->pdf, material.pdf(woLocal, wiLocal, woAbove));
                         radiance += throughput * f * ls->radiance * (weight / ls->pdf);
@@ -205,8 +207,9 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
         const auto bs = material.sample(woLocal, uLobe, uDirection, woAbove);
         if (!bs) break;
         const Vec3f wi = frame.toWorld(bs->wi);
+        const float cosWi = dot(wi, si.geometricNormal);
         // A reflection that crosses the geometric surface, or a transmission that does not.
-        if (((dot(wi, si.geometricNormal) > 0.0f) != woAbove) != bs->isTransmission) break;
+        if (((cosWi > 0.0f) != woAbove) != bs->isTransmission) break;
         throughput *= bs->weight;
         if (bs->isTransmission) etaScale *= bs->eta * bs->eta;
         if (throughput.isBlack()) break;
@@ -225,7 +228,7 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
         // The ray past the last vertex only looks for emission; without emitters it could hit,
         // it is not traced (as Embree's pathtracer counts path length).
         if (int(bounce) + 1 >= ctx.maxDepth && !lights.emitsAlongRays()) break;
-        ray = detail::spawnRay(si, wi, ray.time);
+        ray = detail::spawnRay(si, wi, cosWi, ray.time);
         ++rays.extension;
     }
     return radiance;

@@ -40,9 +40,10 @@ public:
 private:
     // Embree's first two rows of a ray, (org, tnear) and (dir, time), when Embree may trace it:
     // Debian's Embree asserts on rays with NaN or infinite components (and would abort), so such
-    // rays are answered without it (they hit nothing). Two unaligned loads of our Ray (origin,
-    // direction, tnear, tfar, time) and one finiteness test for all eight values (x * 0 is 0 for a
-    // finite x, NaN otherwise); tfar may be infinite.
+    // rays are answered without it (they hit nothing), and so are rays without a direction (all
+    // three components zero, as for our BVH). Two unaligned loads of our Ray (origin, direction,
+    // tnear, tfar, time) and one finiteness test for all eight values (x * 0 is 0 for a finite x,
+    // NaN otherwise); tfar may be infinite.
     static bool traceableRows(const Ray& ray, __m128& orgTnear, __m128& dirTime);
     // `ray` in Embree's layout; false (and `out` unset) when Embree must not trace it.
     static bool toTraceableEmbreeRay(const Ray& ray, RTCRay& out);
@@ -74,8 +75,8 @@ inline bool EmbreeAccelerator::traceableRows(const Ray& ray, __m128& orgTnear, _
     const __m128 zero = _mm_setzero_ps();
     const __m128 finite =
         _mm_and_ps(_mm_cmpeq_ps(_mm_mul_ps(orgTnear, zero), zero), _mm_cmpeq_ps(_mm_mul_ps(dirTime, zero), zero));
-    return _mm_movemask_ps(finite) == 0xf && lengthSquared(ray.direction) > 0.0f && ray.tnear >= 0.0f &&
-           ray.tfar >= ray.tnear;
+    const bool hasDirection = (_mm_movemask_ps(_mm_cmpneq_ps(dirTime, zero)) & 0x7) != 0;
+    return _mm_movemask_ps(finite) == 0xf && hasDirection && ray.tnear >= 0.0f && ray.tfar >= ray.tnear;
 }
 
 inline bool EmbreeAccelerator::toTraceableEmbreeRay(const Ray& ray, RTCRay& out) {
