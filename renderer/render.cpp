@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <mutex>
+#include <optional>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -49,21 +50,20 @@ TileResult renderTile(const Accel& accel, const Scene& scene, const ThinLensCame
         for (int x = tile.x0; x < tile.x1; ++x) {
             PixelSums& pixel = film.at(x, y);
             const uint64_t pixelIndex = uint64_t(y) * uint64_t(scene.film.width) + uint64_t(x);
-            const auto sampleOf = [&](uint32_t s) {
-                PixelSample sample(scene.settings.sampler, scene.settings.seed, pixelIndex, s);
-                sample.freeze(frozenDims);
-                return sample;
-            };
             // A pixel's camera rays are traced in packets of sample indices aligned to multiples of
             // the packet size, so every sample's camera ray meets the same kernel in the same lane
             // whatever range [firstSample, endSample) is rendered (resumes and merges stay exact).
             for (uint32_t groupStart = firstSample; groupStart < endSample;) {
                 const uint32_t groupEnd = std::min(endSample, (groupStart / kPacket + 1) * kPacket);
                 const int count = int(groupEnd - groupStart);
+                std::optional<PixelSample> samples[kPacket];  // made once, for the camera ray and the path
                 Ray cameraRays[kPacket];
                 TracedRay traced[kPacket];
-                for (int i = 0; i < count; ++i)
-                    cameraRays[i] = generateCameraRay(camera, scene.film, sceneMoves, sampleOf(groupStart + i), x, y);
+                for (int i = 0; i < count; ++i) {
+                    samples[i].emplace(scene.settings.sampler, scene.settings.seed, pixelIndex, groupStart + i);
+                    samples[i]->freeze(frozenDims);
+                    cameraRays[i] = generateCameraRay(camera, scene.film, sceneMoves, *samples[i], x, y);
+                }
                 if constexpr (kPacket > 1) {
                     Hit hits[kPacket];
                     bool found[kPacket];
@@ -73,7 +73,7 @@ TileResult renderTile(const Accel& accel, const Scene& scene, const ThinLensCame
                 for (int i = 0; i < count; ++i) {
                     const uint32_t s = groupStart + i;
                     FirstHitAovs aovs;
-                    Rgb radiance = estimateRadiance(accel, ctx, cameraRays[i], sampleOf(s), result.rays, &aovs,
+                    Rgb radiance = estimateRadiance(accel, ctx, cameraRays[i], *samples[i], result.rays, &aovs,
                                                     kPacket > 1 ? &traced[i] : nullptr);
                     if (!radiance.isFinite()) {
                         ++result.nonFinite;
