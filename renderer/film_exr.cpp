@@ -138,7 +138,7 @@ FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& fi
     const int layout = intAttribute(beauty, "penumbra:film");
     if (layout < 1 || layout > kFilmLayoutVersion)
         throwFileError(path, fmt::format("film layout version {} is not supported (this penumbra reads versions 1 to {})",
-                               layout, kFilmLayoutVersion));
+                                         layout, kFilmLayoutVersion));
 
     const Imath::Box2i display = beauty.displayWindow();
     const int fullWidth = display.max.x - display.min.x + 1, fullHeight = display.max.y - display.min.y + 1;
@@ -209,7 +209,7 @@ FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& fi
             if (const Imf::Channel* channel = file.header(p).channels().findChannel(names[c])) {
                 if (channel->type != Imf::UINT)
                     throwFileError(path, fmt::format("channel '{}' of the \"{}\" part is not UINT", names[c],
-                                           file.header(p).name()));
+                                                     file.header(p).name()));
                 if (source[c].part < 0) {
                     source[c] = {p, namesOf[p].size()};
                     namesOf[p].push_back(names[c]);
@@ -280,7 +280,7 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
     if (window.x0 < 0 || window.y0 < 0 || window.x1 > film.width() || window.y1 > film.height() ||
         window.width() <= 0 || window.height() <= 0)
         throwFileError(path, fmt::format("cannot write the EXR image: the crop window {} does not lie inside the {}x{} image",
-                               formatWindow(window), film.width(), film.height()));
+                                         formatWindow(window), film.width(), film.height()));
     const Imath::Box2i data = boxOf(window);
 
     // Part 0, "beauty": what viewers and compositors read; it carries the metadata.

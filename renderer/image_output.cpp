@@ -112,7 +112,7 @@ void writeDisplayImage(const Film& film, const std::filesystem::path& path, cons
         }
     } catch (const OCIO::Exception& e) {
         throwFileError(path, fmt::format("OpenColorIO cannot convert scene_linear to display '{}', view '{}': {}", displayName,
-                               viewName, e.what()));
+                                         viewName, e.what()));
     }
 
     std::vector<uint8_t> pixels(rgb.size());
