@@ -202,6 +202,17 @@ def compare_images(ours_exr, embree_ppm, diff_png=None):
     return r
 
 
+def repo_relative(value):
+    """The results with paths inside the repository written relative to it (the files are committed)."""
+    if isinstance(value, dict):
+        return {k: repo_relative(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [repo_relative(v) for v in value]
+    if isinstance(value, str) and value.startswith(REPO + os.sep):
+        return os.path.relpath(value, REPO)
+    return value
+
+
 def machine_info():
     info = {"nproc": os.cpu_count(), "platform": platform.platform()}
     try:
@@ -461,7 +472,7 @@ def main():
     os.makedirs(args.results, exist_ok=True)
     md = markdown(res)
     with open(os.path.join(args.results, "pathtracer-comparison.json"), "w") as f:
-        json.dump(res, f, indent=2)
+        json.dump(repo_relative(res), f, indent=2)
         f.write("\n")
     with open(os.path.join(args.results, "pathtracer-comparison.md"), "w") as f:
         f.write(md)
