@@ -102,7 +102,8 @@ Recording recordPaths(const Scene& scene, const EmbreeAccelerator& accel, const 
     const ThinLensCamera camera = makeSceneCamera(scene);
     const LightSet lights(scene);
     const std::vector<Material> materials = buildMaterials(scene);
-    const IntegratorContext ctx = IntegratorContext::forScene(scene, lights, materials);
+    const FaceNormals faceNormals(scene);
+    const IntegratorContext ctx = IntegratorContext::forScene(scene, lights, materials, &faceNormals);
     const bool sceneMoves = scene.hasMotion();
 
     Recording rec;

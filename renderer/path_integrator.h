@@ -58,11 +58,13 @@ struct IntegratorContext {
     int maxDepth = 64;
     int rouletteStartDepth = 3;
     bool canonicalHits = true;  // RenderSettings::canonicalHits
+    const FaceNormals* faceNormals = nullptr;  // optional: the still meshes' normals, computed beforehand
 
     // The context of a scene's render: its lights and materials, and its integrator settings.
-    static IntegratorContext forScene(const Scene& scene, const LightSet& lights, const std::vector<Material>& materials) {
+    static IntegratorContext forScene(const Scene& scene, const LightSet& lights, const std::vector<Material>& materials,
+                                      const FaceNormals* faceNormals = nullptr) {
         return {&scene, &lights, &materials, scene.integrator.maxDepth, scene.integrator.rouletteStartDepth,
-                scene.settings.canonicalHits};
+                scene.settings.canonicalHits, faceNormals};
     }
 };
 
@@ -150,8 +152,8 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
             break;
         }
         const SurfaceInteraction si = reportsCanonicalHits<Accel>() || !ctx.canonicalHits
-                                          ? resolveHit<true>(*ctx.scene, ray, hit)
-                                          : resolveHit<false>(*ctx.scene, ray, hit);
+                                          ? resolveHit<true>(*ctx.scene, ray, hit, ctx.faceNormals)
+                                          : resolveHit<false>(*ctx.scene, ray, hit, ctx.faceNormals);
         const Vec3f wo = -normalize(ray.direction);
         const Material& material = (*ctx.materials)[si.material];
         const bool woAbove = dot(wo, si.geometricNormal) > 0.0f;

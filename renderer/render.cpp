@@ -96,7 +96,8 @@ RenderStats renderWith(const Accel& accel, const Scene& scene, const RenderOptio
     const ThinLensCamera camera = makeSceneCamera(scene);
     const LightSet lights(scene);
     const std::vector<Material> materials = buildMaterials(scene);
-    const IntegratorContext ctx = IntegratorContext::forScene(scene, lights, materials);
+    const FaceNormals faceNormals(scene);
+    const IntegratorContext ctx = IntegratorContext::forScene(scene, lights, materials, &faceNormals);
 
     const bool sceneMoves = scene.hasMotion();  // otherwise no time sample is drawn
     const PixelWindow window = options.crop.value_or(PixelWindow{0, scene.film.width, 0, scene.film.height});

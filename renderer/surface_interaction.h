@@ -9,6 +9,7 @@
 #include "core/motion.h"
 #include "core/ray.h"
 #include "core/sampling.h"
+#include "renderer/face_normals.h"
 #include "scenes/accelerator.h"
 #include "scenes/ray_sphere.h"
 #include "scenes/ray_triangle.h"
@@ -52,17 +53,18 @@ inline void recomputeTriangleHit(Vec3f origin, Vec3f direction, Vec3f p0, Vec3f 
 
 // The shading point at the hit's barycentrics on triangle (p0, p1, p2) of `mesh` (`index`: its three
 // vertex indices), in the mesh's own space; the caller places it in the world for moving meshes.
+// `faceNormal`, when given, is the triangle's triangleNormal() computed beforehand (FaceNormals).
 // False for a degenerate triangle, which has no normal: the caller then turns both normals
 // towards the ray.
 inline bool triangleInteraction(const TriangleMesh& mesh, const uint32_t* index, Vec3f p0, Vec3f p1, Vec3f p2,
-                                const Hit& hit, SurfaceInteraction& si) {
+                                const Hit& hit, SurfaceInteraction& si, const Vec3f* faceNormal = nullptr) {
     si.geomId = hit.geomId;
     si.primId = hit.primId;
     const float b1 = hit.u, b2 = hit.v, b0 = 1.0f - b1 - b2;
     si.position = p0 * b0 + p1 * b1 + p2 * b2;
-    const Vec3f n = cross(p1 - p0, p2 - p0);
-    const float nLength = length(n);
-    si.geometricNormal = nLength > 0.0f ? n / nLength : Vec3f{0.0f, 0.0f, 1.0f};
+    si.geometricNormal = faceNormal ? *faceNormal : triangleNormal(p0, p1, p2);
+    const bool hasNormal = si.geometricNormal != Vec3f{0.0f, 0.0f, 0.0f};
+    if (!hasNormal) si.geometricNormal = {0.0f, 0.0f, 1.0f};
     si.shadingNormal = si.geometricNormal;
     // Vertex normals are only used for meshes that do not deform (they would need keys too).
     if (!mesh.normals.empty() && !mesh.deforms()) {
@@ -72,7 +74,7 @@ inline bool triangleInteraction(const TriangleMesh& mesh, const uint32_t* index,
     }
     if (!mesh.uvs.empty()) si.uv = mesh.uvs[index[0]] * b0 + mesh.uvs[index[1]] * b1 + mesh.uvs[index[2]] * b2;
     si.material = mesh.material;
-    return nLength > 0.0f;
+    return hasNormal;
 }
 
 }  // namespace detail
@@ -143,9 +145,11 @@ inline SurfaceInteraction makeSurfaceInteraction(const Scene& scene, const Ray& 
 }
 
 // canonicalizeHit (unless `kHitIsCanonical`: the backend's hits already are) and then
-// makeSurfaceInteraction, with a still mesh's vertices loaded once for both.
+// makeSurfaceInteraction, with a still mesh's vertices loaded once for both and its triangle's
+// normal taken from `faceNormals` when given (the same bits as computing it).
 template <bool kHitIsCanonical>
-inline SurfaceInteraction resolveHit(const Scene& scene, const Ray& ray, Hit& hit) {
+inline SurfaceInteraction resolveHit(const Scene& scene, const Ray& ray, Hit& hit,
+                                     const FaceNormals* faceNormals = nullptr) {
     if (hit.geomId < scene.meshes.size()) {
         const TriangleMesh& mesh = scene.meshes[hit.geomId];
         if (!mesh.motion.moves() && !mesh.deforms()) [[likely]] {
@@ -153,7 +157,8 @@ inline SurfaceInteraction resolveHit(const Scene& scene, const Ray& ray, Hit& hi
             const Vec3f p0 = mesh.positions[index[0]], p1 = mesh.positions[index[1]], p2 = mesh.positions[index[2]];
             if constexpr (!kHitIsCanonical) detail::recomputeTriangleHit(ray.origin, ray.direction, p0, p1, p2, ray, hit);
             SurfaceInteraction si;
-            if (!detail::triangleInteraction(mesh, index, p0, p1, p2, hit, si)) [[unlikely]]
+            const Vec3f* faceNormal = faceNormals ? faceNormals->find(hit.geomId, hit.primId) : nullptr;
+            if (!detail::triangleInteraction(mesh, index, p0, p1, p2, hit, si, faceNormal)) [[unlikely]]
                 si.geometricNormal = si.shadingNormal = normalize(-ray.direction);
             return si;
         }
