@@ -154,7 +154,9 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
         const SurfaceInteraction si = reportsCanonicalHits<Accel>() || !ctx.canonicalHits
                                           ? resolveHit<true>(*ctx.scene, ray, hit, ctx.faceNormals)
                                           : resolveHit<false>(*ctx.scene, ray, hit, ctx.faceNormals);
-        const Vec3f wo = -normalize(ray.direction);
+        // Bounce rays leave in unit directions (the BSDF's, turned into the world); only the
+        // caller's camera ray may not be.
+        const Vec3f wo = bounce == 0 ? -normalize(ray.direction) : -ray.direction;
         const Material& material = (*ctx.materials)[si.material];
         const bool woAbove = dot(wo, si.geometricNormal) > 0.0f;
         if (bounce == 0 && firstHit) *firstHit = {true, hit.t * length(ray.direction), si.shadingNormal, material.albedo()};
