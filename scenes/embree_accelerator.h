@@ -41,9 +41,9 @@ private:
     // Embree's first two rows of a ray, (org, tnear) and (dir, time), when Embree may trace it:
     // Debian's Embree asserts on rays with NaN or infinite components (and would abort), so such
     // rays are answered without it (they hit nothing), and so are rays without a direction (all
-    // three components zero, as for our BVH). Two unaligned loads of our Ray (origin, direction,
-    // tnear, tfar, time) and one finiteness test for all eight values (x * 0 is 0 for a finite x,
-    // NaN otherwise); tfar may be infinite.
+    // three components zero, as for our BVH). The two rows are built from the ray's fields, and
+    // one finiteness test covers all eight values (x * 0 is 0 for a finite x, NaN otherwise); tfar
+    // may be infinite.
     static bool traceableRows(const Ray& ray, __m128& orgTnear, __m128& dirTime);
     // `ray` in Embree's layout; false (and `out` unset) when Embree must not trace it.
     static bool toTraceableEmbreeRay(const Ray& ray, RTCRay& out);
