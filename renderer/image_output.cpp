@@ -59,10 +59,14 @@ uint8_t quantize8(float v) {
 
 }  // namespace
 
-std::string hashFileContents(const std::filesystem::path& path) {
+namespace {
+
+constexpr uint64_t kFnvOffsetBasis = 0xcbf29ce484222325ull;  // FNV-1a, 64 bits
+
+// Continues the FNV-1a hash `hash` over the bytes of the file at `path`.
+void hashBytesOf(const std::filesystem::path& path, uint64_t& hash) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throwFileError(path, "cannot read the file to hash it");
-    uint64_t hash = 0xcbf29ce484222325ull;  // FNV-1a, 64 bits
     char buffer[1 << 16];
     while (in) {
         in.read(buffer, sizeof buffer);
@@ -72,7 +76,23 @@ std::string hashFileContents(const std::filesystem::path& path) {
         }
     }
     if (in.bad()) throwFileError(path, "cannot read the file to hash it");
-    return fmt::format("fnv1a64:{:016x}", hash);
+}
+
+std::string formatHash(uint64_t hash) { return fmt::format("fnv1a64:{:016x}", hash); }
+
+}  // namespace
+
+std::string hashFileContents(const std::filesystem::path& path) {
+    uint64_t hash = kFnvOffsetBasis;
+    hashBytesOf(path, hash);
+    return formatHash(hash);
+}
+
+std::string hashSceneFiles(const std::filesystem::path& sceneFile, const std::vector<std::filesystem::path>& meshFiles) {
+    uint64_t hash = kFnvOffsetBasis;
+    hashBytesOf(sceneFile, hash);
+    for (const std::filesystem::path& mesh : meshFiles) hashBytesOf(mesh, hash);
+    return formatHash(hash);
 }
 
 std::string penumbraSoftwareName() { return std::string("penumbra ") + PENUMBRA_VERSION; }

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "renderer/film.h"
 
@@ -23,7 +24,7 @@ struct RenderMetadata {
     std::string sampler;      // "stratified" / "independent"
     std::string accelerator;  // "embree" / "bvh"
     std::string sceneFile;
-    std::string sceneHash;    // hashFileContents() of the scene file
+    std::string sceneHash;    // hashSceneFiles() of the scene file and its mesh files
     double renderSeconds = 0.0;
     std::string version;      // penumbra version string
     uint32_t firstSample = 0, endSample = 0;  // every pixel of the window holds samples [first, end)
@@ -51,9 +52,14 @@ FilmFile readFilmExr(const std::filesystem::path& path);
 // Whether `path` is an EXR written by writeExr (its first part has "penumbra:film"); never throws.
 bool isPenumbraFilm(const std::filesystem::path& path);
 
-// "fnv1a64:<16 hex digits>" of a file's bytes: identifies the scene a film was rendered from.
-// Throws InputError naming the path when it cannot be read.
+// "fnv1a64:<16 hex digits>" of a file's bytes. Throws InputError naming the path when it cannot
+// be read.
 std::string hashFileContents(const std::filesystem::path& path);
+// The same over the scene file's bytes followed by those of each mesh file it names
+// (Scene::meshFiles): identifies the scene a film was rendered from, so that a resume or a merge
+// refuses a film rendered before a mesh file changed. A scene without mesh files hashes as its
+// file alone (as films written before mesh files were hashed record it).
+std::string hashSceneFiles(const std::filesystem::path& sceneFile, const std::vector<std::filesystem::path>& meshFiles);
 
 // The "Software" attribute of the images penumbra writes: "penumbra VERSION".
 std::string penumbraSoftwareName();

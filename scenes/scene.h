@@ -137,6 +137,9 @@ struct DirectionalLight {
 
 struct Scene {
     std::filesystem::path sourcePath;  // the scene file, for messages and metadata
+    // The mesh files the scene names, in the order it names them (a file named twice is listed
+    // twice): with the scene file, what the scene hash in a film's metadata covers.
+    std::vector<std::filesystem::path> meshFiles;
     CameraDesc camera;
     FilmDesc film;
     IntegratorDesc integrator;

@@ -418,11 +418,13 @@ TriangleMesh readInlineMesh(const JsonValue& value) {
     return mesh;
 }
 
-TriangleMesh readMeshFile(const JsonValue& value, const fs::path& folder) {
+// The mesh of a "mesh" shape; its file's path is appended to `files`.
+TriangleMesh readMeshFile(const JsonValue& value, const fs::path& folder, std::vector<fs::path>& files) {
     const JsonValue fileValue = value.requiredMember("file");
     const fs::path relative = fileValue.string();
     if (relative.empty()) fileValue.failExpected("a file name");
     const fs::path path = relative.is_absolute() ? relative : folder / relative;
+    files.push_back(path);
     TriangleMesh mesh;
     try {
         mesh = importMesh(path);
@@ -515,7 +517,7 @@ void readShape(const JsonValue& value, const fs::path& folder, Scene& scene) {
         mesh.name = value.pointer();
     } else if (type == 1) {
         const JsonObject object(value, {"type", "file", "material", "emission", "transform", "motion"});
-        mesh = readMeshFile(value, folder);
+        mesh = readMeshFile(value, folder, scene.meshFiles);
     } else if (type == 2) {
         const JsonObject object(value,
                                 {"type", "corner", "edge1", "edge2", "material", "emission", "transform", "motion"});

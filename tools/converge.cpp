@@ -480,7 +480,7 @@ int runConvergeCommand(const ConvergeCommand& cmd) {
         std::printf("%s\n", line.c_str());
         std::fflush(stdout);
     };
-    const std::string sceneHash = hashFileContents(cmd.scenePath);
+    const std::string sceneHash = hashSceneFiles(cmd.scenePath, scene.meshFiles);
 
     const ConvergenceReport report = runConvergence(scene, options);
     const std::filesystem::path dir(cmd.output);

@@ -171,7 +171,7 @@ int runRender(const RenderCommand& cmd) {
 
     // --resume: continue the film in the file from where it ends up to --spp (the same samples,
     // so the result is the same bit for bit as one render).
-    const std::string sceneHash = hashFileContents(cmd.scenePath);
+    const std::string sceneHash = hashSceneFiles(cmd.scenePath, scene.meshFiles);
     const std::string samplerName(samplerKindName(scene.settings.sampler));
     Film film(scene.film.width, scene.film.height);
     uint32_t rangeFirst = options.firstSample;

@@ -545,5 +545,20 @@ TEST_F(FilmFiles, SceneHashFollowsTheContents) {
     EXPECT_THROW(hashFileContents(dir_ / "absent.json"), InputError);
 }
 
+// The scene hash covers the mesh files too, so a resume or merge refuses a film rendered before a
+// mesh changed; a scene without mesh files keeps the hash of its file alone.
+TEST_F(FilmFiles, SceneHashCoversTheMeshFiles) {
+    const fs::path scene = dir_ / "scene.json", mesh = dir_ / "mesh.obj";
+    std::ofstream(scene) << "{\"shapes\": [{\"type\": \"mesh_file\", \"file\": \"mesh.obj\"}]}";
+    { std::ofstream(mesh) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"; }
+    EXPECT_EQ(hashSceneFiles(scene, {}), hashFileContents(scene));
+    const std::string before = hashSceneFiles(scene, {mesh});
+    EXPECT_NE(before, hashFileContents(scene));
+    EXPECT_EQ(hashSceneFiles(scene, {mesh}), before);
+    { std::ofstream(mesh) << "v 0 0 0\nv 2 0 0\nv 0 1 0\nf 1 2 3\n"; }
+    EXPECT_NE(hashSceneFiles(scene, {mesh}), before) << "a changed mesh file changes the hash";
+    EXPECT_THROW(hashSceneFiles(scene, {dir_ / "absent.obj"}), InputError);
+}
+
 }  // namespace
 }  // namespace penumbra

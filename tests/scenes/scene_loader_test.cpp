@@ -43,6 +43,9 @@ Scene sceneWithShape(const std::string& shapeJson) {
 TEST(SceneLoader, ReadsEveryKey) {
     const Scene scene = loadScene(kScenes / "all_features.json");
     EXPECT_EQ(scene.sourcePath, kScenes / "all_features.json");
+    // The mesh files, in the order the scene names them, for the scene hash.
+    EXPECT_EQ(scene.meshFiles,
+              (std::vector<std::filesystem::path>{kScenes / "meshes/square.obj", kScenes / "meshes/square_binary_le.ply"}));
 
     expectNear(scene.camera.lookFrom, {0, 1, 5});
     expectNear(scene.camera.lookAt, {0, 1, 0});

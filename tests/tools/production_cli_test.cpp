@@ -190,6 +190,26 @@ TEST_F(Production, ResumingSomethingElseFails) {
     expectFailure(base + path("part.exr"), "different scene");
 }
 
+// The scene hash covers the mesh files a scene names: a film rendered before one changed is not
+// resumed as if nothing had.
+TEST_F(Production, ResumingAfterAMeshFileChangedFails) {
+    write("tri.obj", "v -1 0 -1\nv 1 0 -1\nv 0 0 1\nf 1 2 3\n");
+    const std::string scene = write("mesh_scene.json", R"({
+      "camera": {"look_from": [0, 2, 3], "look_at": [0, 0, 0], "fov": 45},
+      "film": {"resolution": [20, 16], "spp": 4},
+      "materials": {"grey": {"type": "lambert", "albedo": 0.5}},
+      "shapes": [{"type": "mesh_file", "file": "tri.obj", "material": "grey"}],
+      "lights": [{"type": "point", "position": [0, 2, 0], "intensity": 5}]
+    })");
+    render("--spp 2", "part.exr", scene);
+    const std::string resume = "render " + scene + " -q --no-display --spp 4 -o " + path("out.exr") + " --resume " +
+                               path("part.exr");
+    const RunResult same = runPenumbra(resume);
+    EXPECT_EQ(same.exitCode, 0) << same.output;
+    write("tri.obj", "v -1 0 -1\nv 2 0 -1\nv 0 0 1\nf 1 2 3\n");
+    expectFailure(resume, "different scene");
+}
+
 TEST_F(Production, ConvergeWritesItsReportAndRefusesAReferenceOfAnotherSize) {
     const RunResult ok = runPenumbra("converge " + scene_ + " --spp 1,2,...,8 --reference-spp 16 --seeds 2 -q -o " +
                                      path("study"));
