@@ -57,10 +57,6 @@ uint8_t quantize8(float v) {
     return uint8_t(std::lround(v * 255.0f));
 }
 
-}  // namespace
-
-namespace {
-
 constexpr uint64_t kFnvOffsetBasis = 0xcbf29ce484222325ull;  // FNV-1a, 64 bits
 
 // Continues the FNV-1a hash `hash` over the bytes of the file at `path`.

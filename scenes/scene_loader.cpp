@@ -418,7 +418,7 @@ TriangleMesh readInlineMesh(const JsonValue& value) {
     return mesh;
 }
 
-// The mesh of a "mesh" shape; its file's path is appended to `files`.
+// The mesh of a "mesh_file" shape; its file's path is appended to `files`.
 TriangleMesh readMeshFile(const JsonValue& value, const fs::path& folder, std::vector<fs::path>& files) {
     const JsonValue fileValue = value.requiredMember("file");
     const fs::path relative = fileValue.string();
