@@ -5,7 +5,6 @@
 
 #include <embree3/rtcore.h>
 
-#include <cstddef>
 #include <vector>
 #include <xmmintrin.h>
 
