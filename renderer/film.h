@@ -26,6 +26,7 @@
 #include "core/rgb.h"
 #include "core/vec.h"
 #include "renderer/aov.h"
+#include "renderer/zero_page_allocator.h"
 
 namespace penumbra {
 
@@ -52,6 +53,19 @@ public:
         if (std::abs(scaled) < 0x1p62) raw_ += int64_t(scaled);
         else raw_ += wide(scaled);
     }
+    // Below this many units in magnitude, an addend may be summed in 64 bits (PixelAccumulator):
+    // 2^6 such addends cannot overflow an int64.
+    static constexpr double kSmallAddendUnits = 0x1p56;
+    // The units add(value) would add, when they are fewer than kSmallAddendUnits in magnitude;
+    // false otherwise (NaN included), and then only add(value) adds it.
+    static bool smallAddendUnits(double value, int64_t& units) {
+        const double scaled = value * 0x1p48;
+        if (!(std::abs(scaled) < kSmallAddendUnits)) return false;
+        units = int64_t(scaled);
+        return true;
+    }
+    // Adds a sum of addends' units (see smallAddendUnits).
+    void addUnits(int64_t units) { raw_ += units; }
     double value() const { return double(raw_) * 0x1p-48; }
     operator double() const { return value(); }
     ExactSum& operator+=(const ExactSum& other) {
@@ -92,26 +106,42 @@ struct PixelSums {
     ExactSum hitWeight;           // sum of the weights of the samples that hit something
     uint32_t sampleCount = 0;
 
-    void add(Rgb value, float sampleWeight) {
-        for (int c = 0; c < 3; ++c) {
-            radiance[c].add(double(sampleWeight) * value[c]);
-            radianceSquared[c].add(double(sampleWeight) * double(value[c]) * value[c]);
-        }
-        weight.add(sampleWeight);
-        ++sampleCount;
+    // The sums by index, in the order above (the order of the film's EXR channels).
+    enum SumIndex : int {
+        kRadiance = 0, kRadianceSquared = 3, kWeight = 6, kAlbedo = 7, kNormal = 10, kDepth = 13, kHitWeight = 14,
+        kSumCount = 15
+    };
+    ExactSum& sum(int i) {
+        if (i < kRadianceSquared) return radiance[i];
+        if (i < kWeight) return radianceSquared[i - kRadianceSquared];
+        if (i == kWeight) return weight;
+        if (i < kNormal) return albedo[i - kAlbedo];
+        if (i < kDepth) return normal[i - kNormal];
+        return i == kDepth ? depth : hitWeight;
     }
-    // A sample with its first-hit AOVs.
-    void add(Rgb value, float sampleWeight, const FirstHitAovs& aovs) {
-        add(value, sampleWeight);
-        if (!aovs.hit) return;
+    const ExactSum& sum(int i) const { return const_cast<PixelSums*>(this)->sum(i); }
+
+    // What one sample adds: addTo(i, addend) for each sum i that it adds to (`aovs` may be null).
+    template <typename AddTo>
+    static void forEachAddend(Rgb value, float sampleWeight, const FirstHitAovs* aovs, AddTo&& addTo) {
         const double w = sampleWeight;
-        for (int c = 0; c < 3; ++c) albedo[c].add(w * aovs.albedo[c]);
-        normal[0].add(w * aovs.normal.x);
-        normal[1].add(w * aovs.normal.y);
-        normal[2].add(w * aovs.normal.z);
-        depth.add(w * aovs.distance);
-        hitWeight.add(w);
+        for (int c = 0; c < 3; ++c) {
+            addTo(kRadiance + c, w * value[c]);
+            addTo(kRadianceSquared + c, w * double(value[c]) * value[c]);
+        }
+        addTo(kWeight, w);
+        if (!aovs || !aovs->hit) return;
+        for (int c = 0; c < 3; ++c) addTo(kAlbedo + c, w * aovs->albedo[c]);
+        addTo(kNormal + 0, w * aovs->normal.x);
+        addTo(kNormal + 1, w * aovs->normal.y);
+        addTo(kNormal + 2, w * aovs->normal.z);
+        addTo(kDepth, w * aovs->distance);
+        addTo(kHitWeight, w);
     }
+
+    void add(Rgb value, float sampleWeight) { addSample(value, sampleWeight, nullptr); }
+    // A sample with its first-hit AOVs.
+    void add(Rgb value, float sampleWeight, const FirstHitAovs& aovs) { addSample(value, sampleWeight, &aovs); }
     // Adds another film's sums for the same pixel (exact: the order of merges does not matter).
     void merge(const PixelSums& o) {
         for (int c = 0; c < 3; ++c) {
@@ -139,6 +169,12 @@ struct PixelSums {
     Rgb meanAlbedo() const;
     Vec3f meanNormal() const;
     float meanDepth() const;
+
+private:
+    void addSample(Rgb value, float sampleWeight, const FirstHitAovs* aovs) {
+        forEachAddend(value, sampleWeight, aovs, [this](int i, double addend) { sum(i).add(addend); });
+        ++sampleCount;
+    }
 };
 
 class Film {
@@ -160,7 +196,7 @@ public:
 
 private:
     int width_, height_;
-    std::vector<PixelSums> pixels_;
+    std::vector<PixelSums, ZeroPageAllocator<PixelSums>> pixels_;  // zero-filled by the kernel on first touch
 };
 
 }  // namespace penumbra

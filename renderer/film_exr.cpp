@@ -48,20 +48,10 @@ const std::vector<std::string>& beautyChannels() {
 
 // The exact sums of PixelSums in a fixed order, each as UINT channels NAME.w0..w3 (the 128-bit
 // integer of an ExactSum, least significant word first), then "spp".
-constexpr int kSumCount = 15;
+constexpr int kSumCount = PixelSums::kSumCount;
 const char* const kSumNames[kSumCount] = {"sum.R", "sum.G", "sum.B", "sumsq.R", "sumsq.G", "sumsq.B",
                                           "sum.weight", "sum.albedo.R", "sum.albedo.G", "sum.albedo.B",
                                           "sum.N.X", "sum.N.Y", "sum.N.Z", "sum.Z", "sum.hits"};
-
-ExactSum& sumAt(PixelSums& p, int i) {
-    if (i < 3) return p.radiance[i];
-    if (i < 6) return p.radianceSquared[i - 3];
-    if (i == 6) return p.weight;
-    if (i < 10) return p.albedo[i - 7];
-    if (i < 13) return p.normal[i - 10];
-    return i == 13 ? p.depth : p.hitWeight;
-}
-const ExactSum& sumAt(const PixelSums& p, int i) { return sumAt(const_cast<PixelSums&>(p), i); }
 
 // Every word of every sum (channel 4 * sum + word), then "spp": the channels of layout version 1,
 // and the order of the in-memory words of both versions.
@@ -254,7 +244,7 @@ FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& fi
                     if (source[4 * s + w].part >= 0) words[w] = word(4 * s + w, i);
                 const uint32_t sign = highest[s] >= 0 ? signWord(words[highest[s]]) : 0u;
                 for (int w = highest[s] + 1; w < 4; ++w) words[w] = sign;
-                sumAt(p, s) = ExactSum::fromWords(words);
+                p.sum(s) = ExactSum::fromWords(words);
             }
             p.sampleCount = word(kSppChannel, i);
         }
@@ -349,7 +339,7 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
             uint32_t* w = words[x & 1];
             const uint32_t* left = words[(x & 1) ^ 1];
             for (int s = 0; s < kSumCount; ++s) {
-                sumAt(p, s).toWords(w + 4 * s);
+                p.sum(s).toWords(w + 4 * s);
                 stats.neededWords[s] = std::max(stats.neededWords[s], wordsNeeded(w + 4 * s));
             }
             for (int c = 0; c < kSppChannel; ++c) stats.bits[c] |= w[c];
@@ -399,7 +389,7 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
         uint32_t words[kWordsPerPixel];
         for (int x = 0; x < width; ++x) {
             const PixelSums& p = film.at(window.x0 + x, window.y0 + row);
-            for (int s = 0; s < kSumCount; ++s) sumAt(p, s).toWords(words + 4 * s);
+            for (int s = 0; s < kSumCount; ++s) p.sum(s).toWords(words + 4 * s);
             words[kSppChannel] = p.sampleCount;
             for (int c : zipChannels) *zipOut++ = words[c];
             for (int c : rleChannels) *rleOut++ = words[c];

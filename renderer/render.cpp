@@ -13,6 +13,7 @@
 #include "cameras/camera.h"
 #include "core/error.h"
 #include "renderer/camera_samples.h"
+#include "renderer/pixel_accumulator.h"
 #include "renderer/scene_materials.h"
 #include "scenes/bvh_accelerator.h"
 #include "scenes/embree_accelerator.h"
@@ -55,7 +56,7 @@ TileResult renderTile(const Accel& accel, const Scene& scene, const ThinLensCame
     bool found[kPacket];
     for (int y = tile.y0; y < tile.y1; ++y)
         for (int x = tile.x0; x < tile.x1; ++x) {
-            PixelSums& pixel = film.at(x, y);
+            PixelAccumulator pixel(film.at(x, y));  // adds the samples to the film when the pixel is done
             const uint64_t pixelIndex = uint64_t(y) * uint64_t(scene.film.width) + uint64_t(x);
             // A pixel's camera rays are traced in packets of sample indices aligned to multiples of
             // the packet size, so every sample's camera ray meets the same kernel in the same lane
