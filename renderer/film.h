@@ -26,7 +26,6 @@
 #include "core/rgb.h"
 #include "core/vec.h"
 #include "renderer/aov.h"
-#include "renderer/zero_page_allocator.h"
 
 namespace penumbra {
 
@@ -196,7 +195,7 @@ public:
 
 private:
     int width_, height_;
-    std::vector<PixelSums, ZeroPageAllocator<PixelSums>> pixels_;  // zero-filled by the kernel on first touch
+    std::vector<PixelSums> pixels_;
 };
 
 }  // namespace penumbra

@@ -1,5 +1,5 @@
-// The film's pixel memory and the 64-bit pre-summing of a pixel's samples: both must leave the
-// film's sums exactly as direct adds to zero-initialized PixelSums would.
+// The 64-bit pre-summing of a pixel's samples must leave the film's sums exactly as direct adds
+// would.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,7 +10,6 @@
 
 #include "renderer/film.h"
 #include "renderer/pixel_accumulator.h"
-#include "renderer/zero_page_allocator.h"
 
 namespace penumbra {
 namespace {
@@ -80,28 +79,6 @@ TEST(PixelAccumulator, SumsAreAddressedInTheDeclaredOrder) {
                                   &p.depth, &p.hitWeight};
     ASSERT_EQ(std::size(declared), size_t(PixelSums::kSumCount));
     for (int i = 0; i < PixelSums::kSumCount; ++i) EXPECT_EQ(&p.sum(i), declared[i]) << i;
-}
-
-TEST(ZeroPageAllocator, AValueInitializedPixelIsAllZeroBytes) {
-    // The allocator skips value-initialization on the strength of this.
-    alignas(PixelSums) unsigned char bytes[sizeof(PixelSums)];
-    std::memset(bytes, 0xa5, sizeof(bytes));
-    const PixelSums* p = new (bytes) PixelSums();
-    const unsigned char zeros[sizeof(PixelSums)] = {};
-    EXPECT_EQ(std::memcmp(p, zeros, sizeof(PixelSums)), 0);
-}
-
-TEST(ZeroPageAllocator, FilmsStartEmptyAndCopyTheirSums) {
-    // Large enough for several (huge) pages, so that fresh mappings are what is tested.
-    Film film(1024, 1100);
-    const PixelSums empty;
-    for (int y = 0; y < film.height(); y += 97)
-        for (int x = 0; x < film.width(); x += 89) ASSERT_TRUE(sameBits(film.at(x, y), empty));
-    EXPECT_EQ(film.totalSamples(), 0u);
-    film.at(1023, 1099).add(Rgb(0.5f, 1.0f, 2.0f), 1.0f);
-    const Film copy = film;
-    EXPECT_TRUE(copy.identicalTo(film));
-    EXPECT_EQ(copy.totalSamples(), 1u);
 }
 
 }  // namespace
