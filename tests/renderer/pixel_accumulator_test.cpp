@@ -68,7 +68,9 @@ TEST(PixelAccumulator, FlushesAtMostEveryKMaxSamples) {
         }
     }
     EXPECT_TRUE(sameBits(direct, accumulated));
-    EXPECT_NEAR(accumulated.radiance[0].value(), (3.0 * PixelAccumulator::kMaxSamples + 1) * nearLimit, 1e-6);
+    // Exact, so compared exactly: nearLimit is (2^24 - 1) 2^-16, one addend (2^24 - 1) 2^32 units,
+    // and 193 of them have fewer than 53 significant bits, as a double and as value() returns them.
+    EXPECT_EQ(accumulated.radiance[0].value(), (3.0 * PixelAccumulator::kMaxSamples + 1) * nearLimit);
 }
 
 TEST(PixelAccumulator, SumsAreAddressedInTheDeclaredOrder) {
