@@ -16,7 +16,7 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <memory>
+#include <optional>
 #include <thread>
 #include <string>
 #include <vector>
@@ -25,6 +25,7 @@
 #include <tbb/parallel_for.h>
 
 #include "core/error.h"
+#include "core/huge_page_allocator.h"
 #include "renderer/atomic_file.h"
 #include "renderer/image_output.h"
 
@@ -210,13 +211,13 @@ FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& fi
             throwFileError(path, fmt::format("the \"sums\" part has no channel '{}'", names[c]));
 
     const size_t pixelCount = size_t(window.width()) * window.height();
-    std::vector<std::unique_ptr<uint32_t[]>> buffers(file.parts());
+    std::vector<std::optional<HugePageBuffer<uint32_t>>> buffers(file.parts());
     for (int p : sumParts) {
         if (namesOf[p].empty()) continue;
-        buffers[p].reset(new uint32_t[pixelCount * namesOf[p].size()]);
+        buffers[p].emplace(pixelCount * namesOf[p].size());
         try {
             Imf::InputPart part(file, p);
-            part.setFrameBuffer(interleaved(Imf::UINT, buffers[p].get(), namesOf[p], data));
+            part.setFrameBuffer(interleaved(Imf::UINT, buffers[p]->get(), namesOf[p], data));
             part.readPixels(data.min.y, data.max.y);
         } catch (const std::exception& e) {
             throwFileError(path, fmt::format("cannot read the \"{}\" part: {}", file.header(p).name(), e.what()));
@@ -224,7 +225,7 @@ FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& fi
     }
     auto word = [&](int c, size_t pixel) {
         const Source& from = source[c];
-        return buffers[from.part][pixel * namesOf[from.part].size() + from.index];
+        return buffers[from.part]->get()[pixel * namesOf[from.part].size() + from.index];
     };
     int highest[kSumCount];  // per sum, its highest stored word (-1: none)
     for (int s = 0; s < kSumCount; ++s) {
@@ -309,8 +310,10 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
 
     const int width = window.width(), height = window.height();
     const size_t pixelCount = size_t(width) * height;
-    // Every element is written below, so no buffer is zero-filled first.
-    std::unique_ptr<float[]> beautyPixels(new float[pixelCount * beautyNames.size()]);
+    // Every element is written below, so no buffer is zero-filled first; huge pages, since these
+    // buffers are as large as half the film, and faulting them in by 4 KiB pages costs more than
+    // filling them.
+    HugePageBuffer<float> beautyPixels(pixelCount * beautyNames.size());
 
     // First pass, rows on every core: the beauty, and what decides which sum words are stored where.
     struct WordStats {
@@ -381,8 +384,8 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
     for (const std::string& name : rleNames) noise.channels().insert(name, Imf::Channel(Imf::UINT));
 
     // Second pass: the stored words of each part, interleaved pixel by pixel.
-    std::unique_ptr<uint32_t[]> zipWords(new uint32_t[pixelCount * zipChannels.size()]);
-    std::unique_ptr<uint32_t[]> rleWords(new uint32_t[pixelCount * rleChannels.size()]);
+    HugePageBuffer<uint32_t> zipWords(pixelCount * zipChannels.size());
+    HugePageBuffer<uint32_t> rleWords(pixelCount * rleChannels.size());
     tbb::parallel_for(0, height, [&](int row) {
         uint32_t* zipOut = zipWords.get() + size_t(row) * width * zipChannels.size();
         uint32_t* rleOut = rleWords.get() + size_t(row) * width * rleChannels.size();

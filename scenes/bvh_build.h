@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "core/vec.h"
-#include "scenes/bvh_huge_pages.h"
+#include "core/huge_page_allocator.h"
 
 namespace penumbra {
 

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "scenes/bvh_build.h"
-#include "scenes/bvh_huge_pages.h"
+#include "core/huge_page_allocator.h"
 
 namespace penumbra {
 
