@@ -19,8 +19,10 @@
 #pragma once
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include "core/huge_page_allocator.h"
@@ -66,13 +68,22 @@ public:
     }
     // Adds a sum of addends' units (see smallAddendUnits).
     void addUnits(int64_t units) { raw_ += units; }
-    double value() const { return double(raw_) * 0x1p-48; }
+    // A sum that fits 64 bits (nearly all do) converts in one instruction; the 128-bit conversion
+    // is a library call. Both round the same integer to the nearest double, so the bits agree.
+    double value() const {
+        const auto low = int64_t(raw_);
+        return (low == raw_ ? double(low) : double(raw_)) * 0x1p-48;
+    }
     operator double() const { return value(); }
     ExactSum& operator+=(const ExactSum& other) {
         raw_ += other.raw_;
         return *this;
     }
     bool operator==(const ExactSum&) const = default;
+
+    // Word w (least significant first) of the raw 128-bit integer lies at byte 4 * w of an
+    // ExactSum, so a file writer may read the words in place (film_exr.cpp does).
+    static constexpr size_t wordOffset(int w) { return size_t(4 * w); }
 
     // The raw 128-bit integer as four 32-bit words, least significant first (for storage).
     void toWords(uint32_t words[4]) const {
@@ -95,6 +106,9 @@ private:
     }
     __int128 raw_ = 0;
 };
+
+static_assert(std::endian::native == std::endian::little && sizeof(ExactSum) == 16 &&
+              std::is_standard_layout_v<ExactSum>, "ExactSum::wordOffset assumes a little-endian 128-bit integer");
 
 struct PixelSums {
     ExactSum radiance[3];         // sum of weight * L

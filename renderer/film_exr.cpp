@@ -310,9 +310,8 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
 
     const int width = window.width(), height = window.height();
     const size_t pixelCount = size_t(width) * height;
-    // Every element is written below, so no buffer is zero-filled first; huge pages, since these
-    // buffers are as large as half the film, and faulting them in by 4 KiB pages costs more than
-    // filling them.
+    // Every element is written below, so the buffer is not zero-filled first; huge pages, since it
+    // is as large as a fifth of the film, and faulting it in by 4 KiB pages costs more than filling it.
     HugePageBuffer<float> beautyPixels(pixelCount * beautyNames.size());
 
     // First pass, rows on every core: the beauty, and what decides which sum words are stored where.
@@ -377,27 +376,24 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
             if (total.bits[c] == 0 && !(w > 0 && w == total.neededWords[s] - 1)) continue;
             (total.repeats[c] >= total.changes[c] ? zipChannels : rleChannels).push_back(c);
         }
-    std::vector<std::string> zipNames, rleNames;
-    for (int c : zipChannels) zipNames.push_back(sumChannels()[c]);
-    for (int c : rleChannels) rleNames.push_back(sumChannels()[c]);
-    for (const std::string& name : zipNames) sums.channels().insert(name, Imf::Channel(Imf::UINT));
-    for (const std::string& name : rleNames) noise.channels().insert(name, Imf::Channel(Imf::UINT));
+    for (int c : zipChannels) sums.channels().insert(sumChannels()[c], Imf::Channel(Imf::UINT));
+    for (int c : rleChannels) noise.channels().insert(sumChannels()[c], Imf::Channel(Imf::UINT));
 
-    // Second pass: the stored words of each part, interleaved pixel by pixel.
-    HugePageBuffer<uint32_t> zipWords(pixelCount * zipChannels.size());
-    HugePageBuffer<uint32_t> rleWords(pixelCount * rleChannels.size());
-    tbb::parallel_for(0, height, [&](int row) {
-        uint32_t* zipOut = zipWords.get() + size_t(row) * width * zipChannels.size();
-        uint32_t* rleOut = rleWords.get() + size_t(row) * width * rleChannels.size();
-        uint32_t words[kWordsPerPixel];
-        for (int x = 0; x < width; ++x) {
-            const PixelSums& p = film.at(window.x0 + x, window.y0 + row);
-            for (int s = 0; s < kSumCount; ++s) p.sum(s).toWords(words + 4 * s);
-            words[kSppChannel] = p.sampleCount;
-            for (int c : zipChannels) *zipOut++ = words[c];
-            for (int c : rleChannels) *rleOut++ = words[c];
+    // The stored words are read by OpenEXR in place, from the film's own memory: copying them out
+    // first took a second pass over the film and buffers as large as half of it.
+    auto filmWords = [&](const std::vector<int>& channels) {
+        Imf::FrameBuffer buffer;
+        const size_t xStride = sizeof(PixelSums), yStride = xStride * size_t(film.width());
+        const PixelSums& origin = film.at(0, 0);  // the slices address pixels by absolute (x, y)
+        for (int c : channels) {
+            const char* word = c == kSppChannel
+                                   ? reinterpret_cast<const char*>(&origin.sampleCount)
+                                   : reinterpret_cast<const char*>(&origin.sum(c / 4)) + ExactSum::wordOffset(c % 4);
+            // OpenEXR takes a char* for reading and writing alike; writing a file only reads it.
+            buffer.insert(sumChannels()[c], Imf::Slice(Imf::UINT, const_cast<char*>(word), xStride, yStride));
         }
-    });
+        return buffer;
+    };
 
     writeFileAtomically(path, "EXR image", [&](const std::string& tmp, std::string& error) {
         try {
@@ -410,11 +406,11 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
             beautyPart.setFrameBuffer(interleaved(Imf::FLOAT, beautyPixels.get(), beautyNames, data));
             beautyPart.writePixels(height);
             Imf::OutputPart sumsPart(file, 1);
-            sumsPart.setFrameBuffer(interleaved(Imf::UINT, zipWords.get(), zipNames, data));
+            sumsPart.setFrameBuffer(filmWords(zipChannels));
             sumsPart.writePixels(height);
             if (parts == 3) {
                 Imf::OutputPart noisePart(file, 2);
-                noisePart.setFrameBuffer(interleaved(Imf::UINT, rleWords.get(), rleNames, data));
+                noisePart.setFrameBuffer(filmWords(rleChannels));
                 noisePart.writePixels(height);
             }
             return true;

@@ -84,6 +84,27 @@ TEST(ExactSum, GroupingDoesNotChangeTheBits) {
     EXPECT_EQ(ExactSum::fromWords(words).value(), -3.25);
 }
 
+// value() converts sums that fit 64 bits on a fast path; sums beyond it must read the same as the
+// 128-bit integer they are, rounded to the nearest double once.
+TEST(ExactSum, ValuesBeyondSixtyFourBitsReadExactly) {
+    const uint32_t twoTo64Units[4] = {0, 0, 1, 0};  // 2^64 units of 2^-48: 2^16
+    EXPECT_EQ(ExactSum::fromWords(twoTo64Units).value(), 65536.0);
+    const uint32_t minusTwoTo64Units[4] = {0, 0, ~0u, ~0u};
+    EXPECT_EQ(ExactSum::fromWords(minusTwoTo64Units).value(), -65536.0);
+    // 2^64 + 2^11 units: exactly halfway between two doubles (their spacing there is 2^12 units),
+    // rounded to the even one, 2^64 units; one unit more rounds up. A conversion through the low
+    // 64 bits alone would read 2^-37 and 2^-37 + 2^-48.
+    const uint32_t halfway[4] = {1u << 11, 0, 1, 0};
+    EXPECT_EQ(ExactSum::fromWords(halfway).value(), 65536.0);
+    const uint32_t aboveHalfway[4] = {(1u << 11) + 1, 0, 1, 0};
+    EXPECT_EQ(ExactSum::fromWords(aboveHalfway).value(), 65536.0 + 0x1p-36);
+    // The largest sum of 64 bits and the smallest: the fast path.
+    const uint32_t largest64[4] = {~0u, 0x7fffffffu, 0, 0};
+    EXPECT_EQ(ExactSum::fromWords(largest64).value(), 0x1p63 * 0x1p-48);
+    const uint32_t smallest64[4] = {0, 0x80000000u, ~0u, ~0u};
+    EXPECT_EQ(ExactSum::fromWords(smallest64).value(), -0x1p63 * 0x1p-48);
+}
+
 TEST(RenderPasses, PassesResumeAndMergeAreBitIdenticalToOneRender) {
     const Scene scene = testing::makeSmallBoxScene(24, 18, 13);
     const Film once = renderRange(scene, 0, 13);
