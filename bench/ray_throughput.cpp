@@ -102,8 +102,8 @@ Recording recordPaths(const Scene& scene, const EmbreeAccelerator& accel, const 
     const ThinLensCamera camera = makeSceneCamera(scene);
     const LightSet lights(scene);
     const std::vector<Material> materials = buildMaterials(scene);
-    const FaceNormals faceNormals(scene);
-    const IntegratorContext ctx = IntegratorContext::forScene(scene, lights, materials, &faceNormals);
+    const FaceFrames faceFrames(scene);
+    const IntegratorContext ctx = IntegratorContext::forScene(scene, lights, materials, &faceFrames);
     const bool sceneMoves = scene.hasMotion();
 
     Recording rec;

@@ -135,14 +135,20 @@ inline Vec2f scrambledSobolPair(uint32_t index, uint32_t xSeed, uint32_t ySeed) 
 
 }  // namespace detail
 
+// The part of a sample's identity that all samples of a pixel share, (seed, pixel), hashed: made
+// once per pixel by the render loop rather than once per sample.
+struct PixelKey {
+    uint64_t value;
+    static PixelKey of(uint64_t seed, uint64_t pixelIndex) { return {hashWords(seed, pixelIndex)}; }
+};
+
 // The sample values of one (pixel, sample index) under a given sampler and seed.
 class PixelSample {
 public:
     PixelSample(SamplerKind kind, uint64_t seed, uint64_t pixelIndex, uint32_t sampleIndex)
-        : kind_(kind),
-          pixelKey_(hashWords(seed, pixelIndex)),
-          sampleIndex_(sampleIndex),
-          reversedSampleIndex_(reverseBits32(sampleIndex)) {}
+        : PixelSample(kind, PixelKey::of(seed, pixelIndex), sampleIndex) {}
+    PixelSample(SamplerKind kind, PixelKey pixel, uint32_t sampleIndex)
+        : kind_(kind), pixelKey_(pixel.value), sampleIndex_(sampleIndex), reversedSampleIndex_(reverseBits32(sampleIndex)) {}
 
     float get1D(Dim dim, uint32_t bounce = 0) const {
         if (frozen_ & dimBit(dim)) [[unlikely]] return 0.5f;

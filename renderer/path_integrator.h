@@ -58,13 +58,13 @@ struct IntegratorContext {
     int maxDepth = 64;
     int rouletteStartDepth = 3;
     bool canonicalHits = true;  // RenderSettings::canonicalHits
-    const FaceNormals* faceNormals = nullptr;  // optional: the still meshes' normals, computed beforehand
+    const FaceFrames* faceFrames = nullptr;  // optional: the still meshes' normals and frames, computed beforehand
 
     // The context of a scene's render: its lights and materials, and its integrator settings.
     static IntegratorContext forScene(const Scene& scene, const LightSet& lights, const std::vector<Material>& materials,
-                                      const FaceNormals* faceNormals = nullptr) {
+                                      const FaceFrames* faceFrames = nullptr) {
         return {&scene, &lights, &materials, scene.integrator.maxDepth, scene.integrator.rouletteStartDepth,
-                scene.settings.canonicalHits, faceNormals};
+                scene.settings.canonicalHits, faceFrames};
     }
 };
 
@@ -152,8 +152,8 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
             break;
         }
         const SurfaceInteraction si = reportsCanonicalHits<Accel>() || !ctx.canonicalHits
-                                          ? resolveHit<true>(*ctx.scene, ray, hit, ctx.faceNormals)
-                                          : resolveHit<false>(*ctx.scene, ray, hit, ctx.faceNormals);
+                                          ? resolveHit<true>(*ctx.scene, ray, hit, ctx.faceFrames)
+                                          : resolveHit<false>(*ctx.scene, ray, hit, ctx.faceFrames);
         // Bounce rays leave in unit directions (the BSDF's, turned into the world); only the
         // caller's camera ray may not be.
         const Vec3f wo = bounce == 0 ? -normalize(ray.direction) : -ray.direction;
@@ -179,7 +179,7 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
         }
         if (int(bounce) >= ctx.maxDepth) break;
 
-        const Frame frame = Frame::fromNormal(si.shadingNormal);
+        const Frame frame = si.shadingFrame ? *si.shadingFrame : Frame::fromNormal(si.shadingNormal);
         const Vec3f woLocal = frame.toLocal(wo);
 
         // Next-event estimation.

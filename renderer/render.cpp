@@ -57,7 +57,7 @@ TileResult renderTile(const Accel& accel, const Scene& scene, const ThinLensCame
     for (int y = tile.y0; y < tile.y1; ++y)
         for (int x = tile.x0; x < tile.x1; ++x) {
             PixelAccumulator pixel(film.at(x, y));  // adds the samples to the film when the pixel is done
-            const uint64_t pixelIndex = uint64_t(y) * uint64_t(scene.film.width) + uint64_t(x);
+            const PixelKey pixelKey = PixelKey::of(scene.settings.seed, uint64_t(y) * uint64_t(scene.film.width) + uint64_t(x));
             // A pixel's camera rays are traced in packets of sample indices aligned to multiples of
             // the packet size, so every sample's camera ray meets the same kernel in the same lane
             // whatever range [firstSample, endSample) is rendered (resumes and merges stay exact).
@@ -65,7 +65,7 @@ TileResult renderTile(const Accel& accel, const Scene& scene, const ThinLensCame
                 const uint32_t groupEnd = std::min(endSample, (groupStart / kPacket + 1) * kPacket);
                 const int count = int(groupEnd - groupStart);
                 for (int i = 0; i < count; ++i) {
-                    samples[i].emplace(scene.settings.sampler, scene.settings.seed, pixelIndex, groupStart + i);
+                    samples[i].emplace(scene.settings.sampler, pixelKey, groupStart + i);
                     samples[i]->freeze(frozenDims);
                     cameraRays[i] = generateCameraRay(camera, scene.film, sceneMoves, *samples[i], x, y);
                 }
@@ -97,8 +97,8 @@ RenderStats renderWith(const Accel& accel, const Scene& scene, const RenderOptio
     const ThinLensCamera camera = makeSceneCamera(scene);
     const LightSet lights(scene);
     const std::vector<Material> materials = buildMaterials(scene);
-    const FaceNormals faceNormals(scene);
-    const IntegratorContext ctx = IntegratorContext::forScene(scene, lights, materials, &faceNormals);
+    const FaceFrames faceFrames(scene);
+    const IntegratorContext ctx = IntegratorContext::forScene(scene, lights, materials, &faceFrames);
 
     const bool sceneMoves = scene.hasMotion();  // otherwise no time sample is drawn
     const PixelWindow window = options.crop.value_or(PixelWindow{0, scene.film.width, 0, scene.film.height});

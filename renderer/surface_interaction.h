@@ -6,10 +6,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/frame.h"
 #include "core/motion.h"
 #include "core/ray.h"
 #include "core/sampling.h"
-#include "renderer/face_normals.h"
+#include "renderer/face_frames.h"
 #include "scenes/accelerator.h"
 #include "scenes/ray_sphere.h"
 #include "scenes/ray_triangle.h"
@@ -24,6 +25,9 @@ struct SurfaceInteraction {
     Vec2f uv;
     uint32_t material = 0;
     uint32_t geomId = 0, primId = 0;
+    // Frame::fromNormal(shadingNormal) computed beforehand (FaceFrames), when there is one: for a
+    // still, non-degenerate triangle whose shading normal is its geometric normal. Null otherwise.
+    const Frame* shadingFrame = nullptr;
 };
 
 namespace detail {
@@ -53,24 +57,29 @@ inline void recomputeTriangleHit(Vec3f origin, Vec3f direction, Vec3f p0, Vec3f 
 
 // The shading point at the hit's barycentrics on triangle (p0, p1, p2) of `mesh` (`index`: its three
 // vertex indices), in the mesh's own space; the caller places it in the world for moving meshes.
-// `faceNormal`, when given, is the triangle's triangleNormal() computed beforehand (FaceNormals).
-// False for a degenerate triangle, which has no normal: the caller then turns both normals
-// towards the ray.
-inline bool triangleInteraction(const TriangleMesh& mesh, const uint32_t* index, Vec3f p0, Vec3f p1, Vec3f p2,
-                                const Hit& hit, SurfaceInteraction& si, const Vec3f* faceNormal = nullptr) {
+// `faceFrame`, when given, is the triangle's frame computed beforehand (FaceFrames): its n is the
+// triangle's triangleNormal(). False for a degenerate triangle, which has no normal: the caller
+// then turns both normals towards the ray. Always inline: out of line, its call and its vectors
+// passed through memory cost more than it does.
+[[gnu::always_inline]] inline bool triangleInteraction(const TriangleMesh& mesh, const uint32_t* index, Vec3f p0, Vec3f p1, Vec3f p2,
+                                const Hit& hit, SurfaceInteraction& si, const Frame* faceFrame = nullptr) {
     si.geomId = hit.geomId;
     si.primId = hit.primId;
     const float b1 = hit.u, b2 = hit.v, b0 = 1.0f - b1 - b2;
     si.position = p0 * b0 + p1 * b1 + p2 * b2;
-    si.geometricNormal = faceNormal ? *faceNormal : triangleNormal(p0, p1, p2);
+    si.geometricNormal = faceFrame ? faceFrame->n : triangleNormal(p0, p1, p2);
     const bool hasNormal = si.geometricNormal != Vec3f{0.0f, 0.0f, 0.0f};
     if (!hasNormal) si.geometricNormal = {0.0f, 0.0f, 1.0f};
     si.shadingNormal = si.geometricNormal;
+    if (hasNormal) si.shadingFrame = faceFrame;
     // Vertex normals are only used for meshes that do not deform (they would need keys too).
     if (!mesh.normals.empty() && !mesh.deforms()) {
         const Vec3f ns = mesh.normals[index[0]] * b0 + mesh.normals[index[1]] * b1 + mesh.normals[index[2]] * b2;
         const float nsLength = length(ns);
-        if (nsLength > 0.0f) si.shadingNormal = faceForward(ns / nsLength, si.geometricNormal);
+        if (nsLength > 0.0f) {
+            si.shadingNormal = faceForward(ns / nsLength, si.geometricNormal);
+            si.shadingFrame = nullptr;
+        }
     }
     if (!mesh.uvs.empty()) si.uv = mesh.uvs[index[0]] * b0 + mesh.uvs[index[1]] * b1 + mesh.uvs[index[2]] * b2;
     si.material = mesh.material;
@@ -146,10 +155,10 @@ inline SurfaceInteraction makeSurfaceInteraction(const Scene& scene, const Ray& 
 
 // canonicalizeHit (unless `kHitIsCanonical`: the backend's hits already are) and then
 // makeSurfaceInteraction, with a still mesh's vertices loaded once for both and its triangle's
-// normal taken from `faceNormals` when given (the same bits as computing it).
+// normal and shading frame taken from `faceFrames` when given (the same bits as computing them).
 template <bool kHitIsCanonical>
-inline SurfaceInteraction resolveHit(const Scene& scene, const Ray& ray, Hit& hit,
-                                     const FaceNormals* faceNormals = nullptr) {
+[[gnu::always_inline]] inline SurfaceInteraction resolveHit(const Scene& scene, const Ray& ray, Hit& hit,
+                                     const FaceFrames* faceFrames = nullptr) {
     if (hit.geomId < scene.meshes.size()) {
         const TriangleMesh& mesh = scene.meshes[hit.geomId];
         if (!mesh.motion.moves() && !mesh.deforms()) [[likely]] {
@@ -157,8 +166,8 @@ inline SurfaceInteraction resolveHit(const Scene& scene, const Ray& ray, Hit& hi
             const Vec3f p0 = mesh.positions[index[0]], p1 = mesh.positions[index[1]], p2 = mesh.positions[index[2]];
             if constexpr (!kHitIsCanonical) detail::recomputeTriangleHit(ray.origin, ray.direction, p0, p1, p2, ray, hit);
             SurfaceInteraction si;
-            const Vec3f* faceNormal = faceNormals ? faceNormals->find(hit.geomId, hit.primId) : nullptr;
-            if (!detail::triangleInteraction(mesh, index, p0, p1, p2, hit, si, faceNormal)) [[unlikely]]
+            const Frame* faceFrame = faceFrames ? faceFrames->find(hit.geomId, hit.primId) : nullptr;
+            if (!detail::triangleInteraction(mesh, index, p0, p1, p2, hit, si, faceFrame)) [[unlikely]]
                 si.geometricNormal = si.shadingNormal = normalize(-ray.direction);
             return si;
         }
