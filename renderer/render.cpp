@@ -113,7 +113,13 @@ RenderStats renderWith(const Accel& accel, const Scene& scene, const RenderOptio
     // renders all tiles, so between passes every pixel holds the same samples.
     const uint32_t firstSample = std::min(options.firstSample, endSample);
     const uint32_t passSize = options.passSize > 0 ? options.passSize : std::max(1u, endSample - firstSample);
-    const size_t passes = (size_t(endSample - firstSample) + passSize - 1) / passSize;
+    // Pass ends at multiples of passSize, like the packets' groups of sample indices, so that a
+    // resume from any index keeps the packets of later passes whole.
+    auto passEndAfter = [&](uint32_t begin) {
+        return uint32_t(std::min<uint64_t>(endSample, (uint64_t(begin) / passSize + 1) * passSize));
+    };
+    size_t passes = 0;
+    for (uint32_t begin = firstSample; begin < endSample; begin = passEndAfter(begin)) ++passes;
     const size_t totalTiles = tiles.size() * passes;
 
     std::vector<TileResult> results(tiles.size());
@@ -148,7 +154,7 @@ RenderStats renderWith(const Accel& accel, const Scene& scene, const RenderOptio
             stats.cancelled = true;
             break;
         }
-        passEnd = passBegin + std::min(passSize, endSample - passBegin);
+        passEnd = passEndAfter(passBegin);
         arena.execute([&] { tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), renderRange); });
         stats.endSample = passEnd;
         if (options.passDone) {
@@ -171,6 +177,12 @@ RenderStats renderWith(const Accel& accel, const Scene& scene, const RenderOptio
 }
 
 }  // namespace
+
+uint32_t defaultPassSize(uint64_t windowPixels) {
+    constexpr uint64_t kAlignment = EmbreeAccelerator::kPacketSize;
+    const uint64_t samples = std::max<uint64_t>(1, (uint64_t(1) << 20) / std::max<uint64_t>(1, windowPixels));
+    return uint32_t(std::min<uint64_t>((samples + kAlignment - 1) / kAlignment * kAlignment, uint64_t(1) << 20));
+}
 
 RenderStats render(const Scene& scene, const RenderOptions& options, Film& film) {
     if (film.width() != scene.film.width || film.height() != scene.film.height)

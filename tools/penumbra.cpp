@@ -204,11 +204,10 @@ int runRender(const RenderCommand& cmd) {
         return m;
     };
 
-    // Passes: about a million samples each unless --pass-size says otherwise, so that a signal or
-    // a checkpoint waits at most about that long.
+    // Passes: about a million samples each unless --pass-size says otherwise (defaultPassSize).
     const PixelWindow window = options.crop.value_or(PixelWindow{0, scene.film.width, 0, scene.film.height});
     const uint64_t windowPixels = uint64_t(std::max(1, window.width())) * uint64_t(std::max(1, window.height()));
-    options.passSize = cmd.passSize ? *cmd.passSize : uint32_t(std::clamp<uint64_t>((1u << 20) / windowPixels, 1, 1u << 20));
+    options.passSize = cmd.passSize ? *cmd.passSize : defaultPassSize(windowPixels);
     if (options.passSize == 0) throw InputError("--pass-size: expected a positive integer");
     if (cmd.checkpointMinutes && !(*cmd.checkpointMinutes >= 0))
         throw InputError("--checkpoint: expected a number of minutes >= 0");

@@ -152,6 +152,33 @@ TEST(RenderPasses, CancellationStopsAtAPassBoundary) {
     EXPECT_TRUE(film.identicalTo(renderRange(scene, 0, 6)));
 }
 
+// Passes end at multiples of the pass size, also when the range starts between them (a resume),
+// and the film is still that of one render.
+TEST(RenderPasses, PassesEndAtMultiplesOfThePassSize) {
+    const Scene scene = testing::makeSmallBoxScene(16, 12, 23);
+    std::vector<uint32_t> passEnds;
+    Film film(16, 12);
+    RenderOptions options;
+    options.firstSample = 5;
+    options.endSample = 23;
+    options.passSize = 8;
+    options.passDone = [&](uint32_t end) { passEnds.push_back(end); };
+    const RenderStats stats = render(scene, options, film);
+    EXPECT_EQ(stats.endSample, 23u);
+    EXPECT_EQ(passEnds, (std::vector<uint32_t>{8, 16, 23}));
+    EXPECT_TRUE(film.identicalTo(renderRange(scene, 5, 23)));
+}
+
+// About 2^20 samples a pass, in whole packets of camera rays (8 sample indices).
+TEST(RenderPasses, DefaultPassSizeIsAMultipleOfThePacketSize) {
+    EXPECT_EQ(defaultPassSize(512 * 512), 8u);    // 2^20 / 2^18 = 4, rounded up to 8
+    EXPECT_EQ(defaultPassSize(256 * 256), 16u);   // 2^20 / 2^16, a multiple already
+    EXPECT_EQ(defaultPassSize(300 * 200), 24u);   // 17, rounded up
+    EXPECT_EQ(defaultPassSize(4096 * 4096), 8u);  // 2^20 / 2^24 is 0: at least one packet
+    EXPECT_EQ(defaultPassSize(1), 1u << 20);
+    EXPECT_EQ(defaultPassSize(0), 1u << 20);
+}
+
 TEST(Sampler, FrozenDimensionsReturnTheirCentre) {
     PixelSample sample(SamplerKind::Stratified, 3, 17, 5);
     const Vec2f lens = sample.get2D(Dim::Lens);
