@@ -114,9 +114,12 @@ RenderStats renderWith(const Accel& accel, const Scene& scene, const RenderOptio
     const uint32_t firstSample = std::min(options.firstSample, endSample);
     const uint32_t passSize = options.passSize > 0 ? options.passSize : std::max(1u, endSample - firstSample);
     // Pass ends at multiples of passSize, like the packets' groups of sample indices, so that a
-    // resume from any index keeps the packets of later passes whole.
+    // resume from any index keeps the packets of later passes whole; and at options.passEnds.
     auto passEndAfter = [&](uint32_t begin) {
-        return uint32_t(std::min<uint64_t>(endSample, (uint64_t(begin) / passSize + 1) * passSize));
+        uint64_t end = std::min<uint64_t>(endSample, (uint64_t(begin) / passSize + 1) * passSize);
+        for (const uint32_t boundary : options.passEnds)
+            if (boundary > begin && boundary < end) end = boundary;
+        return uint32_t(end);
     };
     size_t passes = 0;
     for (uint32_t begin = firstSample; begin < endSample; begin = passEndAfter(begin)) ++passes;

@@ -34,6 +34,8 @@ struct RenderOptions {
     // firstSample is not one). 0: one pass (each tile renders all its samples). The film is the
     // same bit for bit either way (see ExactSum in film.h).
     uint32_t passSize = 0;
+    // More pass boundaries, at these sample indices (convergence rungs): a pass also ends at each.
+    std::vector<uint32_t> passEnds;
     // Called on the calling thread after each pass, with the film consistent at [firstSample,
     // passEnd): checkpoints and convergence snapshots are taken here.
     std::function<void(uint32_t passEnd)> passDone;

@@ -274,7 +274,7 @@ ConvergenceReport runConvergence(const Scene& scene, const ConvergenceOptions& o
             Film film(width, height);
             RenderOptions o = base;
             o.endSample = top;
-            o.passSize = 1;  // a pass boundary at every sample index, so at every rung
+            o.passEnds = options.rungs;  // a pass boundary at every rung, where the film is measured
             size_t next = 0;
             Clock::duration snapshots{};
             const auto start = Clock::now();

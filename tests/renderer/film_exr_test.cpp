@@ -169,6 +169,25 @@ TEST(RenderPasses, PassesEndAtMultiplesOfThePassSize) {
     EXPECT_TRUE(film.identicalTo(renderRange(scene, 5, 23)));
 }
 
+// Explicit pass boundaries (convergence rungs) split the passes there, and only there.
+TEST(RenderPasses, PassesEndAtTheGivenBoundaries) {
+    const Scene scene = testing::makeSmallBoxScene(16, 12, 10);
+    std::vector<uint32_t> passEnds;
+    Film film(16, 12);
+    RenderOptions options;
+    options.passEnds = {1, 2, 4, 10, 40};
+    options.passDone = [&](uint32_t end) { passEnds.push_back(end); };
+    render(scene, options, film);
+    EXPECT_EQ(passEnds, (std::vector<uint32_t>{1, 2, 4, 10}));
+    EXPECT_TRUE(film.identicalTo(renderRange(scene, 0, 10)));
+    passEnds.clear();
+    Film withSize(16, 12);
+    options.passSize = 3;
+    render(scene, options, withSize);
+    EXPECT_EQ(passEnds, (std::vector<uint32_t>{1, 2, 3, 4, 6, 9, 10}));
+    EXPECT_TRUE(withSize.identicalTo(film));
+}
+
 // About 2^20 samples a pass, in whole packets of camera rays (8 sample indices).
 TEST(RenderPasses, DefaultPassSizeIsAMultipleOfThePacketSize) {
     EXPECT_EQ(defaultPassSize(512 * 512), 8u);    // 2^20 / 2^18 = 4, rounded up to 8
