@@ -148,7 +148,10 @@ public:
     PixelSample(SamplerKind kind, uint64_t seed, uint64_t pixelIndex, uint32_t sampleIndex)
         : PixelSample(kind, PixelKey::of(seed, pixelIndex), sampleIndex) {}
     PixelSample(SamplerKind kind, PixelKey pixel, uint32_t sampleIndex)
-        : kind_(kind), pixelKey_(pixel.value), sampleIndex_(sampleIndex), reversedSampleIndex_(reverseBits32(sampleIndex)) {}
+        : kind_(kind),
+          pixelKey_(pixel.value),
+          sampleIndex_(sampleIndex),
+          reversedSampleIndex_(reverseBits32(sampleIndex)) {}
 
     float get1D(Dim dim, uint32_t bounce = 0) const {
         if (frozen_ & dimBit(dim)) [[unlikely]] return 0.5f;

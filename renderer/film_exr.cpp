@@ -386,9 +386,9 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
         const size_t xStride = sizeof(PixelSums), yStride = xStride * size_t(film.width());
         const PixelSums& origin = film.at(0, 0);  // the slices address pixels by absolute (x, y)
         for (int c : channels) {
-            const char* word = c == kSppChannel
-                                   ? reinterpret_cast<const char*>(&origin.sampleCount)
-                                   : reinterpret_cast<const char*>(&origin.sum(c / 4)) + ExactSum::wordOffset(c % 4);
+            const char* word =
+                c == kSppChannel ? reinterpret_cast<const char*>(&origin.sampleCount)
+                                 : reinterpret_cast<const char*>(&origin.sum(c / 4)) + ExactSum::wordOffset(c % 4);
             // OpenEXR takes a char* for reading and writing alike; writing a file only reads it.
             buffer.insert(sumChannels()[c], Imf::Slice(Imf::UINT, const_cast<char*>(word), xStride, yStride));
         }

@@ -57,7 +57,8 @@ TileResult renderTile(const Accel& accel, const Scene& scene, const ThinLensCame
     for (int y = tile.y0; y < tile.y1; ++y)
         for (int x = tile.x0; x < tile.x1; ++x) {
             PixelAccumulator pixel(film.at(x, y));  // adds the samples to the film when the pixel is done
-            const PixelKey pixelKey = PixelKey::of(scene.settings.seed, uint64_t(y) * uint64_t(scene.film.width) + uint64_t(x));
+            const uint64_t pixelIndex = uint64_t(y) * uint64_t(scene.film.width) + uint64_t(x);
+            const PixelKey pixelKey = PixelKey::of(scene.settings.seed, pixelIndex);
             // A pixel's camera rays are traced in packets of sample indices aligned to multiples of
             // the packet size, so every sample's camera ray meets the same kernel in the same lane
             // whatever range [firstSample, endSample) is rendered (resumes and merges stay exact).
@@ -112,11 +113,12 @@ RenderStats renderWith(const Accel& accel, const Scene& scene, const RenderOptio
     // Passes of sample indices (one pass unless options.passSize says otherwise): every pass
     // renders all tiles, so between passes every pixel holds the same samples.
     const uint32_t firstSample = std::min(options.firstSample, endSample);
-    const uint32_t passSize = options.passSize > 0 ? options.passSize : std::max(1u, endSample - firstSample);
-    // Pass ends at multiples of passSize, like the packets' groups of sample indices, so that a
-    // resume from any index keeps the packets of later passes whole; and at options.passEnds.
+    // Pass ends at multiples of the pass size, like the packets' groups of sample indices, so that
+    // a resume from any index keeps the packets of later passes whole; and at options.passEnds.
     auto passEndAfter = [&](uint32_t begin) {
-        uint64_t end = std::min<uint64_t>(endSample, (uint64_t(begin) / passSize + 1) * passSize);
+        uint64_t end = endSample;
+        if (options.passSize > 0)
+            end = std::min<uint64_t>(end, (uint64_t(begin) / options.passSize + 1) * options.passSize);
         for (const uint32_t boundary : options.passEnds)
             if (boundary > begin && boundary < end) end = boundary;
         return uint32_t(end);

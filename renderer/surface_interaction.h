@@ -61,8 +61,9 @@ inline void recomputeTriangleHit(Vec3f origin, Vec3f direction, Vec3f p0, Vec3f 
 // triangle's triangleNormal(). False for a degenerate triangle, which has no normal: the caller
 // then turns both normals towards the ray. Always inline: out of line, its call and its vectors
 // passed through memory cost more than it does.
-[[gnu::always_inline]] inline bool triangleInteraction(const TriangleMesh& mesh, const uint32_t* index, Vec3f p0, Vec3f p1, Vec3f p2,
-                                const Hit& hit, SurfaceInteraction& si, const Frame* faceFrame = nullptr) {
+[[gnu::always_inline]] inline bool triangleInteraction(const TriangleMesh& mesh, const uint32_t* index, Vec3f p0,
+                                                       Vec3f p1, Vec3f p2, const Hit& hit, SurfaceInteraction& si,
+                                                       const Frame* faceFrame = nullptr) {
     si.geomId = hit.geomId;
     si.primId = hit.primId;
     const float b1 = hit.u, b2 = hit.v, b0 = 1.0f - b1 - b2;

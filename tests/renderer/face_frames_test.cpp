@@ -14,7 +14,9 @@ namespace penumbra {
 namespace {
 
 bool sameBits(Vec3f a, Vec3f b) { return std::memcmp(&a, &b, sizeof(Vec3f)) == 0; }
-bool sameBits(const Frame& a, const Frame& b) { return sameBits(a.s, b.s) && sameBits(a.t, b.t) && sameBits(a.n, b.n); }
+bool sameBits(const Frame& a, const Frame& b) {
+    return sameBits(a.s, b.s) && sameBits(a.t, b.t) && sameBits(a.n, b.n);
+}
 
 // A still mesh of random triangles (the last one degenerate: its three vertices on a line), a
 // moving copy of it, a sphere, and a still copy with vertex normals.
@@ -43,7 +45,8 @@ Scene makeScene() {
     scene.meshes.push_back(moving);
     scene.spheres.push_back(Sphere{"ball", {0.0f, 0.0f, 0.0f}, 1.0f, 0, {}, {}});
     TriangleMesh smooth = mesh;
-    for (size_t v = 0; v < smooth.positions.size(); ++v) smooth.normals.push_back(normalize(Vec3f{1.0f, float(v % 7), 2.0f}));
+    for (size_t v = 0; v < smooth.positions.size(); ++v)
+        smooth.normals.push_back(normalize(Vec3f{1.0f, float(v % 7), 2.0f}));
     scene.meshes.push_back(smooth);
     return scene;
 }
@@ -82,37 +85,38 @@ TEST(FaceFrames, ShadingWithTheTableIsBitIdentical) {
     std::mt19937 rng(11);
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
     int degenerate = 0;
-    for (const uint32_t geomId : {0u, 2u})
-    for (uint32_t t = 0; t < scene.meshes[geomId].triangleCount(); ++t) {
-        Hit hit;
-        hit.geomId = geomId;
-        hit.primId = t;
-        hit.u = 0.5f * u(rng);
-        hit.v = 0.5f * u(rng);
-        hit.t = 1.0f;
-        Ray ray;
-        ray.origin = {20.0f * u(rng) - 10.0f, 20.0f, 5.0f};
-        ray.direction = {u(rng) - 0.5f, -1.0f, u(rng) - 0.5f};
-        Hit withTable = hit, without = hit;
-        const SurfaceInteraction a = resolveHit<true>(scene, ray, withTable, &frames);
-        const SurfaceInteraction b = resolveHit<true>(scene, ray, without);
-        EXPECT_TRUE(sameBits(a.position, b.position)) << "triangle " << t;
-        EXPECT_TRUE(sameBits(a.geometricNormal, b.geometricNormal)) << "triangle " << t;
-        EXPECT_TRUE(sameBits(a.shadingNormal, b.shadingNormal)) << "triangle " << t;
-        EXPECT_EQ(b.shadingFrame, nullptr) << "without the table there is no frame";
-        const bool isDegenerate = t + 1 == scene.meshes[geomId].triangleCount();
-        if (geomId == 0 && !isDegenerate) {
-            // The integrator's frame, taken from the table: the same bits as building it at the hit.
-            ASSERT_NE(a.shadingFrame, nullptr) << "triangle " << t;
-            EXPECT_TRUE(sameBits(*a.shadingFrame, Frame::fromNormal(b.shadingNormal))) << "triangle " << t;
-        } else {
-            // Vertex normals make a shading normal of their own; a degenerate triangle has none.
-            EXPECT_EQ(a.shadingFrame, nullptr) << "mesh " << geomId << ", triangle " << t;
-        }
-        if (isDegenerate) {
-            // No normal: both face the ray.
-            EXPECT_TRUE(sameBits(a.geometricNormal, normalize(-ray.direction)));
-            ++degenerate;
+    for (const uint32_t geomId : {0u, 2u}) {
+        for (uint32_t t = 0; t < scene.meshes[geomId].triangleCount(); ++t) {
+            Hit hit;
+            hit.geomId = geomId;
+            hit.primId = t;
+            hit.u = 0.5f * u(rng);
+            hit.v = 0.5f * u(rng);
+            hit.t = 1.0f;
+            Ray ray;
+            ray.origin = {20.0f * u(rng) - 10.0f, 20.0f, 5.0f};
+            ray.direction = {u(rng) - 0.5f, -1.0f, u(rng) - 0.5f};
+            Hit withTable = hit, without = hit;
+            const SurfaceInteraction a = resolveHit<true>(scene, ray, withTable, &frames);
+            const SurfaceInteraction b = resolveHit<true>(scene, ray, without);
+            EXPECT_TRUE(sameBits(a.position, b.position)) << "triangle " << t;
+            EXPECT_TRUE(sameBits(a.geometricNormal, b.geometricNormal)) << "triangle " << t;
+            EXPECT_TRUE(sameBits(a.shadingNormal, b.shadingNormal)) << "triangle " << t;
+            EXPECT_EQ(b.shadingFrame, nullptr) << "without the table there is no frame";
+            const bool isDegenerate = t + 1 == scene.meshes[geomId].triangleCount();
+            if (geomId == 0 && !isDegenerate) {
+                // The integrator's frame, taken from the table: the same bits as building it at the hit.
+                ASSERT_NE(a.shadingFrame, nullptr) << "triangle " << t;
+                EXPECT_TRUE(sameBits(*a.shadingFrame, Frame::fromNormal(b.shadingNormal))) << "triangle " << t;
+            } else {
+                // Vertex normals make a shading normal of their own; a degenerate triangle has none.
+                EXPECT_EQ(a.shadingFrame, nullptr) << "mesh " << geomId << ", triangle " << t;
+            }
+            if (isDegenerate) {
+                // No normal: both face the ray.
+                EXPECT_TRUE(sameBits(a.geometricNormal, normalize(-ray.direction)));
+                ++degenerate;
+            }
         }
     }
     EXPECT_EQ(degenerate, 2);

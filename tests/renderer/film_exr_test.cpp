@@ -167,6 +167,13 @@ TEST(RenderPasses, PassesEndAtMultiplesOfThePassSize) {
     EXPECT_EQ(stats.endSample, 23u);
     EXPECT_EQ(passEnds, (std::vector<uint32_t>{8, 16, 23}));
     EXPECT_TRUE(film.identicalTo(renderRange(scene, 5, 23)));
+    // Pass size 0: one pass, wherever the range starts.
+    passEnds.clear();
+    Film once(16, 12);
+    options.passSize = 0;
+    render(scene, options, once);
+    EXPECT_EQ(passEnds, (std::vector<uint32_t>{23}));
+    EXPECT_TRUE(once.identicalTo(film));
 }
 
 // Explicit pass boundaries (convergence rungs) split the passes there, and only there.
