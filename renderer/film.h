@@ -193,7 +193,9 @@ private:
 
 class Film {
 public:
-    Film(int width, int height) : width_(width), height_(height), pixels_(size_t(width) * height) {}
+    // Throws InputError when the film would not fit in the machine's memory (an impossible
+    // resolution, or a file that claims one), rather than failing somewhere in the allocation.
+    Film(int width, int height);
 
     int width() const { return width_; }
     int height() const { return height_; }

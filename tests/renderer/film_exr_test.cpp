@@ -84,6 +84,17 @@ TEST(ExactSum, GroupingDoesNotChangeTheBits) {
     EXPECT_EQ(ExactSum::fromWords(words).value(), -3.25);
 }
 
+// A film larger than the machine's memory is refused with a message that says so, before any
+// allocation (2^30 x 2^30 pixels of 256 bytes: 2^68 bytes, more than any machine has).
+TEST(Film, ImpossibleSizeIsAClearError) {
+    try {
+        Film film(1 << 30, 1 << 30);
+        FAIL() << "a 2^30 x 2^30 film was made";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("1073741824x1073741824 film needs"), std::string::npos) << e.what();
+    }
+}
+
 // value() converts sums that fit 64 bits on a fast path; sums beyond it must read the same as the
 // 128-bit integer they are, rounded to the nearest double once.
 TEST(ExactSum, ValuesBeyondSixtyFourBitsReadExactly) {
