@@ -12,13 +12,14 @@
 namespace penumbra {
 
 Film::Film(int width, int height) : width_(width), height_(height) {
-    const double bytes = double(std::max(width, 0)) * double(std::max(height, 0)) * double(sizeof(PixelSums));
+    const size_t pixels = size_t(std::max(width, 0)) * size_t(std::max(height, 0));
+    const double bytes = double(pixels) * double(sizeof(PixelSums));
     const double memory = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGESIZE));
     if (memory > 0 && bytes > memory)
         throw InputError(fmt::format("a {}x{} film needs {:.1f} GiB of memory ({} bytes a pixel); this machine "
                                      "has {:.1f} GiB",
                                      width, height, bytes / 0x1p30, sizeof(PixelSums), memory / 0x1p30));
-    pixels_.resize(size_t(std::max(width, 0)) * size_t(std::max(height, 0)));
+    pixels_.resize(pixels);
 }
 
 Rgb PixelSums::varianceOfMean() const {

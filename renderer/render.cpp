@@ -110,11 +110,11 @@ RenderStats renderWith(const Accel& accel, const Scene& scene, const RenderOptio
         for (int x = window.x0; x < window.x1; x += tileSize)
             tiles.push_back({x, std::min(x + tileSize, window.x1), y, std::min(y + tileSize, window.y1)});
 
-    // Passes of sample indices (one pass unless options.passSize says otherwise): every pass
-    // renders all tiles, so between passes every pixel holds the same samples.
+    // Passes of sample indices (one pass unless options.passSize or passEnds say otherwise): every
+    // pass renders all tiles, so between passes every pixel holds the same samples. A pass ends at
+    // the next multiple of the pass size, like the packets' groups of sample indices, so that a
+    // resume from any index keeps the packets of later passes whole, or at options.passEnds.
     const uint32_t firstSample = std::min(options.firstSample, endSample);
-    // Pass ends at multiples of the pass size, like the packets' groups of sample indices, so that
-    // a resume from any index keeps the packets of later passes whole; and at options.passEnds.
     auto passEndAfter = [&](uint32_t begin) {
         uint64_t end = endSample;
         if (options.passSize > 0)
