@@ -26,6 +26,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "core/ray.h"
@@ -70,19 +71,21 @@ struct IntegratorContext {
 
 namespace detail {
 
-// A ray leaving `si` in direction `direction`, offset off the surface on that side
-// (`cosGeometric`: dot(direction, si.geometricNormal), which the caller has computed already).
-inline Ray spawnRay(const SurfaceInteraction& si, Vec3f direction, float cosGeometric, float time) {
+// Turns `ray` into the ray leaving `si` in direction `direction`, offset off the surface on that
+// side, at the same time (`cosGeometric`: dot(direction, si.geometricNormal), which the caller has
+// computed already). Written in place field by field rather than built and copied: the copy loaded
+// 16 bytes just stored in narrower parts, which the CPU cannot forward from its store buffer, and
+// perf put 2% of the render's time on that wait.
+inline void continueRay(Ray& ray, const SurfaceInteraction& si, Vec3f direction, float cosGeometric) {
     const Vec3f side = cosGeometric >= 0.0f ? si.geometricNormal : -si.geometricNormal;
-    Ray ray;
     ray.origin = offsetRayOrigin(si.position, side);
     ray.direction = direction;
-    ray.time = time;
-    return ray;
+    ray.tnear = 0.0f;
+    ray.tfar = std::numeric_limits<float>::infinity();
 }
 
 // A shadow ray from `si` to a point on a light; both ends are moved off their surfaces, so the
-// segment [0, 1) of the unnormalized direction may be tested in full. `cosGeometric` as for spawnRay.
+// segment [0, 1) of the unnormalized direction may be tested in full. `cosGeometric` as for continueRay.
 inline Ray spawnShadowRay(const SurfaceInteraction& si, const LightSample& ls, float cosGeometric, float time) {
     const Vec3f side = cosGeometric >= 0.0f ? si.geometricNormal : -si.geometricNormal;
     Ray ray;
@@ -232,7 +235,7 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
         // The ray past the last vertex only looks for emission; without emitters it could hit,
         // it is not traced (as Embree's pathtracer counts path length).
         if (int(bounce) + 1 >= ctx.maxDepth && !lights.emitsAlongRays()) break;
-        ray = detail::spawnRay(si, wi, cosWi, ray.time);
+        detail::continueRay(ray, si, wi, cosWi);
         ++rays.extension;
     }
     return radiance;
