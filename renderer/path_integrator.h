@@ -188,7 +188,7 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
         // Next-event estimation: the shadow ray and what it adds when unoccluded. It is traced
         // after the BSDF sample below, not before: the two are independent, so the CPU works on
         // both chains of arithmetic at once instead of finishing one, then calling into the
-        // traversal, then starting the other (2% of the render's time).
+        // traversal, then starting the other (5% of the render's time).
         bool castsShadowRay = false;
         Ray shadowRay;
         Rgb shadowContribution;
