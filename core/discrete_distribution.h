@@ -36,6 +36,7 @@ public:
 
     // The item whose CDF interval contains u (u in [0, 1)); never an item of zero probability.
     uint32_t sample(float u) const {
+        if (cdf_.size() == 1) return 0;  // one light, the common case: no search
         const auto it = std::upper_bound(cdf_.begin(), cdf_.end(), double(u));
         size_t index = std::min(size_t(it - cdf_.begin()), cdf_.size() - 1);
         while (probabilities_[index] == 0.0f && index > 0) --index;  // only reachable through rounding
