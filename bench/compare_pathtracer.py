@@ -11,7 +11,9 @@ It
      untimed warm-up of each), under /usr/bin/time -v (wall time and peak resident memory);
   3. compares the images in Embree's output domain: its .ppm is linear radiance clamped to [0, 1]
      and truncated to 8 bits (255.01 * v), so our EXR is clamped and quantized the same way;
-  4. measures thread scaling, 1 against 2 threads, for both programs (alternating again);
+  4. measures thread scaling, 1 against 2 threads, for both programs: each repetition runs one
+     thread on core 0, one thread on core 1 and two threads on both, and the 2-thread time is
+     compared with the ideal of those two cores (the cores of a shared VM often differ in speed);
   5. runs penumbra_ray_throughput: the render's rays per second against bare Embree
      (rtcIntersect1 / rtcOccluded1) retracing a recorded sample of the render's own rays;
   6. writes bench/results/pathtracer-comparison.json and .md and prints the table.
@@ -76,11 +78,13 @@ def parse_time_v(stderr):
     return out
 
 
-def timed(cmd, cwd):
-    """Runs cmd under /usr/bin/time -v; returns wall seconds, peak RSS, CPU seconds and stdout."""
+def timed(cmd, cwd, cores=None):
+    """Runs cmd under /usr/bin/time -v (on the given CPU cores only, when given); returns wall
+    seconds, peak RSS, CPU seconds and stdout."""
+    pin = (lambda: os.sched_setaffinity(0, cores)) if cores is not None else None
     start = time.perf_counter()
     proc = subprocess.run(["/usr/bin/time", "-v"] + cmd, cwd=cwd, stdout=subprocess.PIPE,
-                          stderr=subprocess.PIPE, text=True)
+                          stderr=subprocess.PIPE, text=True, preexec_fn=pin)
     wall = time.perf_counter() - start
     if proc.returncode != 0:
         raise SystemExit(f"command failed ({proc.returncode}): {' '.join(cmd)}\n{proc.stdout}\n{proc.stderr}")
@@ -140,6 +144,37 @@ def alternate(label_a, cmd_a, label_b, cmd_b, reps, cwd, warmup=True):
             log(f"  {label} #{i + 1}: {r['wall_s']:.2f} s wall, {r['peak_rss_mib']:.1f} MiB peak, "
                 f"CPU {r['cpu_utilization']:.2f}")
     return results
+
+
+def scaling_runs(label, cmd_1, cmd_2, reps, cwd):
+    """Thread scaling on cores 0 and 1: each repetition runs cmd_1 (one thread) on core 0, then on
+    core 1, then cmd_2 (two threads) on both. Returns {"1": [...], "2": [...]}, the 1-thread runs
+    in the order core 0, core 1 of each repetition."""
+    results = {"1": [], "2": []}
+    for i in range(reps):
+        for threads, cmd, cores in (("1", cmd_1, {0}), ("1", cmd_1, {1}), ("2", cmd_2, {0, 1})):
+            r = timed(cmd, cwd, cores)
+            results[threads].append(r)
+            log(f"  {label} {threads} thread(s) on cores {sorted(cores)} #{i + 1}: {r['wall_s']:.2f} s wall, "
+                f"CPU {r['cpu_utilization']:.2f}")
+    return results
+
+
+def core_corrected_speedups(one, two):
+    """Per repetition, the 2-thread run's speed against the ideal of its two cores: with the
+    1-thread times a and b on cores 0 and 1, two threads would at best take 1 / (1/a + 1/b); the
+    figure is 2 * that / the 2-thread time, which is a / t2 when the cores are equal. (The cores of
+    a shared VM are not: one is often a quarter slower than the other for minutes, and a plain
+    1-thread / 2-thread ratio then says which core the 1-thread run landed on.) Only repetitions
+    whose runs all had their cores (CPU use >= 0.9 per thread) count."""
+    speedups = []
+    for i, t2 in enumerate(two):
+        a, b = one[2 * i], one[2 * i + 1]
+        if min(a["cpu_utilization"] or 0, b["cpu_utilization"] or 0) < 0.9 or (t2["cpu_utilization"] or 0) < 1.8:
+            continue
+        ideal = 1.0 / (1.0 / a["wall_s"] + 1.0 / b["wall_s"])
+        speedups.append(2.0 * ideal / t2["wall_s"])
+    return speedups
 
 
 def read_image(path):
@@ -295,15 +330,17 @@ def markdown(res):
                  f"(8x8 blocks: {fmt(img['mean_absolute_difference_8x8_blocks'], '.4f')}) | noise |")
     if sc:
         ps, es = sc.get("penumbra", {}), sc.get("pathtracer", {})
-        lines.append(f"| 1 thread, median wall (s) | {fmt(ps.get('median_wall_1_s'))} | {fmt(es.get('median_wall_1_s'))} | | |")
+        lines.append(f"| 1 thread, median wall (s): all / core 0 / core 1 | "
+                     f"{fmt(ps.get('median_wall_1_s'))} / {fmt(ps.get('median_wall_1_core0_s'))} / {fmt(ps.get('median_wall_1_core1_s'))} | "
+                     f"{fmt(es.get('median_wall_1_s'))} / {fmt(es.get('median_wall_1_core0_s'))} / {fmt(es.get('median_wall_1_core1_s'))} | | |")
         lines.append(f"| 2 threads, median wall (s) | {fmt(ps.get('median_wall_2_s'))} | {fmt(es.get('median_wall_2_s'))} | | |")
-        lines.append(f"| thread scaling 1 -> 2, wall | **{fmt(ps.get('speedup_wall'), '.2f', 'x')}** | "
-                     f"{fmt(es.get('speedup_wall'), '.2f', 'x')} | | >= 1.9x |")
-        lines.append(f"| thread scaling 1 -> 2, render time alone | {fmt(ps.get('speedup_render'), '.2f', 'x')} | | | |")
-        np_, ne_ = len(ps.get("pairwise_speedups", [])), len(es.get("pairwise_speedups", []))
-        lines.append(f"| thread scaling 1 -> 2, median of adjacent 1- and 2-thread runs that had their cores (pairs) | "
-                     f"**{fmt(ps.get('speedup_wall_pairwise'), '.2f', 'x')}** ({np_}) | "
-                     f"{fmt(es.get('speedup_wall_pairwise'), '.2f', 'x')} ({ne_}) | | >= 1.9x |")
+        lines.append(f"| thread scaling 1 -> 2, wall, ratio of medians | {fmt(ps.get('speedup_wall'), '.2f', 'x')} | "
+                     f"{fmt(es.get('speedup_wall'), '.2f', 'x')} | | |")
+        lines.append(f"| thread scaling 1 -> 2, render time alone, ratio of medians | {fmt(ps.get('speedup_render'), '.2f', 'x')} | | | |")
+        np_, ne_ = len(ps.get("core_corrected_speedups", [])), len(es.get("core_corrected_speedups", []))
+        lines.append(f"| thread scaling 1 -> 2 against the two cores' own speeds, median (repetitions) | "
+                     f"**{fmt(ps.get('speedup_core_corrected'), '.2f', 'x')}** ({np_}) | "
+                     f"{fmt(es.get('speedup_core_corrected'), '.2f', 'x')} ({ne_}) | | >= 1.9x |")
     if rays:
         lines.append(f"| render rays/s (M, median, in-process render()) | {fmt(rays.get('median_render_mrays_per_s'))} | | | |")
         lines.append(f"| bare Embree on the same rays via EmbreeAccelerator (M/s) | "
@@ -338,7 +375,7 @@ def main():
     ap.add_argument("--no-build", action="store_true", help="use the binaries already in --build-dir")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--reps", type=int, default=3, help="timed runs of each program (>= 3)")
-    ap.add_argument("--scaling-reps", type=int, default=None, help="runs per thread count (default: --reps)")
+    ap.add_argument("--scaling-reps", type=int, default=None, help="scaling repetitions (default: --reps)")
     ap.add_argument("--skip-scaling", action="store_true")
     ap.add_argument("--skip-rays", action="store_true")
     ap.add_argument("--results", default=os.path.join(REPO, "bench", "results"))
@@ -409,47 +446,39 @@ def main():
     if not res["image"]["orientation_ok"]:
         log("warning: the images match better flipped or mirrored: check the camera convention")
 
-    # 3. Thread scaling, 1 against 2 threads, alternating.
-    if not args.skip_scaling:
+    # 3. Thread scaling, 1 against 2 threads, alternating, on cores 0 and 1 (scaling_runs).
+    if not args.skip_scaling and (os.cpu_count() or 1) < 2:
+        log("thread scaling: skipped (one core)")
+    elif not args.skip_scaling:
         reps = args.scaling_reps or args.reps
         sc = {}
         log("thread scaling: penumbra --threads 1 / 2")
-        pr = alternate("1", penumbra_cmd(penumbra, os.path.join(work, "penumbra-t1.exr"), 1),
-                       "2", penumbra_cmd(penumbra, os.path.join(work, "penumbra-t2.exr"), 2), reps, work, warmup=False)
-        r1 = [parse_penumbra_summary(r["stdout"]).get("render_s") for r in pr["1"]]
-        r2 = [parse_penumbra_summary(r["stdout"]).get("render_s") for r in pr["2"]]
-        sc["penumbra"] = {
-            "wall_1_s": [r["wall_s"] for r in pr["1"]], "wall_2_s": [r["wall_s"] for r in pr["2"]],
-            "render_1_s": r1, "render_2_s": r2,
-            "median_wall_1_s": median([r["wall_s"] for r in pr["1"]]),
-            "median_wall_2_s": median([r["wall_s"] for r in pr["2"]]),
-            "cpu_utilization_1": median([r["cpu_utilization"] for r in pr["1"]]),
-            "cpu_utilization_2": median([r["cpu_utilization"] for r in pr["2"]]),
-        }
-        sc["penumbra"]["speedup_wall"] = sc["penumbra"]["median_wall_1_s"] / sc["penumbra"]["median_wall_2_s"]
-        if median(r1) and median(r2):
-            sc["penumbra"]["speedup_render"] = median(r1) / median(r2)
+        pr = scaling_runs("penumbra", penumbra_cmd(penumbra, os.path.join(work, "penumbra-t1.exr"), 1),
+                          penumbra_cmd(penumbra, os.path.join(work, "penumbra-t2.exr"), 2), reps, work)
         log("thread scaling: pathtracer --threads 1 / 2")
-        er = alternate("1", pathtracer_cmd(os.path.join(work, "embree-t1.ppm"), 1),
-                       "2", pathtracer_cmd(os.path.join(work, "embree-t2.ppm"), 2), reps, work, warmup=False)
-        sc["pathtracer"] = {
-            "wall_1_s": [r["wall_s"] for r in er["1"]], "wall_2_s": [r["wall_s"] for r in er["2"]],
-            "median_wall_1_s": median([r["wall_s"] for r in er["1"]]),
-            "median_wall_2_s": median([r["wall_s"] for r in er["2"]]),
-            "cpu_utilization_1": median([r["cpu_utilization"] for r in er["1"]]),
-            "cpu_utilization_2": median([r["cpu_utilization"] for r in er["2"]]),
-        }
-        sc["pathtracer"]["speedup_wall"] = sc["pathtracer"]["median_wall_1_s"] / sc["pathtracer"]["median_wall_2_s"]
-        # On a shared machine a run often gets less than the cores it asks for, and the host may
-        # slow the whole VM for minutes, which makes a ratio of medians over a long run
-        # meaningless. So also: the median of the ratios of each 1-thread run to the 2-thread run
-        # right after it (the two shared the machine's state), over the pairs in which both runs
-        # had their cores (CPU use >= 0.9 per thread).
-        for label, one, two in (("penumbra", pr["1"], pr["2"]), ("pathtracer", er["1"], er["2"])):
-            pairs = [a["wall_s"] / b["wall_s"] for a, b in zip(one, two)
-                     if (a["cpu_utilization"] or 0) >= 0.9 and (b["cpu_utilization"] or 0) >= 1.8]
-            sc[label]["pairwise_speedups"] = pairs
-            sc[label]["speedup_wall_pairwise"] = median(pairs) if pairs else None
+        er = scaling_runs("pathtracer", pathtracer_cmd(os.path.join(work, "embree-t1.ppm"), 1),
+                          pathtracer_cmd(os.path.join(work, "embree-t2.ppm"), 2), reps, work)
+        for label, runs_ in (("penumbra", pr), ("pathtracer", er)):
+            one, two = runs_["1"], runs_["2"]
+            entry = {
+                "wall_1_s": [r["wall_s"] for r in one], "wall_2_s": [r["wall_s"] for r in two],
+                "median_wall_1_s": median([r["wall_s"] for r in one]),
+                "median_wall_1_core0_s": median([r["wall_s"] for r in one[0::2]]),
+                "median_wall_1_core1_s": median([r["wall_s"] for r in one[1::2]]),
+                "median_wall_2_s": median([r["wall_s"] for r in two]),
+                "cpu_utilization_1": median([r["cpu_utilization"] for r in one]),
+                "cpu_utilization_2": median([r["cpu_utilization"] for r in two]),
+            }
+            entry["speedup_wall"] = entry["median_wall_1_s"] / entry["median_wall_2_s"]
+            entry["core_corrected_speedups"] = core_corrected_speedups(one, two)
+            entry["speedup_core_corrected"] = median(entry["core_corrected_speedups"]) if entry["core_corrected_speedups"] else None
+            if label == "penumbra":
+                r1 = [parse_penumbra_summary(r["stdout"]).get("render_s") for r in one]
+                r2 = [parse_penumbra_summary(r["stdout"]).get("render_s") for r in two]
+                entry["render_1_s"], entry["render_2_s"] = r1, r2
+                if median(r1) and median(r2):
+                    entry["speedup_render"] = median(r1) / median(r2)
+            sc[label] = entry
         res["thread_scaling"] = sc
 
     # 4. Rays per second: the render against bare Embree on the same rays.
