@@ -147,12 +147,14 @@ def alternate(label_a, cmd_a, label_b, cmd_b, reps, cwd, warmup=True):
 
 
 def scaling_runs(label, cmd_1, cmd_2, reps, cwd):
-    """Thread scaling on cores 0 and 1: each repetition runs cmd_1 (one thread) on core 0, then on
-    core 1, then cmd_2 (two threads) on both. Returns {"1": [...], "2": [...]}, the 1-thread runs
-    in the order core 0, core 1 of each repetition."""
+    """Thread scaling on the first two cores this process may use ("core 0" and "core 1" below):
+    each repetition runs cmd_1 (one thread) on core 0, then on core 1, then cmd_2 (two threads) on
+    both. Returns {"1": [...], "2": [...]}, the 1-thread runs in the order core 0, core 1 of each
+    repetition."""
+    first, second = sorted(os.sched_getaffinity(0))[:2]
     results = {"1": [], "2": []}
     for i in range(reps):
-        for threads, cmd, cores in (("1", cmd_1, {0}), ("1", cmd_1, {1}), ("2", cmd_2, {0, 1})):
+        for threads, cmd, cores in (("1", cmd_1, {first}), ("1", cmd_1, {second}), ("2", cmd_2, {first, second})):
             r = timed(cmd, cwd, cores)
             results[threads].append(r)
             log(f"  {label} {threads} thread(s) on cores {sorted(cores)} #{i + 1}: {r['wall_s']:.2f} s wall, "
@@ -447,7 +449,7 @@ def main():
         log("warning: the images match better flipped or mirrored: check the camera convention")
 
     # 3. Thread scaling, 1 against 2 threads, alternating, on cores 0 and 1 (scaling_runs).
-    if not args.skip_scaling and (os.cpu_count() or 1) < 2:
+    if not args.skip_scaling and len(os.sched_getaffinity(0)) < 2:
         log("thread scaling: skipped (one core)")
     elif not args.skip_scaling:
         reps = args.scaling_reps or args.reps
