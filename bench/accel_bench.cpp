@@ -1,4 +1,4 @@
-// Our BVH (scenes/bvh_accelerator.h) against Embree, in the same run, on the Stanford bunny (69k
+// Our BVH (accel/bvh_accelerator.h) against Embree, in the same run, on the Stanford bunny (69k
 // triangles) and the Stanford dragon (871k): build time, trace throughput on coherent camera
 // rays, incoherent rays (path bounces and random rays) and shadow segments, and memory per
 // triangle. Every benchmark measures both backends on the same input and reports both and their
@@ -20,10 +20,9 @@
 
 #include <embree3/rtcore.h>
 
-#include "scenes/bvh_accelerator.h"
-#include "scenes/embree_accelerator.h"
+#include "accel/bvh_accelerator.h"
+#include "accel/embree_accelerator.h"
 #include "scenes/mesh_import.h"
-#include "scenes/scene_camera.h"
 #include "tools/crosscheck.h"
 
 namespace penumbra {
@@ -77,7 +76,7 @@ BenchScene* benchScene(const std::string& file) {
     b->bvh = std::make_unique<BvhAccelerator>(b->scene);
     b->embree = std::make_unique<EmbreeAccelerator>(b->scene);
 
-    const ThinLensCamera camera = makeSceneCamera(b->scene);
+    const ThinLensCamera camera(b->scene.camera, b->scene.film.width, b->scene.film.height);
     for (int y = 0; y < kImageSize; ++y)
         for (int x = 0; x < kImageSize; ++x)
             b->coherent.rays.push_back(

@@ -40,13 +40,12 @@
 
 #include "core/sampling.h"
 #include "renderer/camera_samples.h"
-#include "renderer/film.h"
-#include "renderer/lights.h"
+#include "film/film.h"
+#include "lights/light_set.h"
 #include "renderer/path_integrator.h"
 #include "renderer/render.h"
 #include "renderer/scene_materials.h"
-#include "scenes/embree_accelerator.h"
-#include "scenes/scene_camera.h"
+#include "accel/embree_accelerator.h"
 #include "scenes/scene_loader.h"
 
 namespace penumbra {
@@ -99,7 +98,7 @@ struct Recording {
 
 Recording recordPaths(const Scene& scene, const EmbreeAccelerator& accel, const std::vector<uint64_t>& pixels,
                       uint32_t spp) {
-    const ThinLensCamera camera = makeSceneCamera(scene);
+    const ThinLensCamera camera(scene.camera, scene.film.width, scene.film.height);
     const LightSet lights(scene);
     const std::vector<Material> materials = buildMaterials(scene);
     const FaceFrames faceFrames(scene);

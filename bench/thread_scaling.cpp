@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "core/error.h"
-#include "renderer/film.h"
+#include "film/film.h"
 #include "renderer/render.h"
 #include "scenes/scene_loader.h"
 

@@ -9,18 +9,18 @@
 
 namespace penumbra {
 
-ThinLensCamera::ThinLensCamera(const ThinLensCameraParams& p) {
+ThinLensCamera::ThinLensCamera(const ThinLensCameraParams& p, int filmWidth, int filmHeight) {
     auto toWorld = Transform::lookAt(p.lookFrom, p.lookAt, p.up);
     if (!toWorld) throw InputError("camera: look_from, look_at and up must span a view (got a degenerate look-at)");
     if (!(p.verticalFovDegrees > 0.0f && p.verticalFovDegrees < 180.0f))
         throw InputError("camera: fov must lie in (0, 180) degrees");
-    if (p.filmWidth <= 0 || p.filmHeight <= 0) throw InputError("camera: film resolution must be positive");
+    if (filmWidth <= 0 || filmHeight <= 0) throw InputError("camera: film resolution must be positive");
     cameraToWorld_ = *toWorld;
     pinholeOrigin_ = cameraToWorld_.applyPoint({0.0f, 0.0f, 0.0f});
     halfHeight_ = std::tan(0.5f * p.verticalFovDegrees * kPi / 180.0f);
-    halfWidth_ = halfHeight_ * float(p.filmWidth) / float(p.filmHeight);
-    invWidth_ = 1.0f / float(p.filmWidth);
-    invHeight_ = 1.0f / float(p.filmHeight);
+    halfWidth_ = halfHeight_ * float(filmWidth) / float(filmHeight);
+    invWidth_ = 1.0f / float(filmWidth);
+    invHeight_ = 1.0f / float(filmHeight);
     if (!(p.apertureRadius >= 0.0f)) throw InputError("camera: the aperture radius must be >= 0");
     if (p.apertureBlades != 0 && p.apertureBlades < 3) throw InputError("camera: an aperture needs 0 or >= 3 blades");
     apertureRadius_ = p.apertureRadius;

@@ -18,21 +18,29 @@ struct CameraPose {
     Vec3f lookFrom, lookAt, up;
 };
 
+// The camera as the scene gives it (scenes/README.md, `camera`).
 struct ThinLensCameraParams {
-    Vec3f lookFrom, lookAt, up;
-    std::vector<CameraPose> motion;  // empty: a still camera
+    Vec3f lookFrom{0.0f, 0.0f, 0.0f};
+    Vec3f lookAt{0.0f, 0.0f, -1.0f};
+    Vec3f up{0.0f, 1.0f, 0.0f};
+    // Camera motion: empty, or >= 2 poses evenly spaced over the shutter, interpolated linearly;
+    // they replace lookFrom / lookAt / up.
+    std::vector<CameraPose> motion;
     float verticalFovDegrees = 40.0f;
-    float apertureRadius = 0.0f;
-    float focusDistance = 0.0f;  // 0: |lookAt - lookFrom|
-    int apertureBlades = 0;      // 0: a circular aperture; >= 3: a regular polygon (shaped bokeh)
+    float apertureRadius = 0.0f;  // lens radius in scene units; 0 is a pinhole
+    float focusDistance = 0.0f;   // along the view direction; 0 means |lookAt - lookFrom|
+    int apertureBlades = 0;       // 0: a circular aperture; >= 3: a regular polygon (shaped bokeh)
     float apertureRotationDegrees = 0.0f;
-    int filmWidth = 1, filmHeight = 1;
+    // The shutter interval, in the scene's time unit; motion keys are spread over it. Rays carry
+    // the shutter fraction (0 = open, 1 = closed).
+    float shutterOpen = 0.0f;
+    float shutterClose = 0.0f;
 };
 
 class ThinLensCamera {
 public:
     // Parameters are validated by the scene loader; throws InputError on degenerate ones anyway.
-    explicit ThinLensCamera(const ThinLensCameraParams& params);
+    ThinLensCamera(const ThinLensCameraParams& params, int filmWidth, int filmHeight);
 
     // filmPosition in raster space: x to the right, y down, (0, 0) the top-left corner of the
     // image and (width, height) the bottom-right. lensSample and timeSample are uniform in [0, 1);

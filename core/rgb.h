@@ -17,6 +17,7 @@ struct Rgb {
     Rgb& operator*=(float s) { r *= s; g *= s; b *= s; return *this; }
     constexpr bool isBlack() const { return r == 0 && g == 0 && b == 0; }
     float maxComponent() const { return std::max(r, std::max(g, b)); }
+    float minComponent() const { return std::min(r, std::min(g, b)); }
     // Rec.709 luminance, used for light power and Russian roulette.
     constexpr float luminance() const { return 0.2126f * r + 0.7152f * g + 0.0722f * b; }
     float average() const { return (r + g + b) / 3.0f; }

@@ -17,10 +17,15 @@ namespace penumbra {
 struct Mirror {
     Rgb tint{1.0f, 1.0f, 1.0f};  // reflectance at every angle, each channel in [0, 1]
 
-    std::optional<SpecularSample> sample(Vec3f wo) const {
+    static constexpr BsdfFlags kFlags = kSpecularReflection;
+
+    std::optional<BsdfSample> sample(Vec3f wo, float /*uLobe*/, Vec2f /*u*/, bool /*front*/) const {
         if (wo.z == 0.0f) return std::nullopt;
-        return SpecularSample{reflectAboutZ(wo), tint, 1.0f, false, 1.0f};
+        return BsdfSample{reflectAboutZ(wo), tint, 1.0f, kFlags};
     }
+    Rgb eval(Vec3f, Vec3f) const { return Rgb(0.0f); }
+    float pdf(Vec3f, Vec3f) const { return 0.0f; }
+    Rgb reflectanceForAov() const { return tint; }
 };
 
 struct Conductor {
@@ -30,10 +35,16 @@ struct Conductor {
 
     Rgb reflectance(Vec3f wo) const { return fresnelComplex(std::abs(wo.z), eta, k); }
 
-    std::optional<SpecularSample> sample(Vec3f wo) const {
+    static constexpr BsdfFlags kFlags = kSpecularReflection;
+
+    std::optional<BsdfSample> sample(Vec3f wo, float /*uLobe*/, Vec2f /*u*/, bool /*front*/) const {
         if (wo.z == 0.0f) return std::nullopt;
-        return SpecularSample{reflectAboutZ(wo), reflectance(wo), 1.0f, false, 1.0f};
+        return BsdfSample{reflectAboutZ(wo), reflectance(wo), 1.0f, kFlags};
     }
+    Rgb eval(Vec3f, Vec3f) const { return Rgb(0.0f); }
+    float pdf(Vec3f, Vec3f) const { return 0.0f; }
+    // At normal incidence, as denoisers expect an albedo.
+    Rgb reflectanceForAov() const { return reflectance(Vec3f{0.0f, 0.0f, 1.0f}); }
 };
 
 }  // namespace penumbra

@@ -27,24 +27,22 @@
 
 #include "core/rgb.h"
 #include "core/vec.h"
+#include "materials/bsdf.h"
 #include "materials/fresnel.h"
 
 namespace penumbra {
 
 enum class FresnelModel : uint8_t { Exact, Schlick };
 
-struct SpecularSample {
-    Vec3f wi;
-    Rgb weight;           // f |cos| / pdf
-    float pdf = 0;        // probability of the lobe chosen
-    bool isTransmission = false;
-    float eta = 1.0f;     // eta(wi side) / eta(wo side); 1 for reflection
-};
+constexpr BsdfFlags kSpecularReflection = BsdfFlags::Specular | BsdfFlags::Reflection;
+constexpr BsdfFlags kSpecularTransmission = BsdfFlags::Specular | BsdfFlags::Transmission;
 
 struct Dielectric {
     float eta = 1.5f;                 // interior index over exterior index, > 0
     FresnelModel fresnel = FresnelModel::Exact;
     Rgb absorption{0.0f, 0.0f, 0.0f}; // sigma_a of the interior, per unit length (0: clear)
+
+    static constexpr BsdfFlags kFlags = kSpecularReflection | kSpecularTransmission;
 
     // Relative index of the far side seen from wo: eta when wo is outside, 1 / eta inside.
     float relativeEta(bool woOutside) const { return woOutside ? eta : 1.0f / eta; }
@@ -57,24 +55,31 @@ struct Dielectric {
                                                 : fresnelDielectric(cosTheta, etaRelative);
     }
 
-    std::optional<SpecularSample> sample(Vec3f wo, float uLobe, bool woOutside) const {
+    // `woOutside`: whether wo lies on the front (outer) side of the geometric surface.
+    std::optional<BsdfSample> sample(Vec3f wo, float uLobe, Vec2f /*u*/, bool woOutside) const {
         if (wo.z == 0.0f) return std::nullopt;
         const float etaRelative = relativeEta(woOutside);
         const float reflect = reflectance(wo, woOutside);
         if (uLobe < reflect) {  // total internal reflection has reflect = 1 > uLobe
-            return SpecularSample{reflectAboutZ(wo), Rgb(1.0f), reflect, false, 1.0f};
+            return BsdfSample{reflectAboutZ(wo), Rgb(1.0f), reflect, kSpecularReflection};
         }
         const std::optional<Vec3f> wt = refractAcrossZ(wo, etaRelative);
         if (!wt) {  // cannot happen with reflect < 1 except by rounding at the critical angle
-            return SpecularSample{reflectAboutZ(wo), Rgb(1.0f), 1.0f, false, 1.0f};
+            return BsdfSample{reflectAboutZ(wo), Rgb(1.0f), 1.0f, kSpecularReflection};
         }
-        return SpecularSample{*wt, Rgb(1.0f / (etaRelative * etaRelative)), 1.0f - reflect, true, etaRelative};
+        return BsdfSample{*wt, Rgb(1.0f / (etaRelative * etaRelative)), 1.0f - reflect, kSpecularTransmission,
+                          etaRelative};
     }
+    Rgb eval(Vec3f, Vec3f) const { return Rgb(0.0f); }
+    float pdf(Vec3f, Vec3f) const { return 0.0f; }
+    Rgb reflectanceForAov() const { return Rgb(1.0f); }
 };
 
 struct ThinDielectric {
     float eta = 1.5f;
     FresnelModel fresnel = FresnelModel::Exact;
+
+    static constexpr BsdfFlags kFlags = kSpecularReflection | kSpecularTransmission;
 
     // Reflectance of the pane, inter-reflections included.
     float reflectance(Vec3f wo) const {
@@ -87,12 +92,15 @@ struct ThinDielectric {
         return r;
     }
 
-    std::optional<SpecularSample> sample(Vec3f wo, float uLobe) const {
+    std::optional<BsdfSample> sample(Vec3f wo, float uLobe, Vec2f /*u*/, bool /*front*/) const {
         if (wo.z == 0.0f) return std::nullopt;
         const float reflect = reflectance(wo);
-        if (uLobe < reflect) return SpecularSample{reflectAboutZ(wo), Rgb(1.0f), reflect, false, 1.0f};
-        return SpecularSample{-wo, Rgb(1.0f), 1.0f - reflect, true, 1.0f};
+        if (uLobe < reflect) return BsdfSample{reflectAboutZ(wo), Rgb(1.0f), reflect, kSpecularReflection};
+        return BsdfSample{-wo, Rgb(1.0f), 1.0f - reflect, kSpecularTransmission};
     }
+    Rgb eval(Vec3f, Vec3f) const { return Rgb(0.0f); }
+    float pdf(Vec3f, Vec3f) const { return 0.0f; }
+    Rgb reflectanceForAov() const { return Rgb(1.0f); }
 };
 
 }  // namespace penumbra

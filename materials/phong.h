@@ -30,6 +30,7 @@
 #include "core/rgb.h"
 #include "core/sampling.h"
 #include "core/vec.h"
+#include "materials/bsdf.h"
 #include "materials/fresnel.h"
 
 namespace penumbra {
@@ -39,11 +40,7 @@ struct Phong {
     Rgb ks{0.0f, 0.0f, 0.0f};
     float exponent = 10.0f;
 
-    struct Sample {
-        Vec3f wi;
-        Rgb weight;
-        float pdf;
-    };
+    static constexpr BsdfFlags kFlags = BsdfFlags::Diffuse | BsdfFlags::Glossy | BsdfFlags::Reflection;
 
     // Probability of sampling the specular lobe.
     float specularProbability() const {
@@ -72,12 +69,13 @@ struct Phong {
                pSpecular * lobePdf(dot(reflectAboutZ(wo), wi));
     }
 
-    std::optional<Sample> sample(Vec3f wo, float uLobe, Vec2f u) const {
+    std::optional<BsdfSample> sample(Vec3f wo, float uLobe, Vec2f u, bool /*front*/ = true) const {
         if (wo.z == 0.0f) return std::nullopt;
         const float pSpecular = specularProbability();
         if (kd.isBlack() && ks.isBlack()) return std::nullopt;
         Vec3f wi;
-        if (uLobe < pSpecular) {
+        const bool specularLobe = uLobe < pSpecular;
+        if (specularLobe) {
             // cos(alpha) = u^(1 / (n + 1)), computed as 1 - cos = -expm1(ln(u) / (n + 1)) so that
             // sin(alpha) keeps its precision for narrow lobes.
             const float oneMinusCos = -std::expm1(std::log(1.0f - u.x) / (exponent + 1.0f));
@@ -100,8 +98,10 @@ struct Phong {
         }
         const float pdfValue = pdf(wo, wi);
         if (!(pdfValue > 0.0f)) return std::nullopt;
-        return Sample{wi, eval(wo, wi) * (std::abs(wi.z) / pdfValue), pdfValue};
+        return BsdfSample{wi, eval(wo, wi) * (std::abs(wi.z) / pdfValue), pdfValue,
+                          (specularLobe ? BsdfFlags::Glossy : BsdfFlags::Diffuse) | BsdfFlags::Reflection};
     }
+    Rgb reflectanceForAov() const { return kd + ks; }
 };
 
 }  // namespace penumbra

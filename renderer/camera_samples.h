@@ -11,7 +11,7 @@
 namespace penumbra {
 
 // Offset of a sample from the pixel centre, drawn from the reconstruction filter.
-inline Vec2f sampleFilterOffset(const FilmDesc& film, Vec2f u) {
+inline Vec2f sampleFilterOffset(const FilmSettings& film, Vec2f u) {
     switch (film.filter) {
         case FilterKind::Box: return {(2.0f * u.x - 1.0f) * film.filterRadius, (2.0f * u.y - 1.0f) * film.filterRadius};
         case FilterKind::Tent: return {sampleTent(u.x, film.filterRadius), sampleTent(u.y, film.filterRadius)};
@@ -22,7 +22,7 @@ inline Vec2f sampleFilterOffset(const FilmDesc& film, Vec2f u) {
 // The ray of `sample` in pixel (x, y). Dimensions that nothing reads are not drawn: the lens
 // sample for a pinhole camera, the time sample when nothing in the scene moves (`sceneMoves`,
 // Scene::hasMotion()); the other dimensions do not depend on them.
-inline Ray generateCameraRay(const ThinLensCamera& camera, const FilmDesc& film, bool sceneMoves,
+inline Ray generateCameraRay(const ThinLensCamera& camera, const FilmSettings& film, bool sceneMoves,
                              const PixelSample& sample, int x, int y) {
     const Vec2f offset = sampleFilterOffset(film, sample.get2D(Dim::Pixel));
     const Vec2f filmPosition{float(x) + 0.5f + offset.x, float(y) + 0.5f + offset.y};

@@ -20,23 +20,27 @@
 // absorption), the throughput is multiplied by exp(-sigma_a * segment length). Closed shapes must
 // therefore have their front sides (geometric normals) facing out.
 //
-// The integrator is a template over the traversal backend so that the per-ray calls are direct
-// (the backends are `final`), never virtual.
+// The integrator is a template over the traversal backend (accel/traversal.h) so that the per-ray
+// calls are direct, never virtual. Each vertex of a path takes the same named steps, in this
+// order: the emission found at the hit, the direct light (a shadow ray left pending), the
+// continuation (BSDF sample and Russian roulette), then the pending shadow ray is traced.
 #pragma once
 
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <vector>
 
-#include "core/ray.h"
+#include "accel/traversal.h"
+#include "core/check.h"
 #include "core/frame.h"
+#include "core/ray.h"
 #include "core/ray_offset.h"
 #include "core/sampler.h"
+#include "film/aov.h"
+#include "geometry/face_frames.h"
+#include "geometry/surface_interaction.h"
+#include "lights/light_set.h"
 #include "materials/material.h"
-#include "renderer/aov.h"
-#include "renderer/lights.h"
-#include "renderer/surface_interaction.h"
 #include "scenes/scene.h"
 
 namespace penumbra {
@@ -55,27 +59,59 @@ struct RayCounters {
 struct IntegratorContext {
     const Scene* scene = nullptr;
     const LightSet* lights = nullptr;
-    const std::vector<Material>* materials = nullptr;
     int maxDepth = 64;
     int rouletteStartDepth = 3;
     bool canonicalHits = true;  // RenderSettings::canonicalHits
     const FaceFrames* faceFrames = nullptr;  // optional: the still meshes' normals and frames, computed beforehand
 
-    // The context of a scene's render: its lights and materials, and its integrator settings.
-    static IntegratorContext forScene(const Scene& scene, const LightSet& lights, const std::vector<Material>& materials,
-                                      const FaceFrames* faceFrames = nullptr) {
-        return {&scene, &lights, &materials, scene.integrator.maxDepth, scene.integrator.rouletteStartDepth,
+    // The context of a scene's render: its lights, and its integrator settings.
+    static IntegratorContext forScene(const Scene& scene, const LightSet& lights, const FaceFrames* faceFrames = nullptr) {
+        return {&scene, &lights, scene.integrator.maxDepth, scene.integrator.rouletteStartDepth,
                 scene.settings.canonicalHits, faceFrames};
     }
 };
 
+// What the backend found for a camera ray that the caller traced already (with others, as a packet).
+struct TracedRay {
+    bool found = false;
+    Hit hit;
+};
+
 namespace detail {
+
+// What a path carries from vertex to vertex.
+struct PathState {
+    Rgb radiance{0.0f};
+    Rgb throughput{1.0f};
+    float etaScale = 1.0f;  // product of eta^2 over the refractions so far (see Russian roulette above)
+    // The previous vertex's BSDF sample, for the MIS weight of emission found by it.
+    float previousBsdfPdf = 0.0f;
+    bool previousWasSpecular = true;  // the camera vertex: emitters seen directly get full weight
+    Vec3f previousPosition;
+};
+
+// A shadow ray whose contribution is added if nothing blocks it.
+struct PendingShadowRay {
+    bool pending = false;
+    Ray ray;
+    Rgb contribution;
+};
+
+// The shading point at a vertex, seen from the direction the path arrived from.
+struct Vertex {
+    SurfaceInteraction si;
+    const Material* material;
+    Vec3f wo;          // unit, towards where the path came from
+    bool woAbove;      // wo on the front side of the geometric surface
+    Frame frame;       // the shading frame
+    Vec3f woLocal;
+};
+
+inline bool isUnit(Vec3f v) { return std::abs(length(v) - 1.0f) < 1e-3f; }
 
 // Turns `ray` into the ray leaving `si` in direction `direction`, offset off the surface on that
 // side, at the same time (`cosGeometric`: dot(direction, si.geometricNormal), which the caller has
-// computed already). Written in place field by field rather than built and copied: the copy loaded
-// 16 bytes just stored in narrower parts, which the CPU cannot forward from its store buffer, and
-// perf put 2% of the render's time on that wait.
+// computed already). Written in place, field by field (bench/README.md: store forwarding).
 inline void continueRay(Ray& ray, const SurfaceInteraction& si, Vec3f direction, float cosGeometric) {
     const Vec3f side = cosGeometric >= 0.0f ? si.geometricNormal : -si.geometricNormal;
     ray.origin = offsetRayOrigin(si.position, side);
@@ -102,40 +138,116 @@ inline Ray spawnShadowRay(const SurfaceInteraction& si, const LightSample& ls, f
     return ray;
 }
 
-}  // namespace detail
-
-// Whether a backend's hits already carry the t and barycentrics that canonicalizeHit would
-// compute (our BVH's do: they come from the same tests), so the integrator need not redo them.
-template <typename Accel>
-constexpr bool reportsCanonicalHits() {
-    if constexpr (requires { Accel::kReportsCanonicalHits; }) return Accel::kReportsCanonicalHits;
-    return false;
+// The background's radiance reaching a path that leaves the scene, weighted against its NEE.
+[[gnu::always_inline]] inline void addEscapedRadiance(PathState& path, const LightSet& lights) {
+    const Rgb background = lights.background();
+    if (background.isBlack()) return;
+    const float weight =
+        path.previousWasSpecular ? 1.0f : powerHeuristic(path.previousBsdfPdf, lights.pdfOfBackground());
+    path.radiance += path.throughput * background * weight;
 }
 
-// What the backend found for a camera ray that the caller traced already (with others, as a packet).
-struct TracedRay {
-    bool found = false;
-    Hit hit;
-};
+// Beer-Lambert absorption along a segment that arrived at the back side of an absorbing interior.
+[[gnu::always_inline]] inline void absorbAlongSegment(PathState& path, const Vertex& v, const Ray& ray, float t) {
+    if (v.woAbove) return;
+    const Rgb sigma = v.material->interiorAbsorption();
+    if (sigma.isBlack()) return;
+    const float distance = t * length(ray.direction);
+    path.throughput *= Rgb(std::exp(-sigma.r * distance), std::exp(-sigma.g * distance),
+                           std::exp(-sigma.b * distance));
+}
+
+// Emission at the hit, found by the previous vertex's BSDF sample: weighted against NEE.
+[[gnu::always_inline]] inline void addEmissionAtHit(PathState& path, const LightSet& lights, const Vertex& v) {
+    const Rgb emitted = lights.emitted(v.si, v.wo);
+    if (emitted.isBlack()) return;
+    const float weight = path.previousWasSpecular
+                             ? 1.0f
+                             : powerHeuristic(path.previousBsdfPdf, lights.pdfOfHit(path.previousPosition, v.si));
+    path.radiance += path.throughput * emitted * weight;
+}
+
+// Next-event estimation: one light chosen by power, a point on it, and the shadow ray that decides
+// whether its contribution (weighted against the BSDF sample by MIS) counts.
+[[gnu::always_inline]] inline PendingShadowRay sampleDirectLight(const LightSet& lights, const PixelSample& sample,
+                                                                 uint32_t bounce, const Vertex& v,
+                                                                 const PathState& path, float time) {
+    PendingShadowRay shadow;
+    if (lights.empty() || v.material->isPurelySpecular()) return shadow;
+    // Sample values that would not be used are not drawn (each dimension is keyed on its own, so
+    // skipping one leaves the others as they are).
+    const uint32_t light = lights.choose(lights.size() > 1 ? sample.get1D(Dim::LightChoice, bounce) : 0.5f);
+    const auto ls = lights.sample(light, v.si.position,
+                                  lights.isDelta(light) ? Vec2f{0.5f, 0.5f} : sample.get2D(Dim::LightPosition, bounce));
+    const Vec3f wiLocal = ls ? v.frame.toLocal(ls->direction) : Vec3f{};
+    // Reflection needs the light on wo's side of the geometric surface, transmission on the other.
+    const bool reflects = v.woLocal.z * wiLocal.z > 0.0f;
+    const float cosLight = ls ? dot(ls->direction, v.si.geometricNormal) : 0.0f;
+    if (!ls || ls->radiance.isBlack() || ((cosLight > 0.0f) == v.woAbove) != reflects) return shadow;
+    const Rgb f = v.material->eval(v.woLocal, wiLocal, v.woAbove) * std::abs(wiLocal.z);
+    if (f.isBlack()) return shadow;
+    PENUMBRA_CHECK(ls->pdf > 0.0f, "a light sample has a positive density");
+    shadow.pending = true;
+    shadow.ray = spawnShadowRay(v.si, *ls, cosLight, time);
+    const float weight = ls->isDelta ? 1.0f : powerHeuristic(ls->pdf, v.material->pdf(v.woLocal, wiLocal, v.woAbove));
+    shadow.contribution = path.throughput * f * ls->radiance * (weight / ls->pdf);
+    return shadow;
+}
+
+// The continuation: a BSDF sample for the next segment, then Russian roulette. False when the path
+// ends here; otherwise `ray` is the next segment and the path's throughput and MIS state are updated.
+[[gnu::always_inline]] inline bool continuePath(const IntegratorContext& ctx, const PixelSample& sample,
+                                                uint32_t bounce, Vec2f uDirection, const Vertex& v, PathState& path,
+                                                Ray& ray) {
+    const Material& material = *v.material;
+    const float uLobe = material.usesLobeSample() ? sample.get1D(Dim::BsdfLobe, bounce) : 0.5f;
+    const auto bs = material.sample(v.woLocal, uLobe, uDirection, v.woAbove);
+    if (!bs) return false;
+    PENUMBRA_CHECK(bs->pdf > 0.0f, "a BSDF sample has a positive density");
+    const Vec3f wi = v.frame.toWorld(bs->wi);
+    PENUMBRA_CHECK(isUnit(wi), "a BSDF sample's direction has unit length");
+    const float cosWi = dot(wi, v.si.geometricNormal);
+    // A reflection that crosses the geometric surface, or a transmission that does not.
+    if (((cosWi > 0.0f) != v.woAbove) != bs->isTransmission()) return false;
+    path.throughput *= bs->weight;
+    if (bs->isTransmission()) path.etaScale *= bs->eta * bs->eta;
+    if (path.throughput.isBlack()) return false;
+    path.previousBsdfPdf = bs->pdf;
+    path.previousWasSpecular = bs->isSpecular();
+    path.previousPosition = v.si.position;
+
+    if (int(bounce) + 1 >= ctx.rouletteStartDepth) {
+        // A path that survives for certain draws no sample (u < 1 never ends it).
+        const float survival = std::min(1.0f, (path.throughput * path.etaScale).maxComponent());
+        if (survival < 1.0f) {
+            if (sample.get1D(Dim::RussianRoulette, bounce) >= survival) return false;
+            path.throughput *= 1.0f / survival;
+        }
+    }
+    PENUMBRA_CHECK(path.throughput.isFinite() && path.throughput.minComponent() >= 0.0f,
+                   "a path's throughput is finite and non-negative");
+    // The ray past the last vertex only looks for emission; without emitters it could hit, it is
+    // not traced (as Embree's pathtracer counts path length).
+    if (int(bounce) + 1 >= ctx.maxDepth && !ctx.lights->emitsAlongRays()) return false;
+    continueRay(ray, v.si, wi, cosWi);
+    return true;
+}
+
+}  // namespace detail
 
 // Radiance arriving along `ray` (a camera ray) for the sample `sample`. When `firstHit` is given
 // it receives the first hit's AOVs (hit = false when the ray leaves the scene). When `traced` is
 // given it is what tracing `ray` found, and the ray is not traced again.
-template <typename Accel>
+template <TraversalBackend Accel>
 Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, const PixelSample& sample,
                      RayCounters& rays, FirstHitAovs* firstHit = nullptr, const TracedRay* traced = nullptr) {
     const LightSet& lights = *ctx.lights;
-    Rgb radiance(0.0f), throughput(1.0f);
-    float etaScale = 1.0f;  // product of eta^2 over the refractions so far (see Russian roulette above)
-    float previousBsdfPdf = 0.0f;
-    bool previousWasDelta = true;  // the camera vertex: emitters seen directly get full weight
-    Vec3f previousPosition = ray.origin;
+    detail::PathState path;
+    path.previousPosition = ray.origin;
     ++rays.primary;
 
     for (uint32_t bounce = 0;; ++bounce) {
-        // Drawn before the ray is traced although it is used after: the draw does not depend on
-        // the hit, so the CPU computes it while the traversal runs rather than after it. (A path
-        // that ends here has drawn it in vain; that costs less than the wait.)
+        // Drawn before the ray is traced although it is used after (bench/README.md: latency).
         const Vec2f uDirection = sample.get2D(Dim::BsdfDirection, bounce);
         Hit hit;
         bool found;
@@ -146,114 +258,40 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
             found = accel.intersect(ray, hit);
         }
         if (!found) {
-            const Rgb background = lights.background();
-            if (!background.isBlack()) {
-                const float weight =
-                    previousWasDelta ? 1.0f : powerHeuristic(previousBsdfPdf, lights.pdfOfBackground());
-                radiance += throughput * background * weight;
-            }
+            detail::addEscapedRadiance(path, lights);
             break;
         }
-        const SurfaceInteraction si = reportsCanonicalHits<Accel>() || !ctx.canonicalHits
-                                          ? resolveHit<true>(*ctx.scene, ray, hit, ctx.faceFrames)
-                                          : resolveHit<false>(*ctx.scene, ray, hit, ctx.faceFrames);
+        detail::Vertex v;
+        v.si = Accel::kReportsCanonicalHits || !ctx.canonicalHits
+                   ? resolveHit<true>(*ctx.scene, ray, hit, ctx.faceFrames)
+                   : resolveHit<false>(*ctx.scene, ray, hit, ctx.faceFrames);
         // Bounce rays leave in unit directions (the BSDF's, turned into the world); only the
         // caller's camera ray may not be.
-        const Vec3f wo = bounce == 0 ? -normalize(ray.direction) : -ray.direction;
-        const Material& material = (*ctx.materials)[si.material];
-        const bool woAbove = dot(wo, si.geometricNormal) > 0.0f;
-        if (bounce == 0 && firstHit) *firstHit = {true, hit.t * length(ray.direction), si.shadingNormal, material.albedo()};
+        v.wo = bounce == 0 ? -normalize(ray.direction) : -ray.direction;
+        v.material = &ctx.scene->materials[v.si.material];
+        v.woAbove = dot(v.wo, v.si.geometricNormal) > 0.0f;
+        if (bounce == 0 && firstHit)
+            *firstHit = {true, hit.t * length(ray.direction), v.si.shadingNormal, v.material->albedo()};
 
-        // Beer-Lambert absorption along the segment that arrived at the back side.
-        if (!woAbove) {
-            const Rgb sigma = material.interiorAbsorption();
-            if (!sigma.isBlack()) {
-                const float distance = hit.t * length(ray.direction);
-                throughput *= Rgb(std::exp(-sigma.r * distance), std::exp(-sigma.g * distance),
-                                  std::exp(-sigma.b * distance));
-            }
-        }
-
-        // Emission seen by the previous vertex's BSDF sample, weighted against NEE.
-        const Rgb emitted = lights.emitted(si, wo);
-        if (!emitted.isBlack()) {
-            const float weight = previousWasDelta ? 1.0f : powerHeuristic(previousBsdfPdf, lights.pdfOfHit(previousPosition, si));
-            radiance += throughput * emitted * weight;
-        }
+        detail::absorbAlongSegment(path, v, ray, hit.t);
+        detail::addEmissionAtHit(path, lights, v);
         if (int(bounce) >= ctx.maxDepth) break;
 
-        const Frame frame = si.shadingFrame ? *si.shadingFrame : Frame::fromNormal(si.shadingNormal);
-        const Vec3f woLocal = frame.toLocal(wo);
+        v.frame = v.si.shadingFrame ? *v.si.shadingFrame : Frame::fromNormal(v.si.shadingNormal);
+        v.woLocal = v.frame.toLocal(v.wo);
+        // The shadow ray is traced after the continuation's BSDF sample, not before: the two are
+        // independent (bench/README.md: overlap).
+        const detail::PendingShadowRay shadow = detail::sampleDirectLight(lights, sample, bounce, v, path, ray.time);
+        const bool continues = detail::continuePath(ctx, sample, bounce, uDirection, v, path, ray);
 
-        // Next-event estimation: the shadow ray and what it adds when unoccluded. It is traced
-        // after the BSDF sample below, not before: the two are independent, so the CPU works on
-        // both chains of arithmetic at once instead of finishing one, then calling into the
-        // traversal, then starting the other (5% of the render's time).
-        bool castsShadowRay = false;
-        Ray shadowRay;
-        Rgb shadowContribution;
-        if (!lights.empty() && !material.isPurelySpecular()) {
-            // Sample values that would not be used are not drawn (each dimension is keyed on its
-            // own, so skipping one leaves the others as they are).
-            const uint32_t light = lights.choose(lights.size() > 1 ? sample.get1D(Dim::LightChoice, bounce) : 0.5f);
-            const auto ls = lights.sample(light, si.position,
-                                          lights.isDelta(light) ? Vec2f{0.5f, 0.5f} : sample.get2D(Dim::LightPosition, bounce));
-            const Vec3f wiLocal = ls ? frame.toLocal(ls->direction) : Vec3f{};
-            // Reflection needs the light on wo's side of the geometric surface, transmission on the other.
-            const bool reflects = woLocal.z * wiLocal.z > 0.0f;
-            const float cosLight = ls ? dot(ls->direction, si.geometricNormal) : 0.0f;
-            if (ls && !ls->radiance.isBlack() && ((cosLight > 0.0f) == woAbove) == reflects) {
-                const Rgb f = material.eval(woLocal, wiLocal, woAbove) * std::abs(wiLocal.z);
-                if (!f.isBlack()) {
-                    castsShadowRay = true;
-                    shadowRay = detail::spawnShadowRay(si, *ls, cosLight, ray.time);
-                    const float weight =
-                        ls->isDelta ? 1.0f : powerHeuristic(ls->pdf, material.pdf(woLocal, wiLocal, woAbove));
-                    shadowContribution = throughput * f * ls->radiance * (weight / ls->pdf);
-                }
-            }
-        }
-
-        // Continue the path by sampling the BSDF: whether it goes on, and if so its next segment
-        // in `ray` (and its new throughput: the shadow ray's contribution has the old one).
-        const bool continues = [&]() __attribute__((always_inline)) {
-            const float uLobe = material.usesLobeSample() ? sample.get1D(Dim::BsdfLobe, bounce) : 0.5f;
-            const auto bs = material.sample(woLocal, uLobe, uDirection, woAbove);
-            if (!bs) return false;
-            const Vec3f wi = frame.toWorld(bs->wi);
-            const float cosWi = dot(wi, si.geometricNormal);
-            // A reflection that crosses the geometric surface, or a transmission that does not.
-            if (((cosWi > 0.0f) != woAbove) != bs->isTransmission) return false;
-            throughput *= bs->weight;
-            if (bs->isTransmission) etaScale *= bs->eta * bs->eta;
-            if (throughput.isBlack()) return false;
-            previousBsdfPdf = bs->pdf;
-            previousWasDelta = bs->isDelta;
-            previousPosition = si.position;
-
-            if (int(bounce) + 1 >= ctx.rouletteStartDepth) {
-                // A path that survives for certain draws no sample (u < 1 never ends it).
-                const float survival = std::min(1.0f, (throughput * etaScale).maxComponent());
-                if (survival < 1.0f) {
-                    if (sample.get1D(Dim::RussianRoulette, bounce) >= survival) return false;
-                    throughput *= 1.0f / survival;
-                }
-            }
-            // The ray past the last vertex only looks for emission; without emitters it could hit,
-            // it is not traced (as Embree's pathtracer counts path length).
-            if (int(bounce) + 1 >= ctx.maxDepth && !lights.emitsAlongRays()) return false;
-            detail::continueRay(ray, si, wi, cosWi);
-            return true;
-        }();
-
-        if (castsShadowRay) {
+        if (shadow.pending) {
             ++rays.shadow;
-            if (!accel.occluded(shadowRay)) radiance += shadowContribution;
+            if (!accel.occluded(shadow.ray)) path.radiance += shadow.contribution;
         }
         if (!continues) break;
         ++rays.extension;
     }
-    return radiance;
+    return path.radiance;
 }
 
 }  // namespace penumbra

@@ -13,11 +13,10 @@
 #include "cameras/camera.h"
 #include "core/error.h"
 #include "renderer/camera_samples.h"
-#include "renderer/pixel_accumulator.h"
-#include "renderer/scene_materials.h"
-#include "scenes/bvh_accelerator.h"
-#include "scenes/embree_accelerator.h"
-#include "scenes/scene_camera.h"
+#include "film/pixel_accumulator.h"
+#include "renderer/prepared_scene.h"
+#include "accel/bvh_accelerator.h"
+#include "accel/embree_accelerator.h"
 
 namespace penumbra {
 
@@ -34,18 +33,11 @@ struct TileResult {
     std::vector<NonFiniteSample> examples;
 };
 
-// Whether the backend traces coherent rays as packets (EmbreeAccelerator::intersectPacket).
-template <typename Accel>
-constexpr int packetSize() {
-    if constexpr (requires { Accel::kPacketSize; }) return Accel::kPacketSize;
-    return 1;
-}
-
-template <typename Accel>
+template <TraversalBackend Accel>
 TileResult renderTile(const Accel& accel, const Scene& scene, const ThinLensCamera& camera,
                       const IntegratorContext& ctx, const PixelWindow& tile, uint32_t firstSample,
                       uint32_t endSample, uint32_t frozenDims, bool sceneMoves, Film& film) {
-    constexpr int kPacket = packetSize<Accel>();
+    constexpr int kPacket = Accel::kPacketSize;
     TileResult result;
     // A group's samples, camera rays and what they hit, declared once per tile: every entry used
     // is assigned first, and zeroing the arrays for each group cost ~1% of the render.
@@ -93,15 +85,12 @@ TileResult renderTile(const Accel& accel, const Scene& scene, const ThinLensCame
     return result;
 }
 
-template <typename Accel>
+template <TraversalBackend Accel>
 RenderStats renderWith(const Accel& accel, const Scene& scene, const RenderOptions& options, Film& film) {
-    const ThinLensCamera camera = makeSceneCamera(scene);
-    const LightSet lights(scene);
-    const std::vector<Material> materials = buildMaterials(scene);
-    const FaceFrames faceFrames(scene);
-    const IntegratorContext ctx = IntegratorContext::forScene(scene, lights, materials, &faceFrames);
-
-    const bool sceneMoves = scene.hasMotion();  // otherwise no time sample is drawn
+    const PreparedScene prepared(scene);
+    const ThinLensCamera& camera = prepared.camera();
+    const IntegratorContext ctx = prepared.integratorContext();
+    const bool sceneMoves = prepared.moves();  // otherwise no time sample is drawn
     const PixelWindow window = options.crop.value_or(PixelWindow{0, scene.film.width, 0, scene.film.height});
     const uint32_t endSample = options.endSample ? options.endSample : uint32_t(scene.film.samplesPerPixel);
     const int tileSize = std::max(1, options.tileSize);

@@ -10,14 +10,14 @@
 #include <string>
 #include <vector>
 
-#include "renderer/film.h"
+#include "film/film.h"
 #include "renderer/path_integrator.h"
-#include "scenes/accelerator.h"
+#include "accel/traversal.h"
 #include "scenes/scene.h"
 
 namespace penumbra {
 
-// PixelWindow ([x0, x1) x [y0, y1)) is declared in renderer/film.h.
+// PixelWindow ([x0, x1) x [y0, y1)) is declared in film/film.h.
 
 struct RenderOptions {
     AcceleratorKind accelerator = AcceleratorKind::Embree;

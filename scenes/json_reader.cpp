@@ -158,6 +158,10 @@ std::string JsonValue::string() const {
 }
 
 size_t JsonValue::choice(std::initializer_list<std::string_view> choices) const {
+    return choice(std::span<const std::string_view>(choices.begin(), choices.size()));
+}
+
+size_t JsonValue::choice(std::span<const std::string_view> choices) const {
     std::string list;
     for (std::string_view c : choices) list += (list.empty() ? "" : ", ") + std::string(c);
     if (!json_->is_string()) failExpected("one of: " + list);
@@ -302,6 +306,9 @@ JsonValue JsonValue::child(const Json& json, std::string_view token) const {
 // ---- JsonObject ----
 
 JsonObject::JsonObject(const JsonValue& value, std::initializer_list<std::string_view> allowedKeys)
+    : JsonObject(value, std::span<const std::string_view>(allowedKeys.begin(), allowedKeys.size())) {}
+
+JsonObject::JsonObject(const JsonValue& value, std::span<const std::string_view> allowedKeys)
     : value_(value) {
     for (const auto& [key, member] : value.members()) {
         if (std::find(allowedKeys.begin(), allowedKeys.end(), key) != allowedKeys.end()) continue;

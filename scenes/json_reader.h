@@ -10,6 +10,7 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -52,6 +53,7 @@ public:
     std::string string() const;
     // The string, which must be one of `choices`; returns its position in them.
     size_t choice(std::initializer_list<std::string_view> choices) const;
+    size_t choice(std::span<const std::string_view> choices) const;
 
     // Finite numbers that fit in a float (1e39 does not).
     float number() const;
@@ -92,6 +94,7 @@ private:
 class JsonObject {
 public:
     JsonObject(const JsonValue& value, std::initializer_list<std::string_view> allowedKeys);
+    JsonObject(const JsonValue& value, std::span<const std::string_view> allowedKeys);
 
     const JsonValue& value() const { return value_; }
     std::optional<JsonValue> get(std::string_view key) const { return value_.member(key); }

@@ -12,7 +12,7 @@
 #include <string_view>
 
 #include "core/transform.h"
-#include "scenes/scene.h"
+#include "geometry/triangle_mesh.h"
 
 namespace penumbra {
 

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <array>
 #include <cstdint>
 #include <fstream>
 #include <limits>
@@ -13,7 +14,9 @@
 #include "core/motion.h"
 #include "core/transform.h"
 #include "scenes/json_reader.h"
+#include "scenes/material_reader.h"
 #include "scenes/mesh_import.h"
+#include "scenes/type_table.h"
 
 namespace penumbra {
 
@@ -38,11 +41,11 @@ CameraPose readCameraPose(const JsonValue& value, const CameraPose& defaults) {
     return pose;
 }
 
-CameraDesc readCamera(const JsonValue& value) {
+ThinLensCameraParams readCamera(const JsonValue& value) {
     const JsonObject object(value, {"look_from", "look_at", "up", "fov", "aperture_radius", "f_number", "focal_length",
                                     "aperture_blades", "aperture_rotation", "focus_distance", "focus_on", "shutter",
                                     "motion"});
-    CameraDesc camera;
+    ThinLensCameraParams camera;
     const CameraPose pose = readCameraPose(value, {camera.lookFrom, camera.lookAt, camera.up});
     camera.lookFrom = pose.lookFrom;
     camera.lookAt = pose.lookAt;
@@ -98,9 +101,9 @@ CameraDesc readCamera(const JsonValue& value) {
     return camera;
 }
 
-FilmDesc readFilm(const JsonValue& value) {
+FilmSettings readFilm(const JsonValue& value) {
     const JsonObject object(value, {"resolution", "spp", "filter"});
-    FilmDesc film;
+    FilmSettings film;
     if (auto v = object.get("resolution")) {
         if (!v->json().is_array() || v->json().size() != 2)
             v->failExpected("an array [width, height] of 2 integers");
@@ -117,9 +120,9 @@ FilmDesc readFilm(const JsonValue& value) {
     return film;
 }
 
-IntegratorDesc readIntegrator(const JsonValue& value) {
+IntegratorSettings readIntegrator(const JsonValue& value) {
     const JsonObject object(value, {"max_depth", "roulette_start"});
-    IntegratorDesc integrator;
+    IntegratorSettings integrator;
     if (auto v = object.get("max_depth")) integrator.maxDepth = int(v->integer(0, kMaxInt));
     if (auto v = object.get("roulette_start")) integrator.rouletteStartDepth = int(v->integer(0, kMaxInt));
     return integrator;
@@ -135,108 +138,6 @@ RenderSettings readRender(const JsonValue& value) {
     if (auto v = object.get("watertight")) settings.watertight = v->boolean();
     if (auto v = object.get("canonical_hits")) settings.canonicalHits = v->boolean();
     return settings;
-}
-
-FresnelKind readFresnel(const JsonValue& value) {
-    return value.choice({"exact", "schlick"}) == 0 ? FresnelKind::Exact : FresnelKind::Schlick;
-}
-
-// "absorption": {"color": c, "distance": d}: light keeps the fraction c (per channel, in (0, 1])
-// after travelling d inside, so sigma_a = -ln(c) / d.
-Rgb readAbsorption(const JsonValue& value) {
-    const JsonObject object(value, {"color", "distance"});
-    const JsonValue colorValue = object.require("color");
-    const Rgb color = colorValue.rgb(0.0f, 1.0f);
-    for (int c = 0; c < 3; ++c)
-        if (!(color[c] > 0.0f))
-            colorValue.failExpected(
-                "a transmittance in (0, 1] per channel (0 would absorb everything at any distance)");
-    const float distance = object.require("distance").numberAbove(0.0f);
-    return {-std::log(color.r) / distance, -std::log(color.g) / distance, -std::log(color.b) / distance};
-}
-
-MaterialDesc readMaterial(const std::string& name, const JsonValue& material) {
-    MaterialDesc desc;
-    desc.name = name;
-    const size_t type = material.requiredMember("type").choice(
-        {"lambert", "phong", "dielectric", "thin_dielectric", "mirror", "conductor"});
-    switch (type) {
-        case 0: {
-            const JsonObject object(material, {"type", "albedo", "two_sided"});
-            desc.kind = MaterialKind::Lambert;
-            if (auto v = object.get("albedo")) desc.albedo = v->rgb(0.0f, 1.0f);
-            if (auto v = object.get("two_sided")) desc.twoSided = v->boolean();
-            break;
-        }
-        case 1: {
-            const JsonObject object(material, {"type", "diffuse", "specular", "exponent", "two_sided"});
-            desc.kind = MaterialKind::Phong;
-            if (auto v = object.get("diffuse")) desc.diffuse = v->rgb(0.0f, 1.0f);
-            if (auto v = object.get("exponent")) desc.exponent = v->numberAtLeast(0.0f);
-            if (auto v = object.get("two_sided")) desc.twoSided = v->boolean();
-            if (auto v = object.get("specular")) {
-                desc.specular = v->rgb(0.0f, 1.0f);
-                // diffuse alone is at most 1, so a sum above 1 always involves a given specular.
-                static constexpr const char* kChannels[] = {"red", "green", "blue"};
-                for (int c = 0; c < 3; ++c)
-                    if (desc.diffuse[c] + desc.specular[c] > 1.0f)
-                        v->fail(fmt::format(
-                            "diffuse + specular must not exceed 1 in any channel (energy conservation), but "
-                            "the {} channel has {} + {} = {}",
-                            kChannels[c], desc.diffuse[c], desc.specular[c], desc.diffuse[c] + desc.specular[c]));
-            }
-            break;
-        }
-        case 2:
-        case 3: {
-            const bool thin = type == 3;
-            const JsonObject object(material, thin ? std::initializer_list<std::string_view>{"type", "eta", "fresnel"}
-                                                   : std::initializer_list<std::string_view>{"type", "eta", "fresnel",
-                                                                                             "absorption"});
-            desc.kind = thin ? MaterialKind::ThinDielectric : MaterialKind::Dielectric;
-            if (auto v = object.get("eta")) desc.eta = v->numberAbove(0.0f);
-            if (auto v = object.get("fresnel")) desc.fresnel = readFresnel(*v);
-            if (auto v = object.get("absorption")) desc.absorption = readAbsorption(*v);
-            break;
-        }
-        case 4: {
-            const JsonObject object(material, {"type", "tint", "two_sided"});
-            desc.kind = MaterialKind::Mirror;
-            if (auto v = object.get("tint")) desc.tint = v->rgb(0.0f, 1.0f);
-            if (auto v = object.get("two_sided")) desc.twoSided = v->boolean();
-            break;
-        }
-        default: {
-            const JsonObject object(material, {"type", "eta", "k", "two_sided"});
-            desc.kind = MaterialKind::Conductor;
-            const JsonValue etaValue = object.require("eta");
-            desc.conductorEta = etaValue.rgb(0.0f);
-            for (int c = 0; c < 3; ++c)
-                if (!(desc.conductorEta[c] > 0.0f))
-                    etaValue.failExpected("a number or an array of 3 numbers (r, g, b), each > 0");
-            desc.k = object.require("k").rgb(0.0f);
-            if (auto v = object.get("two_sided")) desc.twoSided = v->boolean();
-            break;
-        }
-    }
-    return desc;
-}
-
-std::vector<MaterialDesc> readMaterials(const JsonValue& value) {
-    std::vector<MaterialDesc> materials;
-    for (const auto& [name, material] : value.members()) materials.push_back(readMaterial(name, material));
-    return materials;
-}
-
-uint32_t readMaterialReference(const JsonValue& value, const std::vector<MaterialDesc>& materials) {
-    const std::string name = value.string();
-    std::string known;
-    for (size_t i = 0; i < materials.size(); ++i) {
-        if (materials[i].name == name) return uint32_t(i);
-        known += (known.empty() ? "" : ", ") + materials[i].name;
-    }
-    value.fail(fmt::format("unknown material \"{}\" ({})", name,
-                           known.empty() ? "the scene defines no materials" : "known materials: " + known));
 }
 
 Emission readEmission(const JsonValue& value) {
@@ -331,7 +232,7 @@ TransformKey readTransformKey(const JsonValue& value) {
 
 // Key times, when a scene gives them, must be what penumbra assumes: evenly spaced from the
 // shutter opening to its closing.
-void checkKeyTimes(const JsonValue& times, size_t keyCount, const CameraDesc& camera) {
+void checkKeyTimes(const JsonValue& times, size_t keyCount, const ThinLensCameraParams& camera) {
     if (times.arraySize() != keyCount)
         times.failExpected(fmt::format("{} times, one per key", keyCount));
     const float open = camera.shutterOpen, close = camera.shutterClose;
@@ -354,7 +255,7 @@ struct ShapeMotion {
 
 // "motion": {"times": [...], "transforms": [key, ...], "positions": [[p, ...], ...]}; keys are
 // evenly spaced over the shutter. Deformation ("positions") is for inline triangle meshes only.
-ShapeMotion readMotion(const JsonValue& value, const CameraDesc& camera, bool allowPositions, size_t vertexCount) {
+ShapeMotion readMotion(const JsonValue& value, const ThinLensCameraParams& camera, bool allowPositions, size_t vertexCount) {
     const JsonObject object(value, {"times", "transforms", "positions"});
     if (camera.shutterClose <= camera.shutterOpen)
         value.fail("motion needs an open shutter: set camera/shutter to [open, close] with close > open");
@@ -476,64 +377,48 @@ TriangleMesh readDisk(const JsonValue& value) {
     return mesh;
 }
 
-void readShape(const JsonValue& value, const fs::path& folder, Scene& scene) {
-    const JsonValue typeValue = value.requiredMember("type");
-    const size_t type = typeValue.choice({"triangle_mesh", "mesh_file", "quad", "sphere", "disk"});
-    const std::vector<MaterialDesc>& materials = scene.materials;
+// What every shape reader is given: the scene so far (its materials, its camera's shutter, the
+// mesh files named) and the scene file's folder.
+struct ShapeContext {
+    Scene& scene;
+    const fs::path& folder;
+};
 
-    if (type == 3) {
-        const JsonObject object(value, {"type", "center", "radius", "material", "emission", "transform", "motion"});
-        Sphere sphere;
-        sphere.name = value.pointer();
-        sphere.center = object.require("center").vec3();
-        sphere.radius = object.require("radius").numberAbove(0.0f);
-        sphere.material = readMaterialReference(object.require("material"), materials);
-        if (auto v = object.get("emission")) sphere.emission = readEmission(*v);
-        if (auto v = object.get("transform")) {
-            const Transform transform = readTransform(*v);
-            const std::optional<float> scale = similarityScale(transform);
-            if (!scale)
-                v->fail(
-                    "a sphere can only be translated, rotated, mirrored and scaled uniformly; this transform "
-                    "would make it an ellipsoid");
-            sphere.center = transform.applyPoint(sphere.center);
-            sphere.radius *= *scale;
-            if (!isFinite(sphere.center) || !std::isfinite(sphere.radius) || !(sphere.radius > 0.0f))
-                v->fail("the transformed sphere does not fit a 32-bit float");
-        }
-        if (auto v = object.get("motion")) {
-            if (sphere.emission.emits()) v->fail("moving light sources are not supported: a sphere with motion cannot emit");
-            sphere.motion = readMotion(*v, scene.camera, false, 0).transform;
-        }
-        scene.spheres.push_back(sphere);
-        return;
+void readSphere(const JsonValue& value, ShapeContext& context) {
+    Scene& scene = context.scene;
+    Sphere sphere;
+    sphere.name = value.pointer();
+    sphere.center = value.requiredMember("center").vec3();
+    sphere.radius = value.requiredMember("radius").numberAbove(0.0f);
+    sphere.material = readMaterialReference(value.requiredMember("material"), scene.materialNames);
+    if (auto v = value.member("emission")) sphere.emission = readEmission(*v);
+    if (auto v = value.member("transform")) {
+        const Transform transform = readTransform(*v);
+        const std::optional<float> scale = similarityScale(transform);
+        if (!scale)
+            v->fail(
+                "a sphere can only be translated, rotated, mirrored and scaled uniformly; this transform "
+                "would make it an ellipsoid");
+        sphere.center = transform.applyPoint(sphere.center);
+        sphere.radius *= *scale;
+        if (!isFinite(sphere.center) || !std::isfinite(sphere.radius) || !(sphere.radius > 0.0f))
+            v->fail("the transformed sphere does not fit a 32-bit float");
     }
+    if (auto v = value.member("motion")) {
+        if (sphere.emission.emits()) v->fail("moving light sources are not supported: a sphere with motion cannot emit");
+        sphere.motion = readMotion(*v, scene.camera, false, 0).transform;
+    }
+    scene.spheres.push_back(sphere);
+}
 
-    TriangleMesh mesh;
-    if (type == 0) {
-        const JsonObject object(
-            value, {"type", "positions", "indices", "normals", "uvs", "material", "emission", "transform", "motion"});
-        mesh = readInlineMesh(value);
-        mesh.name = value.pointer();
-    } else if (type == 1) {
-        const JsonObject object(value, {"type", "file", "material", "emission", "transform", "motion"});
-        mesh = readMeshFile(value, folder, scene.meshFiles);
-    } else if (type == 2) {
-        const JsonObject object(value,
-                                {"type", "corner", "edge1", "edge2", "material", "emission", "transform", "motion"});
-        mesh = readQuad(value);
-        mesh.name = value.pointer();
-    } else {
-        const JsonObject object(
-            value, {"type", "center", "normal", "radius", "segments", "material", "emission", "transform", "motion"});
-        mesh = readDisk(value);
-        mesh.name = value.pointer();
-    }
-    mesh.material = readMaterialReference(value.requiredMember("material"), materials);
+// What all triangle-mesh shapes share, once their own reader has made the mesh: the material,
+// emission, motion and transform keys.
+void addMeshShape(TriangleMesh mesh, const JsonValue& value, bool allowPositionKeys, Scene& scene) {
+    mesh.material = readMaterialReference(value.requiredMember("material"), scene.materialNames);
     if (auto v = value.member("emission")) mesh.emission = readEmission(*v);
     if (auto v = value.member("motion")) {
         if (mesh.emission.emits()) v->fail("moving light sources are not supported: a shape with motion cannot emit");
-        ShapeMotion motion = readMotion(*v, scene.camera, type == 0, mesh.positions.size());
+        ShapeMotion motion = readMotion(*v, scene.camera, allowPositionKeys, mesh.positions.size());
         mesh.motion = std::move(motion.transform);
         mesh.positionKeys = std::move(motion.positionKeys);
         if (!mesh.positionKeys.empty()) mesh.positions = mesh.positionKeys.front();
@@ -564,22 +449,60 @@ void readShape(const JsonValue& value, const fs::path& folder, Scene& scene) {
     scene.meshes.push_back(std::move(mesh));
 }
 
-void readLight(const JsonValue& value, Scene& scene) {
-    const size_t type = value.requiredMember("type").choice({"point", "directional"});
-    if (type == 0) {
-        const JsonObject object(value, {"type", "position", "intensity"});
-        PointLight light;
-        light.position = object.require("position").vec3();
-        light.intensity = object.require("intensity").rgb(0.0f);
-        scene.pointLights.push_back(light);
-        return;
-    }
-    const JsonObject object(value, {"type", "direction", "irradiance"});
-    const JsonValue directionValue = object.require("direction");
+void readTriangleMeshShape(const JsonValue& value, ShapeContext& context) {
+    TriangleMesh mesh = readInlineMesh(value);
+    mesh.name = value.pointer();
+    addMeshShape(std::move(mesh), value, true, context.scene);
+}
+
+void readMeshFileShape(const JsonValue& value, ShapeContext& context) {
+    addMeshShape(readMeshFile(value, context.folder, context.scene.meshFiles), value, false, context.scene);
+}
+
+void readQuadShape(const JsonValue& value, ShapeContext& context) {
+    TriangleMesh mesh = readQuad(value);
+    mesh.name = value.pointer();
+    addMeshShape(std::move(mesh), value, false, context.scene);
+}
+
+void readDiskShape(const JsonValue& value, ShapeContext& context) {
+    TriangleMesh mesh = readDisk(value);
+    mesh.name = value.pointer();
+    addMeshShape(std::move(mesh), value, false, context.scene);
+}
+
+using ShapeReader = void (*)(const JsonValue&, ShapeContext&);
+
+const std::array<TypeRow<ShapeReader>, 5> kShapeTypes{{
+    {"triangle_mesh", {"type", "positions", "indices", "normals", "uvs", "material", "emission", "transform", "motion"},
+     readTriangleMeshShape},
+    {"mesh_file", {"type", "file", "material", "emission", "transform", "motion"}, readMeshFileShape},
+    {"quad", {"type", "corner", "edge1", "edge2", "material", "emission", "transform", "motion"}, readQuadShape},
+    {"sphere", {"type", "center", "radius", "material", "emission", "transform", "motion"}, readSphere},
+    {"disk", {"type", "center", "normal", "radius", "segments", "material", "emission", "transform", "motion"},
+     readDiskShape},
+}};
+
+void readPointLight(const JsonValue& value, Scene& scene) {
+    PointLight light;
+    light.position = value.requiredMember("position").vec3();
+    light.intensity = value.requiredMember("intensity").rgb(0.0f);
+    scene.pointLights.push_back(light);
+}
+
+void readDirectionalLight(const JsonValue& value, Scene& scene) {
+    const JsonValue directionValue = value.requiredMember("direction");
     const Vec3f direction = directionValue.vec3();
     if (!(lengthSquared(direction) > 0.0f)) directionValue.failExpected("a non-zero direction");
-    scene.directionalLights.push_back({normalize(direction), object.require("irradiance").rgb(0.0f)});
+    scene.directionalLights.push_back({normalize(direction), value.requiredMember("irradiance").rgb(0.0f)});
 }
+
+using LightReader = void (*)(const JsonValue&, Scene&);
+
+const std::array<TypeRow<LightReader>, 2> kLightTypes{{
+    {"point", {"type", "position", "intensity"}, readPointLight},
+    {"directional", {"type", "direction", "irradiance"}, readDirectionalLight},
+}};
 
 }  // namespace
 
@@ -599,11 +522,14 @@ Scene parseScene(std::string_view jsonText, const fs::path& file) {
     if (auto v = top.get("render")) scene.settings = readRender(*v);
     if (auto v = top.get("background")) scene.background = v->rgb(0.0f);
     if (auto v = top.get("materials"))
-        scene.materials = readMaterials(*v);  // before the shapes that name them
-    if (auto v = top.get("shapes"))
-        for (const JsonValue& shape : v->elements()) readShape(shape, file.parent_path(), scene);
+        readMaterials(*v, scene.materials, scene.materialNames);  // before the shapes that name them
+    if (auto v = top.get("shapes")) {
+        const fs::path folder = file.parent_path();
+        ShapeContext context{scene, folder};
+        for (const JsonValue& shape : v->elements()) findTypeRow<ShapeReader>(shape, kShapeTypes).read(shape, context);
+    }
     if (auto v = top.get("lights"))
-        for (const JsonValue& light : v->elements()) readLight(light, scene);
+        for (const JsonValue& light : v->elements()) findTypeRow<LightReader>(light, kLightTypes).read(light, scene);
     return scene;
 }
 

@@ -13,8 +13,8 @@
 
 #include "core/error.h"
 #include "core/hash.h"
-#include "renderer/image_output.h"
-#include "renderer/image_plugin_loader.h"
+#include "film/image_output.h"
+#include "film/image_plugin_loader.h"
 #include "renderer/render.h"
 #include "tools/split_text.h"
 #include "scenes/scene_loader.h"

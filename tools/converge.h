@@ -15,8 +15,8 @@
 #include <vector>
 
 #include "core/sampler.h"
-#include "renderer/film.h"
-#include "scenes/accelerator.h"
+#include "film/film.h"
+#include "accel/traversal.h"
 #include "scenes/scene.h"
 
 namespace penumbra {

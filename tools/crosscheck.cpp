@@ -14,10 +14,9 @@
 #include "core/hash.h"
 #include "core/ray_offset.h"
 #include "core/sampling.h"
-#include "renderer/surface_interaction.h"
-#include "scenes/bvh_accelerator.h"
-#include "scenes/embree_accelerator.h"
-#include "scenes/scene_camera.h"
+#include "geometry/surface_interaction.h"
+#include "accel/bvh_accelerator.h"
+#include "accel/embree_accelerator.h"
 #include "scenes/scene_loader.h"
 
 namespace penumbra {
@@ -93,8 +92,9 @@ public:
             const Sphere& s = scene_.spheres[g - triangles_];
             point.normal = sampleUniformSphere(u);
             point.position = s.center + point.normal * s.radius;
-            point.geomId = uint32_t(scene_.meshes.size());
-            point.primId = uint32_t(g - triangles_);
+            const Hit ids = scene_.idsOf({ShapeKind::Sphere, uint32_t(g - triangles_), 0});
+            point.geomId = ids.geomId;
+            point.primId = ids.primId;
             return point;
         }
         const size_t m = size_t(std::upper_bound(first_.begin(), first_.end(), g) - first_.begin()) - 1;
@@ -107,8 +107,9 @@ public:
         const Vec3f n = cross(p1 - p0, p2 - p0);
         const float nLength = length(n);
         point.normal = nLength > 0.0f ? n / nLength : Vec3f{0.0f, 0.0f, 1.0f};
-        point.geomId = uint32_t(m);
-        point.primId = uint32_t(j);
+        const Hit ids = scene_.idsOf({ShapeKind::Mesh, uint32_t(m), uint32_t(j)});
+        point.geomId = ids.geomId;
+        point.primId = ids.primId;
         return point;
     }
 
@@ -154,7 +155,7 @@ double relativeDifference(double a, double b) {
     return scale > 0.0 ? std::abs(a - b) / scale : 0.0;
 }
 
-bool isTriangleHit(const Scene& scene, const Hit& hit) { return hit.geomId < scene.meshes.size(); }
+bool isTriangleHit(const Scene& scene, const Hit& hit) { return scene.shapeOf(hit).kind == ShapeKind::Mesh; }
 
 bool isNearEdge(const Scene& scene, const Hit& hit) {
     if (!isTriangleHit(scene, hit)) return false;
@@ -164,14 +165,14 @@ bool isNearEdge(const Scene& scene, const Hit& hit) {
 
 float incidenceCosine(const Scene& scene, const Ray& ray, const Hit& hit) {
     Vec3f normal;
-    if (isTriangleHit(scene, hit)) {
-        const TriangleMesh& mesh = scene.meshes[hit.geomId];
-        const Vec3f p0 = mesh.positions[mesh.indices[3 * hit.primId]],
-                    p1 = mesh.positions[mesh.indices[3 * hit.primId + 1]],
-                    p2 = mesh.positions[mesh.indices[3 * hit.primId + 2]];
+    const ShapeRef shape = scene.shapeOf(hit);
+    if (shape.kind == ShapeKind::Mesh) {
+        const TriangleMesh& mesh = scene.meshes[shape.index];
+        const uint32_t* index = &mesh.indices[3 * size_t(shape.primitive)];
+        const Vec3f p0 = mesh.positions[index[0]], p1 = mesh.positions[index[1]], p2 = mesh.positions[index[2]];
         normal = cross(p1 - p0, p2 - p0);
     } else {
-        normal = ray.at(hit.t) - scene.spheres[hit.primId].center;
+        normal = ray.at(hit.t) - scene.spheres[shape.index].center;
     }
     const float denominator = length(normal) * length(ray.direction);
     return denominator > 0.0f ? std::abs(dot(normal, ray.direction)) / denominator : 0.0f;
@@ -236,11 +237,11 @@ const char* mismatchKindName(MismatchKind kind) {
     return "?";
 }
 
-std::vector<CrosscheckRay> generateCrosscheckRays(const Scene& scene, const Accelerator& reference,
+std::vector<CrosscheckRay> generateCrosscheckRays(const Scene& scene, const EmbreeAccelerator& reference,
                                                   const CrosscheckOptions& options) {
     const uint64_t perKind = options.rays / kCrosscheckRayKindCount;
     const uint64_t randomCount = options.rays - 3 * perKind;
-    const ThinLensCamera camera = makeSceneCamera(scene);
+    const ThinLensCamera camera(scene.camera, scene.film.width, scene.film.height);
     const SceneExtent extent = measureScene(scene);
     const PrimitiveIndex primitives(scene);
 

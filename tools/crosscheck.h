@@ -30,7 +30,8 @@
 #include <vector>
 
 #include "core/ray.h"
-#include "scenes/accelerator.h"
+#include "accel/embree_accelerator.h"
+#include "accel/traversal.h"
 #include "scenes/scene.h"
 
 namespace penumbra {
@@ -118,7 +119,7 @@ struct CrosscheckReport {
 
 // The ray set, deterministic in (scene, options.rays, options.seed). Paths for bounce and shadow
 // rays are traced with `reference`.
-std::vector<CrosscheckRay> generateCrosscheckRays(const Scene& scene, const Accelerator& reference,
+std::vector<CrosscheckRay> generateCrosscheckRays(const Scene& scene, const EmbreeAccelerator& reference,
                                                   const CrosscheckOptions& options);
 
 // Says why two answers differ (they are assumed to differ).

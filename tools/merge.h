@@ -1,6 +1,6 @@
 // `penumbra merge` and the checks behind `penumbra render --resume`: films rendered from the same
 // scene, resolution, seed, sampler and backend, over sample ranges and pixel windows that do not
-// overlap, are added pixel by pixel. The film's sums are exact (ExactSum, renderer/film.h), so a
+// overlap, are added pixel by pixel. The film's sums are exact (ExactSum, film/film.h), so a
 // merge gives the same bits as one render of the union, in whatever order the parts come.
 #pragma once
 
@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "renderer/image_output.h"
+#include "film/image_output.h"
 
 namespace penumbra {
 

@@ -23,8 +23,8 @@
 #include <fmt/core.h>
 
 #include "core/error.h"
-#include "renderer/film.h"
-#include "renderer/image_output.h"
+#include "film/film.h"
+#include "film/image_output.h"
 #include "renderer/render.h"
 #include "scenes/scene_loader.h"
 #include "tools/split_text.h"

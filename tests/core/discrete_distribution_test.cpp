@@ -7,7 +7,7 @@
 #include <limits>
 #include <vector>
 
-#include "test_statistics.h"
+#include "tests/support/test_statistics.h"
 
 namespace penumbra {
 namespace {

@@ -12,7 +12,7 @@
 #include "core/trig.h"
 #include "core/transform.h"
 #include "core/vec.h"
-#include "test_statistics.h"
+#include "tests/support/test_statistics.h"
 
 namespace penumbra {
 namespace {

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "core/sampler.h"
-#include "test_statistics.h"
+#include "tests/support/test_statistics.h"
 
 namespace penumbra {
 namespace {

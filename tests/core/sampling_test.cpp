@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "core/sampling.h"
-#include "test_statistics.h"
+#include "tests/support/test_statistics.h"
 
 namespace penumbra {
 namespace {

@@ -34,8 +34,8 @@
 #include <vector>
 
 #include "materials/material.h"
-#include "tests/core/test_statistics.h"
-#include "tests/materials/bsdf_test_support.h"
+#include "tests/support/test_statistics.h"
+#include "tests/support/bsdf_test_support.h"
 
 namespace penumbra {
 namespace {
@@ -60,8 +60,8 @@ struct Reference {
 
 Reference referenceOf(const ContinuousCase& c) {
     const double thetaUp = test::radians(c.thetaO > 90.0 ? 180.0 - c.thetaO : c.thetaO);
-    if (c.material.type == MaterialType::Lambert) return {c.material.lambert.albedo, 1.0};
-    const Phong& p = c.material.phong;
+    if (const Lambert* lambert = std::get_if<Lambert>(&c.material.model())) return {lambert->albedo, 1.0};
+    const Phong& p = std::get<Phong>(c.material.model());
     const double share = test::phongLobeShareAbove(p.exponent, thetaUp);
     const double specularAlbedo = test::phongSpecularAlbedo(p.exponent, thetaUp);
     const double pSpecular = p.ks.luminance() / (p.kd.luminance() + p.ks.luminance());
@@ -160,9 +160,9 @@ TEST_P(ContinuousLobe, SamplesFollowThePdf) {
     const Vec3f wo = directionFromAngles(c.thetaO, c.phiO);
 
     test::SphereBinning binning;
-    if (material.type == MaterialType::Phong) {
+    if (const Phong* phong = test::phongOf(material)) {
         binning.frame = Frame::fromNormal(normalize(reflectAboutZ(wo)));
-        binning.gamma = 1.0 + std::log10(std::max(1.0f, material.phong.exponent)) * 2.0 / 3.0;
+        binning.gamma = 1.0 + std::log10(std::max(1.0f, phong->exponent)) * 2.0 / 3.0;
     }
 
     // Expected counts, to 1e-3 samples per cell (absolute) or 1e-4 relative.
@@ -185,7 +185,7 @@ TEST_P(ContinuousLobe, SamplesFollowThePdf) {
     // pdf's integral is exact only to about n * 1e-7; a lost normalization factor (n + 2 instead of
     // n + 1, a missing lobe probability) shows as an error of 1e-3 or more.
     const Reference reference = referenceOf(c);
-    const double exponent = material.type == MaterialType::Phong ? material.phong.exponent : 0.0;
+    const double exponent = test::phongOf(material) ? test::phongOf(material)->exponent : 0.0;
     EXPECT_NEAR(mass, reference.mass, 1e-5 + 1e-7 * exponent);
     if (c.thetaO == 0.0) {
         EXPECT_NEAR(mass, 1.0, 1e-5 + 1e-7 * exponent);
@@ -216,7 +216,7 @@ TEST_P(ContinuousLobe, SamplesFollowThePdf) {
             // pdf and weight: float arithmetic of the same quantities, so agreement to 1e-5 relative.
             const float pdf = material.pdf(wo, s->wi, front);
             const Rgb expectedWeight = material.eval(wo, s->wi, front) * (std::abs(s->wi.z) / pdf);
-            bool ok = !s->isDelta && !s->isTransmission && std::abs(s->pdf - pdf) <= 1e-5f * pdf &&
+            bool ok = !s->isSpecular() && !s->isTransmission() && std::abs(s->pdf - pdf) <= 1e-5f * pdf &&
                       std::abs(length(s->wi) - 1.0f) < 1e-5f;
             for (int ch = 0; ch < 3; ++ch) ok = ok && std::abs(s->weight[ch] - expectedWeight[ch]) <= 1e-5f * expectedWeight[ch] + 1e-7f;
             if (!ok && inconsistent++ == 0)
@@ -261,9 +261,9 @@ class DeltaLobe : public ::testing::TestWithParam<DeltaCase> {};
 TEST_P(DeltaLobe, LobeFrequenciesFollowFresnelAndDirectionsAreExact) {
     const DeltaCase& c = GetParam();
     const Vec3f wo = directionFromAngles(c.thetaO, 35.0);
-    const bool thin = c.material.type == MaterialType::ThinDielectric;
-    // Relative index eta(wi side) / eta(wo side) of a refraction.
-    const float eta = thin ? 1.0f : (c.front ? c.material.dielectric.eta : 1.0f / c.material.dielectric.eta);
+    const Dielectric* dielectric = std::get_if<Dielectric>(&c.material.model());
+    // Relative index eta(wi side) / eta(wo side) of a refraction (1 through a thin pane).
+    const float eta = !dielectric ? 1.0f : (c.front ? dielectric->eta : 1.0f / dielectric->eta);
 
     EXPECT_TRUE(c.material.isPurelySpecular());
     EXPECT_EQ(c.material.pdf(wo, reflectAboutZ(wo), c.front), 0.0f);
@@ -280,8 +280,8 @@ TEST_P(DeltaLobe, LobeFrequenciesFollowFresnelAndDirectionsAreExact) {
             ++bad;
             continue;
         }
-        bool ok = s->isDelta;
-        if (!s->isTransmission) {
+        bool ok = s->isSpecular();
+        if (!s->isTransmission()) {
             reflected += 1;
             // Mirror direction exactly, weight 1, pdf = probability of reflecting.
             ok = ok && s->wi == reflectAboutZ(wo) && s->weight == Rgb(1.0f) && s->eta == 1.0f &&
@@ -298,11 +298,11 @@ TEST_P(DeltaLobe, LobeFrequenciesFollowFresnelAndDirectionsAreExact) {
                  std::abs(double(s->eta) - eta) < 1e-6 &&
                  std::abs(double(s->weight.g) - 1.0 / (double(eta) * eta)) < 1e-6 &&
                  std::abs(s->pdf - (1.0 - c.reflectance)) < 2e-5;
-            if (thin) ok = ok && s->wi == -wo;
+            if (!dielectric) ok = ok && s->wi == -wo;  // a thin pane does not bend light
         }
         if (!ok && bad++ == 0)
             firstBad = "wi (" + std::to_string(s->wi.x) + ", " + std::to_string(s->wi.y) + ", " + std::to_string(s->wi.z) +
-                       ") transmission " + std::to_string(s->isTransmission) + " pdf " + std::to_string(s->pdf) +
+                       ") transmission " + std::to_string(s->isTransmission()) + " pdf " + std::to_string(s->pdf) +
                        " weight " + std::to_string(s->weight.g);
     }
     EXPECT_EQ(bad, 0) << firstBad;
@@ -356,11 +356,11 @@ TEST(Reciprocity, LambertAndPhong) {
                                   test::makePhongMaterial(Rgb(0.1f), Rgb(0.9f), 1000.0f)};
     test::UniformRng rng(4);
     for (const Material& m : materials) {
-        const double n = m.type == MaterialType::Phong ? m.phong.exponent : 0.0;
+        const double n = test::phongOf(m) ? test::phongOf(m)->exponent : 0.0;
         int checked = 0;
         for (int i = 0; i < 20000; ++i) {
             Vec3f a = sampleUniformSphere(rng.next2D()), b = sampleUniformSphere(rng.next2D());
-            if (m.type == MaterialType::Phong && i % 2 == 0) {
+            if (test::phongOf(m) && i % 2 == 0) {
                 // Half the pairs near the lobe's peak, where cos^n is not negligible.
                 b = normalize(reflectAboutZ(a) + sampleUniformSphere(rng.next2D()) * float(3.0 / (n + 3.0)));
             }
@@ -382,13 +382,13 @@ TEST(Reciprocity, LambertAndPhong) {
 
 // One-sided reflectors are black from the back: no value, no density, no sample.
 TEST(Sides, OneSidedIsBlackFromTheBack) {
-    for (Material m : {test::makeLambertMaterial(Rgb(0.8f)), test::makePhongMaterial(Rgb(0.4f), Rgb(0.5f), 20.0f)}) {
+    for (const Material& twoSided : {test::makeLambertMaterial(Rgb(0.8f)), test::makePhongMaterial(Rgb(0.4f), Rgb(0.5f), 20.0f)}) {
         const Vec3f wo = directionFromAngles(140.0, 10.0), wi = directionFromAngles(120.0, 200.0);
-        m.twoSided = true;
+        Material m = twoSided;
         EXPECT_FALSE(m.eval(wo, wi, false).isBlack());
         EXPECT_GT(m.pdf(wo, wi, false), 0.0f);
         EXPECT_TRUE(m.sample(wo, 0.3f, {0.4f, 0.6f}, false).has_value());
-        m.twoSided = false;
+        m = Material(twoSided.model(), false);
         EXPECT_TRUE(m.eval(wo, wi, false).isBlack());
         EXPECT_EQ(m.pdf(wo, wi, false), 0.0f);
         EXPECT_FALSE(m.sample(wo, 0.3f, {0.4f, 0.6f}, false).has_value());

@@ -8,7 +8,7 @@
 
 #include "materials/dielectric.h"
 #include "materials/fresnel.h"
-#include "tests/materials/bsdf_test_support.h"
+#include "tests/support/bsdf_test_support.h"
 
 namespace penumbra {
 namespace {
@@ -132,12 +132,12 @@ TEST(Dielectric, SideComesFromTheCaller) {
     const Vec3f wo = test::directionFromAngles(60.0, 0.0);
     EXPECT_NEAR(glass.reflectance(wo, true), fresnelDielectric(0.5f, 1.5f), 1e-7);
     EXPECT_EQ(glass.reflectance(wo, false), 1.0f);  // 60 degrees inside glass is beyond the critical angle
-    const auto inside = glass.sample(wo, 0.999f, false);
+    const auto inside = glass.sample(wo, 0.999f, {}, false);
     ASSERT_TRUE(inside.has_value());
-    EXPECT_FALSE(inside->isTransmission);
-    const auto outside = glass.sample(wo, 0.999f, true);
+    EXPECT_FALSE(inside->isTransmission());
+    const auto outside = glass.sample(wo, 0.999f, {}, true);
     ASSERT_TRUE(outside.has_value());
-    EXPECT_TRUE(outside->isTransmission);
+    EXPECT_TRUE(outside->isTransmission());
     EXPECT_NEAR(outside->weight.r, 1.0f / 2.25f, 1e-6f);  // radiance entering glass is scaled by 1 / eta^2
 }
 

@@ -4,9 +4,11 @@
 
 #include <cmath>
 #include <string>
+#include <variant>
+#include <vector>
 
 #include "scenes/scene_loader.h"
-#include "tests/scenes/expect_input_error.h"
+#include "tests/support/expect_input_error.h"
 
 namespace penumbra {
 namespace {
@@ -33,43 +35,56 @@ TEST(MaterialLoader, ReadsEveryTypeAndKey) {
         "defaults": {"type": "phong"}
     })");
     ASSERT_EQ(scene.materials.size(), 7u);
-    const MaterialDesc& matte = scene.materials[0];
-    EXPECT_EQ(matte.kind, MaterialKind::Lambert);
+    EXPECT_EQ(scene.materialNames,
+              (std::vector<std::string>{"matte", "plastic", "glass", "pane", "mirror", "gold", "defaults"}));
+    const Lambert& matte = std::get<Lambert>(scene.materials[0].model());
     EXPECT_EQ(matte.albedo, Rgb(0.1f, 0.2f, 0.3f));
-    EXPECT_FALSE(matte.twoSided);
+    EXPECT_FALSE(scene.materials[0].twoSided());
 
-    const MaterialDesc& plastic = scene.materials[1];
-    EXPECT_EQ(plastic.kind, MaterialKind::Phong);
-    EXPECT_EQ(plastic.diffuse, Rgb(0.5f, 0.4f, 0.3f));
-    EXPECT_EQ(plastic.specular, Rgb(0.5f, 0.6f, 0.7f));
+    const Phong& plastic = std::get<Phong>(scene.materials[1].model());
+    EXPECT_EQ(plastic.kd, Rgb(0.5f, 0.4f, 0.3f));
+    EXPECT_EQ(plastic.ks, Rgb(0.5f, 0.6f, 0.7f));
     EXPECT_EQ(plastic.exponent, 250.0f);
-    EXPECT_TRUE(plastic.twoSided);  // the default
+    EXPECT_TRUE(scene.materials[1].twoSided());  // the default
 
-    const MaterialDesc& glass = scene.materials[2];
-    EXPECT_EQ(glass.kind, MaterialKind::Dielectric);
+    const Dielectric& glass = std::get<Dielectric>(scene.materials[2].model());
     EXPECT_EQ(glass.eta, 1.5f);
-    EXPECT_EQ(glass.fresnel, FresnelKind::Schlick);
+    EXPECT_EQ(glass.fresnel, FresnelModel::Schlick);
     // Transmittance c after distance d: sigma = -ln(c) / d.
     EXPECT_NEAR(glass.absorption.r, std::log(2.0) / 2.0, 1e-6);
     EXPECT_NEAR(glass.absorption.g, std::log(4.0) / 2.0, 1e-6);
     EXPECT_EQ(glass.absorption.b, 0.0f);
 
-    EXPECT_EQ(scene.materials[3].kind, MaterialKind::ThinDielectric);
-    EXPECT_EQ(scene.materials[3].eta, 1.52f);
-    EXPECT_EQ(scene.materials[3].fresnel, FresnelKind::Exact);
+    const ThinDielectric& pane = std::get<ThinDielectric>(scene.materials[3].model());
+    EXPECT_EQ(pane.eta, 1.52f);
+    EXPECT_EQ(pane.fresnel, FresnelModel::Exact);
 
-    EXPECT_EQ(scene.materials[4].kind, MaterialKind::Mirror);
-    EXPECT_EQ(scene.materials[4].tint, Rgb(0.9f, 0.8f, 0.7f));
-    EXPECT_FALSE(scene.materials[4].twoSided);
+    EXPECT_EQ(std::get<Mirror>(scene.materials[4].model()).tint, Rgb(0.9f, 0.8f, 0.7f));
+    EXPECT_FALSE(scene.materials[4].twoSided());
 
-    EXPECT_EQ(scene.materials[5].kind, MaterialKind::Conductor);
-    EXPECT_EQ(scene.materials[5].conductorEta, Rgb(0.143f, 0.374f, 1.442f));
-    EXPECT_EQ(scene.materials[5].k, Rgb(3.983f, 2.385f, 1.603f));
+    const Conductor& gold = std::get<Conductor>(scene.materials[5].model());
+    EXPECT_EQ(gold.eta, Rgb(0.143f, 0.374f, 1.442f));
+    EXPECT_EQ(gold.k, Rgb(3.983f, 2.385f, 1.603f));
 
-    const MaterialDesc& defaults = scene.materials[6];
-    EXPECT_EQ(defaults.diffuse, Rgb(0.5f));
-    EXPECT_EQ(defaults.specular, Rgb(0.0f));
+    const Phong& defaults = std::get<Phong>(scene.materials[6].model());
+    EXPECT_EQ(defaults.kd, Rgb(0.5f));
+    EXPECT_EQ(defaults.ks, Rgb(0.0f));
     EXPECT_EQ(defaults.exponent, 10.0f);
+}
+
+// Flags, not hand lists, say what the integrator may do with each material.
+TEST(MaterialFlags, DeriveSpecularityAndLobeChoice) {
+    const Scene scene = parseMaterials(R"({
+        "matte": {"type": "lambert"}, "plastic": {"type": "phong"}, "glass": {"type": "dielectric"},
+        "pane": {"type": "thin_dielectric"}, "mirror": {"type": "mirror"},
+        "gold": {"type": "conductor", "eta": 0.2, "k": 3}
+    })");
+    const bool purelySpecular[] = {false, false, true, true, true, true};
+    const bool severalLobes[] = {false, true, true, true, false, false};
+    for (size_t i = 0; i < scene.materials.size(); ++i) {
+        EXPECT_EQ(scene.materials[i].isPurelySpecular(), purelySpecular[i]) << scene.materialNames[i];
+        EXPECT_EQ(scene.materials[i].usesLobeSample(), severalLobes[i]) << scene.materialNames[i];
+    }
 }
 
 TEST(MaterialLoader, PhongEnergyConservation) {

@@ -15,9 +15,9 @@
 
 #include <cmath>
 
-#include "renderer/film.h"
+#include "film/film.h"
 #include "renderer/render.h"
-#include "tests/materials/bsdf_test_support.h"
+#include "tests/support/bsdf_test_support.h"
 #include "tests/support/scene_builders.h"
 
 namespace penumbra {
@@ -53,16 +53,9 @@ void expectMean(const ImageMean& image, Rgb expected, double relativeFloor, cons
             << what << ", channel " << c << " (standard error " << image.standardError[c] << ")";
 }
 
-MaterialDesc describe(MaterialKind kind) {
-    MaterialDesc m;
-    m.name = std::string("m");  // not = "m": GCC 12 warns falsely (-Wrestrict) on that assignment
-    m.kind = kind;
-    return m;
-}
-
 // A unit sphere at the origin, seen from (0, 0, 4) with a field of view narrower than the sphere
 // (it subtends 14.5 degrees around the axis, the image's corners lie 11.3 degrees off it).
-Scene sphereFurnace(const MaterialDesc& material, float background) {
+Scene sphereFurnace(const Material& material, float background) {
     Scene scene;
     scene.film = {16, 16, 64, FilterKind::Box, 0.5f};
     scene.camera.lookFrom = {0.0f, 0.0f, 4.0f};
@@ -80,7 +73,7 @@ Scene sphereFurnace(const MaterialDesc& material, float background) {
 
 // A 20 x 20 quad in the plane z = 0 (front +z), seen from distance 2 at polar angle thetaDegrees
 // through a 0.25 degree field of view, so that every pixel sees (almost) the same wo.
-Scene quadFurnace(const MaterialDesc& material, float background, double thetaDegrees, bool fromBehind = false) {
+Scene quadFurnace(const Material& material, float background, double thetaDegrees, bool fromBehind = false) {
     Scene scene;
     scene.film = {8, 8, 256, FilterKind::Box, 0.5f};
     const double t = test::radians(thetaDegrees);
@@ -98,13 +91,12 @@ Scene quadFurnace(const MaterialDesc& material, float background, double thetaDe
 // ---- White furnaces ----
 
 TEST(WhiteFurnace, AlbedoOneLambertSphereReturnsTheEnvironment) {
-    MaterialDesc m = describe(MaterialKind::Lambert);
-    m.albedo = Rgb(1.0f);
+    const Material m(Lambert{Rgb(1.0f)});
     expectMean(renderMean(sphereFurnace(m, 0.7f)), Rgb(0.7f), 1e-4, "lambert");
 }
 
 TEST(WhiteFurnace, WhiteMirrorSphereReturnsTheEnvironment) {
-    MaterialDesc m = describe(MaterialKind::Mirror);
+    const Material m(Mirror{});
     const ImageMean image = renderMean(sphereFurnace(m, 1.3f));
     expectMean(image, Rgb(1.3f), 1e-4, "mirror");
     EXPECT_EQ(image.stats.rays.shadow, 0u);  // no next-event estimation on purely specular surfaces
@@ -116,10 +108,7 @@ TEST(WhiteFurnace, WhiteMirrorSphereReturnsTheEnvironment) {
 TEST(WhiteFurnace, PhongLosesExactlyTheClippedLobe) {
     for (float n : {1.0f, 10.0f, 100.0f})
         for (double theta : {0.0, 60.0, 80.0}) {
-            MaterialDesc m = describe(MaterialKind::Phong);
-            m.diffuse = Rgb(0.3f);
-            m.specular = Rgb(0.7f);
-            m.exponent = n;
+            const Material m(Phong{Rgb(0.3f), Rgb(0.7f), n});
             const double expected = 0.3 + 0.7 * test::phongSpecularAlbedo(n, test::radians(theta));
             EXPECT_LE(expected, 1.0 + 1e-9);
             const ImageMean image = renderMean(quadFurnace(m, 1.0f, theta));
@@ -136,12 +125,13 @@ TEST(WhiteFurnace, PhongLosesExactlyTheClippedLobe) {
 
 // A smooth conductor at normal incidence reflects ((n - 1)^2 + k^2) / ((n + 1)^2 + k^2) per channel.
 TEST(WhiteFurnace, ConductorReflectsItsNormalIncidenceFresnel) {
-    MaterialDesc m = describe(MaterialKind::Conductor);
-    m.conductorEta = {0.2f, 0.9f, 1.4f};
-    m.k = {3.9f, 2.4f, 1.6f};
+    Conductor conductor;
+    conductor.eta = {0.2f, 0.9f, 1.4f};
+    conductor.k = {3.9f, 2.4f, 1.6f};
+    const Material m(conductor);
     Rgb expected;
     for (int c = 0; c < 3; ++c) {
-        const double n = m.conductorEta[c], k = m.k[c];
+        const double n = conductor.eta[c], k = conductor.k[c];
         (c == 0 ? expected.r : c == 1 ? expected.g : expected.b) =
             float(((n - 1) * (n - 1) + k * k) / ((n + 1) * (n + 1) + k * k));
     }
@@ -156,13 +146,14 @@ TEST(WhiteFurnace, ConductorReflectsItsNormalIncidenceFresnel) {
 TEST(Glass, NonAbsorbingSphereIsInvisible) {
     struct Case {
         float eta;
-        FresnelKind fresnel;
+        FresnelModel fresnel;
     };
-    for (const Case c : {Case{1.5f, FresnelKind::Exact}, Case{1.5f, FresnelKind::Schlick}, Case{1.33f, FresnelKind::Exact},
-                         Case{0.75f, FresnelKind::Exact}}) {
-        MaterialDesc m = describe(MaterialKind::Dielectric);
-        m.eta = c.eta;
-        m.fresnel = c.fresnel;
+    for (const Case c : {Case{1.5f, FresnelModel::Exact}, Case{1.5f, FresnelModel::Schlick}, Case{1.33f, FresnelModel::Exact},
+                         Case{0.75f, FresnelModel::Exact}}) {
+        Dielectric dielectric;
+        dielectric.eta = c.eta;
+        dielectric.fresnel = c.fresnel;
+        const Material m(dielectric);
         const ImageMean image = renderMean(sphereFurnace(m, 0.8f));
         expectMean(image, Rgb(0.8f), 1e-4, "eta " + std::to_string(c.eta));
         EXPECT_EQ(image.stats.rays.shadow, 0u);
@@ -170,8 +161,9 @@ TEST(Glass, NonAbsorbingSphereIsInvisible) {
 }
 
 TEST(Glass, ThinDielectricSphereIsInvisible) {
-    MaterialDesc m = describe(MaterialKind::ThinDielectric);
-    m.eta = 1.5f;
+    ThinDielectric thin;
+    thin.eta = 1.5f;
+    const Material m(thin);
     expectMean(renderMean(sphereFurnace(m, 0.8f)), Rgb(0.8f), 1e-4, "thin dielectric");
 }
 
@@ -180,8 +172,9 @@ TEST(Glass, ThinDielectricSphereIsInvisible) {
 // (so that no ray from it is trapped by total internal reflection: sin(theta) <= 0.37 < 1 / 1.5),
 // sees eta^2 L in every direction.
 TEST(Glass, CameraInsideGlassSeesEtaSquaredTimesTheEnvironment) {
-    MaterialDesc m = describe(MaterialKind::Dielectric);
-    m.eta = 1.5f;
+    Dielectric dielectric;
+    dielectric.eta = 1.5f;
+    const Material m(dielectric);
     Scene scene = sphereFurnace(m, 0.5f);
     scene.camera.lookFrom = {0.3f, 0.2f, 0.1f};
     scene.camera.lookAt = {0.0f, 1.0f, -1.0f};
@@ -200,9 +193,10 @@ TEST(Glass, CameraInsideGlassSeesEtaSquaredTimesTheEnvironment) {
 TEST(Absorption, SlabTransmittanceMatchesBeerLambertWithFresnel) {
     const Rgb color{0.2f, 0.5f, 0.9f};
     const float thickness = 1.5f, eta = 1.5f;
-    MaterialDesc m = describe(MaterialKind::Dielectric);
-    m.eta = eta;
-    m.absorption = {-std::log(color.r), -std::log(color.g), -std::log(color.b)};
+    Dielectric dielectric;
+    dielectric.eta = eta;
+    dielectric.absorption = {-std::log(color.r), -std::log(color.g), -std::log(color.b)};
+    const Material m(dielectric);
 
     Scene scene;
     scene.film = {8, 8, 4096, FilterKind::Box, 0.5f};
@@ -233,13 +227,10 @@ TEST(Absorption, SlabTransmittanceMatchesBeerLambertWithFresnel) {
 // ---- Sides ----
 
 TEST(Sides, OneSidedLambertIsBlackFromBehindTwoSidedIsNot) {
-    MaterialDesc m = describe(MaterialKind::Lambert);
-    m.albedo = Rgb(1.0f);
-    m.twoSided = false;
-    expectMean(renderMean(quadFurnace(m, 1.0f, 30.0, true)), Rgb(0.0f), 0.0, "one-sided, back");
-    expectMean(renderMean(quadFurnace(m, 1.0f, 30.0, false)), Rgb(1.0f), 1e-4, "one-sided, front");
-    m.twoSided = true;
-    expectMean(renderMean(quadFurnace(m, 1.0f, 30.0, true)), Rgb(1.0f), 1e-4, "two-sided, back");
+    const Material oneSided(Lambert{Rgb(1.0f)}, false), twoSided(Lambert{Rgb(1.0f)}, true);
+    expectMean(renderMean(quadFurnace(oneSided, 1.0f, 30.0, true)), Rgb(0.0f), 0.0, "one-sided, back");
+    expectMean(renderMean(quadFurnace(oneSided, 1.0f, 30.0, false)), Rgb(1.0f), 1e-4, "one-sided, front");
+    expectMean(renderMean(quadFurnace(twoSided, 1.0f, 30.0, true)), Rgb(1.0f), 1e-4, "two-sided, back");
 }
 
 }  // namespace

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "core/sampling.h"
-#include "renderer/film.h"
+#include "film/film.h"
 #include "renderer/render.h"
 #include "tests/support/scene_builders.h"
 
@@ -55,7 +55,7 @@ Measurement measureIrradiance(Scene scene, Vec3f target, Vec3f eye) {
 
 Scene floorScene() {
     Scene scene;
-    scene.materials = {testing::makeLambert("floor", Rgb(kAlbedo)), testing::makeLambert("black", Rgb(0.0f))};
+    scene.materials = {testing::makeLambert(Rgb(kAlbedo)), testing::makeLambert(Rgb(0.0f))};
     scene.meshes.push_back(testing::makeQuad({-20, 0, -20}, {0, 0, 40}, {40, 0, 0}, 0));  // faces +y
     return scene;
 }

@@ -15,7 +15,7 @@
 #include <cmath>
 #include <filesystem>
 
-#include "renderer/film.h"
+#include "film/film.h"
 #include "renderer/render.h"
 #include "scenes/scene_loader.h"
 

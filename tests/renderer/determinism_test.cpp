@@ -5,7 +5,7 @@
 #include <cstring>
 #include <utility>
 
-#include "renderer/film.h"
+#include "film/film.h"
 #include "renderer/render.h"
 #include "tests/support/scene_builders.h"
 

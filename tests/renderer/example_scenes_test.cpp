@@ -7,7 +7,7 @@
 #include <cstring>
 #include <filesystem>
 
-#include "renderer/film.h"
+#include "film/film.h"
 #include "renderer/render.h"
 #include "scenes/scene_loader.h"
 #include "tests/support/film_comparison.h"

@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "renderer/film.h"
+#include "film/film.h"
 #include "renderer/render.h"
 #include "tests/support/scene_builders.h"
 
@@ -28,7 +28,7 @@ FurnaceEstimate renderFurnace(float albedo, float emitted, SamplerKind sampler, 
     scene.integrator.rouletteStartDepth = rouletteStart;
     scene.settings.sampler = sampler;
     scene.settings.seed = 7;
-    scene.materials = {testing::makeLambert("wall", Rgb(albedo))};
+    scene.materials = {testing::makeLambert(Rgb(albedo))};
     Sphere sphere;
     sphere.center = {0.0f, 0.0f, 0.0f};
     sphere.radius = 1.0f;
@@ -83,7 +83,7 @@ TEST(Furnace, MaxDepthTruncatesTheSeries) {
         scene.integrator.maxDepth = depth;
         scene.integrator.rouletteStartDepth = 1000;
         scene.settings.sampler = SamplerKind::Independent;
-        scene.materials = {testing::makeLambert("wall", Rgb(0.5f))};
+        scene.materials = {testing::makeLambert(Rgb(0.5f))};
         Sphere sphere;
         sphere.radius = 1.0f;
         sphere.emission = {Rgb(1.0f), true};

@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "core/sampling.h"
-#include "renderer/film.h"
+#include "film/film.h"
 #include "renderer/render.h"
 #include "tests/support/scene_builders.h"
 
@@ -58,7 +58,7 @@ Scene movingQuadScene(std::vector<TransformKey> keys, bool deform) {
     scene.camera.shutterOpen = 0.0f;
     scene.camera.shutterClose = 1.0f / 48.0f;
     scene.background = Rgb(1.0f);
-    scene.materials = {testing::makeLambert("black", Rgb(0.0f))};
+    scene.materials = {testing::makeLambert(Rgb(0.0f))};
     // A unit-wide quad: x in [0, 1] before its motion, at depth 2.
     TriangleMesh quad = testing::makeQuad({0, -5, -2}, {1, 0, 0}, {0, 10, 0}, 0);
     if (deform) {
@@ -113,7 +113,7 @@ double rotationalAsymmetry(float totalDegrees, AcceleratorKind accelerator) {
     scene.camera.verticalFovDegrees = 40.0f;
     scene.camera.shutterClose = 1.0f;
     scene.background = Rgb(1.0f);
-    scene.materials = {testing::makeLambert("black", Rgb(0.0f))};
+    scene.materials = {testing::makeLambert(Rgb(0.0f))};
     TriangleMesh hand = testing::makeQuad({0, -0.15f, 0}, {0.6f, 0, 0}, {0, 0.3f, 0}, 0);
     for (int k = 0; k <= 8; ++k) {
         TransformKey key = rotationAboutZ(totalDegrees * k / 8.0f);

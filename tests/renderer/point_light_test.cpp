@@ -9,7 +9,7 @@
 #include <cmath>
 
 #include "core/sampling.h"
-#include "renderer/film.h"
+#include "film/film.h"
 #include "renderer/render.h"
 #include "tests/support/scene_builders.h"
 
@@ -37,7 +37,7 @@ TEST(PointLight, LambertPlaneMatchesClosedFormIrradiance) {
     Scene scene;
     scene.film = {8, 8, 16, FilterKind::Box, 0.5f};
     scene.camera.verticalFovDegrees = 0.5f;
-    scene.materials = {testing::makeLambert("plane", Rgb(albedo))};
+    scene.materials = {testing::makeLambert(Rgb(albedo))};
     scene.meshes.push_back(testing::makeQuad({-50, 0, -50}, {0, 0, 100}, {100, 0, 0}, 0));
     scene.pointLights.push_back({{0.0f, height, 0.0f}, Rgb(intensity)});
     scene.integrator.maxDepth = 1;
@@ -55,7 +55,7 @@ TEST(PointLight, NothingReachesThePlaneFromBelow) {
     Scene scene;
     scene.film = {8, 8, 4, FilterKind::Box, 0.5f};
     scene.camera.verticalFovDegrees = 10.0f;
-    scene.materials = {testing::makeLambert("plane", Rgb(0.6f))};
+    scene.materials = {testing::makeLambert(Rgb(0.6f))};
     scene.meshes.push_back(testing::makeQuad({-50, 0, -50}, {0, 0, 100}, {100, 0, 0}, 0));
     scene.pointLights.push_back({{0.0f, -2.0f, 0.0f}, Rgb(25.0f)});  // under the plane
     EXPECT_EQ(renderedMeanAt({0.0f, 0.0f, 0.0f}, scene), 0.0);
@@ -69,7 +69,7 @@ TEST(DirectionalLight, LambertPlaneMatchesClosedForm) {
         Scene scene;
         scene.film = {8, 8, 4, FilterKind::Box, 0.5f};
         scene.camera.verticalFovDegrees = 5.0f;
-        scene.materials = {testing::makeLambert("plane", Rgb(albedo))};
+        scene.materials = {testing::makeLambert(Rgb(albedo))};
         scene.meshes.push_back(testing::makeQuad({-50, 0, -50}, {0, 0, 100}, {100, 0, 0}, 0));
         const float theta = degrees * kPi / 180.0f;
         scene.directionalLights.push_back({{std::sin(theta), -std::cos(theta), 0.0f}, Rgb(irradiance)});

@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "scenes/scene_loader.h"
-#include "tests/scenes/expect_input_error.h"
+#include "tests/support/expect_input_error.h"
 
 namespace penumbra {
 namespace {

@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "expect_input_error.h"
+#include "tests/support/expect_input_error.h"
 
 namespace penumbra {
 namespace {

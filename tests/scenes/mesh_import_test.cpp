@@ -4,7 +4,7 @@
 
 #include <filesystem>
 
-#include "expect_input_error.h"
+#include "tests/support/expect_input_error.h"
 
 namespace penumbra {
 namespace {

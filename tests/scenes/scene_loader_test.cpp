@@ -6,7 +6,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "expect_input_error.h"
+#include "tests/support/expect_input_error.h"
 
 namespace penumbra {
 namespace {
@@ -70,11 +70,11 @@ TEST(SceneLoader, ReadsEveryKey) {
     EXPECT_EQ(scene.background, Rgb(0.1f, 0.2f, 0.3f));
 
     ASSERT_EQ(scene.materials.size(), 3u);  // in file order
-    EXPECT_EQ(scene.materials[0].name, "white");
-    EXPECT_EQ(scene.materials[0].albedo, Rgb(0.8f));
-    EXPECT_EQ(scene.materials[1].name, "red");
-    EXPECT_EQ(scene.materials[1].albedo, Rgb(0.9f, 0.1f, 0.1f));
-    EXPECT_EQ(scene.materials[2].albedo, Rgb(0.5f));  // the default
+    EXPECT_EQ(scene.materialNames[0], "white");
+    EXPECT_EQ(scene.materials[0].albedo(), Rgb(0.8f));
+    EXPECT_EQ(scene.materialNames[1], "red");
+    EXPECT_EQ(scene.materials[1].albedo(), Rgb(0.9f, 0.1f, 0.1f));
+    EXPECT_EQ(scene.materials[2].albedo(), Rgb(0.5f));  // the default
 
     ASSERT_EQ(scene.meshes.size(), 4u);
     const TriangleMesh& inlineMesh = scene.meshes[0];
@@ -122,9 +122,9 @@ TEST(SceneLoader, EmptySceneIsValidAndUsesDefaults) {
     EXPECT_TRUE(scene.spheres.empty());
     EXPECT_TRUE(scene.pointLights.empty());
     EXPECT_TRUE(scene.background.isBlack());
-    EXPECT_EQ(scene.film.width, FilmDesc{}.width);
-    EXPECT_EQ(scene.film.samplesPerPixel, FilmDesc{}.samplesPerPixel);
-    EXPECT_EQ(scene.integrator.maxDepth, IntegratorDesc{}.maxDepth);
+    EXPECT_EQ(scene.film.width, FilmSettings{}.width);
+    EXPECT_EQ(scene.film.samplesPerPixel, FilmSettings{}.samplesPerPixel);
+    EXPECT_EQ(scene.integrator.maxDepth, IntegratorSettings{}.maxDepth);
     EXPECT_TRUE(scene.settings.watertight);
     EXPECT_TRUE(scene.settings.canonicalHits);
 }
@@ -147,11 +147,11 @@ TEST(SceneLoader, CornellBox) {
     EXPECT_TRUE(scene.pointLights.empty());
 
     ASSERT_EQ(scene.materials.size(), 8u);
-    EXPECT_EQ(scene.materials[0].name, "LeftWall");
-    EXPECT_EQ(scene.materials[0].albedo, Rgb(0.63f, 0.065f, 0.05f));
-    EXPECT_EQ(scene.materials[1].albedo, Rgb(0.14f, 0.45f, 0.091f));
-    EXPECT_EQ(scene.materials[7].name, "Light");
-    EXPECT_TRUE(scene.materials[7].albedo.isBlack());
+    EXPECT_EQ(scene.materialNames[0], "LeftWall");
+    EXPECT_EQ(scene.materials[0].albedo(), Rgb(0.63f, 0.065f, 0.05f));
+    EXPECT_EQ(scene.materials[1].albedo(), Rgb(0.14f, 0.45f, 0.091f));
+    EXPECT_EQ(scene.materialNames[7], "Light");
+    EXPECT_TRUE(scene.materials[7].albedo().isBlack());
 
     ASSERT_EQ(scene.meshes.size(), 8u);
     size_t triangles = 0;
@@ -160,7 +160,7 @@ TEST(SceneLoader, CornellBox) {
 
     // Exactly one emitter: the light quad, one-sided and facing down into the box.
     const TriangleMesh& light = scene.meshes.back();
-    EXPECT_EQ(scene.materials[light.material].name, "Light");
+    EXPECT_EQ(scene.materialNames[light.material], "Light");
     EXPECT_EQ(light.emission.radiance, Rgb(17, 12, 4));
     EXPECT_FALSE(light.emission.twoSided);
     ASSERT_EQ(light.triangleCount(), 2u);
@@ -208,8 +208,8 @@ TEST(SceneLoader, CornellBoxMatchesThePbrtOriginal) {
     ASSERT_EQ(materialNames.size(), scene.materials.size());
     ASSERT_EQ(reflectances.size(), scene.materials.size());
     for (size_t i = 0; i < materialNames.size(); ++i) {
-        EXPECT_EQ(scene.materials[i].name, materialNames[i]);
-        EXPECT_EQ(scene.materials[i].albedo, Rgb(reflectances[i][0], reflectances[i][1], reflectances[i][2]));
+        EXPECT_EQ(scene.materialNames[i], materialNames[i]);
+        EXPECT_EQ(scene.materials[i].albedo(), Rgb(reflectances[i][0], reflectances[i][1], reflectances[i][2]));
     }
 
     const auto meshMaterials = pbrtNames(pbrt, "NamedMaterial");
@@ -220,7 +220,7 @@ TEST(SceneLoader, CornellBoxMatchesThePbrtOriginal) {
     ASSERT_EQ(meshMaterials.size(), scene.meshes.size());
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
         const TriangleMesh& mesh = scene.meshes[m];
-        EXPECT_EQ(scene.materials[mesh.material].name, meshMaterials[m]);
+        EXPECT_EQ(scene.materialNames[mesh.material], meshMaterials[m]);
         ASSERT_EQ(mesh.positions.size() * 3, positions[m].size()) << "mesh " << m;
         for (size_t i = 0; i < mesh.positions.size(); ++i)
             for (int k = 0; k < 3; ++k)

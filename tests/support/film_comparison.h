@@ -7,7 +7,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "renderer/film.h"
+#include "film/film.h"
 
 namespace penumbra::testing {
 

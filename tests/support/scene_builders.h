@@ -15,13 +15,7 @@ inline TriangleMesh makeQuad(Vec3f corner, Vec3f edge1, Vec3f edge2, uint32_t ma
     return mesh;
 }
 
-inline MaterialDesc makeLambert(const char* name, Rgb albedo) {
-    MaterialDesc m;
-    m.name = name;
-    m.kind = MaterialKind::Lambert;
-    m.albedo = albedo;
-    return m;
-}
+inline Material makeLambert(Rgb albedo) { return Material(Lambert{albedo}); }
 
 // A closed box of diffuse walls lit by a small ceiling light, with a block inside: enough
 // structure (occlusion, several bounces, a one-sided emitter) for determinism tests.
@@ -33,8 +27,8 @@ inline Scene makeSmallBoxScene(int width, int height, int spp) {
     scene.camera.lookFrom = {0.0f, 1.0f, 3.5f};
     scene.camera.lookAt = {0.0f, 1.0f, 0.0f};
     scene.camera.verticalFovDegrees = 40.0f;
-    scene.materials = {makeLambert("white", Rgb(0.7f)), makeLambert("red", {0.6f, 0.1f, 0.1f}),
-                       makeLambert("black", Rgb(0.0f))};
+    scene.materials = {makeLambert(Rgb(0.7f)), makeLambert({0.6f, 0.1f, 0.1f}),
+                       makeLambert(Rgb(0.0f))};
     scene.meshes.push_back(makeQuad({-1, 0, -1}, {0, 0, 2}, {2, 0, 0}, 0));   // floor, normal +y
     scene.meshes.push_back(makeQuad({-1, 2, -1}, {2, 0, 0}, {0, 0, 2}, 0));   // ceiling, normal -y
     scene.meshes.push_back(makeQuad({-1, 0, -1}, {2, 0, 0}, {0, 2, 0}, 0));   // back wall, +z

@@ -8,7 +8,7 @@
 #include <filesystem>
 
 #include "core/error.h"
-#include "renderer/image_output.h"
+#include "film/image_output.h"
 #include "renderer/render.h"
 #include "scenes/scene_loader.h"
 #include "tests/support/scene_builders.h"
@@ -52,7 +52,7 @@ Scene smoothScene() {
     scene.camera.lookAt = {0.0f, 0.0f, 0.0f};
     scene.camera.up = {0.0f, 0.0f, -1.0f};
     scene.camera.verticalFovDegrees = 60.0f;
-    scene.materials = {testing::makeLambert("plane", Rgb(0.5f)), testing::makeLambert("black", Rgb(0.0f))};
+    scene.materials = {testing::makeLambert(Rgb(0.5f)), testing::makeLambert(Rgb(0.0f))};
     scene.meshes.push_back(testing::makeQuad({-20, 0, -20}, {0, 0, 40}, {40, 0, 0}, 0));  // normal +y
     TriangleMesh light = testing::makeQuad({-20, 2, -20}, {40, 0, 0}, {0, 0, 40}, 1);  // faces -y
     light.emission.radiance = Rgb(2.0f);

@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "scenes/embree_accelerator.h"
+#include "accel/embree_accelerator.h"
 #include "tests/support/run_command.h"
 #include "tests/support/scene_builders.h"
 #include "tools/crosscheck.h"

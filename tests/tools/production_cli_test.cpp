@@ -13,7 +13,7 @@
 #include <sstream>
 #include <string>
 
-#include "renderer/image_output.h"
+#include "film/image_output.h"
 #include "tests/support/run_command.h"
 
 namespace fs = std::filesystem;

@@ -1,0 +1,607 @@
+#include "accel/bvh_accelerator.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <iterator>
+#include <limits>
+#include <stdexcept>
+#include <utility>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "core/error.h"
+#include "accel/bvh_box4.h"
+#include "accel/bvh_triangle4.h"
+#include "geometry/ray_sphere.h"
+#include "geometry/ray_triangle.h"
+
+namespace penumbra {
+
+namespace {
+
+constexpr uint32_t kNoHit = std::numeric_limits<uint32_t>::max();
+
+bool isTraceable(const Ray& ray) {
+    if (!isFinite(ray.origin) || !isFinite(ray.direction) || !std::isfinite(ray.time)) return false;
+    if (ray.direction.x == 0.0f && ray.direction.y == 0.0f && ray.direction.z == 0.0f) return false;
+    return ray.tnear <= ray.tfar;  // false when either is NaN
+}
+
+bool isDegenerate(Vec3f p0, Vec3f p1, Vec3f p2) {
+    // In double, the edge differences and products of floats are exact or nearly so: a zero
+    // cross product means the vertices really are collinear (or coincide).
+    const double ax = double(p1.x) - p0.x, ay = double(p1.y) - p0.y, az = double(p1.z) - p0.z;
+    const double bx = double(p2.x) - p0.x, by = double(p2.y) - p0.y, bz = double(p2.z) - p0.z;
+    return ay * bz - az * by == 0.0 && az * bx - ax * bz == 0.0 && ax * by - ay * bx == 0.0;
+}
+
+
+// A box padded on every side by `pad` plus a few ulps of its largest coordinate.
+Bounds3f padded(const Bounds3f& b, float pad) {
+    const float scale = std::max(maxComponent(abs(b.lower)), maxComponent(abs(b.upper)));
+    const float p = pad + scale * 0x1p-18f;
+    return {b.lower - Vec3f(p, p, p), b.upper + Vec3f(p, p, p)};
+}
+
+// A world box holding `objectBox` under `motion` at every time of the shutter. Each key segment is
+// sampled at kSamples + 1 evenly spaced fractions (the transformed corners bound the transformed
+// box, the transform being affine), and the result is padded by how far any object point can move
+// between samples: within a segment a point p moves at most |dT| + theta * max|S| |p| + max|dS| |p|
+// per unit of the segment fraction, theta being the slerp's rotation angle.
+Bounds3f boundsOverShutter(const MotionTransform& motion, const Bounds3f& objectBox) {
+    constexpr int kSamples = 64;
+    Vec3f corners[8];
+    float radius = 0.0f;
+    for (int c = 0; c < 8; ++c) {
+        corners[c] = {(c & 1) ? objectBox.upper.x : objectBox.lower.x, (c & 2) ? objectBox.upper.y : objectBox.lower.y,
+                      (c & 4) ? objectBox.upper.z : objectBox.lower.z};
+        radius = std::max(radius, length(corners[c]));
+    }
+    Bounds3f result;
+    float pad = 0.0f;
+    const size_t segments = motion.keys.size() - 1;
+    for (size_t seg = 0; seg < segments; ++seg) {
+        const TransformKey& a = motion.keys[seg];
+        const TransformKey& b = motion.keys[seg + 1];
+        const float norms = std::sqrt(a.rotation.dot(a.rotation) * b.rotation.dot(b.rotation));
+        const float cosHalf = norms > 0.0f ? std::min(std::abs(a.rotation.dot(b.rotation)) / norms, 1.0f) : 0.0f;
+        // 2 acos(cos) is the rotation angle; a margin covers the normalized lerp of close keys
+        // and rounding.
+        const float theta = 2.0f * std::acos(cosHalf) * 1.05f + 1e-4f;
+        const float maxScale = std::max(maxComponent(abs(a.scale)), maxComponent(abs(b.scale)));
+        const float scaleChange = maxComponent(abs(b.scale - a.scale));
+        const float speed = length(b.translation - a.translation) + theta * maxScale * radius + scaleChange * radius;
+        pad = std::max(pad, speed / float(kSamples));  // twice the half spacing, for safety
+        for (int i = 0; i <= kSamples; ++i) {
+            const float time = (float(seg) + float(i) / float(kSamples)) / float(segments);
+            const Transform toWorld = motion.at(time);
+            for (const Vec3f& c : corners) result.extend(toWorld.applyPoint(c));
+        }
+    }
+    return padded(result, pad);
+}
+
+}  // namespace
+
+BvhAccelerator::BvhAccelerator(const SceneGeometry& scene, const BvhBuildSettings& settings) {
+    size_t totalTriangles = 0;
+    meshFirstTriangle_.reserve(scene.meshes.size() + 1);
+    for (const TriangleMesh& mesh : scene.meshes) {
+        meshFirstTriangle_.push_back(uint32_t(totalTriangles));
+        totalTriangles += mesh.triangleCount();
+    }
+    meshFirstTriangle_.push_back(uint32_t(totalTriangles));
+    if (totalTriangles + scene.spheres.size() >= kNoHit)
+        throw std::length_error("BvhAccelerator: more than 2^32 - 1 primitives");
+    triangleCount_ = uint32_t(totalTriangles);
+    sphereGeomId_ = scene.sphereGeomId();
+
+    // The primitives that can be hit, with their boxes: which triangles qualify is decided in
+    // parallel, then they are packed in order (by a prefix sum) in parallel.
+    std::vector<uint8_t> usable(totalTriangles, 0);
+    for (size_t m = 0; m < scene.meshes.size(); ++m) {
+        const TriangleMesh& mesh = scene.meshes[m];
+        if (mesh.deforms() || mesh.motion.moves()) continue;  // special primitives, below
+        tbb::parallel_for(
+            tbb::blocked_range<size_t>(0, mesh.triangleCount(), 16384),
+            [&](const tbb::blocked_range<size_t>& range) {
+                for (size_t j = range.begin(); j != range.end(); ++j) {
+                    const uint32_t i0 = mesh.indices[3 * j], i1 = mesh.indices[3 * j + 1],
+                                   i2 = mesh.indices[3 * j + 2];
+                    const size_t n = mesh.positions.size();
+                    bool ok = i0 < n && i1 < n && i2 < n;
+                    if (ok) {
+                        const Vec3f p0 = mesh.positions[i0], p1 = mesh.positions[i1], p2 = mesh.positions[i2];
+                        ok = isFinite(p0) && isFinite(p1) && isFinite(p2) && !isDegenerate(p0, p1, p2);
+                    }
+                    usable[meshFirstTriangle_[m] + j] = ok ? 1 : 0;
+                }
+            });
+    }
+    std::vector<uint32_t> packedIndex(totalTriangles);
+    size_t usableCount = 0;
+    for (size_t g = 0; g < totalTriangles; ++g) {
+        packedIndex[g] = uint32_t(usableCount);
+        usableCount += usable[g];
+    }
+    size_t movingTriangles = 0;
+    for (const TriangleMesh& mesh : scene.meshes)
+        if (mesh.deforms() || mesh.motion.moves()) movingTriangles += mesh.triangleCount();
+    skippedCount_ = totalTriangles - movingTriangles - usableCount;
+    std::vector<Primitive> candidates(usableCount);
+    std::vector<Bounds3f> bounds(usableCount);
+    for (size_t m = 0; m < scene.meshes.size(); ++m) {
+        const TriangleMesh& mesh = scene.meshes[m];
+        tbb::parallel_for(
+            tbb::blocked_range<size_t>(0, mesh.triangleCount(), 16384),
+            [&](const tbb::blocked_range<size_t>& range) {
+                for (size_t j = range.begin(); j != range.end(); ++j) {
+                    const uint32_t globalIndex = meshFirstTriangle_[m] + uint32_t(j);
+                    if (!usable[globalIndex]) continue;  // also every triangle of a moving mesh
+                    const Vec3f p0 = mesh.positions[mesh.indices[3 * j]],
+                                p1 = mesh.positions[mesh.indices[3 * j + 1]],
+                                p2 = mesh.positions[mesh.indices[3 * j + 2]];
+                    const uint32_t k = packedIndex[globalIndex];
+                    candidates[k] = {{p0.x, p0.y, p0.z, p1.x, p1.y, p1.z, p2.x, p2.y, p2.z}, globalIndex};
+                    Bounds3f b;
+                    b.extend(p0);
+                    b.extend(p1);
+                    b.extend(p2);
+                    bounds[k] = b;
+                }
+            });
+    }
+    for (size_t s = 0; s < scene.spheres.size(); ++s) {
+        const Sphere& sphere = scene.spheres[s];
+        if (sphere.motion.moves()) continue;  // an instance, below
+        if (!isFinite(sphere.center) || !std::isfinite(sphere.radius) || !(sphere.radius > 0.0f)) {
+            ++skippedCount_;
+            continue;
+        }
+        candidates.push_back(
+            {{sphere.center.x, sphere.center.y, sphere.center.z, sphere.radius, 0, 0, 0, 0, 0},
+             triangleCount_ + uint32_t(s)});
+        // center +- radius rounds to nearest; pad by a few ulps so the box surely holds the sphere.
+        const float pad = (maxComponent(abs(sphere.center)) + sphere.radius) * 0x1p-20f;
+        const Vec3f extent(sphere.radius + pad, sphere.radius + pad, sphere.radius + pad);
+        bounds.push_back({sphere.center - extent, sphere.center + extent});
+    }
+
+    specialBase_ = triangleCount_ + uint32_t(scene.spheres.size());
+    addMovingPrimitives(scene, settings, candidates, bounds);
+
+    const BvhBuildResult built = buildBvh(bounds, settings);
+    Bvh4 wide = collapseToBvh4(built, settings);
+    nodes_ = std::move(wide.nodes);
+    bounds_ = wide.bounds;
+    leafCount_ = wide.leafCount;
+    maxDepth_ = wide.maxDepth;
+    sahCost_ = wide.sahCost;
+    primitiveCount_ = candidates.size();
+
+    // Each leaf's primitives into blocks of four; the leaf then names its first block.
+    struct Leaf {
+        uint32_t first, count, firstBlock;  // first: in the builder's primitive order
+    };
+    std::vector<Leaf> leaves;
+    leaves.reserve(leafCount_);
+    uint64_t blockCount = 0;
+    for (Bvh4Node& node : nodes_)
+        for (int i = 0; i < kBvhWidth; ++i) {
+            if (!node.isLeaf(i)) continue;
+            leaves.push_back({node.child[i], node.count[i], uint32_t(blockCount)});
+            node.child[i] = uint32_t(blockCount);
+            blockCount += (node.count[i] + 3) / 4;
+        }
+    if (uint64_t(blockCount) * 4 >= kNoHit) throw std::length_error("BvhAccelerator: too many primitive blocks");
+    blocks_.resize(blockCount);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, leaves.size(), 4096), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t l = range.begin(); l != range.end(); ++l) {
+            const Leaf& leaf = leaves[l];
+            for (uint32_t k = 0; k < (leaf.count + 3) / 4 * 4; ++k) {
+                PrimitiveBlock& block = blocks_[leaf.firstBlock + k / 4];
+                const Primitive p = k < leaf.count ? candidates[built.primitiveOrder[leaf.first + k]]
+                                                   : Primitive{{0, 0, 0, 0, 0, 0, 0, 0, 0}, kNoHit};
+                for (int j = 0; j < 9; ++j) block.data[j][k % 4] = p.data[j];
+                block.globalIndex[k % 4] = p.globalIndex;
+            }
+        }
+    });
+}
+
+BvhAccelerator::Primitive BvhAccelerator::primitiveAt(const PrimitiveBlock& block, int lane) {
+    Primitive p;
+    for (int j = 0; j < 9; ++j) p.data[j] = block.data[j][lane];
+    p.globalIndex = block.globalIndex[lane];
+    return p;
+}
+
+void BvhAccelerator::addMovingPrimitives(const SceneGeometry& scene, const BvhBuildSettings& settings,
+                                         std::vector<Primitive>& candidates, std::vector<Bounds3f>& bounds) {
+    auto addSpecial = [&](const Special& special, const Bounds3f& box) {
+        if (uint64_t(specialBase_) + specials_.size() >= kNoHit)
+            throw std::length_error("BvhAccelerator: more than 2^32 - 1 primitives");
+        candidates.push_back({{0, 0, 0, 0, 0, 0, 0, 0, 0}, specialBase_ + uint32_t(specials_.size())});
+        bounds.push_back(box);
+        specials_.push_back(special);
+    };
+    // An instance: the shape alone, in object space, in a tree of its own.
+    auto addInstance = [&](SceneGeometry&& child, const MotionTransform& motion, uint32_t geomId, uint32_t primId) {
+        auto accelerator = std::make_unique<BvhAccelerator>(child, settings);
+        skippedCount_ += accelerator->skippedCount_;
+        if (accelerator->nodes_.empty()) return;
+        const Bounds3f worldBox = boundsOverShutter(motion, accelerator->bounds_);
+        if (!isFinite(worldBox.lower) || !isFinite(worldBox.upper)) {
+            ++skippedCount_;
+            return;
+        }
+        Special special{};
+        special.geomId = geomId;
+        special.primId = primId;
+        special.source = uint32_t(instances_.size());
+        special.isInstance = true;
+        instances_.push_back({motion, std::move(accelerator)});
+        addSpecial(special, worldBox);
+    };
+    for (size_t m = 0; m < scene.meshes.size(); ++m) {
+        const TriangleMesh& mesh = scene.meshes[m];
+        if (mesh.motion.moves()) {
+            SceneGeometry child;
+            child.meshes.push_back(mesh);
+            child.meshes[0].motion.keys.clear();
+            child.meshes[0].normals.clear();
+            child.meshes[0].uvs.clear();
+            addInstance(std::move(child), mesh.motion, scene.meshGeomId(m), kNoHit);
+            continue;
+        }
+        if (!mesh.deforms()) continue;
+        const uint32_t source = uint32_t(deformingMeshes_.size());
+        deformingMeshes_.push_back(mesh.positionKeys);
+        size_t vertexCount = mesh.positions.size();
+        for (const auto& key : mesh.positionKeys) vertexCount = std::min(vertexCount, key.size());
+        for (size_t j = 0; j < mesh.triangleCount(); ++j) {
+            Special special{};
+            special.geomId = scene.meshGeomId(m);
+            special.primId = uint32_t(j);
+            special.source = source;
+            bool ok = true;
+            Bounds3f box;
+            for (int k = 0; k < 3; ++k) {
+                special.vertex[k] = mesh.indices[3 * j + k];
+                ok = ok && special.vertex[k] < vertexCount;
+            }
+            // Linear interpolation keeps every point of the triangle inside the union of its boxes
+            // at the keys (up to rounding, which the padding covers).
+            for (size_t key = 0; ok && key < mesh.positionKeys.size(); ++key)
+                for (int k = 0; k < 3; ++k) {
+                    const Vec3f p = mesh.positionKeys[key][special.vertex[k]];
+                    ok = ok && isFinite(p);
+                    box.extend(p);
+                }
+            if (!ok) {
+                ++skippedCount_;
+                continue;
+            }
+            addSpecial(special, padded(box, 0.0f));
+        }
+    }
+    for (size_t s = 0; s < scene.spheres.size(); ++s) {
+        const Sphere& sphere = scene.spheres[s];
+        if (!sphere.motion.moves()) continue;
+        SceneGeometry child;
+        child.spheres.push_back(sphere);
+        child.spheres[0].motion.keys.clear();
+        addInstance(std::move(child), sphere.motion, sphereGeomId_, uint32_t(s));
+    }
+}
+
+template <bool AnyHit>
+bool BvhAccelerator::intersectSpecial(const Ray& ray, const WatertightRay& triangleRay, uint32_t index,
+                                      float tFar, float& t, float& b1, float& b2, Hit& instanceHit) const {
+    if (!std::isfinite(ray.time)) return false;
+    const Special& special = specials_[index];
+    if (!special.isInstance) {
+        // The vertices at ray.time, exactly as geometry/surface_interaction.h computes them.
+        const auto& keys = deformingMeshes_[special.source];
+        const Vec3f p0 = interpolateKeys(keys, special.vertex[0], ray.time),
+                    p1 = interpolateKeys(keys, special.vertex[1], ray.time),
+                    p2 = interpolateKeys(keys, special.vertex[2], ray.time);
+        const float vertices[9] = {p0.x, p0.y, p0.z, p1.x, p1.y, p1.z, p2.x, p2.y, p2.z};
+        TriangleHit th;
+        if (!intersectTriangleWatertight(triangleRay, vertices, ray.tnear, tFar, th)) return false;
+        t = th.t;
+        b1 = th.b1;
+        b2 = th.b2;
+        return true;
+    }
+    const Instance& instance = instances_[special.source];
+    // The same transform the shading code places the hit with; the direction is not normalized,
+    // so t is the same in both spaces.
+    const Transform toWorld = instance.motion.at(ray.time);
+    const Transform toObject = toWorld.inverse();
+    Ray objectRay = ray;
+    objectRay.origin = toObject.applyPoint(ray.origin);
+    objectRay.direction = toObject.applyVector(ray.direction);
+    objectRay.tfar = tFar;
+    if constexpr (AnyHit) {
+        return instance.child->occluded(objectRay);
+    } else {
+        Hit h;
+        if (!instance.child->intersect(objectRay, h)) return false;
+        t = h.t;
+        b1 = h.u;
+        b2 = h.v;
+        instanceHit = h;
+        instanceHit.geometricNormal = toWorld.applyNormal(h.geometricNormal);
+        instanceHit.geomId = special.geomId;
+        if (special.primId != kNoHit) instanceHit.primId = special.primId;
+        return true;
+    }
+}
+
+BvhAccelerator::Stats BvhAccelerator::stats() const {
+    Stats s;
+    s.nodeCount = nodes_.size();
+    s.leafCount = leafCount_;
+    s.primitiveCount = primitiveCount_;
+    s.skippedCount = skippedCount_;
+    s.maxDepth = maxDepth_;
+    s.sahCost = sahCost_;
+    s.memoryBytes = nodes_.capacity() * sizeof(Bvh4Node) + blocks_.capacity() * sizeof(PrimitiveBlock) +
+                    meshFirstTriangle_.capacity() * sizeof(uint32_t) + specials_.capacity() * sizeof(Special);
+    for (const auto& keys : deformingMeshes_)
+        for (const auto& key : keys) s.memoryBytes += key.capacity() * sizeof(Vec3f);
+    for (const Instance& instance : instances_) {
+        const Stats child = instance.child->stats();
+        s.memoryBytes += child.memoryBytes;
+        s.primitiveCount += child.primitiveCount;
+    }
+    return s;
+}
+
+// Asks for what child i of `node` leads to (its node, two cache lines, or its first block)
+// as soon as the ray is known to enter it: incoherent rays wait on memory more than they compute,
+// and these loads then overlap with each other and with the work on nearer children.
+void BvhAccelerator::prefetchChild(const Bvh4Node& node, int i) const {
+    if (node.isLeaf(i)) {
+        // A block spans three cache lines, and the test reads its last one first.
+        const char* p = reinterpret_cast<const char*>(&blocks_[node.child[i]]);
+        __builtin_prefetch(p);
+        __builtin_prefetch(p + 64);
+        __builtin_prefetch(p + sizeof(PrimitiveBlock) - 1);
+    } else {
+        const char* p = reinterpret_cast<const char*>(&nodes_[node.child[i]]);
+        __builtin_prefetch(p);
+        __builtin_prefetch(p + 64);
+    }
+}
+
+namespace {
+
+// A child still to visit, with the distance where the ray enters its box.
+struct PendingChild {
+    uint32_t child;  // as Bvh4Node::child
+    uint32_t count;  // as Bvh4Node::count: 0 for an interior node
+    float tEntry;
+};
+
+inline void orderFarToNear(PendingChild& a, PendingChild& b) {
+    if (a.tEntry < b.tEntry) std::swap(a, b);
+}
+
+// Sorts 2 to 4 pending children by entry distance, the nearest last (on top of the stack), with
+// sorting networks (Knuth, TAOCP vol. 3, section 5.3.4). Equal distances keep their slot order.
+inline void sortFarToNear(PendingChild* c, int n) {
+    if (n == 2) {
+        orderFarToNear(c[0], c[1]);
+    } else if (n == 3) {
+        orderFarToNear(c[0], c[1]);
+        orderFarToNear(c[1], c[2]);
+        orderFarToNear(c[0], c[1]);
+    } else {
+        orderFarToNear(c[0], c[1]);
+        orderFarToNear(c[2], c[3]);
+        orderFarToNear(c[0], c[2]);
+        orderFarToNear(c[1], c[3]);
+        orderFarToNear(c[1], c[2]);
+    }
+}
+
+}  // namespace
+
+namespace {
+
+// Bit l set when lane l of the block holds a triangle (a global index below triangleCount, compared
+// unsigned: SSE2 compares signed, so both sides have their sign bits flipped).
+inline int triangleLanes(const uint32_t* globalIndex, uint32_t triangleCount) {
+    const __m128i flip = _mm_set1_epi32(int32_t(0x80000000u));
+    const __m128i index = _mm_xor_si128(_mm_load_si128(reinterpret_cast<const __m128i*>(globalIndex)), flip);
+    const __m128i bound = _mm_xor_si128(_mm_set1_epi32(int32_t(triangleCount)), flip);
+    return _mm_movemask_ps(_mm_castsi128_ps(_mm_cmplt_epi32(index, bound)));
+}
+
+}  // namespace
+
+// A block of triangles only (nearly every block) is tested four at a time. The result is the one
+// primitive-by-primitive testing in leaf order gives (each test accepting t <= the closest t so
+// far): the smallest t, and of equal ones the last in leaf order. Other blocks go one by one.
+template <bool AnyHit>
+bool BvhAccelerator::intersectLeaf(const Ray& ray, const WatertightRay& triangleRay,
+                                   const WatertightRay4& triangleRay4, uint32_t firstBlock, uint32_t count,
+                                   float& tClosest, uint32_t& closest, float& closestB1, float& closestB2,
+                                   Hit& instanceHit) const {
+    bool found = false;
+    for (uint32_t b = firstBlock; count > 0; ++b) {
+        const int lanes = count < 4 ? int(count) : 4;
+        count -= uint32_t(lanes);
+        const PrimitiveBlock& block = blocks_[b];
+        const int used = (1 << lanes) - 1;
+        if ((triangleLanes(block.globalIndex, triangleCount_) & used) == used) {
+            TriangleHits4 h;
+            intersectTrianglesWatertight4(triangleRay4, block.data, ray.tnear, tClosest, h);
+            int hit = h.hit & used;
+            for (int rest = h.fallback & used; rest != 0; rest &= rest - 1) {
+                const int lane = __builtin_ctz(unsigned(rest));
+                const Primitive p = primitiveAt(block, lane);
+                TriangleHit th;
+                if (!intersectTriangleWatertight(triangleRay, p.data, ray.tnear, tClosest, th)) continue;
+                h.t[lane] = th.t;
+                h.b1[lane] = th.b1;
+                h.b2[lane] = th.b2;
+                hit |= 1 << lane;
+            }
+            if (hit == 0) continue;
+            if constexpr (AnyHit) return true;
+            int best = __builtin_ctz(unsigned(hit));
+            for (int rest = hit & (hit - 1); rest != 0; rest &= rest - 1) {
+                const int lane = __builtin_ctz(unsigned(rest));
+                if (h.t[lane] <= h.t[best]) best = lane;
+            }
+            tClosest = h.t[best];
+            closestB1 = h.b1[best];
+            closestB2 = h.b2[best];
+            closest = 4 * b + uint32_t(best);
+            found = true;
+            continue;
+        }
+        for (int lane = 0; lane < lanes; ++lane) {
+            const Primitive p = primitiveAt(block, lane);
+            float t, b1 = 0.0f, b2 = 0.0f;
+            if (p.globalIndex < triangleCount_) {
+                TriangleHit th;
+                if (!intersectTriangleWatertight(triangleRay, p.data, ray.tnear, tClosest, th)) continue;
+                t = th.t;
+                b1 = th.b1;
+                b2 = th.b2;
+            } else if (p.globalIndex < specialBase_) {
+                if (!intersectSphere(ray.origin, ray.direction, {p.data[0], p.data[1], p.data[2]}, p.data[3],
+                                     ray.tnear, tClosest, t))
+                    continue;
+            } else {
+                if (!intersectSpecial<AnyHit>(ray, triangleRay, p.globalIndex - specialBase_, tClosest, t, b1, b2,
+                                              instanceHit))
+                    continue;
+            }
+            if constexpr (AnyHit) return true;
+            tClosest = t;
+            closestB1 = b1;
+            closestB2 = b2;
+            closest = 4 * b + uint32_t(lane);
+            found = true;
+        }
+    }
+    return found;
+}
+
+template <bool AnyHit>
+bool BvhAccelerator::traverse(const Ray& ray, Hit* hit) const {
+    if (nodes_.empty() || !isTraceable(ray)) return false;
+    const BoxRay4 boxRay(ray.origin, ray.direction, ray.tnear);
+    const WatertightRay triangleRay(ray.origin, ray.direction);
+    const WatertightRay4 triangleRay4(triangleRay);
+
+    float tClosest = ray.tfar;
+    uint32_t closest = kNoHit;
+    float closestB1 = 0.0f, closestB2 = 0.0f;
+    Hit instanceHit;  // the closest hit's, when it is a moving instance
+
+    // Children still to visit: one deferred child entered beyond the closest hit found since is
+    // skipped. Each level of the tree (at most kBvhMaxDepth) leaves at most kBvhWidth - 1 waiting.
+    PendingChild stack[(kBvhWidth - 1) * kBvhMaxDepth];
+    int top = 0;
+    PendingChild current{0, 0, ray.tnear};  // the root
+    for (;;) {
+        if (current.count == 0) {
+            const Bvh4Node& node = nodes_[current.child];
+            __m128 tEntry4;
+            int mask = intersectBoxes4(node, boxRay, tClosest, tEntry4);
+            if (mask != 0) {
+                alignas(16) float tEntry[kBvhWidth];
+                _mm_store_ps(tEntry, tEntry4);
+                if ((mask & (mask - 1)) == 0) {  // one child: straight there
+                    const int i = __builtin_ctz(unsigned(mask));
+                    current = {node.child[i], node.count[i], tEntry[i]};
+                    continue;
+                }
+                // Several: all pushed, sorted so the nearest is on top, and that one taken now.
+                // occluded() takes them as they come: any hit ends it, and on the shadow rays of
+                // bench/accel_bench sorting cost more (7-10%) than finding a blocker sooner saved.
+                const int first = top;
+                do {
+                    const int i = __builtin_ctz(unsigned(mask));
+                    mask &= mask - 1;
+                    prefetchChild(node, i);
+                    assert(top < int(std::size(stack)));
+                    stack[top++] = {node.child[i], node.count[i], tEntry[i]};
+                } while (mask != 0);
+                if constexpr (!AnyHit) sortFarToNear(stack + first, top - first);
+                current = stack[--top];
+                continue;
+            }
+        } else {
+            if (intersectLeaf<AnyHit>(ray, triangleRay, triangleRay4, current.child, current.count, tClosest, closest, closestB1,
+                                      closestB2, instanceHit)) {
+                if constexpr (AnyHit) return true;
+            }
+        }
+        // Next: the most recently deferred child that may still hold something nearer.
+        for (;;) {
+            if (top == 0) {
+                if (closest == kNoHit) return false;
+                if constexpr (!AnyHit) fillHit(ray, closest, tClosest, closestB1, closestB2, instanceHit, *hit);
+                return true;
+            }
+            const PendingChild& pending = stack[--top];
+            if (pending.tEntry <= tClosest) {
+                current = pending;
+                break;
+            }
+        }
+    }
+}
+
+void BvhAccelerator::fillHit(const Ray& ray, uint32_t primitive, float t, float b1, float b2,
+                             const Hit& specialHit, Hit& hit) const {
+    const Primitive p = primitiveAt(blocks_[primitive / 4], int(primitive % 4));
+    hit.t = t;
+    hit.u = b1;
+    hit.v = b2;
+    if (p.globalIndex < triangleCount_) {
+        const Vec3f p0(p.data[0], p.data[1], p.data[2]), p1(p.data[3], p.data[4], p.data[5]),
+            p2(p.data[6], p.data[7], p.data[8]);
+        hit.geometricNormal = cross(p1 - p0, p2 - p0);
+        // The mesh whose range holds the index: the last one starting at or before it.
+        const auto next =
+            std::upper_bound(meshFirstTriangle_.begin(), meshFirstTriangle_.end(), p.globalIndex);
+        const size_t mesh = size_t(next - meshFirstTriangle_.begin()) - 1;
+        hit.geomId = uint32_t(mesh);
+        hit.primId = p.globalIndex - meshFirstTriangle_[mesh];
+    } else if (p.globalIndex >= specialBase_) {
+        const Special& special = specials_[p.globalIndex - specialBase_];
+        if (special.isInstance) {
+            hit = specialHit;
+            hit.t = t;
+            return;
+        }
+        const auto& keys = deformingMeshes_[special.source];
+        const Vec3f p0 = interpolateKeys(keys, special.vertex[0], ray.time),
+                    p1 = interpolateKeys(keys, special.vertex[1], ray.time),
+                    p2 = interpolateKeys(keys, special.vertex[2], ray.time);
+        hit.geometricNormal = cross(p1 - p0, p2 - p0);
+        hit.geomId = special.geomId;
+        hit.primId = special.primId;
+    } else {
+        // As Embree reports sphere hits: the unnormalized normal is the hit point minus the centre.
+        hit.geometricNormal = ray.at(t) - Vec3f(p.data[0], p.data[1], p.data[2]);
+        hit.geomId = sphereGeomId_;
+        hit.primId = p.globalIndex - triangleCount_;
+    }
+}
+
+bool BvhAccelerator::intersect(const Ray& ray, Hit& hit) const { return traverse<false>(ray, &hit); }
+
+bool BvhAccelerator::occluded(const Ray& ray) const { return traverse<true>(ray, nullptr); }
+
+}  // namespace penumbra

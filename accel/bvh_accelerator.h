@@ -1,0 +1,128 @@
+// Our own traversal backend, the second path beside Embree: a 4-wide BVH over the triangles of
+// every mesh and the spheres (a binary SAH tree, accel/bvh_build.h, collapsed by
+// accel/bvh_wide.h), its four child boxes tested at once with SSE (accel/bvh_box4.h) and
+// traversed front to back with a fixed stack; leaves hold blocks of four triangles tested at once
+// (accel/bvh_triangle4.h).
+// It is meant to agree with Embree hit for hit (tools/crosscheck.h measures how well): the
+// triangle test is watertight (geometry/ray_triangle.h; the 4-wide one gives the same results bit
+// for bit), the box test conservative, and hits are reported with Embree's conventions
+// (accel/traversal.h).
+//
+// Defined behaviour on bad input: degenerate triangles (zero area) and triangles or spheres with
+// non-finite data are left out and never hit; a ray with a NaN or infinite component, a zero
+// direction or tnear > tfar hits nothing.
+//
+// Motion blur, interpolated exactly as Embree is given it and as geometry/surface_interaction.h
+// shades it: a deforming mesh's triangles are boxed by the union of their boxes over all keys and
+// intersected at Ray::time with vertices from interpolateKeys; a shape with a moving transform is
+// an instance, a bottom-level BvhAccelerator over its object-space geometry, boxed in the top level
+// conservatively over the whole shutter and intersected with the ray taken into object space by
+// motion.at(time).inverse() (the direction is not normalized, so t carries over). These are
+// "special" primitives whose global index is past the spheres', so a static scene pays nothing.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "accel/traversal.h"
+#include "geometry/scene_geometry.h"
+#include "accel/bvh_build.h"
+#include "accel/bvh_wide.h"
+
+namespace penumbra {
+
+struct WatertightRay;
+struct WatertightRay4;
+
+class BvhAccelerator {
+public:
+    explicit BvhAccelerator(const SceneGeometry& scene, const BvhBuildSettings& settings = {});
+
+    // Hits come from the tests geometry/surface_interaction.h's canonicalizeHit uses, bit for bit.
+    static constexpr bool kReportsCanonicalHits = true;
+
+    static constexpr std::string_view kName = "bvh";
+    static constexpr int kPacketSize = 1;  // no packet kernel
+    bool intersect(const Ray& ray, Hit& hit) const;
+    bool occluded(const Ray& ray) const;
+
+    struct Stats {
+        size_t nodeCount = 0;  // 4-wide nodes
+        size_t leafCount = 0;
+        size_t primitiveCount = 0;  // triangles and spheres in the tree
+        size_t skippedCount = 0;    // degenerate or non-finite primitives left out
+        int maxDepth = 0;        // of the 4-wide tree
+        float sahCost = 0.0f;    // of the 4-wide tree, see Bvh4::sahCost
+        size_t memoryBytes = 0;  // everything traversal reads: nodes, primitives, id tables
+    };
+    Stats stats() const;
+
+private:
+    // One primitive, 40 bytes: a triangle's three vertices, or a sphere's centre and radius in the
+    // first four floats. globalIndex numbers all triangles of all meshes in order, then the
+    // spheres, so it is a triangle exactly when it is below triangleCount_.
+    struct Primitive {
+        float data[9];
+        uint32_t globalIndex;
+    };
+    // Up to four primitives of one leaf, one per lane, laid out for the 4-wide triangle test
+    // (accel/bvh_triangle4.h): data[k][lane] is Primitive::data[k]. A leaf of n primitives has
+    // ceil(n / 4) blocks, the last one's unused lanes with globalIndex kNoHit; leaves' blocks are
+    // in leaf order. Lane `l` of block `b` is primitive 4 b + l.
+    struct alignas(32) PrimitiveBlock {
+        float data[9][4];
+        uint32_t globalIndex[4];
+    };
+    static Primitive primitiveAt(const PrimitiveBlock& block, int lane);
+    template <bool AnyHit>
+    bool intersectLeaf(const Ray& ray, const WatertightRay& triangleRay, const WatertightRay4& triangleRay4,
+                       uint32_t firstBlock, uint32_t count,
+                       float& tClosest, uint32_t& closest, float& closestB1, float& closestB2,
+                       Hit& instanceHit) const;
+
+    void addMovingPrimitives(const SceneGeometry& scene, const BvhBuildSettings& settings,
+                             std::vector<Primitive>& candidates, std::vector<Bounds3f>& bounds);
+    template <bool AnyHit>
+    bool traverse(const Ray& ray, Hit* hit) const;
+    void prefetchChild(const Bvh4Node& node, int i) const;
+    void fillHit(const Ray& ray, uint32_t primitive, float t, float b1, float b2, const Hit& specialHit,
+                 Hit& hit) const;
+
+    // Deforming triangles and moving instances, referenced by globalIndex - specialBase_.
+    struct Special {
+        uint32_t geomId, primId;  // as reported (accel/traversal.h)
+        uint32_t source;          // index into deformingMeshes_ or instances_
+        uint32_t vertex[3];       // deforming triangle: its vertex indices
+        bool isInstance;
+    };
+    struct Instance {
+        MotionTransform motion;
+        std::unique_ptr<BvhAccelerator> child;  // object space, never moving
+    };
+    // Intersects special primitive `index` within [ray.tnear, tFar]; on a hit sets t and, for a
+    // deforming triangle, the barycentrics, or for an instance, `instanceHit`.
+    template <bool AnyHit>
+    bool intersectSpecial(const Ray& ray, const WatertightRay& triangleRay, uint32_t index, float tFar, float& t, float& b1, float& b2,
+                          Hit& instanceHit) const;
+
+    Bvh4NodeArray nodes_;
+    Bounds3f bounds_;  // of everything in the tree
+    std::vector<PrimitiveBlock, HugePageAllocator<PrimitiveBlock, 64>> blocks_;
+    size_t primitiveCount_ = 0;
+    std::vector<uint32_t> meshFirstTriangle_;  // global index of each mesh's first triangle, then the total
+    uint32_t triangleCount_ = 0;
+    uint32_t sphereGeomId_ = 0;
+    uint32_t specialBase_ = 0;  // triangleCount_ + number of spheres
+    std::vector<Special> specials_;
+    std::vector<std::vector<std::vector<Vec3f>>> deformingMeshes_;  // position keys
+    std::vector<Instance> instances_;
+    size_t skippedCount_ = 0;
+    size_t leafCount_ = 0;
+    int maxDepth_ = 0;
+    float sahCost_ = 0.0f;
+};
+
+}  // namespace penumbra
+static_assert(penumbra::TraversalBackend<penumbra::BvhAccelerator>);

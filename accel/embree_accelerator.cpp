@@ -1,0 +1,196 @@
+#include "accel/embree_accelerator.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+namespace penumbra {
+
+namespace {
+
+[[noreturn]] void throwEmbreeError(RTCDevice device, const char* what) {
+    const RTCError code = device ? rtcGetDeviceError(device) : RTC_ERROR_UNKNOWN;
+    throw std::runtime_error(std::string("Embree: ") + what + " failed (error code " +
+                             std::to_string(int(code)) + ")");
+}
+
+void reportEmbreeError(void* /*userPtr*/, RTCError code, const char* message) {
+    // Errors are also returned by rtcGetDeviceError; this callback makes them visible at once.
+    std::fprintf(stderr, "penumbra: Embree error %d: %s\n", int(code), message ? message : "");
+}
+
+// Embree reads vertices with 16-byte loads, so its own buffers (which it pads) are used rather
+// than sharing the scene's tightly packed arrays.
+void setVertices(RTCDevice device, RTCGeometry geometry, unsigned slot, const std::vector<Vec3f>& positions) {
+    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, slot,
+                                                                 RTC_FORMAT_FLOAT3, 3 * sizeof(float), positions.size()));
+    if (!vertices) throwEmbreeError(device, "allocating a vertex buffer");
+    std::memcpy(vertices, positions.data(), positions.size() * sizeof(Vec3f));
+}
+
+// A triangle geometry; a deforming mesh gets one vertex buffer per time step, which Embree
+// interpolates linearly, as geometry/surface_interaction.h does.
+RTCGeometry newTriangleGeometry(RTCDevice device, const TriangleMesh& mesh) {
+    RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    if (mesh.deforms()) {
+        rtcSetGeometryTimeStepCount(geometry, unsigned(mesh.positionKeys.size()));
+        for (size_t k = 0; k < mesh.positionKeys.size(); ++k) setVertices(device, geometry, unsigned(k), mesh.positionKeys[k]);
+    } else {
+        setVertices(device, geometry, 0, mesh.positions);
+    }
+    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), mesh.triangleCount()));
+    if (!indices) throwEmbreeError(device, "allocating an index buffer");
+    std::memcpy(indices, mesh.indices.data(), mesh.indices.size() * sizeof(uint32_t));
+    rtcCommitGeometry(geometry);
+    return geometry;
+}
+
+// Real spheres: Embree's sphere points, one primitive per sphere (x, y, z, radius).
+RTCGeometry newSphereGeometry(RTCDevice device, const std::vector<const Sphere*>& spheres) {
+    RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+    auto* points = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
+                                                               4 * sizeof(float), spheres.size()));
+    if (!points) throwEmbreeError(device, "allocating the sphere buffer");
+    for (size_t i = 0; i < spheres.size(); ++i) {
+        points[4 * i + 0] = spheres[i]->center.x;
+        points[4 * i + 1] = spheres[i]->center.y;
+        points[4 * i + 2] = spheres[i]->center.z;
+        points[4 * i + 3] = spheres[i]->radius;
+    }
+    rtcCommitGeometry(geometry);
+    return geometry;
+}
+
+RTCScene newScene(RTCDevice device, const EmbreeOptions& options) {
+    RTCScene scene = rtcNewScene(device);
+    // Robust mode avoids the optimizations that let rays slip through shared edges; high build
+    // quality because scenes are built once and traced billions of times.
+    if (options.robust) rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+    return scene;
+}
+
+void attach(RTCScene scene, RTCGeometry geometry, unsigned geomId) {
+    rtcAttachGeometryByID(scene, geometry, geomId);
+    rtcReleaseGeometry(geometry);
+}
+
+// A moving object: its geometry alone in a scene of its own, placed by a motion instance with
+// one quaternion decomposition per key (scale, then slerped rotation, then translation).
+RTCGeometry newMotionInstance(RTCDevice device, RTCScene child, const MotionTransform& motion) {
+    RTCGeometry instance = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
+    rtcSetGeometryInstancedScene(instance, child);
+    rtcSetGeometryTimeStepCount(instance, unsigned(motion.keys.size()));
+    for (size_t k = 0; k < motion.keys.size(); ++k) {
+        const TransformKey& key = motion.keys[k];
+        RTCQuaternionDecomposition decomposition;
+        rtcInitQuaternionDecomposition(&decomposition);
+        rtcQuaternionDecompositionSetScale(&decomposition, key.scale.x, key.scale.y, key.scale.z);
+        rtcQuaternionDecompositionSetQuaternion(&decomposition, key.rotation.w, key.rotation.v.x, key.rotation.v.y,
+                                                key.rotation.v.z);
+        rtcQuaternionDecompositionSetTranslation(&decomposition, key.translation.x, key.translation.y,
+                                                 key.translation.z);
+        rtcSetGeometryTransformQuaternion(instance, unsigned(k), &decomposition);
+    }
+    rtcCommitGeometry(instance);
+    return instance;
+}
+
+}  // namespace
+
+EmbreeAccelerator::EmbreeAccelerator(const SceneGeometry& scene, EmbreeOptions options) {
+    device_ = rtcNewDevice(nullptr);
+    if (!device_) throwEmbreeError(nullptr, "creating the device");
+    rtcSetDeviceErrorFunction(device_, reportEmbreeError, nullptr);
+
+    scene_ = newScene(device_, options);
+    for (size_t i = 0; i < scene.meshes.size(); ++i) {
+        const TriangleMesh& mesh = scene.meshes[i];
+        if (mesh.triangleCount() == 0) continue;
+        if (!mesh.motion.moves()) {
+            attach(scene_, newTriangleGeometry(device_, mesh), unsigned(i));
+            continue;
+        }
+        RTCScene child = newScene(device_, options);
+        instancedScenes_.push_back(child);
+        attach(child, newTriangleGeometry(device_, mesh), 0);
+        rtcCommitScene(child);
+        attach(scene_, newMotionInstance(device_, child, mesh.motion), unsigned(i));
+    }
+    sphereGeomId_ = scene.sphereGeomId();
+    std::vector<const Sphere*> staticSpheres;
+    for (const Sphere& sphere : scene.spheres)
+        if (!sphere.motion.moves()) staticSpheres.push_back(&sphere);
+    // Still spheres share one geometry whose primitive ids are the sphere indices. Once any sphere
+    // moves, every sphere gets an instance of its own (still ones a fixed placement), and the
+    // instance ids map back to sphere indices.
+    if (staticSpheres.size() == scene.spheres.size()) {
+        if (!staticSpheres.empty()) attach(scene_, newSphereGeometry(device_, staticSpheres), sphereGeomId_);
+    } else {
+        for (size_t s = 0; s < scene.spheres.size(); ++s) {
+            const Sphere& sphere = scene.spheres[s];
+            RTCScene child = newScene(device_, options);
+            instancedScenes_.push_back(child);
+            attach(child, newSphereGeometry(device_, {&sphere}), 0);
+            rtcCommitScene(child);
+            MotionTransform placement = sphere.motion;
+            if (!placement.moves()) placement.keys = {TransformKey{}, TransformKey{}};  // identity, twice
+            const unsigned geomId = sphereGeomId_ + 1 + unsigned(movingSphereOfGeomId_.size());
+            attach(scene_, newMotionInstance(device_, child, placement), geomId);
+            movingSphereOfGeomId_.push_back(uint32_t(s));
+        }
+    }
+    rtcCommitScene(scene_);
+    if (rtcGetDeviceError(device_) != RTC_ERROR_NONE) throwEmbreeError(device_, "building the scene");
+}
+
+EmbreeAccelerator::~EmbreeAccelerator() {
+    if (scene_) rtcReleaseScene(scene_);
+    for (RTCScene child : instancedScenes_) rtcReleaseScene(child);
+    if (device_) rtcReleaseDevice(device_);
+}
+
+void EmbreeAccelerator::intersectPacket(const Ray* rays, int count, Hit* hits, bool* found) const {
+    alignas(32) int valid[kPacketSize];
+    RTCRayHit8 packet;
+    for (int i = 0; i < kPacketSize; ++i) {
+        __m128 orgTnear, dirTime;
+        const bool traced = i < count && traceableRows(rays[i], orgTnear, dirTime);
+        valid[i] = traced ? -1 : 0;
+        const Ray& ray = rays[traced ? i : 0];
+        packet.ray.org_x[i] = ray.origin.x;
+        packet.ray.org_y[i] = ray.origin.y;
+        packet.ray.org_z[i] = ray.origin.z;
+        packet.ray.dir_x[i] = ray.direction.x;
+        packet.ray.dir_y[i] = ray.direction.y;
+        packet.ray.dir_z[i] = ray.direction.z;
+        packet.ray.tnear[i] = ray.tnear;
+        packet.ray.tfar[i] = ray.tfar;
+        packet.ray.time[i] = ray.time;
+        packet.ray.mask[i] = 0xffffffffu;
+        packet.ray.id[i] = unsigned(i);
+        packet.ray.flags[i] = 0;
+        packet.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+        packet.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    }
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    rtcIntersect8(valid, scene_, &context, &packet);
+    for (int i = 0; i < count; ++i) {
+        found[i] = valid[i] && packet.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
+        if (!found[i]) continue;
+        Hit& hit = hits[i];
+        hit.t = packet.ray.tfar[i];
+        hit.u = packet.hit.u[i];
+        hit.v = packet.hit.v[i];
+        hit.geometricNormal = {packet.hit.Ng_x[i], packet.hit.Ng_y[i], packet.hit.Ng_z[i]};
+        const unsigned instance = packet.hit.instID[0][i];
+        setIds(instance != RTC_INVALID_GEOMETRY_ID ? instance : packet.hit.geomID[i], packet.hit.primID[i], hit);
+    }
+}
+
+}  // namespace penumbra

@@ -1,0 +1,125 @@
+// The Embree backend: every Embree call of penumbra lives in embree_accelerator.{h,cpp}. The
+// per-ray calls are inline here so that the integrator's rays reach Embree without a call of ours
+// in between (no copy of the ray through memory, no prologue).
+#pragma once
+
+#include <embree3/rtcore.h>
+
+#include <vector>
+#include <xmmintrin.h>
+
+#include "accel/traversal.h"
+#include "geometry/scene_geometry.h"
+
+namespace penumbra {
+
+struct EmbreeOptions {
+    // RTC_SCENE_FLAG_ROBUST: watertight traversal, no ray slips through a shared edge (see
+    // RenderSettings::watertight). Off, traversal is about a quarter faster.
+    bool robust = true;
+};
+
+class EmbreeAccelerator {
+public:
+    explicit EmbreeAccelerator(const SceneGeometry& scene, EmbreeOptions options = {});
+    ~EmbreeAccelerator();
+    EmbreeAccelerator(const EmbreeAccelerator&) = delete;
+    EmbreeAccelerator& operator=(const EmbreeAccelerator&) = delete;
+
+    static constexpr std::string_view kName = "embree";
+    // Embree's hits are its own (Plücker-form test): the integrator recomputes them.
+    static constexpr bool kReportsCanonicalHits = false;
+    bool intersect(const Ray& ray, Hit& hit) const;
+    bool occluded(const Ray& ray) const;
+
+    // Up to kPacketSize coherent rays (a pixel's camera rays) traced together with Embree's packet
+    // kernel, which traverses once for all of them; found[i] and hits[i] as intersect() gives them.
+    // The packet kernel rounds like itself, not necessarily like the single-ray one, so a ray
+    // traced here must always be traced here (the render loop does so for every camera ray).
+    static constexpr int kPacketSize = 8;
+    void intersectPacket(const Ray* rays, int count, Hit* hits, bool* found) const;
+
+private:
+    // Embree's first two rows of a ray, (org, tnear) and (dir, time), when Embree may trace it:
+    // Debian's Embree asserts on rays with NaN or infinite components (and would abort), so such
+    // rays are answered without it (they hit nothing), and so are rays without a direction (all
+    // three components zero, as for our BVH). The two rows are built from the ray's fields, and
+    // one finiteness test covers all eight values (x * 0 is 0 for a finite x, NaN otherwise); tfar
+    // may be infinite.
+    static bool traceableRows(const Ray& ray, __m128& orgTnear, __m128& dirTime);
+    // `ray` in Embree's layout; false (and `out` unset) when Embree must not trace it.
+    static bool toTraceableEmbreeRay(const Ray& ray, RTCRay& out);
+    // Scene ids from Embree's (geometry/scene_geometry.h).
+    void setIds(unsigned geomId, unsigned primId, Hit& hit) const {
+        if (geomId > sphereGeomId_) [[unlikely]] {
+            hit.geomId = sphereGeomId_;
+            hit.primId = movingSphereOfGeomId_[geomId - sphereGeomId_ - 1];
+        } else {
+            hit.geomId = geomId;
+            hit.primId = primId;
+        }
+    }
+
+    RTCDevice device_ = nullptr;
+    RTCScene scene_ = nullptr;
+    std::vector<RTCScene> instancedScenes_;  // one per moving object, released with the backend
+    uint32_t sphereGeomId_ = 0;              // == meshes.size(): all static spheres
+    std::vector<uint32_t> movingSphereOfGeomId_;  // geomId - sphereGeomId_ - 1 -> sphere index
+};
+
+inline bool EmbreeAccelerator::traceableRows(const Ray& ray, __m128& orgTnear, __m128& dirTime) {
+    // Built from the fields, not loaded 16 bytes at a time: the ray was usually just written field
+    // by field, and a wide load of narrower stores still in flight cannot be forwarded from them:
+    // it waits for the stores to reach the cache (perf put 3% of the render's samples on that
+    // wait; building the rows from the fields took 0.6% off the render's time).
+    orgTnear = _mm_setr_ps(ray.origin.x, ray.origin.y, ray.origin.z, ray.tnear);
+    dirTime = _mm_setr_ps(ray.direction.x, ray.direction.y, ray.direction.z, ray.time);
+    const __m128 zero = _mm_setzero_ps();
+    const __m128 finite =
+        _mm_and_ps(_mm_cmpeq_ps(_mm_mul_ps(orgTnear, zero), zero), _mm_cmpeq_ps(_mm_mul_ps(dirTime, zero), zero));
+    const bool hasDirection = (_mm_movemask_ps(_mm_cmpneq_ps(dirTime, zero)) & 0x7) != 0;
+    return _mm_movemask_ps(finite) == 0xf && hasDirection && ray.tnear >= 0.0f && ray.tfar >= ray.tnear;
+}
+
+inline bool EmbreeAccelerator::toTraceableEmbreeRay(const Ray& ray, RTCRay& out) {
+    __m128 orgTnear, dirTime;
+    if (!traceableRows(ray, orgTnear, dirTime)) return false;
+    _mm_store_ps(&out.org_x, orgTnear);
+    _mm_store_ps(&out.dir_x, dirTime);
+    out.tfar = ray.tfar;
+    out.mask = 0xffffffffu;
+    out.id = 0;
+    out.flags = 0;
+    return true;
+}
+
+inline bool EmbreeAccelerator::intersect(const Ray& ray, Hit& hit) const {
+    RTCRayHit rayHit;
+    if (!toTraceableEmbreeRay(ray, rayHit.ray)) return false;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    rayHit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rayHit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene_, &context, &rayHit);
+    if (rayHit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+    hit.t = rayHit.ray.tfar;
+    hit.u = rayHit.hit.u;
+    hit.v = rayHit.hit.v;
+    hit.geometricNormal = {rayHit.hit.Ng_x, rayHit.hit.Ng_y, rayHit.hit.Ng_z};
+    const unsigned instance = rayHit.hit.instID[0];
+    setIds(instance != RTC_INVALID_GEOMETRY_ID ? instance : rayHit.hit.geomID, rayHit.hit.primID, hit);
+    return true;
+}
+
+inline bool EmbreeAccelerator::occluded(const Ray& ray) const {
+    RTCRay r;
+    if (!toTraceableEmbreeRay(ray, r)) return false;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    rtcOccluded1(scene_, &context, &r);
+    // Embree marks an occluded ray by setting tfar to -infinity.
+    return r.tfar < 0.0f;
+}
+
+}  // namespace penumbra
+static_assert(penumbra::TraversalBackend<penumbra::EmbreeAccelerator>);

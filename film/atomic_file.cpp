@@ -1,0 +1,48 @@
+#include "film/atomic_file.h"
+
+#include <unistd.h>
+
+#include <system_error>
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+
+namespace penumbra {
+
+namespace {
+
+// "<folder>/<stem>.tmp-<pid><ext>": same folder (so the rename is atomic, never across file
+// systems) and same extension.
+std::filesystem::path temporaryPathFor(const std::filesystem::path& path) {
+    std::filesystem::path tmp = path;
+    tmp.replace_filename(fmt::format("{}.tmp-{}{}", path.stem().string(), long(::getpid()),
+                                     path.extension().string()));
+    return tmp;
+}
+
+}  // namespace
+
+void writeFileAtomically(const std::filesystem::path& path, const char* what,
+                         const std::function<bool(const std::string& tmp, std::string& error)>& write) {
+    std::error_code ec;
+    const std::filesystem::path parent = path.parent_path();
+    if (!parent.empty()) {
+        std::filesystem::create_directories(parent, ec);
+        if (ec) throwFileError(path, fmt::format("cannot create folder '{}' for the {}: {}", parent.string(), what, ec.message()));
+    }
+
+    const std::filesystem::path tmp = temporaryPathFor(path);
+    auto cleanupAndFail = [&](const std::string& message) {
+        std::error_code ignored;
+        std::filesystem::remove(tmp, ignored);
+        throwFileError(path, fmt::format("cannot write the {}: {}", what, message));
+    };
+
+    std::string error;
+    if (!write(tmp.string(), error)) cleanupAndFail(error);
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) cleanupAndFail(fmt::format("cannot rename '{}' to the destination: {}", tmp.string(), ec.message()));
+}
+
+}  // namespace penumbra

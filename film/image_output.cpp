@@ -1,0 +1,150 @@
+#include "film/image_output.h"
+
+#include <OpenColorIO/OpenColorIO.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <functional>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+#include "film/atomic_file.h"
+#include "film/image_plugin_loader.h"
+
+namespace OCIO = OCIO_NAMESPACE;
+
+namespace penumbra {
+
+namespace {
+
+SourceLocation fileLocation(const std::string& file) {
+    SourceLocation where;
+    where.file = file;
+    return where;
+}
+
+// The OCIO config: $OCIO when set and non-empty, otherwise the shipped one. CreateFromEnv rather
+// than GetCurrentConfig, because GetCurrentConfig caches the first config it loads and would
+// ignore later changes of $OCIO within the process.
+OCIO::ConstConfigRcPtr loadOcioConfig() {
+    const char* env = std::getenv("OCIO");
+    const bool fromEnv = env != nullptr && *env != '\0';
+    const std::string configPath = fromEnv ? env : PENUMBRA_OCIO_CONFIG;
+    try {
+        return fromEnv ? OCIO::Config::CreateFromEnv() : OCIO::Config::CreateFromFile(configPath.c_str());
+    } catch (const OCIO::Exception& e) {
+        throw InputError(fileLocation(configPath),
+                         fmt::format("cannot load the OpenColorIO config{}: {}", fromEnv ? " named by $OCIO" : "",
+                                     e.what()));
+    }
+}
+
+std::string joinQuoted(int count, const std::function<const char*(int)>& name) {
+    std::string out;
+    for (int i = 0; i < count; ++i) out += fmt::format("{}'{}'", i ? ", " : "", name(i));
+    return out.empty() ? "none" : out;
+}
+
+uint8_t quantize8(float v) {
+    if (!(v > 0.0f)) return 0;  // also maps NaN to 0
+    if (v >= 1.0f) return 255;
+    return uint8_t(std::lround(v * 255.0f));
+}
+
+constexpr uint64_t kFnvOffsetBasis = 0xcbf29ce484222325ull;  // FNV-1a, 64 bits
+
+// Continues the FNV-1a hash `hash` over the bytes of the file at `path`.
+void hashBytesOf(const std::filesystem::path& path, uint64_t& hash) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throwFileError(path, "cannot read the file to hash it");
+    char buffer[1 << 16];
+    while (in) {
+        in.read(buffer, sizeof buffer);
+        for (std::streamsize i = 0; i < in.gcount(); ++i) {
+            hash ^= uint8_t(buffer[i]);
+            hash *= 0x100000001b3ull;
+        }
+    }
+    if (in.bad()) throwFileError(path, "cannot read the file to hash it");
+}
+
+std::string formatHash(uint64_t hash) { return fmt::format("fnv1a64:{:016x}", hash); }
+
+}  // namespace
+
+std::string hashFileContents(const std::filesystem::path& path) {
+    uint64_t hash = kFnvOffsetBasis;
+    hashBytesOf(path, hash);
+    return formatHash(hash);
+}
+
+std::string hashSceneFiles(const std::filesystem::path& sceneFile, const std::vector<std::filesystem::path>& meshFiles) {
+    uint64_t hash = kFnvOffsetBasis;
+    hashBytesOf(sceneFile, hash);
+    for (const std::filesystem::path& mesh : meshFiles) hashBytesOf(mesh, hash);
+    return formatHash(hash);
+}
+
+std::string penumbraSoftwareName() { return std::string("penumbra ") + PENUMBRA_VERSION; }
+
+void writeDisplayImage(const Film& film, const std::filesystem::path& path, const std::string& display,
+                       const std::string& view) {
+    std::string extension = path.extension().string();
+    std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
+    if (extension != ".png" && extension != ".jpg" && extension != ".jpeg")
+        throwFileError(path, fmt::format("unsupported display image format '{}' (expected .png, .jpg or .jpeg)", extension));
+
+    const OCIO::ConstConfigRcPtr config = loadOcioConfig();
+
+    const std::string displayName = display.empty() ? config->getDefaultDisplay() : display;
+    bool displayKnown = false;
+    for (int i = 0; i < config->getNumDisplays(); ++i) displayKnown |= displayName == config->getDisplay(i);
+    if (!displayKnown)
+        throw InputError(fmt::format("unknown OpenColorIO display '{}'; available displays: {}", displayName,
+                                     joinQuoted(config->getNumDisplays(), [&](int i) { return config->getDisplay(i); })));
+
+    const std::string viewName = view.empty() ? config->getDefaultView(displayName.c_str()) : view;
+    bool viewKnown = false;
+    const int numViews = config->getNumViews(displayName.c_str());
+    for (int i = 0; i < numViews; ++i) viewKnown |= viewName == config->getView(displayName.c_str(), i);
+    if (!viewKnown)
+        throw InputError(fmt::format("unknown OpenColorIO view '{}' of display '{}'; available views: {}", viewName,
+                                     displayName,
+                                     joinQuoted(numViews, [&](int i) { return config->getView(displayName.c_str(), i); })));
+
+    std::vector<float> rgb = film.meanRgb();
+    try {
+        const auto processor = config->getProcessor(OCIO::ROLE_SCENE_LINEAR, displayName.c_str(), viewName.c_str(),
+                                                    OCIO::TRANSFORM_DIR_FORWARD);
+        if (!rgb.empty()) {
+            OCIO::PackedImageDesc image(rgb.data(), film.width(), film.height(), 3);
+            processor->getDefaultCPUProcessor()->apply(image);
+        }
+    } catch (const OCIO::Exception& e) {
+        throwFileError(path, fmt::format("OpenColorIO cannot convert scene_linear to display '{}', view '{}': {}", displayName,
+                                         viewName, e.what()));
+    }
+
+    std::vector<uint8_t> pixels(rgb.size());
+    std::transform(rgb.begin(), rgb.end(), pixels.begin(), quantize8);
+
+    // Encoding PNG/JPEG needs OpenImageIO, which lives in the plugin (film/image_plugin.h).
+    const PenumbraImagePlugin& plugin = imagePlugin();
+    const std::string software = penumbraSoftwareName();
+    writeFileAtomically(path, "display image", [&](const std::string& tmp, std::string& error) {
+        char message[1024];
+        if (plugin.writeRgb8(tmp.c_str(), film.width(), film.height(), pixels.data(), software.c_str(),
+                             extension == ".png" ? 0 : 95, message, sizeof message))
+            return true;
+        error = message;
+        return false;
+    });
+}
+
+}  // namespace penumbra

@@ -1,0 +1,74 @@
+// Writing and reading the film: a scene-linear OpenEXR (written and read with OpenEXR directly,
+// film/film_exr.cpp) that holds the render's metadata, the beauty and AOVs (part "beauty") and
+// the film's exact sums (parts "sums" and "sums.noise", so that a render can be resumed and
+// partial renders merged bit for bit), and a display-referred PNG/JPEG through an OpenColorIO view
+// transform (encoded by the image plugin, film/image_plugin.h, loaded on first use). Files are
+// written under a temporary name in the destination folder and renamed, so no half-written image
+// is ever left.
+// docs/exr-layout.md describes the EXR.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "film/film.h"
+
+namespace penumbra {
+
+struct RenderMetadata {
+    int samplesPerPixel = 0;  // samples each pixel of the window holds (endSample - firstSample)
+    uint64_t seed = 0;
+    std::string sampler;      // "stratified" / "independent"
+    std::string accelerator;  // "embree" / "bvh"
+    std::string sceneFile;
+    std::string sceneHash;    // hashSceneFiles() of the scene file and its mesh files
+    double renderSeconds = 0.0;
+    std::string version;      // penumbra version string
+    uint32_t firstSample = 0, endSample = 0;  // every pixel of the window holds samples [first, end)
+    std::optional<PixelWindow> crop;          // the pixels rendered; none: the whole image
+};
+
+// Writes the film as a multi-part EXR (docs/exr-layout.md): part "beauty" holds FLOAT channels
+// R, G, B, A, albedo.R/G/B, N.X/Y/Z, Z and variance.R/G/B with the metadata as header attributes
+// "penumbra:spp", "penumbra:seed", "penumbra:sampler", "penumbra:accel", "penumbra:scene",
+// "penumbra:sceneHash", "penumbra:renderTime", "penumbra:version", "penumbra:resolution",
+// "penumbra:samples" ("FIRST:END") and "penumbra:crop" ("x0,x1,y0,y1"); parts "sums" and
+// "sums.noise" hold the exact sums as UINT channels. With a crop the data window is the crop (the
+// display window is the whole image). Throws InputError naming the path when it cannot be written.
+void writeExr(const Film& film, const RenderMetadata& metadata, const std::filesystem::path& path);
+
+struct FilmFile {
+    Film film;
+    RenderMetadata metadata;
+};
+
+// Reads back a film written by writeExr, sums bit for bit. Throws InputError naming the path when
+// it cannot be read or is not a film written by penumbra.
+FilmFile readFilmExr(const std::filesystem::path& path);
+
+// Whether `path` is an EXR written by writeExr (its first part has "penumbra:film"); never throws.
+bool isPenumbraFilm(const std::filesystem::path& path);
+
+// "fnv1a64:<16 hex digits>" of a file's bytes. Throws InputError naming the path when it cannot
+// be read.
+std::string hashFileContents(const std::filesystem::path& path);
+// The same over the scene file's bytes followed by those of each mesh file it names
+// (Scene::meshFiles): identifies the scene a film was rendered from, so that a resume or a merge
+// refuses a film rendered before a mesh file changed. A scene without mesh files hashes as its
+// file alone (as films written before mesh files were hashed record it).
+std::string hashSceneFiles(const std::filesystem::path& sceneFile, const std::vector<std::filesystem::path>& meshFiles);
+
+// The "Software" attribute of the images penumbra writes: "penumbra VERSION".
+std::string penumbraSoftwareName();
+
+// 8-bit display image (format from the extension: .png, .jpg) through OpenColorIO: the config is
+// $OCIO when set, otherwise penumbra's shipped config; scene_linear to the config's default
+// display and view (sRGB) unless `display` / `view` name others. Loads the image plugin, which
+// encodes the file; throws InputError naming the plugin's file when it cannot be loaded.
+void writeDisplayImage(const Film& film, const std::filesystem::path& path, const std::string& display = "",
+                       const std::string& view = "");
+
+}  // namespace penumbra

@@ -1,0 +1,180 @@
+// A shading point rebuilt from a backend's hit. This is shared by all backends so that they
+// shade identically: positions come from our own vertex data and barycentrics (or, for spheres,
+// the hit reprojected onto the surface), not from origin + t * direction.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/frame.h"
+#include "core/motion.h"
+#include "core/ray.h"
+#include "core/sampling.h"
+#include "geometry/face_frames.h"
+#include "geometry/hit.h"
+#include "geometry/ray_sphere.h"
+#include "geometry/ray_triangle.h"
+#include "geometry/scene_geometry.h"
+
+namespace penumbra {
+
+struct SurfaceInteraction {
+    Vec3f position;
+    Vec3f geometricNormal;  // unit, on the shape's front side
+    Vec3f shadingNormal;    // unit, in the hemisphere of geometricNormal
+    Vec2f uv;
+    uint32_t material = 0;
+    ShapeRef shape;  // the shape and primitive hit (SceneGeometry::shapeOf)
+    // Frame::fromNormal(shadingNormal) computed beforehand (FaceFrames), when there is one: for a
+    // still, non-degenerate triangle whose shading normal is its geometric normal. Null otherwise.
+    const Frame* shadingFrame = nullptr;
+};
+
+namespace detail {
+
+inline Vec3f vertexAt(const TriangleMesh& mesh, uint32_t vertex, float time) {
+    return mesh.deforms() ? interpolateKeys(mesh.positionKeys, vertex, time) : mesh.positions[vertex];
+}
+
+// Moves a point and its normals from object to world space for a moving shape.
+inline void placeInWorld(const Transform& toWorld, SurfaceInteraction& si) {
+    si.position = toWorld.applyPoint(si.position);
+    si.geometricNormal = normalize(toWorld.applyNormal(si.geometricNormal));
+    si.shadingNormal = faceForward(normalize(toWorld.applyNormal(si.shadingNormal)), si.geometricNormal);
+}
+
+// Replaces the hit's t and barycentrics with those of our watertight test on triangle (p0, p1, p2),
+// unless that test misses it (a ray along an edge), when the backend's values stay.
+inline void recomputeTriangleHit(Vec3f origin, Vec3f direction, Vec3f p0, Vec3f p1, Vec3f p2, const Ray& ray, Hit& hit) {
+    const float vertices[9] = {p0.x, p0.y, p0.z, p1.x, p1.y, p1.z, p2.x, p2.y, p2.z};
+    TriangleHit th;
+    if (intersectTriangleWatertight(WatertightRay(origin, direction), vertices, ray.tnear, ray.tfar, th)) {
+        hit.t = th.t;
+        hit.u = th.b1;
+        hit.v = th.b2;
+    }
+}
+
+// The shading point at the hit's barycentrics on triangle (p0, p1, p2) of `mesh` (`index`: its three
+// vertex indices), in the mesh's own space; the caller places it in the world for moving meshes.
+// `faceFrame`, when given, is the triangle's frame computed beforehand (FaceFrames): its n is the
+// triangle's triangleNormal(). False for a degenerate triangle, which has no normal: the caller
+// then turns both normals towards the ray. Always inline: out of line, its call and its vectors
+// passed through memory cost more than it does.
+[[gnu::always_inline]] inline bool triangleInteraction(const TriangleMesh& mesh, const uint32_t* index, Vec3f p0,
+                                                       Vec3f p1, Vec3f p2, const Hit& hit, SurfaceInteraction& si,
+                                                       const Frame* faceFrame = nullptr) {
+    const float b1 = hit.u, b2 = hit.v, b0 = 1.0f - b1 - b2;
+    si.position = p0 * b0 + p1 * b1 + p2 * b2;
+    si.geometricNormal = faceFrame ? faceFrame->n : triangleNormal(p0, p1, p2);
+    const bool hasNormal = si.geometricNormal != Vec3f{0.0f, 0.0f, 0.0f};
+    if (!hasNormal) si.geometricNormal = {0.0f, 0.0f, 1.0f};
+    si.shadingNormal = si.geometricNormal;
+    if (hasNormal) si.shadingFrame = faceFrame;
+    // Vertex normals are only used for meshes that do not deform (they would need keys too).
+    if (!mesh.normals.empty() && !mesh.deforms()) {
+        const Vec3f ns = mesh.normals[index[0]] * b0 + mesh.normals[index[1]] * b1 + mesh.normals[index[2]] * b2;
+        const float nsLength = length(ns);
+        if (nsLength > 0.0f) {
+            si.shadingNormal = faceForward(ns / nsLength, si.geometricNormal);
+            si.shadingFrame = nullptr;
+        }
+    }
+    if (!mesh.uvs.empty()) si.uv = mesh.uvs[index[0]] * b0 + mesh.uvs[index[1]] * b1 + mesh.uvs[index[2]] * b2;
+    si.material = mesh.material;
+    return hasNormal;
+}
+
+}  // namespace detail
+
+// The same hit whichever backend found it: t and the barycentrics of the primitive the backend
+// reports are recomputed with the tests our BVH uses (geometry/ray_triangle.h, ray_sphere.h; moving
+// shapes in object space, as the BVH's instances do), so that whenever Embree and the BVH find the
+// same primitive everything downstream sees the same bits, and renders with either backend are
+// bit-identical unless some hit differs. Embree rounds differently (its Plücker-form test); should
+// our test miss the primitive (a ray along an edge), the backend's values stay.
+inline void canonicalizeHit(const SceneGeometry& scene, const Ray& ray, Hit& hit) {
+    Vec3f origin = ray.origin, direction = ray.direction;
+    const ShapeRef shape = scene.shapeOf(hit);
+    const MotionTransform& motion = scene.motionOf(shape);
+    if (motion.moves()) {
+        // Into object space exactly as the BVH takes a ray into an instance.
+        const Transform toObject = motion.at(ray.time).inverse();
+        origin = toObject.applyPoint(ray.origin);
+        direction = toObject.applyVector(ray.direction);
+    }
+    if (shape.kind == ShapeKind::Mesh) {
+        const TriangleMesh& mesh = scene.meshes[shape.index];
+        const uint32_t* index = &mesh.indices[3 * size_t(shape.primitive)];
+        detail::recomputeTriangleHit(origin, direction, detail::vertexAt(mesh, index[0], ray.time),
+                                     detail::vertexAt(mesh, index[1], ray.time),
+                                     detail::vertexAt(mesh, index[2], ray.time), ray, hit);
+    } else {
+        const Sphere& sphere = scene.spheres[shape.index];
+        float t;
+        if (intersectSphere(origin, direction, sphere.center, sphere.radius, ray.tnear, ray.tfar, t)) hit.t = t;
+    }
+}
+
+inline SurfaceInteraction makeSurfaceInteraction(const SceneGeometry& scene, const Ray& ray, const Hit& hit) {
+    SurfaceInteraction si;
+    const ShapeRef shape = scene.shapeOf(hit);
+    si.shape = shape;
+    if (shape.kind == ShapeKind::Mesh) {
+        const TriangleMesh& mesh = scene.meshes[shape.index];
+        const uint32_t* index = &mesh.indices[3 * size_t(shape.primitive)];
+        const bool hasNormal = detail::triangleInteraction(mesh, index, detail::vertexAt(mesh, index[0], ray.time),
+                                                           detail::vertexAt(mesh, index[1], ray.time),
+                                                           detail::vertexAt(mesh, index[2], ray.time), hit, si);
+        if (mesh.motion.moves()) detail::placeInWorld(mesh.motion.at(ray.time), si);
+        if (!hasNormal) si.geometricNormal = si.shadingNormal = normalize(-ray.direction);
+    } else {
+        const Sphere& sphere = scene.spheres[shape.index];
+        // The hit point, reprojected onto the sphere in the sphere's own space.
+        Vec3f hitPoint = ray.at(hit.t);
+        Transform toWorld;
+        if (sphere.motion.moves()) {
+            toWorld = sphere.motion.at(ray.time);
+            hitPoint = toWorld.inverse().applyPoint(hitPoint);
+        }
+        Vec3f outward = hitPoint - sphere.center;
+        const float outwardLength = length(outward);
+        outward = outwardLength > 0.0f ? outward / outwardLength : Vec3f{0.0f, 0.0f, 1.0f};
+        si.position = sphere.center + outward * sphere.radius;
+        si.geometricNormal = outward;
+        si.shadingNormal = outward;
+        const float phi = std::atan2(outward.y, outward.x);
+        si.uv = {phi < 0.0f ? phi / (2.0f * kPi) + 1.0f : phi / (2.0f * kPi),
+                 std::acos(std::clamp(outward.z, -1.0f, 1.0f)) / kPi};
+        si.material = sphere.material;
+        if (sphere.motion.moves()) detail::placeInWorld(toWorld, si);
+    }
+    return si;
+}
+
+// canonicalizeHit (unless `kHitIsCanonical`: the backend's hits already are) and then
+// makeSurfaceInteraction, with a still mesh's vertices loaded once for both and its triangle's
+// normal and shading frame taken from `faceFrames` when given (the same bits as computing them).
+template <bool kHitIsCanonical>
+[[gnu::always_inline]] inline SurfaceInteraction resolveHit(const SceneGeometry& scene, const Ray& ray, Hit& hit,
+                                     const FaceFrames* faceFrames = nullptr) {
+    const ShapeRef shape = scene.shapeOf(hit);
+    if (shape.kind == ShapeKind::Mesh) {
+        const TriangleMesh& mesh = scene.meshes[shape.index];
+        if (!mesh.moves()) [[likely]] {
+            const uint32_t* index = &mesh.indices[3 * size_t(shape.primitive)];
+            const Vec3f p0 = mesh.positions[index[0]], p1 = mesh.positions[index[1]], p2 = mesh.positions[index[2]];
+            if constexpr (!kHitIsCanonical) detail::recomputeTriangleHit(ray.origin, ray.direction, p0, p1, p2, ray, hit);
+            SurfaceInteraction si;
+            si.shape = shape;
+            const Frame* faceFrame = faceFrames ? faceFrames->find(shape.index, shape.primitive) : nullptr;
+            if (!detail::triangleInteraction(mesh, index, p0, p1, p2, hit, si, faceFrame)) [[unlikely]]
+                si.geometricNormal = si.shadingNormal = normalize(-ray.direction);
+            return si;
+        }
+    }
+    if constexpr (!kHitIsCanonical) canonicalizeHit(scene, ray, hit);
+    return makeSurfaceInteraction(scene, ray, hit);
+}
+
+}  // namespace penumbra

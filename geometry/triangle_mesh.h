@@ -1,0 +1,39 @@
+// A triangle mesh as the scene gives it: positions, optional normals and uvs, its material, its
+// emission and its motion.
+//
+// Motion: times are shutter fractions (0 = shutter open, 1 = closed), the same as Ray::time.
+// A mesh with a moving `motion` transform keeps its geometry in object space and is placed in the
+// world by motion.at(time); otherwise its geometry is in world space.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/motion.h"
+#include "core/vec.h"
+#include "geometry/emission.h"
+
+namespace penumbra {
+
+struct TriangleMesh {
+    std::string name;              // for messages: the scene's JSON pointer or the file name
+    std::vector<Vec3f> positions;  // world space, or object space when `motion` moves; the first
+                                   // deformation key when there are several
+    std::vector<Vec3f> normals;    // optional, per vertex, world space, unit length
+    std::vector<Vec2f> uvs;        // optional, per vertex
+    std::vector<uint32_t> indices; // three per triangle; front face is counter-clockwise,
+                                   // i.e. its normal is cross(p1 - p0, p2 - p0)
+    uint32_t material = 0;         // index into Scene::materials
+    Emission emission;
+    // Deformation: empty, or >= 2 arrays of positions (the first equal to `positions`), evenly
+    // spaced over the shutter and interpolated linearly per vertex.
+    std::vector<std::vector<Vec3f>> positionKeys;
+    MotionTransform motion;
+
+    size_t triangleCount() const { return indices.size() / 3; }
+    bool deforms() const { return positionKeys.size() >= 2; }
+    bool moves() const { return deforms() || motion.moves(); }
+};
+
+}  // namespace penumbra

@@ -1,0 +1,241 @@
+#include "lights/light_set.h"
+
+#include <cmath>
+#include <limits>
+
+#include "core/frame.h"
+#include "core/sampling.h"
+
+namespace penumbra {
+
+namespace {
+
+// Radius of a sphere that bounds all geometry, for the background's power estimate.
+float sceneBoundingRadius(const SceneGeometry& scene) {
+    Vec3f lo{std::numeric_limits<float>::max(), std::numeric_limits<float>::max(), std::numeric_limits<float>::max()};
+    Vec3f hi = -lo;
+    bool any = false;
+    for (const auto& mesh : scene.meshes)
+        for (const Vec3f& p : mesh.positions) {
+            lo = min(lo, p);
+            hi = max(hi, p);
+            any = true;
+        }
+    for (const auto& s : scene.spheres) {
+        lo = min(lo, s.center - Vec3f(s.radius, s.radius, s.radius));
+        hi = max(hi, s.center + Vec3f(s.radius, s.radius, s.radius));
+        any = true;
+    }
+    return any ? std::max(0.5f * length(hi - lo), 1e-3f) : 1.0f;
+}
+
+}  // namespace
+
+LightSet::LightSet(const SceneGeometry& scene, const std::vector<PointLight>& pointLights,
+                   const std::vector<DirectionalLight>& directionalLights, Rgb background)
+    : background_(background) {
+    std::vector<double> power;
+    meshFirstLight_.assign(scene.meshes.size(), -1);
+    for (size_t m = 0; m < scene.meshes.size(); ++m) {
+        const TriangleMesh& mesh = scene.meshes[m];
+        if (!mesh.emission.emits()) continue;
+        meshFirstLight_[m] = int32_t(lights_.size());
+        for (size_t t = 0; t < mesh.triangleCount(); ++t) {
+            Light light;
+            light.kind = LightKind::Triangle;
+            light.radiance = mesh.emission.radiance;
+            light.twoSided = mesh.emission.twoSided;
+            light.p0 = mesh.positions[mesh.indices[3 * t]];
+            light.p1 = mesh.positions[mesh.indices[3 * t + 1]];
+            light.p2 = mesh.positions[mesh.indices[3 * t + 2]];
+            const Vec3f n = cross(light.p1 - light.p0, light.p2 - light.p0);
+            light.area = 0.5f * length(n);
+            light.normal = light.area > 0.0f ? normalize(n) : Vec3f{0, 0, 1};
+            lights_.push_back(light);
+            // Degenerate triangles get zero power and so are never chosen.
+            power.push_back(double(light.radiance.luminance()) * light.area * kPi * (light.twoSided ? 2 : 1));
+        }
+    }
+    sphereLight_.assign(scene.spheres.size(), -1);
+    for (size_t s = 0; s < scene.spheres.size(); ++s) {
+        const Sphere& sphere = scene.spheres[s];
+        if (!sphere.emission.emits()) continue;
+        sphereLight_[s] = int32_t(lights_.size());
+        Light light;
+        light.kind = LightKind::Sphere;
+        light.radiance = sphere.emission.radiance;
+        light.twoSided = sphere.emission.twoSided;
+        light.center = sphere.center;
+        light.radius = sphere.radius;
+        lights_.push_back(light);
+        const double area = 4.0 * kPi * double(sphere.radius) * sphere.radius;
+        power.push_back(double(light.radiance.luminance()) * area * kPi * (light.twoSided ? 2 : 1));
+    }
+    for (const PointLight& point : pointLights) {
+        Light light;
+        light.kind = LightKind::Point;
+        light.radiance = point.intensity;
+        light.center = point.position;
+        lights_.push_back(light);
+        power.push_back(4.0 * kPi * double(point.intensity.luminance()));
+    }
+    const double sceneRadius = sceneBoundingRadius(scene);
+    for (const DirectionalLight& directional : directionalLights) {
+        Light light;
+        light.kind = LightKind::Directional;
+        light.radiance = directional.irradiance;
+        light.normal = directional.direction;
+        lights_.push_back(light);
+        // The power crossing a disk the size of the scene (pbrt-v4's DistantLight::Phi).
+        power.push_back(kPi * sceneRadius * sceneRadius * double(directional.irradiance.luminance()));
+    }
+    if (!background_.isBlack()) {
+        backgroundLight_ = int32_t(lights_.size());
+        Light light;
+        light.kind = LightKind::Background;
+        light.radiance = background_;
+        lights_.push_back(light);
+        // Power through a disk the size of the scene, from every direction (pbrt-v4's estimate).
+        power.push_back(4.0 * kPi * kPi * sceneRadius * sceneRadius * double(background_.luminance()));
+    }
+    for (const Light& light : lights_)
+        hasAreaLights_ |= light.kind == LightKind::Triangle || light.kind == LightKind::Sphere;
+    choice_ = DiscreteDistribution(power);
+}
+
+std::optional<LightSample> LightSet::sampleOther(uint32_t index, Vec3f reference, Vec2f u) const {
+    const float choicePdf = choice_.probability(index);
+    const Light& light = lights_[index];
+    LightSample ls{};
+    switch (light.kind) {
+        case LightKind::Point: return samplePoint(index, reference);
+        case LightKind::Directional: {
+            ls.direction = -light.normal;
+            ls.distance = std::numeric_limits<float>::infinity();
+            ls.radiance = light.radiance;
+            ls.pdf = choicePdf;
+            ls.isDelta = true;
+            return ls;
+        }
+        case LightKind::Background: {
+            ls.direction = sampleUniformSphere(u);
+            ls.distance = std::numeric_limits<float>::infinity();
+            ls.radiance = light.radiance;
+            ls.pdf = choicePdf * uniformSpherePdf();
+            ls.isDelta = false;
+            return ls;
+        }
+        case LightKind::Triangle: {
+            const Vec2f b = sampleUniformTriangle(u);
+            ls.point = light.p0 * (1.0f - b.x - b.y) + light.p1 * b.x + light.p2 * b.y;
+            ls.lightNormal = light.normal;
+            break;
+        }
+        case LightKind::Sphere: {
+            const Vec3f toCenter = light.center - reference;
+            const float distanceSquared = lengthSquared(toCenter);
+            const float radiusSquared = light.radius * light.radius;
+            if (distanceSquared <= radiusSquared * 1.0001f) {
+                // Inside (or on) the sphere: every point is visible, sample by area.
+                ls.lightNormal = sampleUniformSphere(u);
+                ls.point = light.center + ls.lightNormal * light.radius;
+            } else {
+                // Outside: sample the cone of directions the sphere subtends (pbrt-v4's
+                // Sphere::Sample), then find the point on the sphere that direction hits first.
+                const float distance = std::sqrt(distanceSquared);
+                const float sinThetaMax = light.radius / distance;
+                const float sin2ThetaMax = sinThetaMax * sinThetaMax;
+                const float cosThetaMax = std::sqrt(std::max(0.0f, 1.0f - sin2ThetaMax));
+                float cosTheta = (cosThetaMax - 1.0f) * u.x + 1.0f;
+                float sin2Theta = 1.0f - cosTheta * cosTheta;
+                if (sin2ThetaMax < 0.00068523f) {  // below ~1.5 degrees: Taylor expansion keeps precision
+                    sin2Theta = sin2ThetaMax * u.x;
+                    cosTheta = std::sqrt(1.0f - sin2Theta);
+                }
+                const float cosAlpha = sin2Theta / sinThetaMax +
+                                       cosTheta * std::sqrt(std::max(0.0f, 1.0f - sin2Theta / sin2ThetaMax));
+                const float sinAlpha = std::sqrt(std::max(0.0f, 1.0f - cosAlpha * cosAlpha));
+                const float phi = 2.0f * kPi * u.y;
+                const Frame frame = Frame::fromNormal(toCenter / distance);
+                // Angle alpha is measured at the centre, from the direction back to the reference.
+                const Vec3f fromCenter = frame.toWorld({sinAlpha * std::cos(phi), sinAlpha * std::sin(phi), -cosAlpha});
+                ls.lightNormal = normalize(fromCenter);
+                ls.point = light.center + ls.lightNormal * light.radius;
+            }
+            break;
+        }
+    }
+    const Vec3f toLight = ls.point - reference;
+    const float distanceSquared = lengthSquared(toLight);
+    if (!(distanceSquared > 0.0f)) return std::nullopt;
+    ls.distance = std::sqrt(distanceSquared);
+    ls.direction = toLight / ls.distance;
+    const float cosAtLight = dot(ls.lightNormal, -ls.direction);
+    ls.radiance = (cosAtLight > 0.0f || light.twoSided) ? light.radiance : Rgb(0.0f);
+    ls.pdf = choicePdf * solidAnglePdf(light, reference, ls.point);
+    ls.isDelta = false;
+    if (!(ls.pdf > 0.0f) || !std::isfinite(ls.pdf)) return std::nullopt;
+    return ls;
+}
+
+float LightSet::solidAnglePdf(const Light& light, Vec3f reference, Vec3f point) const {
+    const Vec3f toPoint = point - reference;
+    const float distanceSquared = lengthSquared(toPoint);
+    switch (light.kind) {
+        case LightKind::Triangle: {
+            const float cosAtLight = std::abs(dot(light.normal, toPoint)) / std::sqrt(distanceSquared);
+            return (light.area > 0.0f && cosAtLight > 0.0f) ? distanceSquared / (cosAtLight * light.area) : 0.0f;
+        }
+        case LightKind::Sphere: {
+            const float centerDistanceSquared = lengthSquared(light.center - reference);
+            const float radiusSquared = light.radius * light.radius;
+            if (centerDistanceSquared <= radiusSquared * 1.0001f) {
+                const Vec3f normal = normalize(point - light.center);
+                const float cosAtLight = std::abs(dot(normal, toPoint)) / std::sqrt(distanceSquared);
+                const float area = 4.0f * kPi * radiusSquared;
+                return cosAtLight > 0.0f ? distanceSquared / (cosAtLight * area) : 0.0f;
+            }
+            const float sin2ThetaMax = radiusSquared / centerDistanceSquared;
+            const float cosThetaMax = std::sqrt(std::max(0.0f, 1.0f - sin2ThetaMax));
+            // Same small-angle expansion as in sample(): 1 - cos(theta_max) ~ sin^2 / 2.
+            const float oneMinusCos = sin2ThetaMax < 0.00068523f ? 0.5f * sin2ThetaMax : 1.0f - cosThetaMax;
+            return 1.0f / (2.0f * kPi * oneMinusCos);
+        }
+        case LightKind::Point:
+        case LightKind::Directional:
+        case LightKind::Background: return 0.0f;  // not sampled by solid angle around a point
+    }
+    return 0.0f;
+}
+
+int32_t LightSet::lightIndexOf(ShapeRef shape) const {
+    switch (shape.kind) {
+        case ShapeKind::Mesh: {
+            const int32_t first = meshFirstLight_[shape.index];
+            return first < 0 ? -1 : first + int32_t(shape.primitive);
+        }
+        case ShapeKind::Sphere: return sphereLight_[shape.index];
+    }
+    return -1;
+}
+
+Rgb LightSet::emittedByAreaLight(const SurfaceInteraction& si, Vec3f towardsViewer) const {
+    const int32_t index = lightIndexOf(si.shape);
+    if (index < 0) return Rgb(0.0f);
+    const Light& light = lights_[index];
+    if (light.twoSided || dot(si.geometricNormal, towardsViewer) > 0.0f) return light.radiance;
+    return Rgb(0.0f);
+}
+
+float LightSet::pdfOfHit(Vec3f reference, const SurfaceInteraction& si) const {
+    const int32_t index = lightIndexOf(si.shape);
+    if (index < 0) return 0.0f;
+    return choice_.probability(size_t(index)) * solidAnglePdf(lights_[index], reference, si.position);
+}
+
+float LightSet::pdfOfBackground() const {
+    if (backgroundLight_ < 0) return 0.0f;
+    return choice_.probability(size_t(backgroundLight_)) * uniformSpherePdf();
+}
+
+}  // namespace penumbra

@@ -1,0 +1,108 @@
+// The lights of a scene as one closed set: emitting triangles, emitting spheres, point lights and
+// the constant background. Next-event estimation picks one light with probability proportional
+// to its power, then a point on it (triangles by area, spheres by the solid angle they subtend).
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "core/discrete_distribution.h"
+#include "core/rgb.h"
+#include "core/vec.h"
+#include "geometry/scene_geometry.h"
+#include "geometry/surface_interaction.h"
+#include "lights/light.h"
+
+namespace penumbra {
+
+enum class LightKind : uint8_t { Triangle, Sphere, Point, Directional, Background };
+
+struct Light {
+    LightKind kind = LightKind::Point;
+    Rgb radiance;            // area lights, background: radiance; point: intensity; directional: irradiance
+    bool twoSided = false;   // area lights
+    Vec3f p0, p1, p2;        // triangle vertices
+    Vec3f normal;            // triangle front normal (unit); directional: the direction light travels
+    float area = 0;          // triangle area
+    Vec3f center;            // sphere centre or point-light position
+    float radius = 0;        // sphere radius
+};
+
+struct LightSample {
+    Vec3f direction;   // unit, from the reference point towards the light
+    float distance;    // to the sampled point; infinity for the background
+    Vec3f point;       // sampled point on the light (for area lights)
+    Vec3f lightNormal; // front normal at the sampled point (area lights)
+    Rgb radiance;      // arriving along -direction (intensity / distance^2 for point lights)
+    float pdf;         // solid-angle density including the light choice; choice probability for deltas
+    bool isDelta;
+};
+
+class LightSet {
+public:
+    LightSet() = default;
+    LightSet(const SceneGeometry& geometry, const std::vector<PointLight>& pointLights,
+             const std::vector<DirectionalLight>& directionalLights, Rgb background);
+
+    bool empty() const { return choice_.empty(); }
+    // Whether a ray can find emission by hitting something (an area light or the background);
+    // with only point and directional lights it cannot.
+    bool emitsAlongRays() const { return hasAreaLights_ || !background_.isBlack(); }
+    size_t size() const { return lights_.size(); }
+
+    // Next-event estimation in two steps, so that the point sample is only drawn when it is used:
+    // choose() picks a light by power, sample() a point on it. Point and directional lights
+    // (isDelta) ignore uPoint; choose() with a single light ignores u.
+    uint32_t choose(float u) const { return choice_.sample(u); }
+    bool isDelta(uint32_t light) const {
+        return lights_[light].kind == LightKind::Point || lights_[light].kind == LightKind::Directional;
+    }
+    std::optional<LightSample> sample(uint32_t light, Vec3f reference, Vec2f uPoint) const {
+        // Point lights, the common case, inline; the other kinds in lights.cpp.
+        if (lights_[light].kind == LightKind::Point) return samplePoint(light, reference);
+        return sampleOther(light, reference, uPoint);
+    }
+
+    // Emitted radiance leaving a surface point towards `towardsViewer` (0 for non-emitters).
+    Rgb emitted(const SurfaceInteraction& si, Vec3f towardsViewer) const {
+        return hasAreaLights_ ? emittedByAreaLight(si, towardsViewer) : Rgb(0.0f);
+    }
+    Rgb background() const { return background_; }
+
+    // Density with which sample() from `reference` would have produced the emitter point `si`
+    // (solid angle, light choice included): the MIS weight of a BSDF-sampled hit.
+    float pdfOfHit(Vec3f reference, const SurfaceInteraction& si) const;
+    float pdfOfBackground() const;
+
+private:
+    std::optional<LightSample> samplePoint(uint32_t index, Vec3f reference) const {
+        const Light& light = lights_[index];
+        const Vec3f toLight = light.center - reference;
+        const float distanceSquared = lengthSquared(toLight);
+        if (!(distanceSquared > 0.0f)) return std::nullopt;
+        LightSample ls{};
+        ls.distance = std::sqrt(distanceSquared);
+        ls.direction = toLight / ls.distance;
+        ls.point = light.center;
+        ls.radiance = light.radiance / distanceSquared;
+        ls.pdf = choice_.probability(index);
+        ls.isDelta = true;
+        return ls;
+    }
+    std::optional<LightSample> sampleOther(uint32_t index, Vec3f reference, Vec2f uPoint) const;
+    Rgb emittedByAreaLight(const SurfaceInteraction& si, Vec3f towardsViewer) const;
+    int32_t lightIndexOf(ShapeRef shape) const;
+    float solidAnglePdf(const Light& light, Vec3f reference, Vec3f point) const;
+
+    std::vector<Light> lights_;
+    DiscreteDistribution choice_;
+    std::vector<int32_t> meshFirstLight_;    // per mesh: index of its first triangle light, or -1
+    std::vector<int32_t> sphereLight_;       // per sphere: its light index, or -1
+    int32_t backgroundLight_ = -1;
+    bool hasAreaLights_ = false;
+    Rgb background_;
+};
+
+}  // namespace penumbra

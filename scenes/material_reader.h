@@ -1,0 +1,20 @@
+// The scene file's "materials" section: name -> material, one reader per type in one table
+// (material_reader.cpp). scenes/README.md documents the keys.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "materials/material.h"
+#include "scenes/json_reader.h"
+
+namespace penumbra {
+
+// Appends the section's materials and their names, in file order.
+void readMaterials(const JsonValue& section, std::vector<Material>& materials, std::vector<std::string>& names);
+
+// The index of the material a shape names; an unknown name fails with the names known.
+uint32_t readMaterialReference(const JsonValue& value, const std::vector<std::string>& names);
+
+}  // namespace penumbra
