@@ -526,8 +526,8 @@ bool BvhAccelerator::traverse(const Ray& ray, Hit* hit) const {
                     continue;
                 }
                 // Several: all pushed, sorted so the nearest is on top, and that one taken now.
-                // occluded() takes them as they come: any hit ends it, and on the shadow rays of
-                // bench/accel_bench sorting cost more (7-10%) than finding a blocker sooner saved.
+                // occluded() takes them as they come: any hit ends it, and sorting cost more than
+                // finding a blocker sooner saved (bench/README.md, "Speed tricks").
                 const int first = top;
                 do {
                     const int i = __builtin_ctz(unsigned(mask));

@@ -69,9 +69,7 @@ private:
 
 inline bool EmbreeAccelerator::traceableRows(const Ray& ray, __m128& orgTnear, __m128& dirTime) {
     // Built from the fields, not loaded 16 bytes at a time: the ray was usually just written field
-    // by field, and a wide load of narrower stores still in flight cannot be forwarded from them:
-    // it waits for the stores to reach the cache (perf put 3% of the render's samples on that
-    // wait; building the rows from the fields took 0.6% off the render's time).
+    // by field (bench/README.md, "Store forwarding").
     orgTnear = _mm_setr_ps(ray.origin.x, ray.origin.y, ray.origin.z, ray.tnear);
     dirTime = _mm_setr_ps(ray.direction.x, ray.direction.y, ray.direction.z, ray.time);
     const __m128 zero = _mm_setzero_ps();

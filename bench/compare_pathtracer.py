@@ -130,15 +130,15 @@ def median(values):
     return statistics.median(values) if values else None
 
 
-def alternate(label_a, cmd_a, label_b, cmd_b, reps, cwd, warmup=True):
-    """A B A B ... reps times each; returns {label: [results]}."""
-    results = {label_a: [], label_b: []}
+def alternate(programs, reps, cwd, warmup=True):
+    """A B (C) A B (C) ... reps times each, for programs [(label, cmd), ...]; returns {label: [results]}."""
+    results = {label: [] for label, _ in programs}
     if warmup:
-        log(f"warm-up: {label_a}, {label_b}")
-        timed(cmd_a, cwd)
-        timed(cmd_b, cwd)
+        log("warm-up: " + ", ".join(label for label, _ in programs))
+        for _, cmd in programs:
+            timed(cmd, cwd)
     for i in range(reps):
-        for label, cmd in ((label_a, cmd_a), (label_b, cmd_b)):
+        for label, cmd in programs:
             r = timed(cmd, cwd)
             results[label].append(r)
             log(f"  {label} #{i + 1}: {r['wall_s']:.2f} s wall, {r['peak_rss_mib']:.1f} MiB peak, "
@@ -312,6 +312,12 @@ def markdown(res):
                  f"**{fmt(ratio, '.2f', 'x')}** | <= 1.0x (stretch 0.8x) |")
     lines.append(f"| wall time, median of the pairwise ratios (A run / the B run after it) | | | "
                  f"{fmt(t.get('median_pairwise_wall_ratio'), '.2f', 'x')} | |")
+    if "baseline" in t:
+        b = t["baseline"]
+        lines.append(f"| baseline penumbra (--baseline-binary): wall time, median (s) | {fmt(b['median_wall_s'])} | | "
+                     f"{fmt(t['baseline_wall_ratio_to_pathtracer'], '.2f', 'x')} of pathtracer; this build "
+                     f"{fmt(t['median_wall_ratio_to_baseline'], '.3f', 'x')} of the baseline's wall time, "
+                     f"{fmt(t.get('median_render_ratio_to_baseline'), '.3f', 'x')} of its render time | |")
     lines.append(f"| wall times (s) | {', '.join(fmt(x) for x in p['wall_s'])} | "
                  f"{', '.join(fmt(x) for x in e['wall_s'])} | | |")
     lines.append(f"| CPU time, user + system (s, median) | {fmt(p['median_cpu_s'])} | {fmt(e['median_cpu_s'])} | "
@@ -382,6 +388,8 @@ def main():
     ap.add_argument("--skip-rays", action="store_true")
     ap.add_argument("--results", default=os.path.join(REPO, "bench", "results"))
     ap.add_argument("--work-dir", default=None, help="images and logs (default: BUILD_DIR/compare-pathtracer)")
+    ap.add_argument("--baseline-binary", default=None,
+                    help="another penumbra (e.g. an earlier commit's build) timed in the same alternation")
     args = ap.parse_args()
     if args.reps < 3:
         ap.error("--reps must be at least 3")
@@ -411,10 +419,13 @@ def main():
 
     # 1. Wall time, A B A B.
     log("timing penumbra (A) against pathtracer (B)")
-    runs = alternate("penumbra", penumbra_cmd(penumbra, ours_exr), "pathtracer", pathtracer_cmd(emb_ppm),
-                     args.reps, work)
+    programs = [("penumbra", penumbra_cmd(penumbra, ours_exr)), ("pathtracer", pathtracer_cmd(emb_ppm))]
+    if args.baseline_binary:
+        programs.append(("baseline", penumbra_cmd(os.path.abspath(args.baseline_binary),
+                                                  os.path.join(work, "baseline.exr"))))
+    runs = alternate(programs, args.reps, work)
     timing = {"reps": args.reps}
-    for label in ("penumbra", "pathtracer"):
+    for label, _ in programs:
         rs = runs[label]
         entry = {
             "wall_s": [r["wall_s"] for r in rs],
@@ -426,7 +437,7 @@ def main():
             "cpu_s": [(r["user_s"] or 0) + (r["sys_s"] or 0) for r in rs],
         }
         entry["median_cpu_s"] = median(entry["cpu_s"])
-        if label == "penumbra":
+        if label in ("penumbra", "baseline"):
             summaries = [parse_penumbra_summary(r["stdout"]) for r in rs]
             entry["render_s"] = [s.get("render_s") for s in summaries]
             entry["median_render_s"] = median(entry["render_s"])
@@ -441,6 +452,12 @@ def main():
     timing["median_pairwise_wall_ratio"] = median(timing["pairwise_wall_ratios"])
     timing["median_cpu_ratio"] = timing["penumbra"]["median_cpu_s"] / timing["pathtracer"]["median_cpu_s"]
     timing["peak_rss_ratio"] = timing["penumbra"]["median_peak_rss_mib"] / timing["pathtracer"]["median_peak_rss_mib"]
+    if "baseline" in timing:
+        b = timing["baseline"]
+        timing["baseline_wall_ratio_to_pathtracer"] = b["median_wall_s"] / timing["pathtracer"]["median_wall_s"]
+        timing["median_wall_ratio_to_baseline"] = timing["penumbra"]["median_wall_s"] / b["median_wall_s"]
+        timing["median_render_ratio_to_baseline"] = (timing["penumbra"]["median_render_s"] / b["median_render_s"]
+                                                      if b.get("median_render_s") else None)
     res["timing"] = timing
 
     # 2. Images, in Embree's domain.

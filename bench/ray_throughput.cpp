@@ -41,10 +41,9 @@
 #include "core/sampling.h"
 #include "renderer/camera_samples.h"
 #include "film/film.h"
-#include "lights/light_set.h"
 #include "renderer/path_integrator.h"
 #include "renderer/render.h"
-#include "renderer/scene_materials.h"
+#include "renderer/prepared_scene.h"
 #include "accel/embree_accelerator.h"
 #include "scenes/scene_loader.h"
 
@@ -70,6 +69,10 @@ struct RecordingAccelerator {
     const EmbreeAccelerator* inner;
     std::vector<RecordedRay>* out;
     mutable bool first = true;  // the next intersect() is the sample's camera ray
+
+    static constexpr std::string_view kName = "recording-embree";
+    static constexpr int kPacketSize = 1;
+    static constexpr bool kReportsCanonicalHits = EmbreeAccelerator::kReportsCanonicalHits;
 
     bool intersect(const Ray& ray, Hit& hit) const {
         check(ray);
@@ -98,12 +101,10 @@ struct Recording {
 
 Recording recordPaths(const Scene& scene, const EmbreeAccelerator& accel, const std::vector<uint64_t>& pixels,
                       uint32_t spp) {
-    const ThinLensCamera camera(scene.camera, scene.film.width, scene.film.height);
-    const LightSet lights(scene);
-    const std::vector<Material> materials = buildMaterials(scene);
-    const FaceFrames faceFrames(scene);
-    const IntegratorContext ctx = IntegratorContext::forScene(scene, lights, materials, &faceFrames);
-    const bool sceneMoves = scene.hasMotion();
+    const PreparedScene prepared(scene);
+    const ThinLensCamera& camera = prepared.camera();
+    const IntegratorContext ctx = prepared.integratorContext();
+    const bool sceneMoves = prepared.moves();
 
     Recording rec;
     RecordingAccelerator recorder{&accel, &rec.rays};

@@ -7,8 +7,7 @@
 //    on a large mesh is also a TLB miss, with 2 MiB pages a few dozen pages cover the whole tree.
 //    Embree does the same by default on Linux (its "hugepages" device option).
 //  - Page faults (the film, the EXR writer's buffers): a fresh 4 KiB page costs a fault when it is
-//    first written, and on a virtual machine a fault is dear (measured on the 2-core development
-//    VM: 64 MiB took 180 ms to fault in by 4 KiB pages, 4-8 ms by 2 MiB pages).
+//    first written, and on a virtual machine a fault is dear (bench/README.md, "Speed tricks").
 #pragma once
 
 #include <cstddef>

@@ -2,8 +2,8 @@
 //
 // Each addend is rounded to 2^-48 units exactly as ExactSum::add rounds it, and integer addition
 // is associative, so the pixel's sums come out bit for bit as if every sample had been added to
-// it directly. Adding to a register is cheaper than to a 128-bit sum in memory (the film's adds
-// were ~5% of the render). Addends too large to be summed in 64 bits go to the pixel at once.
+// it directly. Adding to a register is cheaper than to a 128-bit sum in memory (bench/README.md,
+// "Speed tricks"). Addends too large to be summed in 64 bits go to the pixel at once.
 #pragma once
 
 #include <cstdint>

@@ -41,29 +41,34 @@ public:
     // `twoSided` applies to reflectors; false makes them black seen from the back.
     Material(MaterialModel model, bool twoSided = true)
         : model_(std::move(model)), twoSided_(twoSided),
-          flags_(std::visit([](const auto& m) { return m.kFlags; }, model_)) {}
+          flags_(std::visit([](const auto& m) { return m.kFlags; }, model_)),
+          usesLobeSample_(hasSeveralLobes(flags_)), purelySpecular_(penumbra::isPurelySpecular(flags_)) {}
 
     const MaterialModel& model() const { return model_; }
     bool twoSided() const { return twoSided_; }
     BsdfFlags flags() const { return flags_; }
     // Whether sample() chooses between lobes with its uLobe argument; when not, the integrator
     // need not draw that sample dimension.
-    bool usesLobeSample() const { return hasSeveralLobes(flags_); }
+    bool usesLobeSample() const { return usesLobeSample_; }
     // True when every lobe is a delta distribution, so next-event estimation is pointless.
-    bool isPurelySpecular() const { return penumbra::isPurelySpecular(flags_); }
+    bool isPurelySpecular() const { return purelySpecular_; }
+
+    // Lambert, the most common case, is small enough to inline into the integrator; the other
+    // models are visited out of line (bench/README.md, "Speed tricks").
 
     // BSDF value f(wo, wi), without the cosine; 0 for specular lobes.
     Rgb eval(Vec3f wo, Vec3f wi, bool front) const {
         if (!twoSided_ && !front) return Rgb(0.0f);
-        return std::visit([&](const auto& m) { return m.eval(wo, wi); }, model_);
+        if (const Lambert* lambert = std::get_if<Lambert>(&model_)) return lambert->eval(wo, wi);
+        return evalOutOfLine(wo, wi);
     }
     // Solid-angle density with which sample() produces wi; 0 for specular lobes.
     float pdf(Vec3f wo, Vec3f wi, bool front) const {
         if (!twoSided_ && !front) return 0.0f;
-        return std::visit([&](const auto& m) { return m.pdf(wo, wi); }, model_);
+        if (const Lambert* lambert = std::get_if<Lambert>(&model_)) return lambert->pdf(wo, wi);
+        return pdfOutOfLine(wo, wi);
     }
     std::optional<BsdfSample> sample(Vec3f wo, float uLobe, Vec2f u, bool front) const {
-        // Lambert, the most common case, is small enough to inline into the integrator.
         if (const Lambert* lambert = std::get_if<Lambert>(&model_); lambert && (twoSided_ || front))
             return lambert->sample(wo, u);
         return sampleOutOfLine(wo, uLobe, u, front);
@@ -83,6 +88,12 @@ public:
     }
 
 private:
+    [[gnu::noinline]] Rgb evalOutOfLine(Vec3f wo, Vec3f wi) const {
+        return std::visit([&](const auto& m) { return m.eval(wo, wi); }, model_);
+    }
+    [[gnu::noinline]] float pdfOutOfLine(Vec3f wo, Vec3f wi) const {
+        return std::visit([&](const auto& m) { return m.pdf(wo, wi); }, model_);
+    }
     [[gnu::noinline]] std::optional<BsdfSample> sampleOutOfLine(Vec3f wo, float uLobe, Vec2f u, bool front) const {
         if (!twoSided_ && !front) return std::nullopt;
         return std::visit([&](const auto& m) { return m.sample(wo, uLobe, u, front); }, model_);
@@ -91,6 +102,9 @@ private:
     MaterialModel model_;
     bool twoSided_ = true;
     BsdfFlags flags_;
+    // Derived from flags_ once: the integrator asks at every vertex.
+    bool usesLobeSample_;
+    bool purelySpecular_;
 };
 
 }  // namespace penumbra

@@ -21,9 +21,7 @@
 // therefore have their front sides (geometric normals) facing out.
 //
 // The integrator is a template over the traversal backend (accel/traversal.h) so that the per-ray
-// calls are direct, never virtual. Each vertex of a path takes the same named steps, in this
-// order: the emission found at the hit, the direct light (a shadow ray left pending), the
-// continuation (BSDF sample and Russian roulette), then the pending shadow ray is traced.
+// calls are direct, never virtual.
 #pragma once
 
 #include <cmath>
@@ -79,40 +77,12 @@ struct TracedRay {
 
 namespace detail {
 
-// What a path carries from vertex to vertex.
-struct PathState {
-    Rgb radiance{0.0f};
-    Rgb throughput{1.0f};
-    float etaScale = 1.0f;  // product of eta^2 over the refractions so far (see Russian roulette above)
-    // The previous vertex's BSDF sample, for the MIS weight of emission found by it.
-    float previousBsdfPdf = 0.0f;
-    bool previousWasSpecular = true;  // the camera vertex: emitters seen directly get full weight
-    Vec3f previousPosition;
-};
-
-// A shadow ray whose contribution is added if nothing blocks it.
-struct PendingShadowRay {
-    bool pending = false;
-    Ray ray;
-    Rgb contribution;
-};
-
-// The shading point at a vertex, seen from the direction the path arrived from.
-struct Vertex {
-    SurfaceInteraction si;
-    const Material* material;
-    Vec3f wo;          // unit, towards where the path came from
-    bool woAbove;      // wo on the front side of the geometric surface
-    Frame frame;       // the shading frame
-    Vec3f woLocal;
-};
-
 inline bool isUnit(Vec3f v) { return std::abs(length(v) - 1.0f) < 1e-3f; }
 
 // Turns `ray` into the ray leaving `si` in direction `direction`, offset off the surface on that
 // side, at the same time (`cosGeometric`: dot(direction, si.geometricNormal), which the caller has
-// computed already). Written in place, field by field (bench/README.md: store forwarding).
-inline void continueRay(Ray& ray, const SurfaceInteraction& si, Vec3f direction, float cosGeometric) {
+// computed already). Written in place, field by field (bench/README.md, "Speed tricks").
+[[gnu::always_inline]] inline void continueRay(Ray& ray, const SurfaceInteraction& si, Vec3f direction, float cosGeometric) {
     const Vec3f side = cosGeometric >= 0.0f ? si.geometricNormal : -si.geometricNormal;
     ray.origin = offsetRayOrigin(si.position, side);
     ray.direction = direction;
@@ -122,7 +92,7 @@ inline void continueRay(Ray& ray, const SurfaceInteraction& si, Vec3f direction,
 
 // A shadow ray from `si` to a point on a light; both ends are moved off their surfaces, so the
 // segment [0, 1) of the unnormalized direction may be tested in full. `cosGeometric` as for continueRay.
-inline Ray spawnShadowRay(const SurfaceInteraction& si, const LightSample& ls, float cosGeometric, float time) {
+[[gnu::always_inline]] inline Ray spawnShadowRay(const SurfaceInteraction& si, const LightSample& ls, float cosGeometric, float time) {
     const Vec3f side = cosGeometric >= 0.0f ? si.geometricNormal : -si.geometricNormal;
     Ray ray;
     ray.origin = offsetRayOrigin(si.position, side);
@@ -138,116 +108,29 @@ inline Ray spawnShadowRay(const SurfaceInteraction& si, const LightSample& ls, f
     return ray;
 }
 
-// The background's radiance reaching a path that leaves the scene, weighted against its NEE.
-[[gnu::always_inline]] inline void addEscapedRadiance(PathState& path, const LightSet& lights) {
-    const Rgb background = lights.background();
-    if (background.isBlack()) return;
-    const float weight =
-        path.previousWasSpecular ? 1.0f : powerHeuristic(path.previousBsdfPdf, lights.pdfOfBackground());
-    path.radiance += path.throughput * background * weight;
-}
-
-// Beer-Lambert absorption along a segment that arrived at the back side of an absorbing interior.
-[[gnu::always_inline]] inline void absorbAlongSegment(PathState& path, const Vertex& v, const Ray& ray, float t) {
-    if (v.woAbove) return;
-    const Rgb sigma = v.material->interiorAbsorption();
-    if (sigma.isBlack()) return;
-    const float distance = t * length(ray.direction);
-    path.throughput *= Rgb(std::exp(-sigma.r * distance), std::exp(-sigma.g * distance),
-                           std::exp(-sigma.b * distance));
-}
-
-// Emission at the hit, found by the previous vertex's BSDF sample: weighted against NEE.
-[[gnu::always_inline]] inline void addEmissionAtHit(PathState& path, const LightSet& lights, const Vertex& v) {
-    const Rgb emitted = lights.emitted(v.si, v.wo);
-    if (emitted.isBlack()) return;
-    const float weight = path.previousWasSpecular
-                             ? 1.0f
-                             : powerHeuristic(path.previousBsdfPdf, lights.pdfOfHit(path.previousPosition, v.si));
-    path.radiance += path.throughput * emitted * weight;
-}
-
-// Next-event estimation: one light chosen by power, a point on it, and the shadow ray that decides
-// whether its contribution (weighted against the BSDF sample by MIS) counts.
-[[gnu::always_inline]] inline PendingShadowRay sampleDirectLight(const LightSet& lights, const PixelSample& sample,
-                                                                 uint32_t bounce, const Vertex& v,
-                                                                 const PathState& path, float time) {
-    PendingShadowRay shadow;
-    if (lights.empty() || v.material->isPurelySpecular()) return shadow;
-    // Sample values that would not be used are not drawn (each dimension is keyed on its own, so
-    // skipping one leaves the others as they are).
-    const uint32_t light = lights.choose(lights.size() > 1 ? sample.get1D(Dim::LightChoice, bounce) : 0.5f);
-    const auto ls = lights.sample(light, v.si.position,
-                                  lights.isDelta(light) ? Vec2f{0.5f, 0.5f} : sample.get2D(Dim::LightPosition, bounce));
-    const Vec3f wiLocal = ls ? v.frame.toLocal(ls->direction) : Vec3f{};
-    // Reflection needs the light on wo's side of the geometric surface, transmission on the other.
-    const bool reflects = v.woLocal.z * wiLocal.z > 0.0f;
-    const float cosLight = ls ? dot(ls->direction, v.si.geometricNormal) : 0.0f;
-    if (!ls || ls->radiance.isBlack() || ((cosLight > 0.0f) == v.woAbove) != reflects) return shadow;
-    const Rgb f = v.material->eval(v.woLocal, wiLocal, v.woAbove) * std::abs(wiLocal.z);
-    if (f.isBlack()) return shadow;
-    PENUMBRA_CHECK(ls->pdf > 0.0f, "a light sample has a positive density");
-    shadow.pending = true;
-    shadow.ray = spawnShadowRay(v.si, *ls, cosLight, time);
-    const float weight = ls->isDelta ? 1.0f : powerHeuristic(ls->pdf, v.material->pdf(v.woLocal, wiLocal, v.woAbove));
-    shadow.contribution = path.throughput * f * ls->radiance * (weight / ls->pdf);
-    return shadow;
-}
-
-// The continuation: a BSDF sample for the next segment, then Russian roulette. False when the path
-// ends here; otherwise `ray` is the next segment and the path's throughput and MIS state are updated.
-[[gnu::always_inline]] inline bool continuePath(const IntegratorContext& ctx, const PixelSample& sample,
-                                                uint32_t bounce, Vec2f uDirection, const Vertex& v, PathState& path,
-                                                Ray& ray) {
-    const Material& material = *v.material;
-    const float uLobe = material.usesLobeSample() ? sample.get1D(Dim::BsdfLobe, bounce) : 0.5f;
-    const auto bs = material.sample(v.woLocal, uLobe, uDirection, v.woAbove);
-    if (!bs) return false;
-    PENUMBRA_CHECK(bs->pdf > 0.0f, "a BSDF sample has a positive density");
-    const Vec3f wi = v.frame.toWorld(bs->wi);
-    PENUMBRA_CHECK(isUnit(wi), "a BSDF sample's direction has unit length");
-    const float cosWi = dot(wi, v.si.geometricNormal);
-    // A reflection that crosses the geometric surface, or a transmission that does not.
-    if (((cosWi > 0.0f) != v.woAbove) != bs->isTransmission()) return false;
-    path.throughput *= bs->weight;
-    if (bs->isTransmission()) path.etaScale *= bs->eta * bs->eta;
-    if (path.throughput.isBlack()) return false;
-    path.previousBsdfPdf = bs->pdf;
-    path.previousWasSpecular = bs->isSpecular();
-    path.previousPosition = v.si.position;
-
-    if (int(bounce) + 1 >= ctx.rouletteStartDepth) {
-        // A path that survives for certain draws no sample (u < 1 never ends it).
-        const float survival = std::min(1.0f, (path.throughput * path.etaScale).maxComponent());
-        if (survival < 1.0f) {
-            if (sample.get1D(Dim::RussianRoulette, bounce) >= survival) return false;
-            path.throughput *= 1.0f / survival;
-        }
-    }
-    PENUMBRA_CHECK(path.throughput.isFinite() && path.throughput.minComponent() >= 0.0f,
-                   "a path's throughput is finite and non-negative");
-    // The ray past the last vertex only looks for emission; without emitters it could hit, it is
-    // not traced (as Embree's pathtracer counts path length).
-    if (int(bounce) + 1 >= ctx.maxDepth && !ctx.lights->emitsAlongRays()) return false;
-    continueRay(ray, v.si, wi, cosWi);
-    return true;
-}
-
 }  // namespace detail
 
-// Radiance arriving along `ray` (a camera ray) for the sample `sample`. When `firstHit` is given
+// Radiance arriving along `ray` (a camera ray) for the sample `sample`. Each vertex takes the
+// steps named in the comments below in this order: emission at the hit, direct light (a shadow
+// ray left pending), continuation, then the pending shadow ray. They stay one loop body rather
+// than functions: as functions passing a vertex and a pending shadow ray by struct they cost 3%
+// more instructions (bench/README.md, "Speed tricks").
+// When `firstHit` is given
 // it receives the first hit's AOVs (hit = false when the ray leaves the scene). When `traced` is
 // given it is what tracing `ray` found, and the ray is not traced again.
 template <TraversalBackend Accel>
 Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, const PixelSample& sample,
                      RayCounters& rays, FirstHitAovs* firstHit = nullptr, const TracedRay* traced = nullptr) {
     const LightSet& lights = *ctx.lights;
-    detail::PathState path;
-    path.previousPosition = ray.origin;
+    Rgb radiance(0.0f), throughput(1.0f);
+    float etaScale = 1.0f;  // product of eta^2 over the refractions so far (see Russian roulette above)
+    float previousBsdfPdf = 0.0f;
+    bool previousWasDelta = true;  // the camera vertex: emitters seen directly get full weight
+    Vec3f previousPosition = ray.origin;
     ++rays.primary;
 
     for (uint32_t bounce = 0;; ++bounce) {
-        // Drawn before the ray is traced although it is used after (bench/README.md: latency).
+        // Drawn before the ray is traced although it is used after (bench/README.md, "Speed tricks").
         const Vec2f uDirection = sample.get2D(Dim::BsdfDirection, bounce);
         Hit hit;
         bool found;
@@ -257,41 +140,122 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
         } else {
             found = accel.intersect(ray, hit);
         }
+        // --- Escape: the background, weighted against its NEE.
         if (!found) {
-            detail::addEscapedRadiance(path, lights);
+            const Rgb background = lights.background();
+            if (!background.isBlack()) {
+                const float weight =
+                    previousWasDelta ? 1.0f : powerHeuristic(previousBsdfPdf, lights.pdfOfBackground());
+                radiance += throughput * background * weight;
+            }
             break;
         }
-        detail::Vertex v;
-        v.si = Accel::kReportsCanonicalHits || !ctx.canonicalHits
-                   ? resolveHit<true>(*ctx.scene, ray, hit, ctx.faceFrames)
-                   : resolveHit<false>(*ctx.scene, ray, hit, ctx.faceFrames);
+        const SurfaceInteraction si = Accel::kReportsCanonicalHits || !ctx.canonicalHits
+                                          ? resolveHit<true>(*ctx.scene, ray, hit, ctx.faceFrames)
+                                          : resolveHit<false>(*ctx.scene, ray, hit, ctx.faceFrames);
         // Bounce rays leave in unit directions (the BSDF's, turned into the world); only the
         // caller's camera ray may not be.
-        v.wo = bounce == 0 ? -normalize(ray.direction) : -ray.direction;
-        v.material = &ctx.scene->materials[v.si.material];
-        v.woAbove = dot(v.wo, v.si.geometricNormal) > 0.0f;
-        if (bounce == 0 && firstHit)
-            *firstHit = {true, hit.t * length(ray.direction), v.si.shadingNormal, v.material->albedo()};
+        const Vec3f wo = bounce == 0 ? -normalize(ray.direction) : -ray.direction;
+        const Material& material = ctx.scene->materials[si.material];
+        const bool woAbove = dot(wo, si.geometricNormal) > 0.0f;
+        if (bounce == 0 && firstHit) *firstHit = {true, hit.t * length(ray.direction), si.shadingNormal, material.albedo()};
 
-        detail::absorbAlongSegment(path, v, ray, hit.t);
-        detail::addEmissionAtHit(path, lights, v);
+        // --- Absorption: Beer-Lambert along the segment that arrived at the back side.
+        if (!woAbove) {
+            const Rgb sigma = material.interiorAbsorption();
+            if (!sigma.isBlack()) {
+                const float distance = hit.t * length(ray.direction);
+                throughput *= Rgb(std::exp(-sigma.r * distance), std::exp(-sigma.g * distance),
+                                  std::exp(-sigma.b * distance));
+            }
+        }
+
+        // --- Emission at the hit, found by the previous vertex's BSDF sample: weighted against NEE.
+        const Rgb emitted = lights.emitted(si, wo);
+        if (!emitted.isBlack()) {
+            const float weight = previousWasDelta ? 1.0f : powerHeuristic(previousBsdfPdf, lights.pdfOfHit(previousPosition, si));
+            radiance += throughput * emitted * weight;
+        }
         if (int(bounce) >= ctx.maxDepth) break;
 
-        v.frame = v.si.shadingFrame ? *v.si.shadingFrame : Frame::fromNormal(v.si.shadingNormal);
-        v.woLocal = v.frame.toLocal(v.wo);
-        // The shadow ray is traced after the continuation's BSDF sample, not before: the two are
-        // independent (bench/README.md: overlap).
-        const detail::PendingShadowRay shadow = detail::sampleDirectLight(lights, sample, bounce, v, path, ray.time);
-        const bool continues = detail::continuePath(ctx, sample, bounce, uDirection, v, path, ray);
+        const Frame frame = si.shadingFrame ? *si.shadingFrame : Frame::fromNormal(si.shadingNormal);
+        const Vec3f woLocal = frame.toLocal(wo);
 
-        if (shadow.pending) {
+        // --- Direct light (next-event estimation): the shadow ray and what it adds when
+        // unoccluded. It is traced after the continuation's BSDF sample, not before: the two are
+        // independent (bench/README.md, "Speed tricks").
+        bool castsShadowRay = false;
+        Ray shadowRay;
+        Rgb shadowContribution;
+        if (!lights.empty() && !material.isPurelySpecular()) {
+            // Sample values that would not be used are not drawn (each dimension is keyed on its
+            // own, so skipping one leaves the others as they are).
+            const uint32_t light = lights.choose(lights.size() > 1 ? sample.get1D(Dim::LightChoice, bounce) : 0.5f);
+            const auto ls = lights.sample(light, si.position,
+                                          lights.isDelta(light) ? Vec2f{0.5f, 0.5f} : sample.get2D(Dim::LightPosition, bounce));
+            const Vec3f wiLocal = ls ? frame.toLocal(ls->direction) : Vec3f{};
+            // Reflection needs the light on wo's side of the geometric surface, transmission on the other.
+            const bool reflects = woLocal.z * wiLocal.z > 0.0f;
+            const float cosLight = ls ? dot(ls->direction, si.geometricNormal) : 0.0f;
+            if (ls && !ls->radiance.isBlack() && ((cosLight > 0.0f) == woAbove) == reflects) {
+                const Rgb f = material.eval(woLocal, wiLocal, woAbove) * std::abs(wiLocal.z);
+                if (!f.isBlack()) {
+                    PENUMBRA_CHECK(ls->pdf > 0.0f, "a light sample has a positive density");
+                    castsShadowRay = true;
+                    shadowRay = detail::spawnShadowRay(si, *ls, cosLight, ray.time);
+                    const float weight =
+                        ls->isDelta ? 1.0f : powerHeuristic(ls->pdf, material.pdf(woLocal, wiLocal, woAbove));
+                    shadowContribution = throughput * f * ls->radiance * (weight / ls->pdf);
+                }
+            }
+        }
+
+        // --- Continuation: a BSDF sample for the next segment, then Russian roulette. Whether the
+        // path goes on, and if so its next segment in `ray` (and its new throughput: the shadow
+        // ray's contribution has the old one).
+        const bool continues = [&]() __attribute__((always_inline)) {
+            const float uLobe = material.usesLobeSample() ? sample.get1D(Dim::BsdfLobe, bounce) : 0.5f;
+            const auto bs = material.sample(woLocal, uLobe, uDirection, woAbove);
+            if (!bs) return false;
+            PENUMBRA_CHECK(bs->pdf > 0.0f, "a BSDF sample has a positive density");
+            const Vec3f wi = frame.toWorld(bs->wi);
+            PENUMBRA_CHECK(detail::isUnit(wi), "a BSDF sample's direction has unit length");
+            const float cosWi = dot(wi, si.geometricNormal);
+            // A reflection that crosses the geometric surface, or a transmission that does not.
+            if (((cosWi > 0.0f) != woAbove) != bs->isTransmission()) return false;
+            throughput *= bs->weight;
+            if (bs->isTransmission()) etaScale *= bs->eta * bs->eta;
+            if (throughput.isBlack()) return false;
+            previousBsdfPdf = bs->pdf;
+            previousWasDelta = bs->isSpecular();
+            previousPosition = si.position;
+
+            if (int(bounce) + 1 >= ctx.rouletteStartDepth) {
+                // A path that survives for certain draws no sample (u < 1 never ends it).
+                const float survival = std::min(1.0f, (throughput * etaScale).maxComponent());
+                if (survival < 1.0f) {
+                    if (sample.get1D(Dim::RussianRoulette, bounce) >= survival) return false;
+                    throughput *= 1.0f / survival;
+                }
+            }
+            PENUMBRA_CHECK(throughput.isFinite() && throughput.minComponent() >= 0.0f,
+                           "a path's throughput is finite and non-negative");
+            // The ray past the last vertex only looks for emission; without emitters it could hit,
+            // it is not traced (as Embree's pathtracer counts path length).
+            if (int(bounce) + 1 >= ctx.maxDepth && !lights.emitsAlongRays()) return false;
+            detail::continueRay(ray, si, wi, cosWi);
+            return true;
+        }();
+
+        // --- The pending shadow ray.
+        if (castsShadowRay) {
             ++rays.shadow;
-            if (!accel.occluded(shadow.ray)) path.radiance += shadow.contribution;
+            if (!accel.occluded(shadowRay)) radiance += shadowContribution;
         }
         if (!continues) break;
         ++rays.extension;
     }
-    return path.radiance;
+    return radiance;
 }
 
 }  // namespace penumbra

@@ -40,7 +40,7 @@ TileResult renderTile(const Accel& accel, const Scene& scene, const ThinLensCame
     constexpr int kPacket = Accel::kPacketSize;
     TileResult result;
     // A group's samples, camera rays and what they hit, declared once per tile: every entry used
-    // is assigned first, and zeroing the arrays for each group cost ~1% of the render.
+    // is assigned first, so they need no zeroing per group (bench/README.md, "Speed tricks").
     std::optional<PixelSample> samples[kPacket];  // made once, for the camera ray and the path
     Ray cameraRays[kPacket];
     TracedRay traced[kPacket];

@@ -67,8 +67,8 @@ struct RenderStats {
 
 // The pass size for about a million samples a pass over `windowPixels` pixels (a signal or a
 // checkpoint then waits about that long), rounded up to a multiple of the camera-ray packet size:
-// a pass that ends inside a packet's sample indices splits the packet in two half-empty ones (with
-// 4 samples a pass, as 512x512 would otherwise get, the render took 3% more instructions).
+// a pass that ends inside a packet's sample indices splits the packet in two half-empty ones
+// (bench/README.md, "Speed tricks").
 uint32_t defaultPassSize(uint64_t windowPixels);
 
 // Renders `scene` into `film` (sized to the scene's resolution), adding to what it holds.

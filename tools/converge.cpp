@@ -16,6 +16,7 @@
 #include "film/image_output.h"
 #include "film/image_plugin_loader.h"
 #include "renderer/render.h"
+#include "tools/cli_numbers.h"
 #include "tools/split_text.h"
 #include "scenes/scene_loader.h"
 
@@ -27,19 +28,6 @@ using Clock = std::chrono::steady_clock;
 
 double secondsOf(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
 
-
-long parseNumber(const std::string& option, const std::string& text, long low, long high) {
-    size_t used = 0;
-    long value = 0;
-    try {
-        value = std::stol(text, &used);
-    } catch (const std::exception&) {
-        used = 0;
-    }
-    if (text.empty() || used != text.size() || value < low || value > high)
-        throw InputError(fmt::format("{}: expected an integer in [{}, {}], got '{}'", option, low, high, text));
-    return value;
-}
 
 // Error of a mean image against the reference, over all pixels and channels.
 RungError measure(const Film& film, const std::vector<float>& reference) {
@@ -151,11 +139,11 @@ std::vector<uint32_t> parseRungs(const std::string& text) {
                                              "of the first, and come before a last number, as in 1,2,4,...,1024; got '{}'",
                                              text));
             const uint32_t ratio = rungs[rungs.size() - 1] / rungs[rungs.size() - 2];
-            const uint32_t last = uint32_t(parseNumber("--spp", parts[i + 1], 1, 1 << 24));
+            const uint32_t last = uint32_t(parseIntegerOption("--spp", parts[i + 1], 1, 1 << 24));
             for (uint64_t v = uint64_t(rungs.back()) * ratio; v < last; v *= ratio) rungs.push_back(uint32_t(v));
             continue;
         }
-        rungs.push_back(uint32_t(parseNumber("--spp", parts[i], 1, 1 << 24)));
+        rungs.push_back(uint32_t(parseIntegerOption("--spp", parts[i], 1, 1 << 24)));
     }
     for (size_t i = 1; i < rungs.size(); ++i)
         if (rungs[i] <= rungs[i - 1])
@@ -442,8 +430,8 @@ int runConvergeCommand(const ConvergeCommand& cmd) {
     if (!cmd.resolution.empty()) {
         const auto parts = splitText(cmd.resolution, 'x');
         if (parts.size() != 2) throw InputError(fmt::format("--res: expected WIDTHxHEIGHT, got '{}'", cmd.resolution));
-        scene.film.width = int(parseNumber("--res", parts[0], 1, 1 << 16));
-        scene.film.height = int(parseNumber("--res", parts[1], 1, 1 << 16));
+        scene.film.width = int(parseIntegerOption("--res", parts[0], 1, 1 << 16));
+        scene.film.height = int(parseIntegerOption("--res", parts[1], 1, 1 << 16));
     }
     if (cmd.seed) scene.settings.seed = *cmd.seed;
     if (cmd.output.empty()) throw InputError("converge: -o DIR is required");
@@ -469,10 +457,10 @@ int runConvergeCommand(const ConvergeCommand& cmd) {
     if (!cmd.strip.empty()) {
         const auto parts = splitText(cmd.strip, ',');
         if (parts.size() != 4) throw InputError(fmt::format("--strip: expected x0,x1,y0,y1, got '{}'", cmd.strip));
-        options.stripWindow = PixelWindow{int(parseNumber("--strip", parts[0], 0, 1 << 16)),
-                                          int(parseNumber("--strip", parts[1], 0, 1 << 16)),
-                                          int(parseNumber("--strip", parts[2], 0, 1 << 16)),
-                                          int(parseNumber("--strip", parts[3], 0, 1 << 16))};
+        options.stripWindow = PixelWindow{int(parseIntegerOption("--strip", parts[0], 0, 1 << 16)),
+                                          int(parseIntegerOption("--strip", parts[1], 0, 1 << 16)),
+                                          int(parseIntegerOption("--strip", parts[2], 0, 1 << 16)),
+                                          int(parseIntegerOption("--strip", parts[3], 0, 1 << 16))};
     }
     options.threads = cmd.threads;
     options.accelerator = cmd.accel == "bvh" ? AcceleratorKind::Bvh : AcceleratorKind::Embree;

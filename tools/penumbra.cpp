@@ -27,6 +27,7 @@
 #include "film/image_output.h"
 #include "renderer/render.h"
 #include "scenes/scene_loader.h"
+#include "tools/cli_numbers.h"
 #include "tools/split_text.h"
 #include "tools/converge.h"
 #include "tools/crosscheck.h"
@@ -76,23 +77,12 @@ void installStopHandlers() {
     sigaction(SIGTERM, &action, nullptr);
 }
 
+// Command-line integers: 1 to 2^30 (a positive count or size), or 0 to 2^30 (an index or a pixel).
 int parsePositive(const std::string& option, const std::string& text) {
-    size_t used = 0;
-    long value = 0;
-    try {
-        value = std::stol(text, &used);
-    } catch (const std::exception&) {
-        used = 0;
-    }
-    if (used != text.size() || value <= 0 || value > 1 << 30)
-        throw InputError(fmt::format("{}: expected a positive integer, got '{}'", option, text));
-    return int(value);
+    return int(parseIntegerOption(option, text, 1, int64_t(1) << 30));
 }
-
-
 int parseNonNegative(const std::string& option, const std::string& text) {
-    if (text == "0") return 0;
-    return parsePositive(option, text);
+    return int(parseIntegerOption(option, text, 0, int64_t(1) << 30));
 }
 
 // Prints a one-line progress bar with an ETA on a terminal, at most ten times a second.

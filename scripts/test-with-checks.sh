@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# The whole test suite again in an optimised build with the invariant checks on (PENUMBRA_CHECK,
+# core/check.h), in build-checks/. CI runs it after scripts/test.sh.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/install-deps.sh
+generator=()
+command -v ninja >/dev/null && generator=(-G Ninja)
+if [ ! -f build-checks/CMakeCache.txt ]; then
+    cmake -S . -B build-checks "${generator[@]}" -DCMAKE_BUILD_TYPE=Release -DPENUMBRA_CHECKS=ON
+fi
+cmake --build build-checks --parallel "$(nproc)"
+ctest --test-dir build-checks --output-on-failure --parallel "$(nproc)" "$@"
