@@ -77,6 +77,9 @@ struct TracedRay {
 
 namespace detail {
 
+// For PENUMBRA_CHECK: a direction the BSDF made unit and a frame rotated is off by a few float
+// ulps (~1e-7 each); 1e-3 allows that many times over and still catches a direction that was
+// never normalized or a frame that is not orthonormal.
 inline bool isUnit(Vec3f v) { return std::abs(length(v) - 1.0f) < 1e-3f; }
 
 // Turns `ray` into the ray leaving `si` in direction `direction`, offset off the surface on that
@@ -114,10 +117,9 @@ inline bool isUnit(Vec3f v) { return std::abs(length(v) - 1.0f) < 1e-3f; }
 // steps named in the comments below in this order: emission at the hit, direct light (a shadow
 // ray left pending), continuation, then the pending shadow ray. They stay one loop body rather
 // than functions: as functions passing a vertex and a pending shadow ray by struct they cost 3%
-// more instructions (bench/README.md, "Speed tricks").
-// When `firstHit` is given
-// it receives the first hit's AOVs (hit = false when the ray leaves the scene). When `traced` is
-// given it is what tracing `ray` found, and the ray is not traced again.
+// more instructions (bench/README.md, "Speed tricks"). When `firstHit` is given it receives the
+// first hit's AOVs (hit = false when the ray leaves the scene). When `traced` is given it is what
+// tracing `ray` found, and the ray is not traced again.
 template <TraversalBackend Accel>
 Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, const PixelSample& sample,
                      RayCounters& rays, FirstHitAovs* firstHit = nullptr, const TracedRay* traced = nullptr) {
