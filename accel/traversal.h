@@ -16,6 +16,11 @@ namespace penumbra {
 
 enum class AcceleratorKind : uint8_t { Embree, Bvh };
 
+// As `--accel` spells it and film files record it.
+constexpr std::string_view acceleratorKindName(AcceleratorKind kind) {
+    return kind == AcceleratorKind::Bvh ? "bvh" : "embree";
+}
+
 // Hit ids follow SceneGeometry's rule (geometry/scene_geometry.h).
 //   intersect(ray, hit): the closest hit with tnear <= t <= tfar; false when the ray escapes.
 //   occluded(ray): whether anything lies on the ray within [tnear, tfar].

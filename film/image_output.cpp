@@ -91,7 +91,9 @@ std::string hashSceneFiles(const std::filesystem::path& sceneFile, const std::ve
     return formatHash(hash);
 }
 
-std::string penumbraSoftwareName() { return std::string("penumbra ") + PENUMBRA_VERSION; }
+std::string penumbraVersion() { return PENUMBRA_VERSION; }
+
+std::string penumbraSoftwareName() { return "penumbra " + penumbraVersion(); }
 
 void writeDisplayImage(const Film& film, const std::filesystem::path& path, const std::string& display,
                        const std::string& view) {

@@ -61,6 +61,8 @@ std::string hashFileContents(const std::filesystem::path& path);
 // file alone (as films written before mesh files were hashed record it).
 std::string hashSceneFiles(const std::filesystem::path& sceneFile, const std::vector<std::filesystem::path>& meshFiles);
 
+// The project's version, as film files record it.
+std::string penumbraVersion();
 // The "Software" attribute of the images penumbra writes: "penumbra VERSION".
 std::string penumbraSoftwareName();
 

@@ -230,10 +230,11 @@ ConvergenceReport runConvergence(const Scene& scene, const ConvergenceOptions& o
                                  : std::max(top, std::min(8 * top, ConvergenceOptions::kMaxReferenceSpp));
         log(fmt::format("rendering the reference: {}x{}, {} spp (stratified, seed {})", width, height, spp,
                         refScene.settings.seed));
-        Film film(width, height);
         RenderOptions o = base;
         o.endSample = spp;
-        const RenderStats stats = render(refScene, o, film);
+        RenderJob job(refScene, options.source, o);
+        const RenderStats stats = job.run();
+        const Film& film = job.film();
         report.referenceSource = "rendered";
         report.referenceSpp = spp;
         report.referenceSeed = refScene.settings.seed;
@@ -246,7 +247,7 @@ ConvergenceReport runConvergence(const Scene& scene, const ConvergenceOptions& o
                 floor += double(v.r) + v.g + v.b;
             }
         report.referenceMseFloor = floor / double(report.reference.size());
-        report.referenceFilm = std::move(film);
+        report.referenceFilm = FilmFile{std::move(job.film()), job.metadata()};
         log(fmt::format("  {:.2f} s", stats.renderSeconds));
     }
 
@@ -259,14 +260,15 @@ ConvergenceReport runConvergence(const Scene& scene, const ConvergenceOptions& o
             s.settings.seed = scene.settings.seed + uint64_t(k);
             SeedRun run;
             run.seed = s.settings.seed;
-            Film film(width, height);
             RenderOptions o = base;
             o.endSample = top;
             o.passEnds = options.rungs;  // a pass boundary at every rung, where the film is measured
+            RenderJob job(s, options.source, o);
+            const Film& film = job.film();
             size_t next = 0;
             Clock::duration snapshots{};
             const auto start = Clock::now();
-            o.passDone = [&](uint32_t end) {
+            auto atRung = [&](uint32_t end) {
                 if (next >= options.rungs.size() || end != options.rungs[next]) return;
                 const auto t0 = Clock::now();
                 RungError e = measure(film, report.reference);
@@ -286,7 +288,7 @@ ConvergenceReport runConvergence(const Scene& scene, const ConvergenceOptions& o
                 ++next;
                 snapshots += Clock::now() - t0;
             };
-            const RenderStats stats = render(s, o, film);
+            const RenderStats stats = job.run(atRung);
             // Rung times count tracing only: leave out the acceleration structure's build.
             for (RungError& e : run.rungs) e.seconds = std::max(0.0, e.seconds - stats.buildSeconds);
             std::vector<double> spp, mse;
@@ -468,25 +470,13 @@ int runConvergeCommand(const ConvergeCommand& cmd) {
         std::printf("%s\n", line.c_str());
         std::fflush(stdout);
     };
-    const std::string sceneHash = hashSceneFiles(cmd.scenePath, scene.meshFiles);
+    options.source = SceneSource::of(cmd.scenePath, scene);
 
     const ConvergenceReport report = runConvergence(scene, options);
     const std::filesystem::path dir(cmd.output);
     writeConvergenceReport(report, cmd.scenePath, dir);
-    if (report.referenceFilm) {
-        RenderMetadata m;
-        m.samplesPerPixel = int(report.referenceSpp);
-        m.seed = report.referenceSeed;
-        m.sampler = "stratified";
-        m.accelerator = cmd.accel;
-        m.sceneFile = cmd.scenePath;
-        m.sceneHash = sceneHash;
-        m.renderSeconds = report.referenceSeconds;
-        m.version = PENUMBRA_VERSION;
-        m.firstSample = 0;
-        m.endSample = report.referenceSpp;
-        writeExr(*report.referenceFilm, m, dir / "reference.exr");
-    }
+    if (report.referenceFilm)
+        writeExr(report.referenceFilm->film, report.referenceFilm->metadata, dir / "reference.exr");
 
     if (!cmd.noPlot) {
         const std::string python = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";

@@ -16,7 +16,9 @@
 
 #include "core/sampler.h"
 #include "film/film.h"
+#include "film/image_output.h"
 #include "accel/traversal.h"
+#include "renderer/render_job.h"
 #include "scenes/scene.h"
 
 namespace penumbra {
@@ -32,6 +34,7 @@ struct ConvergenceOptions {
     AcceleratorKind accelerator = AcceleratorKind::Embree;
     std::optional<PixelWindow> stripWindow;  // the crop shown in strip.png; default: a centred square
     std::function<void(const std::string&)> log;  // progress lines; may be empty
+    SceneSource source;  // recorded in the rendered reference's film
 
     static constexpr uint32_t kMaxReferenceSpp = 8192;
 };
@@ -71,7 +74,7 @@ struct ConvergenceReport {
     // contribution to every measured MSE, the floor of the curves.
     double referenceMseFloor = 0;
     std::vector<float> reference;  // mean RGB, row-major
-    std::optional<Film> referenceFilm;  // when the reference was rendered
+    std::optional<FilmFile> referenceFilm;  // when the reference was rendered
     PixelWindow stripWindow;
     std::vector<SamplerStudy> studies;
 };

@@ -26,12 +26,13 @@
 #include "film/film.h"
 #include "film/image_output.h"
 #include "renderer/render.h"
+#include "renderer/render_job.h"
 #include "scenes/scene_loader.h"
 #include "tools/cli_numbers.h"
 #include "tools/split_text.h"
 #include "tools/converge.h"
 #include "tools/crosscheck.h"
-#include "tools/merge.h"
+#include "tools/merge_command.h"
 
 namespace fs = std::filesystem;
 using namespace penumbra;
@@ -159,92 +160,56 @@ int runRender(const RenderCommand& cmd) {
     ProgressLine progress(interactive);
     options.progress = [&](size_t done, size_t total) { progress.update(done, total); };
 
-    // --resume: continue the film in the file from where it ends up to --spp (the same samples,
-    // so the result is the same bit for bit as one render).
-    const std::string sceneHash = hashSceneFiles(cmd.scenePath, scene.meshFiles);
-    const std::string samplerName(samplerKindName(scene.settings.sampler));
-    Film film(scene.film.width, scene.film.height);
-    uint32_t rangeFirst = options.firstSample;
-    double previousSeconds = 0.0;
-    if (!cmd.resume.empty()) {
-        if (!cmd.samples.empty())
-            throw InputError("--resume continues a film up to --spp; it cannot be combined with --samples");
-        FilmFile loaded = readFilmExr(cmd.resume);
-        checkResumable(loaded, cmd.resume,
-                       ResumeTarget{sceneHash, scene.film.width, scene.film.height, scene.settings.seed, samplerName,
-                                    cmd.accel, options.crop, options.endSample});
-        rangeFirst = loaded.metadata.firstSample;
-        options.firstSample = loaded.metadata.endSample;
-        previousSeconds = loaded.metadata.renderSeconds;
-        film = std::move(loaded.film);
-    }
-    auto metadataFor = [&](uint32_t end, double seconds) {
-        RenderMetadata m;
-        m.samplesPerPixel = int(end - rangeFirst);
-        m.seed = scene.settings.seed;
-        m.sampler = samplerName;
-        m.accelerator = cmd.accel;
-        m.sceneFile = cmd.scenePath;
-        m.sceneHash = sceneHash;
-        m.renderSeconds = seconds;
-        m.version = kVersion;
-        m.firstSample = rangeFirst;
-        m.endSample = end;
-        m.crop = options.crop;
-        return m;
-    };
-
     // Passes: about a million samples each unless --pass-size says otherwise (defaultPassSize).
     const PixelWindow window = options.crop.value_or(PixelWindow{0, scene.film.width, 0, scene.film.height});
     const uint64_t windowPixels = uint64_t(std::max(1, window.width())) * uint64_t(std::max(1, window.height()));
     options.passSize = cmd.passSize ? *cmd.passSize : defaultPassSize(windowPixels);
     if (options.passSize == 0) throw InputError("--pass-size: expected a positive integer");
-    if (cmd.checkpointMinutes && !(*cmd.checkpointMinutes >= 0))
-        throw InputError("--checkpoint: expected a number of minutes >= 0");
-    using Clock = std::chrono::steady_clock;
-    const auto renderStart = Clock::now();
-    auto lastCheckpoint = renderStart;
-    options.passDone = [&](uint32_t passEnd) {
-        if (!cmd.checkpointMinutes || passEnd >= options.endSample) return;
-        const auto now = Clock::now();
-        if (std::chrono::duration<double>(now - lastCheckpoint).count() < *cmd.checkpointMinutes * 60.0) return;
-        writeExr(film, metadataFor(passEnd, previousSeconds + std::chrono::duration<double>(now - renderStart).count()),
-                 exrPath);
-        lastCheckpoint = Clock::now();
-        if (interactive) std::fprintf(stderr, "\r");
-        if (!cmd.quiet) std::fprintf(stderr, "checkpoint: samples [%u, %u) in %s\n", rangeFirst, passEnd, exrPath.string().c_str());
-    };
     options.cancel = &gStopRequested;
+
+    RenderJob job(scene, SceneSource::of(cmd.scenePath, scene), options);
+    // --resume: continue the film in the file from where it ends up to --spp (the same samples,
+    // so the result is the same bit for bit as one render).
+    if (!cmd.resume.empty()) {
+        if (!cmd.samples.empty())
+            throw InputError("--resume continues a film up to --spp; it cannot be combined with --samples");
+        job.resumeFrom(cmd.resume);
+    }
+    if (cmd.checkpointMinutes)
+        job.checkpointEvery(*cmd.checkpointMinutes, exrPath, [&](uint32_t first, uint32_t end) {
+            if (interactive) std::fprintf(stderr, "\r");
+            if (!cmd.quiet) std::fprintf(stderr, "checkpoint: samples [%u, %u) in %s\n", first, end, exrPath.string().c_str());
+        });
     installStopHandlers();
 
-    const RenderStats stats = render(scene, options, film);
+    const RenderStats stats = job.run();
 
-    const RenderMetadata metadata = metadataFor(stats.endSample, previousSeconds + stats.renderSeconds);
+    const uint32_t rangeFirst = job.firstSample();
     if (stats.cancelled) {
         const int signal = int(gStopSignal);
         if (interactive) std::fprintf(stderr, "\n");
-        if (stats.endSample == rangeFirst && cmd.resume.empty()) {
+        if (stats.endSample == rangeFirst && !job.resumed()) {
             std::fprintf(stderr, "penumbra: stopped by signal %d before the first pass was complete; nothing written\n",
                          signal);
             return 128 + signal;
         }
-        writeExr(film, metadata, exrPath);
-        if (!cmd.noDisplay) writeDisplayImage(film, displayPath);
+        job.writeFilm(exrPath);
+        if (!cmd.noDisplay) writeDisplayImage(job.film(), displayPath);
         std::fprintf(stderr,
                      "penumbra: stopped by signal %d; wrote samples [%u, %u) to %s; continue with: penumbra render %s "
                      "--spp %u --resume %s -o %s (and the same --seed, --sampler, --res, --crop, --accel)\n",
                      signal, rangeFirst, stats.endSample, exrPath.string().c_str(), cmd.scenePath.c_str(),
-                     options.endSample, exrPath.string().c_str(), exrPath.string().c_str());
+                     job.endSample(), exrPath.string().c_str(), exrPath.string().c_str());
         return 128 + signal;
     }
-    writeExr(film, metadata, exrPath);
-    if (!cmd.noDisplay) writeDisplayImage(film, displayPath);
+    job.writeFilm(exrPath);
+    if (!cmd.noDisplay) writeDisplayImage(job.film(), displayPath);
 
     if (!cmd.quiet) {
         const double seconds = std::max(stats.renderSeconds, 1e-9);
         std::printf("rendered %dx%d, samples %u:%u (%s sampler, seed %llu) in %.2f s (scene build %.2f s)\n",
                     scene.film.width, scene.film.height, rangeFirst, stats.endSample,
-                    metadata.sampler.c_str(), (unsigned long long)scene.settings.seed, stats.renderSeconds,
+                    std::string(samplerKindName(scene.settings.sampler)).c_str(), (unsigned long long)scene.settings.seed, stats.renderSeconds,
                     stats.buildSeconds);
         std::printf("  %.2f M samples/s, %.2f M rays/s (%llu camera, %llu bounce, %llu shadow rays)\n",
                     stats.samples / seconds * 1e-6, stats.rays.total() / seconds * 1e-6,

@@ -9,7 +9,7 @@
 #include "core/error.h"
 #include "renderer/render.h"
 #include "tests/support/scene_builders.h"
-#include "tools/merge.h"
+#include "film/film_merge.h"
 
 namespace penumbra {
 namespace {

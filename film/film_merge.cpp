@@ -1,4 +1,4 @@
-#include "tools/merge.h"
+#include "film/film_merge.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -14,10 +14,6 @@ namespace {
 PixelWindow windowOf(const FilmFile& f) {
     return f.metadata.crop.value_or(PixelWindow{0, f.film.width(), 0, f.film.height()});
 }
-
-std::string describeWindow(const PixelWindow& w) { return fmt::format("{},{},{},{}", w.x0, w.x1, w.y0, w.y1); }
-
-std::string describeRange(const RenderMetadata& m) { return fmt::format("[{}, {})", m.firstSample, m.endSample); }
 
 // Throws when `part` was not rendered like `first` (the metadata that decides the samples).
 void checkSameRender(const FilmFile& first, const std::string& firstName, const FilmFile& part,
@@ -38,6 +34,10 @@ void checkSameRender(const FilmFile& first, const std::string& firstName, const 
 }
 
 }  // namespace
+
+std::string describeWindow(const PixelWindow& w) { return fmt::format("{},{},{},{}", w.x0, w.x1, w.y0, w.y1); }
+
+std::string describeRange(const RenderMetadata& m) { return fmt::format("[{}, {})", m.firstSample, m.endSample); }
 
 MergeResult mergeFilms(const std::vector<FilmFile>& parts, const std::vector<std::string>& names) {
     if (parts.empty()) throw InputError("merge: no films to merge");
@@ -154,34 +154,6 @@ void checkResumable(const FilmFile& file, const std::string& path, const ResumeT
         }
     if (m.endSample > target.endSample)
         fail(fmt::format("it already holds samples {}, beyond --spp {}", describeRange(m), target.endSample));
-}
-
-int runMergeCommand(const std::vector<std::string>& partNames, const std::string& output, bool noDisplay, bool quiet) {
-    std::filesystem::path exrPath(output);
-    if (exrPath.extension() != ".exr")
-        throw InputError(fmt::format("-o: expected a path ending in .exr, got '{}'", output));
-    std::vector<std::filesystem::path> paths(partNames.begin(), partNames.end());
-    MergeResult result = mergeFilmFiles(paths);
-    RenderMetadata& m = result.merged.metadata;
-    m.version = PENUMBRA_VERSION;
-    writeExr(result.merged.film, m, exrPath);
-    const std::filesystem::path displayPath = std::filesystem::path(exrPath).replace_extension(".png");
-    if (!noDisplay) writeDisplayImage(result.merged.film, displayPath);
-    if (!result.uniform)
-        std::fprintf(stderr,
-                     "penumbra: warning: the merged film does not hold the same samples in every pixel (%s); its "
-                     "per-pixel sample counts are right, but it cannot be resumed\n",
-                     result.note.c_str());
-    if (!quiet) {
-        std::printf("merged %zu films: %dx%d, samples [%u, %u), pixels %s\n", partNames.size(),
-                    result.merged.film.width(), result.merged.film.height(), m.firstSample, m.endSample,
-                    describeWindow(m.crop.value_or(PixelWindow{0, result.merged.film.width(), 0,
-                                                               result.merged.film.height()}))
-                        .c_str());
-        std::printf("wrote %s\n", exrPath.string().c_str());
-        if (!noDisplay) std::printf("wrote %s\n", displayPath.string().c_str());
-    }
-    return 0;
 }
 
 }  // namespace penumbra

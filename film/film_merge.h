@@ -1,6 +1,6 @@
-// `penumbra merge` and the checks behind `penumbra render --resume`: films rendered from the same
-// scene, resolution, seed, sampler and backend, over sample ranges and pixel windows that do not
-// overlap, are added pixel by pixel. The film's sums are exact (ExactSum, film/film.h), so a
+// Merging films and checking that a film can be continued (`penumbra merge`, `render --resume`):
+// films rendered from the same scene, resolution, seed, sampler and backend, over sample ranges
+// and pixel windows that do not overlap, are added pixel by pixel. The film's sums are exact (ExactSum, film/film.h), so a
 // merge gives the same bits as one render of the union, in whatever order the parts come.
 #pragma once
 
@@ -44,8 +44,8 @@ struct ResumeTarget {
 // window holding the same samples [first, end), and end <= target.endSample.
 void checkResumable(const FilmFile& file, const std::string& path, const ResumeTarget& target);
 
-// `penumbra merge PART... -o OUT.exr`: writes OUT.exr (and OUT.png unless noDisplay); returns the
-// exit status. Nothing is written when a check fails.
-int runMergeCommand(const std::vector<std::string>& parts, const std::string& output, bool noDisplay, bool quiet);
+// "x0,x1,y0,y1" and "[first, end)", as the command line writes them.
+std::string describeWindow(const PixelWindow& window);
+std::string describeRange(const RenderMetadata& metadata);
 
 }  // namespace penumbra
