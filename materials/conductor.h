@@ -23,8 +23,8 @@ struct Mirror {
         if (wo.z == 0.0f) return std::nullopt;
         return BsdfSample{reflectAboutZ(wo), tint, 1.0f, kFlags};
     }
-    Rgb eval(Vec3f, Vec3f) const { return Rgb(0.0f); }
-    float pdf(Vec3f, Vec3f) const { return 0.0f; }
+    Rgb eval(Vec3f, Vec3f, bool) const { return Rgb(0.0f); }
+    float pdf(Vec3f, Vec3f, bool) const { return 0.0f; }
     Rgb reflectanceForAov() const { return tint; }
 };
 
@@ -41,8 +41,8 @@ struct Conductor {
         if (wo.z == 0.0f) return std::nullopt;
         return BsdfSample{reflectAboutZ(wo), reflectance(wo), 1.0f, kFlags};
     }
-    Rgb eval(Vec3f, Vec3f) const { return Rgb(0.0f); }
-    float pdf(Vec3f, Vec3f) const { return 0.0f; }
+    Rgb eval(Vec3f, Vec3f, bool) const { return Rgb(0.0f); }
+    float pdf(Vec3f, Vec3f, bool) const { return 0.0f; }
     // At normal incidence, as denoisers expect an albedo.
     Rgb reflectanceForAov() const { return reflectance(Vec3f{0.0f, 0.0f, 1.0f}); }
 };

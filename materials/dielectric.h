@@ -70,8 +70,8 @@ struct Dielectric {
         return BsdfSample{*wt, Rgb(1.0f / (etaRelative * etaRelative)), 1.0f - reflect, kSpecularTransmission,
                           etaRelative};
     }
-    Rgb eval(Vec3f, Vec3f) const { return Rgb(0.0f); }
-    float pdf(Vec3f, Vec3f) const { return 0.0f; }
+    Rgb eval(Vec3f, Vec3f, bool) const { return Rgb(0.0f); }
+    float pdf(Vec3f, Vec3f, bool) const { return 0.0f; }
     Rgb reflectanceForAov() const { return Rgb(1.0f); }
 };
 
@@ -98,8 +98,8 @@ struct ThinDielectric {
         if (uLobe < reflect) return BsdfSample{reflectAboutZ(wo), Rgb(1.0f), reflect, kSpecularReflection};
         return BsdfSample{-wo, Rgb(1.0f), 1.0f - reflect, kSpecularTransmission};
     }
-    Rgb eval(Vec3f, Vec3f) const { return Rgb(0.0f); }
-    float pdf(Vec3f, Vec3f) const { return 0.0f; }
+    Rgb eval(Vec3f, Vec3f, bool) const { return Rgb(0.0f); }
+    float pdf(Vec3f, Vec3f, bool) const { return 0.0f; }
     Rgb reflectanceForAov() const { return Rgb(1.0f); }
 };
 

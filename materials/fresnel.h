@@ -18,6 +18,9 @@ namespace penumbra {
 // Mirror direction of w about the normal +z.
 inline Vec3f reflectAboutZ(Vec3f w) { return {-w.x, -w.y, w.z}; }
 
+// Mirror direction of w about the unit normal n (a microfacet's).
+inline Vec3f reflectAbout(Vec3f w, Vec3f n) { return n * (2.0f * dot(w, n)) - w; }
+
 // Unpolarized Fresnel reflectance of a dielectric interface (the mean of the s and p
 // reflectances; Born & Wolf 1.5.3). cosThetaI > 0: the incident direction is on the +z side and
 // eta = eta(-z side) / eta(+z side); a negative cosine means the light arrives from the -z side and
@@ -90,6 +93,36 @@ inline std::optional<Vec3f> refractAcrossZ(Vec3f w, float eta) {
     // wt = -w / eta + (cos_i / eta - cos_t) n (pbrt-v4's Refract), with n on w's side.
     const Vec3f wt = -w / eta + Vec3f{0.0f, 0.0f, n * (cosThetaI / eta - cosThetaT)};
     return normalize(wt);
+}
+
+// Snell refraction of w through a microfacet of unit normal n on w's side (dot(w, n) > 0), with
+// eta = eta_t / eta_i relative to w's side: the transmitted direction, or nothing on total
+// internal reflection.
+inline std::optional<Vec3f> refractAbout(Vec3f w, Vec3f n, float eta) {
+    const float cosThetaI = dot(w, n);
+    const float sin2ThetaT = std::max(0.0f, 1.0f - cosThetaI * cosThetaI) / (eta * eta);
+    if (sin2ThetaT >= 1.0f) return std::nullopt;
+    const float cosThetaT = std::sqrt(std::max(0.0f, 1.0f - sin2ThetaT));
+    return normalize(-w / eta + n * (cosThetaI / eta - cosThetaT));
+}
+
+// The hemispherical average of fresnelDielectric for light arriving from the side of relative
+// index eta (eta_t / eta_i), weighted by the cosine: 2 * integral over [0, 1] of F(mu) mu d mu,
+// the fraction of diffuse light the interface reflects. Below the critical cosine mu_c (light
+// from the denser side) F = 1 and the integral is mu_c^2; above it F has a square-root kink at
+// mu_c, which the substitution mu = mu_c + (1 - mu_c) s^2 smooths for Simpson's rule (2048
+// intervals in double).
+inline double diffuseFresnelReflectance(double eta) {
+    const double muCritical = eta < 1.0 ? std::sqrt(1.0 - eta * eta) : 0.0;
+    const double span = 1.0 - muCritical;
+    auto f = [&](double s) {
+        const double mu = muCritical + span * s * s;
+        return double(fresnelDielectric(float(mu), float(eta))) * mu * 2.0 * span * s;
+    };
+    constexpr int kIntervals = 2048;
+    double sum = f(0.0) + f(1.0);
+    for (int i = 1; i < kIntervals; ++i) sum += f(double(i) / kIntervals) * (i % 2 ? 4.0 : 2.0);
+    return muCritical * muCritical + 2.0 * sum / (3.0 * kIntervals);
 }
 
 }  // namespace penumbra

@@ -2,19 +2,22 @@
 // that a model missing a member function is a compile error rather than a silent default. Every
 // model has the same interface:
 //   static constexpr BsdfFlags kFlags                     the lobes it has
-//   Rgb eval(wo, wi), float pdf(wo, wi)                    0 for specular lobes
+//   Rgb eval(wo, wi, front), float pdf(wo, wi, front)      0 for specular lobes
 //   std::optional<BsdfSample> sample(wo, uLobe, u, front)  one lobe, chosen with uLobe when there are several
 //   Rgb reflectanceForAov()                                the albedo AOV, as denoisers expect it
 // All directions are in the local shading frame (normal = +z) and point away from the surface.
 //
 // Sides. Every call takes `front`: whether wo lies on the front side of the GEOMETRIC surface (the
 // side its geometric normal points to; the shading normal, hence local +z, is turned to that side
-// too). Two-sided reflectors (the default for Lambert, Phong, mirror and conductor) evaluate a
+// too). Two-sided reflectors (the default for every reflector: Lambert, Phong, mirror, the
+// conductors, the coated diffuse) evaluate a
 // direction pair on the side where wo lies; a one-sided one is black seen from the back. A
-// dielectric's front is its outside: `front` decides whether light enters or leaves it.
+// dielectric's front is its outside (smooth or rough): `front` decides whether light enters or
+// leaves it.
 //
-// Specular lobes (mirror, conductor, both dielectrics) are never evaluated: eval() and pdf() return
-// 0 and only sample() produces them, with BsdfFlags::Specular and pdf = the lobe's probability.
+// Specular lobes (mirror, conductor, the smooth dielectrics, the smooth coating's reflection) are
+// never evaluated: eval() and pdf() leave them out and only sample() produces them, with
+// BsdfFlags::Specular and pdf = the lobe's probability.
 //
 // Adding a material: its header here, one alternative in MaterialModel, one row in the scene
 // loader's material table (scenes/material_reader.cpp), and its tests.
@@ -26,14 +29,18 @@
 #include "core/rgb.h"
 #include "core/vec.h"
 #include "materials/bsdf.h"
+#include "materials/coated_diffuse.h"
 #include "materials/conductor.h"
 #include "materials/dielectric.h"
 #include "materials/lambert.h"
 #include "materials/phong.h"
+#include "materials/rough_conductor.h"
+#include "materials/rough_dielectric.h"
 
 namespace penumbra {
 
-using MaterialModel = std::variant<Lambert, Phong, Dielectric, ThinDielectric, Mirror, Conductor>;
+using MaterialModel = std::variant<Lambert, Phong, Dielectric, ThinDielectric, Mirror, Conductor, RoughConductor,
+                                   RoughDielectric, CoatedDiffuse, RoughCoatedDiffuse>;
 
 class Material {
 public:
@@ -59,14 +66,14 @@ public:
     // BSDF value f(wo, wi), without the cosine; 0 for specular lobes.
     Rgb eval(Vec3f wo, Vec3f wi, bool front) const {
         if (!twoSided_ && !front) return Rgb(0.0f);
-        if (const Lambert* lambert = std::get_if<Lambert>(&model_)) return lambert->eval(wo, wi);
-        return evalOutOfLine(wo, wi);
+        if (const Lambert* lambert = std::get_if<Lambert>(&model_)) return lambert->eval(wo, wi, front);
+        return evalOutOfLine(wo, wi, front);
     }
     // Solid-angle density with which sample() produces wi; 0 for specular lobes.
     float pdf(Vec3f wo, Vec3f wi, bool front) const {
         if (!twoSided_ && !front) return 0.0f;
-        if (const Lambert* lambert = std::get_if<Lambert>(&model_)) return lambert->pdf(wo, wi);
-        return pdfOutOfLine(wo, wi);
+        if (const Lambert* lambert = std::get_if<Lambert>(&model_)) return lambert->pdf(wo, wi, front);
+        return pdfOutOfLine(wo, wi, front);
     }
     std::optional<BsdfSample> sample(Vec3f wo, float uLobe, Vec2f u, bool front) const {
         if (const Lambert* lambert = std::get_if<Lambert>(&model_); lambert && (twoSided_ || front))
@@ -77,22 +84,24 @@ public:
     // Absorption coefficient sigma_a (per unit length) of the medium behind the surface, for path
     // segments that reach the surface from its back side; black when there is none.
     Rgb interiorAbsorption() const {
-        const Dielectric* dielectric = std::get_if<Dielectric>(&model_);
-        return dielectric ? dielectric->absorption : Rgb(0.0f);
+        if (const Dielectric* dielectric = std::get_if<Dielectric>(&model_)) return dielectric->absorption;
+        if (const RoughDielectric* rough = std::get_if<RoughDielectric>(&model_)) return rough->absorption;
+        return Rgb(0.0f);
     }
 
-    // Reflectance for the albedo AOV (as denoisers expect it): a diffuse albedo, Phong's kd + ks,
-    // a mirror's tint, a conductor's reflectance at normal incidence, white for what transmits.
+    // Reflectance for the albedo AOV (as denoisers expect it): a diffuse albedo (a coated base's
+    // too), Phong's kd + ks, a mirror's tint, a conductor's reflectance at normal incidence, white
+    // for what transmits.
     Rgb albedo() const {
         return std::visit([](const auto& m) { return m.reflectanceForAov(); }, model_);
     }
 
 private:
-    [[gnu::noinline]] Rgb evalOutOfLine(Vec3f wo, Vec3f wi) const {
-        return std::visit([&](const auto& m) { return m.eval(wo, wi); }, model_);
+    [[gnu::noinline]] Rgb evalOutOfLine(Vec3f wo, Vec3f wi, bool front) const {
+        return std::visit([&](const auto& m) { return m.eval(wo, wi, front); }, model_);
     }
-    [[gnu::noinline]] float pdfOutOfLine(Vec3f wo, Vec3f wi) const {
-        return std::visit([&](const auto& m) { return m.pdf(wo, wi); }, model_);
+    [[gnu::noinline]] float pdfOutOfLine(Vec3f wo, Vec3f wi, bool front) const {
+        return std::visit([&](const auto& m) { return m.pdf(wo, wi, front); }, model_);
     }
     [[gnu::noinline]] std::optional<BsdfSample> sampleOutOfLine(Vec3f wo, float uLobe, Vec2f u, bool front) const {
         if (!twoSided_ && !front) return std::nullopt;

@@ -53,7 +53,7 @@ struct Phong {
         return cosAlpha > 0.0f ? (exponent + 1.0f) * (0.5f * kInvPi) * std::pow(cosAlpha, exponent) : 0.0f;
     }
 
-    Rgb eval(Vec3f wo, Vec3f wi) const {
+    Rgb eval(Vec3f wo, Vec3f wi, bool /*front*/) const {
         if (!(wo.z * wi.z > 0.0f)) return Rgb(0.0f);
         const float cosAlpha = dot(reflectAboutZ(wo), wi);
         Rgb f = kd * kInvPi;
@@ -62,7 +62,7 @@ struct Phong {
         return f;
     }
 
-    float pdf(Vec3f wo, Vec3f wi) const {
+    float pdf(Vec3f wo, Vec3f wi, bool /*front*/) const {
         if (!(wo.z * wi.z > 0.0f)) return 0.0f;
         const float pSpecular = specularProbability();
         return (1.0f - pSpecular) * cosineHemispherePdf(std::abs(wi.z)) +
@@ -96,9 +96,9 @@ struct Phong {
             wi = sampleCosineHemisphere(u);
             if (wo.z < 0.0f) wi.z = -wi.z;
         }
-        const float pdfValue = pdf(wo, wi);
+        const float pdfValue = pdf(wo, wi, true);
         if (!(pdfValue > 0.0f)) return std::nullopt;
-        return BsdfSample{wi, eval(wo, wi) * (std::abs(wi.z) / pdfValue), pdfValue,
+        return BsdfSample{wi, eval(wo, wi, true) * (std::abs(wi.z) / pdfValue), pdfValue,
                           (specularLobe ? BsdfFlags::Glossy : BsdfFlags::Diffuse) | BsdfFlags::Reflection};
     }
     Rgb reflectanceForAov() const { return kd + ks; }

@@ -2,8 +2,10 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 
 #include "scenes/type_table.h"
 
@@ -59,14 +61,6 @@ Material readPhong(const JsonValue& material) {
     return Material(phong, twoSided);
 }
 
-Material readDielectric(const JsonValue& material) {
-    Dielectric dielectric;
-    if (auto v = material.member("eta")) dielectric.eta = v->numberAbove(0.0f);
-    if (auto v = material.member("fresnel")) dielectric.fresnel = readFresnel(*v);
-    if (auto v = material.member("absorption")) dielectric.absorption = readAbsorption(*v);
-    return Material(dielectric);
-}
-
 Material readThinDielectric(const JsonValue& material) {
     ThinDielectric thin;
     if (auto v = material.member("eta")) thin.eta = v->numberAbove(0.0f);
@@ -80,26 +74,93 @@ Material readMirror(const JsonValue& material) {
     return Material(mirror, readTwoSided(material));
 }
 
-Material readConductor(const JsonValue& material) {
-    Conductor conductor;
+
+// A rough surface's GGX slopes from "roughness" r in [0, 1] (alpha = r^2) or "alpha" > 0, each a
+// number or [along u, along v] for an anisotropic surface; none when neither key is given.
+std::optional<GgxDistribution> readDistribution(const JsonValue& material) {
+    const auto roughness = material.member("roughness");
+    const auto alpha = material.member("alpha");
+    if (roughness && alpha) alpha->fail("give either \"roughness\" or \"alpha\", not both");
+    if (!roughness && !alpha) return std::nullopt;
+    const JsonValue& value = roughness ? *roughness : *alpha;
+    auto read = [&](const JsonValue& v) {
+        if (roughness) {
+            const float r = v.number();
+            if (!(r >= 0.0f && r <= 1.0f)) v.failExpected("a roughness in [0, 1] (alpha = roughness^2)");
+            return roughnessToAlpha(r);
+        }
+        const float a = v.number();
+        if (!(a > 0.0f && a <= 4.0f)) v.failExpected("an alpha in (0, 4] (0 is a smooth surface: use the smooth material)");
+        return a;
+    };
+    if (!value.json().is_array()) {
+        const float a = read(value);
+        return GgxDistribution{a, a};
+    }
+    if (value.arraySize() != 2) value.failExpected("a number or an array of 2 numbers (along u, along v)");
+    return GgxDistribution{read(value.element(0)), read(value.element(1))};
+}
+
+// Narrower than kSmoothAlpha in both directions (or no roughness given): the smooth model.
+bool isSmooth(const std::optional<GgxDistribution>& d) {
+    return !d || std::max(d->alphaX, d->alphaY) < kSmoothAlpha;
+}
+
+// Keeps a rough lobe's slopes where float arithmetic holds (pbrt-v4 clamps the same way).
+GgxDistribution clampedForRendering(GgxDistribution d) {
+    return {std::max(d.alphaX, 1e-4f), std::max(d.alphaY, 1e-4f)};
+}
+
+Rgb readConductorEta(const JsonValue& material) {
     const JsonValue etaValue = material.requiredMember("eta");
-    conductor.eta = etaValue.rgb(0.0f);
+    const Rgb eta = etaValue.rgb(0.0f);
     for (int c = 0; c < 3; ++c)
-        if (!(conductor.eta[c] > 0.0f))
-            etaValue.failExpected("a number or an array of 3 numbers (r, g, b), each > 0");
-    conductor.k = material.requiredMember("k").rgb(0.0f);
-    return Material(conductor, readTwoSided(material));
+        if (!(eta[c] > 0.0f)) etaValue.failExpected("a number or an array of 3 numbers (r, g, b), each > 0");
+    return eta;
+}
+
+// "conductor" and "rough_conductor" (whose table row also accepts the roughness keys).
+Material readConductor(const JsonValue& material) {
+    const Rgb eta = readConductorEta(material);
+    const Rgb k = material.requiredMember("k").rgb(0.0f);
+    const std::optional<GgxDistribution> distribution = readDistribution(material);
+    if (isSmooth(distribution)) return Material(Conductor{eta, k}, readTwoSided(material));
+    return Material(RoughConductor{eta, k, clampedForRendering(*distribution)}, readTwoSided(material));
+}
+
+// "dielectric" and "rough_dielectric", likewise.
+Material readDielectric(const JsonValue& material) {
+    Dielectric smooth;
+    if (auto v = material.member("eta")) smooth.eta = v->numberAbove(0.0f);
+    if (auto v = material.member("fresnel")) smooth.fresnel = readFresnel(*v);
+    if (auto v = material.member("absorption")) smooth.absorption = readAbsorption(*v);
+    const std::optional<GgxDistribution> distribution = readDistribution(material);
+    if (isSmooth(distribution)) return Material(smooth);
+    return Material(RoughDielectric{smooth.eta, smooth.fresnel, smooth.absorption, clampedForRendering(*distribution)});
+}
+
+Material readCoatedDiffuse(const JsonValue& material) {
+    Rgb albedo(0.5f);
+    if (auto v = material.member("albedo")) albedo = v->rgb(0.0f, 1.0f);
+    float eta = 1.5f;
+    if (auto v = material.member("eta")) eta = v->numberAbove(0.0f);
+    const std::optional<GgxDistribution> distribution = readDistribution(material);
+    if (isSmooth(distribution)) return Material(CoatedDiffuse::make(albedo, eta), readTwoSided(material));
+    return Material(RoughCoatedDiffuse::make(albedo, eta, clampedForRendering(*distribution)), readTwoSided(material));
 }
 
 using MaterialReader = Material (*)(const JsonValue&);
 
-const std::array<TypeRow<MaterialReader>, 6> kMaterialTypes{{
+const std::array<TypeRow<MaterialReader>, 9> kMaterialTypes{{
     {"lambert", {"type", "albedo", "two_sided"}, readLambert},
     {"phong", {"type", "diffuse", "specular", "exponent", "two_sided"}, readPhong},
     {"dielectric", {"type", "eta", "fresnel", "absorption"}, readDielectric},
     {"thin_dielectric", {"type", "eta", "fresnel"}, readThinDielectric},
     {"mirror", {"type", "tint", "two_sided"}, readMirror},
     {"conductor", {"type", "eta", "k", "two_sided"}, readConductor},
+    {"rough_conductor", {"type", "eta", "k", "roughness", "alpha", "two_sided"}, readConductor},
+    {"rough_dielectric", {"type", "eta", "fresnel", "absorption", "roughness", "alpha"}, readDielectric},
+    {"coated_diffuse", {"type", "albedo", "eta", "roughness", "alpha", "two_sided"}, readCoatedDiffuse},
 }};
 
 }  // namespace

@@ -77,14 +77,53 @@ TEST(MaterialFlags, DeriveSpecularityAndLobeChoice) {
     const Scene scene = parseMaterials(R"({
         "matte": {"type": "lambert"}, "plastic": {"type": "phong"}, "glass": {"type": "dielectric"},
         "pane": {"type": "thin_dielectric"}, "mirror": {"type": "mirror"},
-        "gold": {"type": "conductor", "eta": 0.2, "k": 3}
+        "gold": {"type": "conductor", "eta": 0.2, "k": 3},
+        "brushed": {"type": "rough_conductor", "eta": 0.2, "k": 3, "roughness": 0.5},
+        "frosted": {"type": "rough_dielectric", "roughness": 0.5},
+        "varnish": {"type": "coated_diffuse"}, "satin": {"type": "coated_diffuse", "roughness": 0.5}
     })");
-    const bool purelySpecular[] = {false, false, true, true, true, true};
-    const bool severalLobes[] = {false, true, true, true, false, false};
+    const bool purelySpecular[] = {false, false, true, true, true, true, false, false, false, false};
+    const bool severalLobes[] = {false, true, true, true, false, false, false, true, true, true};
     for (size_t i = 0; i < scene.materials.size(); ++i) {
         EXPECT_EQ(scene.materials[i].isPurelySpecular(), purelySpecular[i]) << scene.materialNames[i];
         EXPECT_EQ(scene.materials[i].usesLobeSample(), severalLobes[i]) << scene.materialNames[i];
     }
+}
+
+// The rough materials: roughness r gives alpha = r^2, alpha is taken as it is, [u, v] is
+// anisotropic, and below alpha 1e-3 (or without a roughness) the smooth model is used.
+TEST(MaterialLoader, ReadsTheRoughMaterials) {
+    const Scene scene = parseMaterials(R"({
+        "brushed": {"type": "rough_conductor", "eta": [0.2, 0.9, 1.1], "k": [3.9, 2.4, 2.1], "roughness": [0.2, 0.5]},
+        "veach": {"type": "rough_conductor", "eta": 0.2, "k": 3.9, "alpha": 0.01, "two_sided": false},
+        "frosted": {"type": "rough_dielectric", "eta": 1.5, "roughness": 0.3,
+                    "absorption": {"color": 0.5, "distance": 1}},
+        "plastic": {"type": "coated_diffuse", "albedo": [0.7, 0.1, 0.1], "eta": 1.6, "alpha": 0.2},
+        "varnish": {"type": "coated_diffuse", "albedo": 0.5},
+        "polished": {"type": "rough_conductor", "eta": 0.2, "k": 3.9, "roughness": 0.03},
+        "clear": {"type": "rough_dielectric", "eta": 1.33, "alpha": 0.0009}
+    })");
+    ASSERT_EQ(scene.materials.size(), 7u);
+    const RoughConductor& brushed = std::get<RoughConductor>(scene.materials[0].model());
+    EXPECT_FLOAT_EQ(brushed.distribution.alphaX, 0.04f);
+    EXPECT_FLOAT_EQ(brushed.distribution.alphaY, 0.25f);
+    EXPECT_EQ(brushed.k, Rgb(3.9f, 2.4f, 2.1f));
+    const RoughConductor& veach = std::get<RoughConductor>(scene.materials[1].model());
+    EXPECT_EQ(veach.distribution.alphaX, 0.01f);
+    EXPECT_FALSE(scene.materials[1].twoSided());
+    const RoughDielectric& frosted = std::get<RoughDielectric>(scene.materials[2].model());
+    EXPECT_FLOAT_EQ(frosted.distribution.alphaY, 0.09f);
+    EXPECT_NEAR(frosted.absorption.g, std::log(2.0), 1e-6);
+    EXPECT_NEAR(scene.materials[2].interiorAbsorption().r, std::log(2.0), 1e-6);
+    const RoughCoatedDiffuse& plastic = std::get<RoughCoatedDiffuse>(scene.materials[3].model());
+    EXPECT_EQ(plastic.albedo, Rgb(0.7f, 0.1f, 0.1f));
+    EXPECT_EQ(plastic.eta, 1.6f);
+    EXPECT_EQ(plastic.distribution.alphaX, 0.2f);
+    EXPECT_NEAR(plastic.internalReflectance, diffuseFresnelReflectance(1.0 / 1.6), 1e-6);
+    EXPECT_TRUE(std::holds_alternative<CoatedDiffuse>(scene.materials[4].model()));
+    // roughness 0.03: alpha 9e-4 < 1e-3, as smooth as float can tell.
+    EXPECT_TRUE(std::holds_alternative<Conductor>(scene.materials[5].model()));
+    EXPECT_EQ(std::get<Dielectric>(scene.materials[6].model()).eta, 1.33f);
 }
 
 TEST(MaterialLoader, PhongEnergyConservation) {
@@ -130,8 +169,27 @@ TEST(MaterialLoader, BadValuesNameThePointerAndTheField) {
         {R"({"gold": {"type": "conductor", "eta": 1, "k": [1, -2, 1]}})", "/materials/gold/k/1: expected a number >= 0, found -2"},
         {R"({"gold": {"type": "conductor", "eta": 1}})", "/materials/gold: missing required key \"k\""},
         {R"({"x": {"type": "plastic"}})",
-         "/materials/x/type: expected one of: lambert, phong, dielectric, thin_dielectric, mirror, conductor"},
+         "/materials/x/type: expected one of: lambert, phong, dielectric, thin_dielectric, mirror, conductor, "
+         "rough_conductor, rough_dielectric, coated_diffuse"},
         {R"({"x": {"albedo": 0.5}})", "/materials/x: missing required key \"type\""},
+        {R"({"r": {"type": "rough_conductor", "eta": 1, "k": 1, "roughness": 1.2}})",
+         "/materials/r/roughness: expected a roughness in [0, 1] (alpha = roughness^2), found 1.2"},
+        {R"({"r": {"type": "rough_conductor", "eta": 1, "k": 1, "roughness": [0.1, -0.1]}})",
+         "/materials/r/roughness/1: expected a roughness in [0, 1] (alpha = roughness^2), found -0.1"},
+        {R"({"r": {"type": "rough_conductor", "eta": 1, "k": 1, "roughness": [0.1, 0.2, 0.3]}})",
+         "/materials/r/roughness: expected a number or an array of 2 numbers (along u, along v)"},
+        {R"({"r": {"type": "rough_dielectric", "alpha": 0}})", "/materials/r/alpha: expected an alpha in (0, 4]"},
+        {R"({"r": {"type": "rough_dielectric", "alpha": -0.5}})", "/materials/r/alpha: expected an alpha in (0, 4]"},
+        {R"({"r": {"type": "rough_dielectric", "eta": 0, "roughness": 0.5}})",
+         "/materials/r/eta: expected a number > 0, found 0"},
+        {R"({"r": {"type": "coated_diffuse", "eta": -1}})", "/materials/r/eta: expected a number > 0, found -1"},
+        {R"({"r": {"type": "coated_diffuse", "albedo": 1.2}})", "/materials/r/albedo: expected a number in [0, 1], found 1.2"},
+        {R"({"r": {"type": "rough_conductor", "eta": 1, "k": 1, "roughness": 0.5, "alpha": 0.2}})",
+         "/materials/r/alpha: give either \"roughness\" or \"alpha\", not both"},
+        {R"({"r": {"type": "coated_diffuse", "specular": 0.5}})",
+         "/materials/r/specular: unknown key (expected one of: type, albedo, eta, roughness, alpha, two_sided)"},
+        {R"({"r": {"type": "conductor", "eta": 1, "k": 1, "roughness": 0.5}})",
+         "/materials/r/roughness: unknown key (expected one of: type, eta, k, two_sided)"},
     };
     for (const Case& c : cases) EXPECT_CONTAINS(errorOf(c.json), std::string("s.json: ") + c.message) << c.json;
 }

@@ -132,19 +132,21 @@ struct CellIntegrals {
 };
 
 // The integral of density(w) over every cell of `binning`, each to within about
-// max(absoluteTolerance, 1e-4 relative) where 7 levels of refinement reach it; cells that a
-// discontinuity crosses stop at 7 levels, with an error about 2^-7 of their unrefined one. Every
-// cell is refined at least 2 levels (256 points), so that a thin sliver of a cell beyond a
-// discontinuity is not missed by all the points of the coarse rules.
+// max(absoluteTolerance, 1e-4 relative) where `maxDepth` levels of refinement reach it; cells that
+// a discontinuity crosses stop at maxDepth levels, with an error about 2^-maxDepth of their
+// unrefined one. Every
+// cell is refined at least `minDepth` levels (2: 256 points), so that a thin sliver of a cell
+// beyond a discontinuity is not missed by all the points of the coarse rules.
 template <typename Density>
-CellIntegrals integrateOverCells(const SphereBinning& binning, const Density& density, double absoluteTolerance) {
+CellIntegrals integrateOverCells(const SphereBinning& binning, const Density& density, double absoluteTolerance,
+                                 int maxDepth = 7, int minDepth = 2) {
     auto integrand = [&](double t, double phi) { return double(density(binning.direction(t, phi))) * binning.jacobian(t); };
     CellIntegrals result;
     result.value.resize(size_t(binning.cellCount()));
     result.error.resize(size_t(binning.cellCount()));
     for (int i = 0; i < binning.thetaBins; ++i)
         for (int j = 0; j < binning.phiBins; ++j) {
-            AdaptiveCubature<decltype(integrand)> cubature(integrand, absoluteTolerance, 1e-4, 2, 7);
+            AdaptiveCubature<decltype(integrand)> cubature(integrand, absoluteTolerance, 1e-4, minDepth, maxDepth);
             const size_t cell = size_t(i * binning.phiBins + j);
             result.value[cell] =
                 cubature.integrate(double(i) / binning.thetaBins, double(i + 1) / binning.thetaBins,
