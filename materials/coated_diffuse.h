@@ -1,7 +1,7 @@
 // A diffuse base under a clear dielectric coating (plastic, varnished wood, paint): Mitsuba's
 // `plastic` / `roughplastic` model (Jakob; after Weidlich and Wilkie 2007, "Arbitrarily layered
 // micro-facet surfaces"). Two lobes:
-//   - the coating's reflection: a mirror lobe (CoatedDiffuse) or a GGX lobe as RoughDielectric's
+//   - the coating's reflection: a mirror lobe (CoatedDiffuse) or a microfacet lobe as RoughDielectric's
 //     reflection (RoughCoatedDiffuse), with the coating's Fresnel reflectance F;
 //   - the base seen through the coating: light enters (1 - F(wi)), reaches the Lambertian base of
 //     albedo rho, bounces between base and coating (the coating reflects back the fraction
@@ -31,14 +31,14 @@ template <bool kRough>
 struct CoatedDiffuseModel {
     Rgb albedo{0.5f, 0.5f, 0.5f};  // the base's, each channel in [0, 1]
     float eta = 1.5f;              // the coating's index over the outside's, > 0
-    GgxDistribution distribution;  // the coating's roughness (RoughCoatedDiffuse only)
+    MicrofacetDistribution distribution;  // the coating's roughness (RoughCoatedDiffuse only)
     // diffuseFresnelReflectance(1 / eta): the diffuse light the coating reflects back inside.
     float internalReflectance = float(diffuseFresnelReflectance(1.0 / 1.5));
 
     static constexpr BsdfFlags kFlags =
         BsdfFlags::Diffuse | BsdfFlags::Reflection | (kRough ? BsdfFlags::Glossy : BsdfFlags::Specular);
 
-    static CoatedDiffuseModel make(Rgb albedo, float eta, GgxDistribution distribution = {}) {
+    static CoatedDiffuseModel make(Rgb albedo, float eta, MicrofacetDistribution distribution = {}) {
         return {albedo, eta, distribution, float(diffuseFresnelReflectance(1.0 / eta))};
     }
 
@@ -70,7 +70,9 @@ struct CoatedDiffuseModel {
             } else {
                 const float side = wo.z > 0.0f ? 1.0f : -1.0f;
                 const Vec3f woUp{wo.x, wo.y, wo.z * side};
-                wi = reflectAbout(woUp, distribution.sampleVisibleNormal(woUp, u));
+                const Vec3f wm = distribution.sampleNormal(woUp, u);
+                if (!(dot(woUp, wm) > 0.0f)) return std::nullopt;  // a microfacet facing away (Beckmann's sampling)
+                wi = reflectAbout(woUp, wm);
                 if (!(wi.z > 0.0f)) return std::nullopt;
                 wi.z *= side;
             }

@@ -32,8 +32,11 @@ struct Conductor {
     // Gold-like defaults; the loader requires both.
     Rgb eta{0.143f, 0.374f, 1.442f};
     Rgb k{3.983f, 2.385f, 1.603f};
+    // A factor on the reflectance, each channel in [0, 1] (Tungsten's albedo, Mitsuba's
+    // specular_reflectance): 1 is the physical metal.
+    Rgb tint{1.0f, 1.0f, 1.0f};
 
-    Rgb reflectance(Vec3f wo) const { return fresnelComplex(std::abs(wo.z), eta, k); }
+    Rgb reflectance(Vec3f wo) const { return fresnelComplex(std::abs(wo.z), eta, k) * tint; }
 
     static constexpr BsdfFlags kFlags = kSpecularReflection;
 

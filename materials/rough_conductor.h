@@ -1,10 +1,9 @@
-// A rough metal: the conductor's complex Fresnel reflectance on a GGX microsurface (Cook-Torrance
-// with Smith's height-correlated G, as pbrt-v4's ConductorBxDF and Mitsuba 3's roughconductor):
+// A rough metal: the conductor's complex Fresnel reflectance on a microsurface (Cook-Torrance with
+// Smith's height-correlated G, as pbrt-v4's ConductorBxDF and Mitsuba 3's roughconductor):
 //
 //     f(wo, wi) = D(wm) G(wo, wi) F(wo.wm) / (4 |wo.z| |wi.z|),   wm = normalize(wo + wi).
 //
-// Directions are drawn from the visible normals (microfacet.h), so the sample weight is
-// F G / G1(wo). Single scattering only: light that would bounce between microfacets is lost, so
+// Directions are drawn from the distribution's normals (microfacet.h). Single scattering only: light that would bounce between microfacets is lost, so
 // even F = 1 reflects less than 1 at high roughness (tests/materials/microfacet_test.cpp measures
 // how much). Two-sided like Conductor: evaluated on the side where wo lies.
 #pragma once
@@ -23,14 +22,15 @@ namespace penumbra {
 struct RoughConductor {
     Rgb eta{0.143f, 0.374f, 1.442f};
     Rgb k{3.983f, 2.385f, 1.603f};
-    GgxDistribution distribution;
+    MicrofacetDistribution distribution;
+    Rgb tint{1.0f, 1.0f, 1.0f};  // a factor on the reflectance (as Conductor's)
 
     static constexpr BsdfFlags kFlags = BsdfFlags::Glossy | BsdfFlags::Reflection;
 
     Rgb eval(Vec3f wo, Vec3f wi, bool /*front*/) const {
         const auto pair = reflectionPair(wo, wi);
         if (!pair) return Rgb(0.0f);
-        return fresnelComplex(dot(pair->wo, pair->wm), eta, k) *
+        return fresnelComplex(dot(pair->wo, pair->wm), eta, k) * tint *
                distribution.reflectionWithoutFresnel(pair->wo, pair->wi, pair->wm);
     }
 
@@ -43,7 +43,8 @@ struct RoughConductor {
         if (wo.z == 0.0f) return std::nullopt;
         const float side = wo.z > 0.0f ? 1.0f : -1.0f;
         const Vec3f woUp{wo.x, wo.y, wo.z * side};
-        const Vec3f wm = distribution.sampleVisibleNormal(woUp, u);
+        const Vec3f wm = distribution.sampleNormal(woUp, u);
+        if (!(dot(woUp, wm) > 0.0f)) return std::nullopt;  // a microfacet facing away (Beckmann's sampling)
         Vec3f wi = reflectAbout(woUp, wm);
         if (!(wi.z > 0.0f)) return std::nullopt;  // reflected below the surface: the light is lost
         wi.z *= side;
@@ -53,7 +54,7 @@ struct RoughConductor {
     }
 
     // At normal incidence, as denoisers expect an albedo.
-    Rgb reflectanceForAov() const { return fresnelComplex(1.0f, eta, k); }
+    Rgb reflectanceForAov() const { return fresnelComplex(1.0f, eta, k) * tint; }
 };
 
 }  // namespace penumbra

@@ -1,7 +1,6 @@
-// A rough dielectric interface (frosted glass): reflection and refraction through a GGX
-// microsurface, after Walter, Marschner, Li and Torrance 2007, "Microfacet models for refraction
-// through rough surfaces", with Smith's height-correlated G and visible-normal sampling (as
-// pbrt-v4's DielectricBxDF). With eta the relative index of the far side over wo's side:
+// A rough dielectric interface (frosted glass): reflection and refraction through a microsurface,
+// after Walter, Marschner, Li and Torrance 2007, "Microfacet models for refraction through rough
+// surfaces", with Smith's height-correlated G (as pbrt-v4's DielectricBxDF). With eta the relative index of the far side over wo's side:
 //
 //   reflection (wi on wo's side),   wm = normalize(wo + wi):
 //     f = D(wm) G(wo, wi) F(wo.wm) / (4 |wo.z| |wi.z|)
@@ -10,8 +9,8 @@
 //
 // The 1 / eta^2 is the radiance scale of the smooth Dielectric (dielectric.h), and as there the
 // sample reports eta so that Russian roulette can leave it out. Microfacets that face away from
-// either direction contribute nothing. Sampling draws a visible normal, then reflects with
-// probability F(wo.wm) and refracts otherwise. Which side is the inside is decided by `front`
+// either direction contribute nothing. Sampling draws a microfacet normal (microfacet.h), then
+// reflects with probability F(wo.wm) and refracts otherwise. Which side is the inside is decided by `front`
 // (the geometric side of wo), as for Dielectric; Beer-Lambert absorption in the interior likewise.
 #pragma once
 
@@ -31,7 +30,7 @@ struct RoughDielectric {
     float eta = 1.5f;  // interior index over exterior index, > 0
     FresnelModel fresnel = FresnelModel::Exact;
     Rgb absorption{0.0f, 0.0f, 0.0f};  // sigma_a of the interior, per unit length (0: clear)
-    GgxDistribution distribution;
+    MicrofacetDistribution distribution;
 
     static constexpr BsdfFlags kFlags = BsdfFlags::Glossy | BsdfFlags::Reflection | BsdfFlags::Transmission;
 
@@ -56,7 +55,7 @@ struct RoughDielectric {
         const float F = reflectance(g.cosO, g.eta);
         if (g.reflects) return distribution.reflectionPdf(g.wo, g.wm) * F;
         // The Jacobian dwm / dwi of refraction.
-        return distribution.visibleNormalPdf(g.wo, g.wm) * std::abs(g.cosI) / sqr(g.cosI + g.cosO / g.eta) * (1.0f - F);
+        return distribution.normalPdf(g.wo, g.wm) * std::abs(g.cosI) / sqr(g.cosI + g.cosO / g.eta) * (1.0f - F);
     }
 
     std::optional<BsdfSample> sample(Vec3f wo, float uLobe, Vec2f u, bool front) const {
@@ -64,7 +63,8 @@ struct RoughDielectric {
         const float side = wo.z > 0.0f ? 1.0f : -1.0f;
         const Vec3f woUp{wo.x, wo.y, wo.z * side};
         const float etaRelative = front ? eta : 1.0f / eta;
-        const Vec3f wm = distribution.sampleVisibleNormal(woUp, u);
+        const Vec3f wm = distribution.sampleNormal(woUp, u);
+        if (!(dot(woUp, wm) > 0.0f)) return std::nullopt;  // a microfacet facing away (Beckmann's sampling)
         const float F = reflectance(dot(woUp, wm), etaRelative);
         Vec3f wi;
         BsdfFlags flags;

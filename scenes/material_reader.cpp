@@ -75,13 +75,18 @@ Material readMirror(const JsonValue& material) {
 }
 
 
-// A rough surface's GGX slopes from "roughness" r in [0, 1] (alpha = r^2) or "alpha" > 0, each a
-// number or [along u, along v] for an anisotropic surface; none when neither key is given.
-std::optional<GgxDistribution> readDistribution(const JsonValue& material) {
+// A rough surface's microfacet distribution: "distribution" ("ggx" or "beckmann") and the slopes
+// from "roughness" r in [0, 1] (alpha = r^2) or "alpha" > 0, each a number or [along u, along v]
+// for an anisotropic surface; none when no roughness is given.
+std::optional<MicrofacetDistribution> readDistribution(const JsonValue& material) {
     const auto roughness = material.member("roughness");
     const auto alpha = material.member("alpha");
+    const auto kind = material.member("distribution");
     if (roughness && alpha) alpha->fail("give either \"roughness\" or \"alpha\", not both");
-    if (!roughness && !alpha) return std::nullopt;
+    if (!roughness && !alpha) {
+        if (kind) kind->fail("a distribution needs a \"roughness\" or an \"alpha\"");
+        return std::nullopt;
+    }
     const JsonValue& value = roughness ? *roughness : *alpha;
     auto read = [&](const JsonValue& v) {
         if (roughness) {
@@ -93,22 +98,28 @@ std::optional<GgxDistribution> readDistribution(const JsonValue& material) {
         if (!(a > 0.0f && a <= 4.0f)) v.failExpected("an alpha in (0, 4] (0 is a smooth surface: use the smooth material)");
         return a;
     };
+    MicrofacetDistribution d;
+    if (kind) d.kind = kind->choice({"ggx", "beckmann"}) == 0 ? MicrofacetKind::Ggx : MicrofacetKind::Beckmann;
     if (!value.json().is_array()) {
-        const float a = read(value);
-        return GgxDistribution{a, a};
+        d.alphaX = d.alphaY = read(value);
+        return d;
     }
     if (value.arraySize() != 2) value.failExpected("a number or an array of 2 numbers (along u, along v)");
-    return GgxDistribution{read(value.element(0)), read(value.element(1))};
+    d.alphaX = read(value.element(0));
+    d.alphaY = read(value.element(1));
+    return d;
 }
 
 // Narrower than kSmoothAlpha in both directions (or no roughness given): the smooth model.
-bool isSmooth(const std::optional<GgxDistribution>& d) {
+bool isSmooth(const std::optional<MicrofacetDistribution>& d) {
     return !d || std::max(d->alphaX, d->alphaY) < kSmoothAlpha;
 }
 
 // Keeps a rough lobe's slopes where float arithmetic holds (pbrt-v4 clamps the same way).
-GgxDistribution clampedForRendering(GgxDistribution d) {
-    return {std::max(d.alphaX, 1e-4f), std::max(d.alphaY, 1e-4f)};
+MicrofacetDistribution clampedForRendering(MicrofacetDistribution d) {
+    d.alphaX = std::max(d.alphaX, 1e-4f);
+    d.alphaY = std::max(d.alphaY, 1e-4f);
+    return d;
 }
 
 Rgb readConductorEta(const JsonValue& material) {
@@ -123,9 +134,11 @@ Rgb readConductorEta(const JsonValue& material) {
 Material readConductor(const JsonValue& material) {
     const Rgb eta = readConductorEta(material);
     const Rgb k = material.requiredMember("k").rgb(0.0f);
-    const std::optional<GgxDistribution> distribution = readDistribution(material);
-    if (isSmooth(distribution)) return Material(Conductor{eta, k}, readTwoSided(material));
-    return Material(RoughConductor{eta, k, clampedForRendering(*distribution)}, readTwoSided(material));
+    Rgb tint(1.0f);
+    if (auto v = material.member("tint")) tint = v->rgb(0.0f, 1.0f);
+    const std::optional<MicrofacetDistribution> distribution = readDistribution(material);
+    if (isSmooth(distribution)) return Material(Conductor{eta, k, tint}, readTwoSided(material));
+    return Material(RoughConductor{eta, k, clampedForRendering(*distribution), tint}, readTwoSided(material));
 }
 
 // "dielectric" and "rough_dielectric", likewise.
@@ -134,7 +147,7 @@ Material readDielectric(const JsonValue& material) {
     if (auto v = material.member("eta")) smooth.eta = v->numberAbove(0.0f);
     if (auto v = material.member("fresnel")) smooth.fresnel = readFresnel(*v);
     if (auto v = material.member("absorption")) smooth.absorption = readAbsorption(*v);
-    const std::optional<GgxDistribution> distribution = readDistribution(material);
+    const std::optional<MicrofacetDistribution> distribution = readDistribution(material);
     if (isSmooth(distribution)) return Material(smooth);
     return Material(RoughDielectric{smooth.eta, smooth.fresnel, smooth.absorption, clampedForRendering(*distribution)});
 }
@@ -144,7 +157,7 @@ Material readCoatedDiffuse(const JsonValue& material) {
     if (auto v = material.member("albedo")) albedo = v->rgb(0.0f, 1.0f);
     float eta = 1.5f;
     if (auto v = material.member("eta")) eta = v->numberAbove(0.0f);
-    const std::optional<GgxDistribution> distribution = readDistribution(material);
+    const std::optional<MicrofacetDistribution> distribution = readDistribution(material);
     if (isSmooth(distribution)) return Material(CoatedDiffuse::make(albedo, eta), readTwoSided(material));
     return Material(RoughCoatedDiffuse::make(albedo, eta, clampedForRendering(*distribution)), readTwoSided(material));
 }
@@ -157,10 +170,10 @@ const std::array<TypeRow<MaterialReader>, 9> kMaterialTypes{{
     {"dielectric", {"type", "eta", "fresnel", "absorption"}, readDielectric},
     {"thin_dielectric", {"type", "eta", "fresnel"}, readThinDielectric},
     {"mirror", {"type", "tint", "two_sided"}, readMirror},
-    {"conductor", {"type", "eta", "k", "two_sided"}, readConductor},
-    {"rough_conductor", {"type", "eta", "k", "roughness", "alpha", "two_sided"}, readConductor},
-    {"rough_dielectric", {"type", "eta", "fresnel", "absorption", "roughness", "alpha"}, readDielectric},
-    {"coated_diffuse", {"type", "albedo", "eta", "roughness", "alpha", "two_sided"}, readCoatedDiffuse},
+    {"conductor", {"type", "eta", "k", "tint", "two_sided"}, readConductor},
+    {"rough_conductor", {"type", "eta", "k", "tint", "roughness", "alpha", "distribution", "two_sided"}, readConductor},
+    {"rough_dielectric", {"type", "eta", "fresnel", "absorption", "roughness", "alpha", "distribution"}, readDielectric},
+    {"coated_diffuse", {"type", "albedo", "eta", "roughness", "alpha", "distribution", "two_sided"}, readCoatedDiffuse},
 }};
 
 }  // namespace

@@ -31,7 +31,7 @@ TEST(MaterialLoader, ReadsEveryTypeAndKey) {
                   "absorption": {"color": [0.5, 0.25, 1], "distance": 2}},
         "pane": {"type": "thin_dielectric", "eta": 1.52},
         "mirror": {"type": "mirror", "tint": [0.9, 0.8, 0.7], "two_sided": false},
-        "gold": {"type": "conductor", "eta": [0.143, 0.374, 1.442], "k": [3.983, 2.385, 1.603]},
+        "gold": {"type": "conductor", "eta": [0.143, 0.374, 1.442], "k": [3.983, 2.385, 1.603], "tint": [1, 0.9, 0.8]},
         "defaults": {"type": "phong"}
     })");
     ASSERT_EQ(scene.materials.size(), 7u);
@@ -65,6 +65,7 @@ TEST(MaterialLoader, ReadsEveryTypeAndKey) {
     const Conductor& gold = std::get<Conductor>(scene.materials[5].model());
     EXPECT_EQ(gold.eta, Rgb(0.143f, 0.374f, 1.442f));
     EXPECT_EQ(gold.k, Rgb(3.983f, 2.385f, 1.603f));
+    EXPECT_EQ(gold.tint, Rgb(1.0f, 0.9f, 0.8f));
 
     const Phong& defaults = std::get<Phong>(scene.materials[6].model());
     EXPECT_EQ(defaults.kd, Rgb(0.5f));
@@ -95,7 +96,8 @@ TEST(MaterialFlags, DeriveSpecularityAndLobeChoice) {
 TEST(MaterialLoader, ReadsTheRoughMaterials) {
     const Scene scene = parseMaterials(R"({
         "brushed": {"type": "rough_conductor", "eta": [0.2, 0.9, 1.1], "k": [3.9, 2.4, 2.1], "roughness": [0.2, 0.5]},
-        "veach": {"type": "rough_conductor", "eta": 0.2, "k": 3.9, "alpha": 0.01, "two_sided": false},
+        "veach": {"type": "rough_conductor", "eta": 0.2, "k": 3.9, "alpha": 0.01, "two_sided": false,
+                  "distribution": "beckmann", "tint": 0.3},
         "frosted": {"type": "rough_dielectric", "eta": 1.5, "roughness": 0.3,
                     "absorption": {"color": 0.5, "distance": 1}},
         "plastic": {"type": "coated_diffuse", "albedo": [0.7, 0.1, 0.1], "eta": 1.6, "alpha": 0.2},
@@ -110,6 +112,10 @@ TEST(MaterialLoader, ReadsTheRoughMaterials) {
     EXPECT_EQ(brushed.k, Rgb(3.9f, 2.4f, 2.1f));
     const RoughConductor& veach = std::get<RoughConductor>(scene.materials[1].model());
     EXPECT_EQ(veach.distribution.alphaX, 0.01f);
+    EXPECT_EQ(veach.distribution.kind, MicrofacetKind::Beckmann);
+    EXPECT_EQ(veach.tint, Rgb(0.3f));
+    EXPECT_EQ(brushed.distribution.kind, MicrofacetKind::Ggx);  // the default
+    EXPECT_EQ(brushed.tint, Rgb(1.0f));
     EXPECT_FALSE(scene.materials[1].twoSided());
     const RoughDielectric& frosted = std::get<RoughDielectric>(scene.materials[2].model());
     EXPECT_FLOAT_EQ(frosted.distribution.alphaY, 0.09f);
@@ -187,9 +193,15 @@ TEST(MaterialLoader, BadValuesNameThePointerAndTheField) {
         {R"({"r": {"type": "rough_conductor", "eta": 1, "k": 1, "roughness": 0.5, "alpha": 0.2}})",
          "/materials/r/alpha: give either \"roughness\" or \"alpha\", not both"},
         {R"({"r": {"type": "coated_diffuse", "specular": 0.5}})",
-         "/materials/r/specular: unknown key (expected one of: type, albedo, eta, roughness, alpha, two_sided)"},
+         "/materials/r/specular: unknown key (expected one of: type, albedo, eta, roughness, alpha, distribution, two_sided)"},
         {R"({"r": {"type": "conductor", "eta": 1, "k": 1, "roughness": 0.5}})",
-         "/materials/r/roughness: unknown key (expected one of: type, eta, k, two_sided)"},
+         "/materials/r/roughness: unknown key (expected one of: type, eta, k, tint, two_sided)"},
+        {R"({"r": {"type": "rough_conductor", "eta": 1, "k": 1, "alpha": 0.1, "distribution": "phong"}})",
+         "/materials/r/distribution: expected one of: ggx, beckmann"},
+        {R"({"r": {"type": "rough_conductor", "eta": 1, "k": 1, "distribution": "beckmann"}})",
+         "/materials/r/distribution: a distribution needs a \"roughness\" or an \"alpha\""},
+        {R"({"r": {"type": "rough_conductor", "eta": 1, "k": 1, "tint": [1, 0.5, 1.5]}})",
+         "/materials/r/tint/2: expected a number in [0, 1], found 1.5"},
     };
     for (const Case& c : cases) EXPECT_CONTAINS(errorOf(c.json), std::string("s.json: ") + c.message) << c.json;
 }
