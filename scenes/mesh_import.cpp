@@ -76,6 +76,21 @@ std::vector<Token> tokenize(std::string_view line) {
     return tokens;
 }
 
+// Calls `visit(line, lineNumber)` for each line of `text`, ending lines where tinyobjloader does:
+// at "\n", "\r\n" and a lone "\r". The validator must see the lines the loader sees, or a lone CR
+// could hide a face from it ("#\rf 1 2 4" would be a comment to one and a face to the other).
+template <typename Visit>
+void forEachObjLine(std::string_view text, Visit visit) {
+    int lineNumber = 0;
+    for (size_t start = 0; start < text.size();) {
+        const size_t end = std::min(text.find_first_of("\r\n", start), text.size());
+        const std::string_view line = text.substr(start, end - start);
+        start = end + 1;
+        if (end < text.size() && text[end] == '\r' && start < text.size() && text[start] == '\n') ++start;
+        visit(line, ++lineNumber);
+    }
+}
+
 std::string readPlainFile(const fs::path& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) fail(path.string(), "cannot open the file for reading");
@@ -102,6 +117,30 @@ std::string readGzipFile(const fs::path& path) {
     return out;
 }
 
+// Defence in depth: whatever a loader produced, the mesh handed on must be one that the rest of the
+// renderer can use without further checks (face frames and Embree read it unguarded).
+void checkImportedMesh(const TriangleMesh& mesh, const std::string& file) {
+    if (mesh.positions.empty() || mesh.indices.empty() || mesh.indices.size() % 3 != 0)
+        fail(file, "the file contains no triangles");
+    for (size_t i = 0; i < mesh.indices.size(); ++i)
+        if (mesh.indices[i] >= mesh.positions.size())
+            fail(file, fmt::format("triangle {} (counting from 0) uses vertex {}, but the mesh has only {} vertices",
+                                   i / 3, mesh.indices[i], mesh.positions.size()));
+    for (size_t i = 0; i < mesh.positions.size(); ++i)
+        if (!isFinite(mesh.positions[i]))
+            fail(file, fmt::format("vertex {} (counting from 0) has a non-finite coordinate", i));
+    if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size())
+        fail(file, "the file gives normals for some vertices only");
+    for (size_t i = 0; i < mesh.normals.size(); ++i)
+        if (!isFinite(mesh.normals[i]))
+            fail(file, fmt::format("the normal of vertex {} (counting from 0) is not finite", i));
+    if (!mesh.uvs.empty() && mesh.uvs.size() != mesh.positions.size())
+        fail(file, "the file gives uvs for some vertices only");
+    for (size_t i = 0; i < mesh.uvs.size(); ++i)
+        if (!std::isfinite(mesh.uvs[i].x) || !std::isfinite(mesh.uvs[i].y))
+            fail(file, fmt::format("the uv of vertex {} (counting from 0) is not finite", i));
+}
+
 // ---------------------------------------------------------------------------------------------
 // OBJ
 
@@ -119,15 +158,10 @@ void validateObj(std::string_view text, const std::string& file) {
     };
     std::vector<ForwardIndex> forward;
 
-    int lineNumber = 0;
-    for (size_t start = 0; start < text.size();) {
-        const size_t end = std::min(text.find('\n', start), text.size());
-        std::string_view line = text.substr(start, end - start);
-        start = end + 1;
-        ++lineNumber;
+    forEachObjLine(text, [&](std::string_view line, int lineNumber) {
         line = line.substr(0, line.find('#'));
         const std::vector<Token> tokens = tokenize(line);
-        if (tokens.empty()) continue;
+        if (tokens.empty()) return;
         const std::string_view keyword = tokens[0].text;
 
         if (keyword == "v" || keyword == "vt" || keyword == "vn") {
@@ -191,12 +225,30 @@ void validateObj(std::string_view text, const std::string& file) {
             }
         }
         // Other statements (o, g, s, usemtl, mtllib, l, p, ...) do not affect the triangles.
-    }
+    });
     for (const ForwardIndex& f : forward)
         if (f.index > count[f.kind])
             failAt(file, f.line, f.column,
                    fmt::format("{} index {} is out of range: the file has {} {}", kindName[f.kind], f.index,
                                count[f.kind], kindPlural[f.kind]));
+}
+
+// Defence in depth: the indices tinyobjloader produced must name elements it read, whatever the
+// validator concluded, before any of them is used to read its arrays.
+void checkObjLoaderIndices(const tinyobj::attrib_t& attrib, const std::vector<tinyobj::index_t>& corners,
+                           const std::string& file) {
+    const size_t counts[3] = {attrib.vertices.size() / 3, attrib.texcoords.size() / 2, attrib.normals.size() / 3};
+    static const char* const kindPlural[] = {"vertices", "texture coordinates", "normals"};
+    for (const tinyobj::index_t& c : corners) {
+        const int indices[3] = {c.vertex_index, c.texcoord_index, c.normal_index};
+        for (int k = 0; k < 3; ++k) {
+            const bool optional = k > 0;  // a corner may lack a uv or a normal (-1)
+            if ((optional && indices[k] == -1) || (indices[k] >= 0 && size_t(indices[k]) < counts[k])) continue;
+            fail(file, fmt::format("the OBJ reader produced a face corner that refers to {} {} (counting from "
+                                   "1), but it read only {} {}; the file is malformed",
+                                   kindPlural[k], int64_t(indices[k]) + 1, counts[k], kindPlural[k]));
+        }
+    }
 }
 
 struct CornerKey {
@@ -236,6 +288,7 @@ TriangleMesh importObj(std::string_view text, const std::string& file) {
         }
     }
     if (corners.empty()) fail(file, "the file contains no triangles (no 'f' lines)");
+    checkObjLoaderIndices(attrib, corners, file);
 
     // Normals and uvs are per corner in OBJ; keep them only where every corner has one.
     const bool hasNormals =
@@ -253,6 +306,7 @@ TriangleMesh importObj(std::string_view text, const std::string& file) {
         mesh.positions.resize(attrib.vertices.size() / 3);
         for (size_t i = 0; i < mesh.positions.size(); ++i) mesh.positions[i] = position(int(i));
         for (const auto& c : corners) mesh.indices.push_back(uint32_t(c.vertex_index));
+        checkImportedMesh(mesh, file);
         return mesh;
     }
     // One vertex per distinct (position, uv, normal) combination, as a single index buffer needs.
@@ -276,6 +330,7 @@ TriangleMesh importObj(std::string_view text, const std::string& file) {
         }
         mesh.indices.push_back(it->second);
     }
+    checkImportedMesh(mesh, file);
     return mesh;
 }
 
@@ -336,10 +391,17 @@ PlyHeader parsePlyHeader(std::string_view bytes, const std::string& file) {
         if (start >= bytes.size())
             fail(file, "the PLY header is incomplete: no 'end_header' line (is the file truncated?)");
         const size_t end = std::min(bytes.find('\n', start), bytes.size());
-        const std::vector<Token> tokens = tokenize(bytes.substr(start, end - start));
+        const std::string_view line = bytes.substr(start, end - start);
+        const std::vector<Token> tokens = tokenize(line);
         start = end + 1;
         ++lineNumber;
         auto failHere = [&](const std::string& message) { failAt(file, lineNumber, 1, message); };
+        // assimp ends header lines at "\n" only; a lone CR would make it read another header than ours.
+        const size_t cr = line.find('\r');
+        if (cr != std::string_view::npos && cr + 1 != line.size())
+            failAt(file, lineNumber, int(cr) + 1,
+                   "a carriage return that does not end the line: PLY header lines must end with LF or CR LF "
+                   "(old Mac CR-only line endings are not accepted)");
 
         if (lineNumber == 1) {
             if (tokens.size() != 1 || tokens[0].text != "ply")
@@ -579,6 +641,7 @@ TriangleMesh importPly(std::string_view bytes, const std::string& file) {
     }
     if (hasNormals) normalizePlyNormals(mesh.normals, file);
     if (mesh.indices.empty()) fail(file, "the file contains no triangles");
+    checkImportedMesh(mesh, file);
     return mesh;
 }
 
