@@ -74,7 +74,11 @@ uint64_t Film::totalSamples() const {
 void Film::merge(const Film& other) {
     if (other.width_ != width_ || other.height_ != height_)
         throw std::invalid_argument("Film::merge: the films differ in size");
-    for (size_t i = 0; i < pixels_.size(); ++i) pixels_[i].merge(other.pixels_[i]);
+    for (size_t i = 0; i < pixels_.size(); ++i)
+        if (!pixels_[i].tryMerge(other.pixels_[i]))
+            throw InputError(fmt::format("pixel ({}, {}) would hold more than 2^32 - 1 samples or a sum beyond "
+                                         "128 bits: the films cannot both be intact parts of one render",
+                                         i % size_t(width_), i / size_t(width_)));
 }
 
 bool Film::identicalTo(const Film& other) const {

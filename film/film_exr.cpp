@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstdio>
 #include <optional>
 #include <thread>
 #include <string>
@@ -27,6 +28,7 @@
 #include "core/error.h"
 #include "core/huge_page_allocator.h"
 #include "film/atomic_file.h"
+#include "film/film_checksum.h"
 #include "film/image_output.h"
 
 namespace penumbra {
@@ -34,9 +36,12 @@ namespace penumbra {
 namespace {
 
 // The EXR layout (docs/exr-layout.md). Version 1: every sum as four words in part "sums".
-// Version 2 (written): high words that only repeat the sign are left out, and the words are
-// spread over part "sums" (ZIP) and part "sums.noise" (RLE) by how they compress.
-constexpr int kFilmLayoutVersion = 2;
+// Version 2: high words that only repeat the sign are left out, and the words are
+// spread over part "sums" (ZIP) and part "sums.noise" (RLE) by how they compress. Version 3
+// (written): version 2 with the checksum penumbra:checksum in part "sums".
+constexpr int kFilmLayoutVersion = 3;
+constexpr int kFirstLayoutWithChecksum = 3;
+const char* const kChecksumAttribute = "penumbra:checksum";
 const char* const kSumsPart = "sums";
 const char* const kNoisePart = "sums.noise";
 
@@ -122,6 +127,25 @@ int parseIntStrict(const std::string& text, bool& ok) {
 
 const char* const kNotOurs = "is not a film written by penumbra (render or merge)";
 
+// The attributes of the beauty part that say which samples the film holds, as the checksum covers
+// them (docs/exr-layout.md).
+std::string checksummedMetadata(const Imf::Header& beauty) {
+    return fmt::format("{}|{}|{}|{}|{}|{}|{}|{}", stringAttribute(beauty, "penumbra:resolution"),
+                       stringAttribute(beauty, "penumbra:crop"), stringAttribute(beauty, "penumbra:samples"),
+                       intAttribute(beauty, "penumbra:spp"), stringAttribute(beauty, "penumbra:seed"),
+                       stringAttribute(beauty, "penumbra:sampler"), stringAttribute(beauty, "penumbra:accel"),
+                       stringAttribute(beauty, "penumbra:sceneHash"));
+}
+
+// A sum at or beyond 2^126 units in magnitude is more than 2^32 samples can add (each adds less
+// than 2^94 units): only a corrupt or crafted file holds one, and adding to it could overflow.
+bool sumInRange(const ExactSum& sum) {
+    uint32_t w[4];
+    sum.toWords(w);
+    const uint32_t top = w[3] >> 30;  // bits 127 and 126: equal (00 or 11) below 2^126
+    return top == 0 || top == 3;
+}
+
 FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& file) {
     const Imf::Header& beauty = file.header(0);
     if (!beauty.findTypedAttribute<Imf::IntAttribute>("penumbra:film"))
@@ -173,7 +197,7 @@ FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& fi
         throwFileError(path, "the data window does not match penumbra:crop");
     if (window != PixelWindow{0, fullWidth, 0, fullHeight}) m.crop = window;
 
-    // The parts that hold sum words: "sums" (both versions) and "sums.noise" (version 2).
+    // The parts that hold sum words: "sums" (every version) and "sums.noise" (versions 2 and 3).
     std::vector<int> sumParts;
     for (int p = 0; p < file.parts(); ++p) {
         const Imf::Header& h = file.header(p);
@@ -187,7 +211,7 @@ FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& fi
         throwFileError(path, fmt::format("{}: it has no \"sums\" part", kNotOurs));
 
     // Where each word is stored: a part, and its index among the channels read from that part.
-    // Version 1 stores every word; version 2 leaves out those it can restore (see writeExr).
+    // Version 1 stores every word; versions 2 and 3 leave out those they can restore (see writeExr).
     const std::vector<std::string>& names = sumChannels();
     struct Source {
         int part = -1;
@@ -248,7 +272,33 @@ FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& fi
                 p.sum(s) = ExactSum::fromWords(words);
             }
             p.sampleCount = word(kSppChannel, i);
+            for (int s = 0; s < kSumCount; ++s)
+                if (!sumInRange(p.sum(s)))
+                    throwFileError(path, fmt::format("pixel ({}, {}): {} is beyond what 2^32 samples can add "
+                                                     "(2^78 in magnitude); the file is corrupt",
+                                                     x, y, kSumNames[s]));
         }
+
+    const Imf::Header& sumsHeader = file.header(
+        *std::find_if(sumParts.begin(), sumParts.end(), [&](int p) { return file.header(p).name() == kSumsPart; }));
+    const auto* stored = sumsHeader.findTypedAttribute<Imf::StringAttribute>(kChecksumAttribute);
+    if (layout >= kFirstLayoutWithChecksum) {
+        if (!stored)
+            throwFileError(path, fmt::format("the \"sums\" part has no {} attribute, which film layout {} requires",
+                                             kChecksumAttribute, layout));
+        const std::string computed = formatFilmChecksum(filmChecksum(result.film, window, checksummedMetadata(beauty)));
+        if (stored->value() != computed)
+            throwFileError(path, fmt::format("the film's sums or metadata do not match their checksum ({} stored, {} "
+                                             "computed): the file is corrupt",
+                                             stored->value(), computed));
+    } else {
+        // Films written before the checksum still read (a render resumed after an update keeps
+        // its hours), but nothing shows that their sums are intact.
+        std::fprintf(stderr,
+                     "penumbra: warning: %s: film layout version %d has no checksum, so its sums cannot be "
+                     "verified (written by an older penumbra)\n",
+                     path.string().c_str(), layout);
+    }
     return result;
 }
 
@@ -296,6 +346,8 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
     // Parts "sums" and "sums.noise": the film itself, losslessly, with the same windows and metadata.
     Imf::Header sums = beauty, noise = beauty;
     sums.setName(kSumsPart);
+    sums.insert(kChecksumAttribute,
+                Imf::StringAttribute(formatFilmChecksum(filmChecksum(film, window, checksummedMetadata(beauty)))));
     sums.compression() = Imf::ZIP_COMPRESSION;
     sums.zipCompressionLevel() = 1;
     noise.setName(kNoisePart);

@@ -72,4 +72,18 @@ TEST_F(HostileInput, PlyBinaryHeaderWithLoneCarriageReturn) {
     EXPECT_TRUE(contains(r, "cr_end_header_binary.ply:9:1: a carriage return")) << r.output;
 }
 
+TEST_F(HostileInput, ResumeRefusesACorruptFilm) {
+    // flipped_sums.exr: a render of flipped_sums_scene.json with 16 bytes flipped in its RLE sums;
+    // once resumed with exit status 0 and most pixels wrong.
+    const RunResult r = expectFailure("render " + (kHostile / "flipped_sums_scene.json").string() +
+                                      " --spp 8 --resume " + (kHostile / "flipped_sums.exr").string() +
+                                      " --no-display -o " + output());
+    EXPECT_TRUE(contains(r, "flipped_sums.exr: the film's sums or metadata do not match their checksum")) << r.output;
+}
+
+TEST_F(HostileInput, MergeRefusesACorruptFilm) {
+    const RunResult r = expectFailure("merge " + (kHostile / "flipped_sums.exr").string() + " -o " + output());
+    EXPECT_TRUE(contains(r, "flipped_sums.exr: the film's sums or metadata do not match their checksum")) << r.output;
+}
+
 }  // namespace
