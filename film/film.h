@@ -205,8 +205,12 @@ private:
 
 class Film {
 public:
-    // Throws InputError when the film would not fit in the machine's memory (an impossible
-    // resolution, or a file that claims one), rather than failing somewhere in the allocation.
+    // Bytes a pixel needs beside its sums when the film is written: the EXR's 14 floats.
+    static constexpr size_t kOutputBytesPerPixel = 14 * sizeof(float);
+
+    // Throws InputError when the film, and the buffer to write it, would not fit in the memory
+    // available now (an impossible resolution, or a file that claims one), rather than failing
+    // somewhere in the allocation.
     Film(int width, int height);
 
     int width() const { return width_; }

@@ -15,6 +15,7 @@
 #include <OpenEXR/ImfTestFile.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <optional>
@@ -26,6 +27,8 @@
 #include <tbb/parallel_for.h>
 
 #include "core/error.h"
+#include "core/input_limits.h"
+#include "core/system_memory.h"
 #include "core/huge_page_allocator.h"
 #include "film/atomic_file.h"
 #include "film/film_checksum.h"
@@ -127,6 +130,38 @@ int parseIntStrict(const std::string& text, bool& ok) {
 
 const char* const kNotOurs = "is not a film written by penumbra (render or merge)";
 
+// Scanlines in one chunk of a part with this compression (OpenEXR's blocks of lines).
+int linesPerChunk(Imf::Compression compression) {
+    switch (compression) {
+        case Imf::ZIP_COMPRESSION:
+        case Imf::PXR24_COMPRESSION: return 16;
+        case Imf::PIZ_COMPRESSION:
+        case Imf::B44_COMPRESSION:
+        case Imf::B44A_COMPRESSION:
+        case Imf::DWAA_COMPRESSION: return 32;
+        case Imf::DWAB_COMPRESSION: return 256;
+        default: return 1;  // none, RLE, ZIPS
+    }
+}
+
+// Every chunk of lines takes at least 20 bytes (its offset, part number, first line and size),
+// so a file shorter than that for the rows its windows declare is truncated or lies about its
+// size: refused before a film of that size is allocated.
+void checkFileHoldsItsRows(const std::filesystem::path& path, Imf::MultiPartInputFile& file) {
+    double minimumBytes = 0;
+    for (int p = 0; p < file.parts(); ++p) {
+        const Imf::Header& h = file.header(p);
+        const double rows = double(h.dataWindow().max.y) - double(h.dataWindow().min.y) + 1;
+        minimumBytes += std::ceil(rows / linesPerChunk(h.compression())) * 20;
+    }
+    std::error_code ec;
+    const uintmax_t size = std::filesystem::file_size(path, ec);
+    if (!ec && double(size) < minimumBytes)
+        throwFileError(path, fmt::format("the file is {} bytes, too small for the rows its windows declare (at least "
+                                         "{:.0f} bytes): it is truncated or its header is corrupt",
+                                         size, minimumBytes));
+}
+
 // The attributes of the beauty part that say which samples the film holds, as the checksum covers
 // them (docs/exr-layout.md).
 std::string checksummedMetadata(const Imf::Header& beauty) {
@@ -161,8 +196,11 @@ FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& fi
         stringAttribute(beauty, "penumbra:resolution") != fmt::format("{}x{}", fullWidth, fullHeight))
         throwFileError(path, "the display window does not match penumbra:resolution");
 
-    FilmFile result{Film(fullWidth, fullHeight), {}};
-    RenderMetadata& m = result.metadata;
+    if (fullWidth > limits::kMaxImageSide || fullHeight > limits::kMaxImageSide)
+        throwFileError(path, fmt::format("the image is {}x{}; penumbra's limit is {} pixels a side", fullWidth,
+                                         fullHeight, limits::kMaxImageSide));
+
+    RenderMetadata m;
     m.samplesPerPixel = intAttribute(beauty, "penumbra:spp");
     m.sampler = stringAttribute(beauty, "penumbra:sampler");
     m.accelerator = stringAttribute(beauty, "penumbra:accel");
@@ -234,7 +272,16 @@ FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& fi
         if (source[c].part < 0 && (layout == 1 || c == kSppChannel))
             throwFileError(path, fmt::format("the \"sums\" part has no channel '{}'", names[c]));
 
+    // The sizes the headers declare, against the file and the memory, before they are allocated.
+    checkFileHoldsItsRows(path, file);
     const size_t pixelCount = size_t(window.width()) * window.height();
+    size_t wordsRead = 0;
+    for (int p : sumParts) wordsRead += namesOf[p].size();
+    requireMemory(double(fullWidth) * fullHeight * double(sizeof(PixelSums) + Film::kOutputBytesPerPixel) +
+                      double(pixelCount) * double(wordsRead) * sizeof(uint32_t),
+                  fmt::format("{}: reading its {}x{} film", path.string(), fullWidth, fullHeight));
+    FilmFile result{Film(fullWidth, fullHeight), m};
+
     std::vector<std::optional<HugePageBuffer<uint32_t>>> buffers(file.parts());
     for (int p : sumParts) {
         if (namesOf[p].empty()) continue;
@@ -308,6 +355,9 @@ int exrThreads() {
     static const int threads = [] {
         const int n = int(std::max(1u, std::thread::hardware_concurrency()));
         Imf::setGlobalThreadCount(n);
+        // OpenEXR itself allocates by the data window when it opens a file; a corrupt header must
+        // not make it allocate more than our largest image would.
+        Imf::Header::setMaxImageSize(limits::kMaxImageSide, limits::kMaxImageSide);
         return n;
     }();
     return threads;
@@ -476,7 +526,7 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
 bool isPenumbraFilm(const std::filesystem::path& path) {
     try {
         if (!Imf::isOpenExrFile(path.c_str())) return false;
-        Imf::MultiPartInputFile file(path.c_str());
+        Imf::MultiPartInputFile file(path.c_str(), exrThreads());
         return file.header(0).find("penumbra:film") != file.header(0).end();
     } catch (const std::exception&) {
         return false;

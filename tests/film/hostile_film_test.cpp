@@ -91,5 +91,13 @@ TEST_F(HostileFilm, MergeRefusesSumsThatWouldOverflow128Bits) {
     EXPECT_CONTAINS(e.what(), "cannot merge b.exr: pixel (0, 1) would hold");
 }
 
+// declared_9000x9000.exr (made by make_declared_9000.py): headers that declare 9000x9000 pixels
+// in 151 KB, none of whose rows are there. It once allocated a 19.3 GiB film before any check.
+TEST_F(HostileFilm, DeclaredSizeIsCheckedAgainstTheFileBeforeAllocating) {
+    const InputError e = catchInputError([] { readFilmExr(kHostile / "declared_9000x9000.exr"); });
+    EXPECT_CONTAINS(e.what(), "declared_9000x9000.exr: the file is 151752 bytes, too small for the rows its windows "
+                              "declare (at least 371260 bytes)");
+}
+
 }  // namespace
 }  // namespace penumbra

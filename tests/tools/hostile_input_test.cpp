@@ -86,4 +86,13 @@ TEST_F(HostileInput, MergeRefusesACorruptFilm) {
     EXPECT_TRUE(contains(r, "flipped_sums.exr: the film's sums or metadata do not match their checksum")) << r.output;
 }
 
+TEST_F(HostileInput, FilmLargerThanTheAvailableMemoryIsRefusedBeforeRendering) {
+    // 65536x65536 pixels of 312 bytes (256 of sums, 56 to write the EXR): 1.2 TiB, more than any
+    // machine has available.
+    const fs::path scene = sceneWithMesh(kHostile / "../scenes/meshes/square.obj");
+    const RunResult r = expectFailure("render " + scene.string() + " --res 65536x65536 --no-display -o " + output());
+    EXPECT_TRUE(contains(r, "a 65536x65536 film needs 1248.0 GiB of memory; this machine has")) << r.output;
+    EXPECT_TRUE(contains(r, "GiB available (of ")) << r.output;
+}
+
 }  // namespace
