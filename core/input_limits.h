@@ -10,4 +10,7 @@ namespace penumbra::limits {
 // Image width and height (scene "film.resolution", --res, a film's EXR windows).
 constexpr int kMaxImageSide = 1 << 16;
 
+// Worker threads (--threads). TBB's arena teardown crashes beyond 65536; no machine has 4096 cores.
+constexpr int kMaxThreads = 4096;
+
 }  // namespace penumbra::limits

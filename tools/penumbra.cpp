@@ -23,6 +23,7 @@
 #include <fmt/core.h>
 
 #include "core/error.h"
+#include "core/input_limits.h"
 #include "film/film.h"
 #include "film/image_output.h"
 #include "renderer/render.h"
@@ -244,7 +245,7 @@ int main(int argc, char** argv) {
     renderApp->add_option("--spp", cmd.spp, "Samples per pixel (overrides the scene's film.spp)");
     renderApp->add_option("--seed", cmd.seed, "Seed of all sample values (overrides render.seed)");
     renderApp->add_option("--threads", cmd.threads, "Worker threads; 0 uses every core (the image does not depend on it)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(CLI::Range(0, limits::kMaxThreads));
     renderApp->add_option("--res", cmd.resolution, "Resolution WIDTHxHEIGHT (overrides film.resolution)");
     renderApp->add_option("--sampler", cmd.sampler, "stratified (default) or independent");
     renderApp->add_option("--crop", cmd.crop, "Render only pixels x0 <= x < x1, y0 <= y < y1, given as x0,x1,y0,y1");
@@ -296,7 +297,7 @@ int main(int argc, char** argv) {
     convergeApp->add_option("--res", convergeCmd.resolution, "Resolution WIDTHxHEIGHT (overrides film.resolution)");
     convergeApp->add_option("--strip", convergeCmd.strip, "Window x0,x1,y0,y1 shown in strip.png (default: centred square)");
     convergeApp->add_option("--threads", convergeCmd.threads, "Worker threads; 0 uses every core")
-        ->check(CLI::NonNegativeNumber);
+        ->check(CLI::Range(0, limits::kMaxThreads));
     convergeApp->add_option("--accel", convergeCmd.accel, "Traversal backend: embree (default) or bvh")
         ->check(CLI::IsMember({"embree", "bvh"}));
     convergeApp->add_option("-o,--output", convergeCmd.output, "Output folder")->required();

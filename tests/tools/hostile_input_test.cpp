@@ -95,4 +95,14 @@ TEST_F(HostileInput, FilmLargerThanTheAvailableMemoryIsRefusedBeforeRendering) {
     EXPECT_TRUE(contains(r, "GiB available (of ")) << r.output;
 }
 
+TEST_F(HostileInput, ThreadCountIsBounded) {
+    // --threads 65537 once rendered, then crashed (SIGSEGV) in TBB's arena teardown.
+    const fs::path scene = sceneWithMesh(kHostile / "../scenes/meshes/square.obj");
+    RunResult r = expectFailure("render " + scene.string() + " --threads 65537 --no-display -o " + output());
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_TRUE(contains(r, "--threads: Value 65537 not in range 0 to 4096")) << r.output;
+    r = expectFailure("converge " + scene.string() + " --spp 1 --threads 4097 --no-plot -o " + (dir_ / "out").string());
+    EXPECT_TRUE(contains(r, "--threads: Value 4097 not in range 0 to 4096")) << r.output;
+}
+
 }  // namespace
