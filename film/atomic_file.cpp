@@ -1,6 +1,10 @@
 #include "film/atomic_file.h"
 
+#include <fcntl.h>
 #include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 
 #include <system_error>
 
@@ -19,6 +23,15 @@ std::filesystem::path temporaryPathFor(const std::filesystem::path& path) {
     tmp.replace_filename(fmt::format("{}.tmp-{}{}", path.stem().string(), long(::getpid()),
                                      path.extension().string()));
     return tmp;
+}
+
+// fsync of a file or a folder; false with `error` set when it fails.
+bool syncFile(const std::filesystem::path& path, std::string& error) {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    bool ok = fd >= 0 && ::fsync(fd) == 0;
+    if (!ok) error = fmt::format("cannot sync '{}' to the disk: {}", path.string(), std::strerror(errno));
+    if (fd >= 0) ::close(fd);
+    return ok;
 }
 
 }  // namespace
@@ -41,8 +54,12 @@ void writeFileAtomically(const std::filesystem::path& path, const char* what,
 
     std::string error;
     if (!write(tmp.string(), error)) cleanupAndFail(error);
+    // On the disk before it takes the destination's name: a crash after the rename must not leave
+    // a file whose blocks were never written (and a delayed write error shows here).
+    if (!syncFile(tmp, error)) cleanupAndFail(error);
     std::filesystem::rename(tmp, path, ec);
     if (ec) cleanupAndFail(fmt::format("cannot rename '{}' to the destination: {}", tmp.string(), ec.message()));
+    syncFile(parent.empty() ? std::filesystem::path(".") : parent, error);  // the rename; best effort
 }
 
 }  // namespace penumbra

@@ -4,6 +4,7 @@
 #include <OpenEXR/ImfDoubleAttribute.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfIO.h>
 #include <OpenEXR/ImfInputPart.h>
 #include <OpenEXR/ImfIntAttribute.h>
 #include <OpenEXR/ImfMultiPartInputFile.h>
@@ -31,6 +32,7 @@
 #include "core/system_memory.h"
 #include "core/huge_page_allocator.h"
 #include "film/atomic_file.h"
+#include "film/checked_file.h"
 #include "film/film_checksum.h"
 #include "film/image_output.h"
 
@@ -349,6 +351,19 @@ FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& fi
     return result;
 }
 
+// OpenEXR's output through a CheckedFile: its own std::ofstream would lose the last buffered bytes
+// silently when the disk is full, at a flush in its destructor.
+class CheckedExrStream : public Imf::OStream {
+public:
+    CheckedExrStream(CheckedFile& file, const std::string& name) : Imf::OStream(name.c_str()), file_(file) {}
+    void write(const char c[], int n) override { file_.write(c, size_t(n)); }
+    uint64_t tellp() override { return file_.tell(); }
+    void seekp(uint64_t position) override { file_.seek(position); }
+
+private:
+    CheckedFile& file_;
+};
+
 // OpenEXR compresses and decompresses blocks of lines on its own global thread pool, which has no
 // threads until it is given some (then a file's blocks are spread over them).
 int exrThreads() {
@@ -501,20 +516,25 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
         try {
             const Imf::Header headers[3] = {beauty, sums, noise};
             const int parts = rleChannels.empty() ? 2 : 3;
-            // Compressed on every core; the bytes do not depend on the thread count, since each
-            // block of lines is compressed on its own.
-            Imf::MultiPartOutputFile file(tmp.c_str(), headers, parts, false, exrThreads());
-            Imf::OutputPart beautyPart(file, 0);
-            beautyPart.setFrameBuffer(interleaved(Imf::FLOAT, beautyPixels.get(), beautyNames, data));
-            beautyPart.writePixels(height);
-            Imf::OutputPart sumsPart(file, 1);
-            sumsPart.setFrameBuffer(filmWords(zipChannels));
-            sumsPart.writePixels(height);
-            if (parts == 3) {
-                Imf::OutputPart noisePart(file, 2);
-                noisePart.setFrameBuffer(filmWords(rleChannels));
-                noisePart.writePixels(height);
-            }
+            CheckedFile out(tmp);
+            CheckedExrStream stream(out, tmp);
+            {
+                // Compressed on every core; the bytes do not depend on the thread count, since
+                // each block of lines is compressed on its own.
+                Imf::MultiPartOutputFile file(stream, headers, parts, false, exrThreads());
+                Imf::OutputPart beautyPart(file, 0);
+                beautyPart.setFrameBuffer(interleaved(Imf::FLOAT, beautyPixels.get(), beautyNames, data));
+                beautyPart.writePixels(height);
+                Imf::OutputPart sumsPart(file, 1);
+                sumsPart.setFrameBuffer(filmWords(zipChannels));
+                sumsPart.writePixels(height);
+                if (parts == 3) {
+                    Imf::OutputPart noisePart(file, 2);
+                    noisePart.setFrameBuffer(filmWords(rleChannels));
+                    noisePart.writePixels(height);
+                }
+            }  // the offset tables are written here, by the destructor
+            out.close();
             return true;
         } catch (const std::exception& e) {  // OpenEXR throws Iex exceptions
             error = e.what();

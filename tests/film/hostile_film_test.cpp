@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "film/checked_file.h"
 #include "film/film_merge.h"
 #include "film/image_output.h"
 #include "tests/support/expect_input_error.h"
@@ -97,6 +98,24 @@ TEST_F(HostileFilm, DeclaredSizeIsCheckedAgainstTheFileBeforeAllocating) {
     const InputError e = catchInputError([] { readFilmExr(kHostile / "declared_9000x9000.exr"); });
     EXPECT_CONTAINS(e.what(), "declared_9000x9000.exr: the file is 151752 bytes, too small for the rows its windows "
                               "declare (at least 371260 bytes)");
+}
+
+// /dev/full fails every write with ENOSPC, as a full disk does.
+TEST(CheckedFile, AFailedWriteIsAnErrorNamingTheFile) {
+    CheckedFile file("/dev/full");
+    try {
+        file.write("x", 1);
+        ADD_FAILURE() << "a write to /dev/full succeeded";
+    } catch (const std::runtime_error& e) {
+        EXPECT_CONTAINS(e.what(), "write of '/dev/full' failed: No space left on device");
+    }
+    // A caller that swallowed the failure (OpenEXR's destructors do) still learns of it at close().
+    try {
+        file.close();
+        ADD_FAILURE() << "close() after a failed write succeeded";
+    } catch (const std::runtime_error& e) {
+        EXPECT_CONTAINS(e.what(), "write of '/dev/full' failed: No space left on device");
+    }
 }
 
 }  // namespace

@@ -105,4 +105,42 @@ TEST_F(HostileInput, ThreadCountIsBounded) {
     EXPECT_TRUE(contains(r, "--threads: Value 4097 not in range 0 to 4096")) << r.output;
 }
 
+// Runs `penumbra ARGUMENTS` with `folder` on a tmpfs of `bytes` (in a private user and mount
+// namespace, so no root is needed), then lists what the folder holds. Empty when namespaces are
+// not available here.
+std::string runOnSmallDisk(const fs::path& folder, uintmax_t bytes, const std::string& arguments) {
+    if (penumbra::testing::runShell("unshare -rm true").exitCode != 0) return "";
+    const std::string command = "unshare -rm sh -c 'mount -t tmpfs -o size=" + std::to_string(bytes) + " tmpfs " +
+                                folder.string() + " && " + PENUMBRA_BINARY + " " + arguments +
+                                "; echo \"exit status $?\"; echo listing:; ls -A " + folder.string() + "'";
+    return penumbra::testing::runShell(command).output;
+}
+
+TEST_F(HostileInput, FullDiskFailsTheWriteNamingTheFileAndLeavesNoTemporary) {
+    const fs::path scene = sceneWithMesh(kHostile / "../scenes/meshes/square.obj");
+    // The EXR's size on a roomy disk, to make a disk that holds it but not the PNG as well.
+    const RunResult roomy = runPenumbra("render " + scene.string() + " -o " + (dir_ / "roomy.exr").string());
+    ASSERT_EQ(roomy.exitCode, 0) << roomy.output;
+    const uintmax_t exrPages = (fs::file_size(dir_ / "roomy.exr") + 4095) / 4096;
+    const fs::path disk = dir_ / "disk";
+    fs::create_directories(disk);
+
+    // No room for the EXR: an error naming it, and nothing left.
+    std::string out = runOnSmallDisk(disk, 4096, "render " + scene.string() + " -o " + (disk / "o.exr").string());
+    if (out.empty()) GTEST_SKIP() << "user namespaces (unshare -rm) are not available to mount a small tmpfs";
+    EXPECT_NE(out.find("penumbra: error: " + (disk / "o.exr").string() + ": cannot write the EXR image: write of"),
+              std::string::npos) << out;
+    EXPECT_NE(out.find("No space left on device"), std::string::npos) << out;
+    EXPECT_NE(out.find("exit status 1\nlisting:\n"), std::string::npos) << out;
+    EXPECT_TRUE(out.ends_with("listing:\n")) << "files were left behind: " << out;
+
+    // Room for the EXR only: once "wrote o.png", exit status 0 and an empty PNG. Now an error
+    // naming the PNG; the complete EXR stays, and no temporary.
+    out = runOnSmallDisk(disk, exrPages * 4096, "render " + scene.string() + " -o " + (disk / "o.exr").string());
+    EXPECT_NE(out.find("penumbra: error: " + (disk / "o.png").string() +
+                       ": cannot write the display image: write failed: No space left on device"),
+              std::string::npos) << out;
+    EXPECT_TRUE(out.ends_with("exit status 1\nlisting:\no.exr\n")) << out;
+}
+
 }  // namespace
