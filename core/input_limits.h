@@ -10,6 +10,10 @@ namespace penumbra::limits {
 // Image width and height (scene "film.resolution", --res, a film's EXR windows).
 constexpr int kMaxImageSide = 1 << 16;
 
+// Corners of one OBJ face: tinyobjloader splits polygons by ear clipping, in time that grows with
+// the square of the corners (one face of 10^5 corners took 45 s); 1024 take about 3 ms.
+constexpr int kMaxObjFaceCorners = 1024;
+
 // Worker threads (--threads). TBB's arena teardown crashes beyond 65536; no machine has 4096 cores.
 constexpr int kMaxThreads = 4096;
 

@@ -17,6 +17,7 @@
 #include <unordered_map>
 
 #include "core/error.h"
+#include "core/input_limits.h"
 
 namespace penumbra {
 
@@ -188,6 +189,11 @@ void validateObj(std::string_view text, const std::string& file) {
             if (tokens.size() < 4)
                 failAt(file, lineNumber, tokens[0].column,
                        fmt::format("a face needs at least 3 vertices, found {}", tokens.size() - 1));
+            if (tokens.size() - 1 > size_t(limits::kMaxObjFaceCorners))
+                failAt(file, lineNumber, tokens[0].column,
+                       fmt::format("a face with {} corners; penumbra takes at most {} (polygons are split into "
+                                   "triangles in time that grows with the square of their corners)",
+                                   tokens.size() - 1, limits::kMaxObjFaceCorners));
             for (size_t c = 1; c < tokens.size(); ++c) {
                 const Token& corner = tokens[c];
                 // v, v/vt, v//vn or v/vt/vn

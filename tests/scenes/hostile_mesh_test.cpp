@@ -64,5 +64,16 @@ TEST(HostileMesh, PlyHeaderWithCrLfLineEndingsStillLoads) {
     EXPECT_EQ(mesh.triangleCount(), 1u);
 }
 
+// tinyobjloader splits a polygon in time quadratic in its corners (10^5 corners: 45 s), so faces
+// have a documented limit of 1024 corners.
+TEST(HostileMesh, ObjFaceBeyondTheCornerLimitIsRefused) {
+    const InputError e = catchInputError([] { importMesh(kHostile / "face_1025_corners.obj"); });
+    EXPECT_CONTAINS(e.what(), "face_1025_corners.obj:4:1: a face with 1025 corners; penumbra takes at most 1024");
+}
+
+TEST(HostileMesh, ObjFaceAtTheCornerLimitLoads) {
+    EXPECT_EQ(importMesh(kHostile / "face_1024_corners.obj").triangleCount(), 1022u);
+}
+
 }  // namespace
 }  // namespace penumbra
