@@ -10,6 +10,12 @@ namespace penumbra::limits {
 // Image width and height (scene "film.resolution", --res, a film's EXR windows).
 constexpr int kMaxImageSide = 1 << 16;
 
+// Bytes of a scene file (JSON): parsing takes about four times its size in memory.
+constexpr uint64_t kMaxSceneFileBytes = uint64_t(256) << 20;
+
+// Bytes of a mesh file as read: an OBJ or PLY file, or a .ply.gz once decompressed.
+constexpr uint64_t kMaxMeshFileBytes = uint64_t(4) << 30;
+
 // Corners of one OBJ face: tinyobjloader splits polygons by ear clipping, in time that grows with
 // the square of the corners (one face of 10^5 corners took 45 s); 1024 take about 3 ms.
 constexpr int kMaxObjFaceCorners = 1024;

@@ -28,6 +28,7 @@
 #include <tbb/parallel_for.h>
 
 #include "core/error.h"
+#include "core/input_file.h"
 #include "core/input_limits.h"
 #include "core/system_memory.h"
 #include "core/huge_page_allocator.h"
@@ -545,6 +546,8 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
 
 bool isPenumbraFilm(const std::filesystem::path& path) {
     try {
+        std::error_code ec;
+        if (!std::filesystem::is_regular_file(path, ec)) return false;  // opening a FIFO would block
         if (!Imf::isOpenExrFile(path.c_str())) return false;
         Imf::MultiPartInputFile file(path.c_str(), exrThreads());
         return file.header(0).find("penumbra:film") != file.header(0).end();
@@ -554,7 +557,7 @@ bool isPenumbraFilm(const std::filesystem::path& path) {
 }
 
 FilmFile readFilmExr(const std::filesystem::path& path) {
-    if (!std::filesystem::is_regular_file(path)) throwFileError(path, "no such file");
+    InputFile(path, "film", UINT64_MAX);  // a regular file, or an error that says what it is
     if (!Imf::isOpenExrFile(path.c_str())) throwFileError(path, fmt::format("{}: it is not an OpenEXR file", kNotOurs));
     try {
         Imf::MultiPartInputFile file(path.c_str(), exrThreads());

@@ -17,6 +17,7 @@
 #include <unordered_map>
 
 #include "core/error.h"
+#include "core/input_file.h"
 #include "core/input_limits.h"
 
 namespace penumbra {
@@ -92,22 +93,28 @@ void forEachObjLine(std::string_view text, Visit visit) {
     }
 }
 
-std::string readPlainFile(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) fail(path.string(), "cannot open the file for reading");
-    std::ostringstream contents;
-    contents << in.rdbuf();
-    return contents.str();
+std::string readPlainFile(const fs::path& path, uint64_t maxBytes) {
+    return InputFile(path, "mesh file", maxBytes).readAll();
 }
 
-// Decompresses a whole gzip file in memory (zlib reads an uncompressed file unchanged).
-std::string readGzipFile(const fs::path& path) {
-    gzFile gz = gzopen(path.string().c_str(), "rb");
+// Decompresses a whole gzip file in memory (zlib reads an uncompressed file unchanged), up to
+// `maxBytes` of output: a few megabytes of gzip can inflate to any size.
+std::string readGzipFile(const fs::path& path, uint64_t maxBytes) {
+    InputFile file(path, "mesh file", maxBytes);
+    gzFile gz = gzdopen(file.release(), "rb");
     if (!gz) fail(path.string(), "cannot open the file for reading");
     std::string out;
     std::vector<char> buffer(1 << 20);
     int n = 0;
-    while ((n = gzread(gz, buffer.data(), unsigned(buffer.size()))) > 0) out.append(buffer.data(), size_t(n));
+    while ((n = gzread(gz, buffer.data(), unsigned(buffer.size()))) > 0) {
+        if (out.size() + size_t(n) > maxBytes) {
+            gzclose(gz);
+            fail(path.string(), fmt::format("the mesh file decompresses to more than {}; penumbra reads at most {} "
+                                            "(docs/limits.md)",
+                                            describeBytes(maxBytes), describeBytes(maxBytes)));
+        }
+        out.append(buffer.data(), size_t(n));
+    }
     // A truncated stream reads as a short file; zlib reports it through gzerror and gzclose.
     int code = Z_OK;
     const std::string reason = gzerror(gz, &code);
@@ -651,18 +658,15 @@ TriangleMesh importPly(std::string_view bytes, const std::string& file) {
     return mesh;
 }
 
-TriangleMesh importMesh(const fs::path& file) {
+TriangleMesh importMesh(const fs::path& file, uint64_t maxBytes) {
     const std::string name = file.string();
-    std::error_code ec;
-    if (!fs::exists(file, ec)) fail(name, "mesh file not found");
-    if (fs::is_directory(file, ec)) fail(name, "is a folder, not a mesh file");
 
     std::string lower = file.filename().string();
     std::transform(lower.begin(), lower.end(), lower.begin(),
                    [](unsigned char c) { return char(std::tolower(c)); });
-    if (lower.ends_with(".obj")) return importObj(readPlainFile(file), name);
-    if (lower.ends_with(".ply")) return importPly(readPlainFile(file), name);
-    if (lower.ends_with(".ply.gz")) return importPly(readGzipFile(file), name);
+    if (lower.ends_with(".obj")) return importObj(readPlainFile(file, maxBytes), name);
+    if (lower.ends_with(".ply")) return importPly(readPlainFile(file, maxBytes), name);
+    if (lower.ends_with(".ply.gz")) return importPly(readGzipFile(file, maxBytes), name);
     fail(name, "unsupported mesh file type (expected a name ending in .obj, .ply or .ply.gz)");
 }
 

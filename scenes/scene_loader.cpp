@@ -10,6 +10,8 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/input_file.h"
+#include "core/input_limits.h"
 #include "core/frame.h"
 #include "core/motion.h"
 #include "core/transform.h"
@@ -534,16 +536,8 @@ Scene parseScene(std::string_view jsonText, const fs::path& file) {
 }
 
 Scene loadScene(const fs::path& file) {
-    const std::string name = file.string();
-    std::error_code ec;
-    if (!fs::exists(file, ec)) throw InputError(SourceLocation{name, 0, 0, ""}, "scene file not found");
-    if (fs::is_directory(file, ec))
-        throw InputError(SourceLocation{name, 0, 0, ""}, "is a folder, not a scene file");
-    std::ifstream in(file, std::ios::binary);
-    if (!in) throw InputError(SourceLocation{name, 0, 0, ""}, "cannot open the scene file for reading");
-    std::ostringstream text;
-    text << in.rdbuf();
-    return parseScene(text.str(), file);
+    // A regular file of bounded size: not a FIFO, a device or a file that parses into gigabytes.
+    return parseScene(InputFile(file, "scene file", limits::kMaxSceneFileBytes).readAll(), file);
 }
 
 }  // namespace penumbra

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/input_file.h"
 #include "core/hash.h"
 #include "film/image_output.h"
 #include "film/image_plugin_loader.h"
@@ -56,6 +57,7 @@ RungError measure(const Film& film, const std::vector<float>& reference) {
 void loadReference(const std::filesystem::path& path, int width, int height, ConvergenceReport& report) {
     SourceLocation where;
     where.file = path.string();
+    InputFile(path, "reference image", UINT64_MAX);  // a regular file: a FIFO would block the readers
     auto checkSize = [&](int fileWidth, int fileHeight) {
         if (fileWidth != width || fileHeight != height)
             throw InputError(where, fmt::format("the reference is {}x{} but the study renders {}x{} (set --res to the "

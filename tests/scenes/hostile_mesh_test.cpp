@@ -3,7 +3,10 @@
 // validator knows it.
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include <filesystem>
+#include <fstream>
 
 #include "scenes/mesh_import.h"
 #include "tests/support/expect_input_error.h"
@@ -73,6 +76,49 @@ TEST(HostileMesh, ObjFaceBeyondTheCornerLimitIsRefused) {
 
 TEST(HostileMesh, ObjFaceAtTheCornerLimitLoads) {
     EXPECT_EQ(importMesh(kHostile / "face_1024_corners.obj").triangleCount(), 1022u);
+}
+
+// Inputs that are not regular files, or too large: once a hang in open() (a FIFO), a read until
+// memory ran out (/dev/zero), or an inflation without limit (a small .ply.gz).
+class HostileMeshFiles : public ::testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() / ("penumbra-hostile-mesh-" +
+                                            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+    fs::path dir_;
+};
+
+TEST_F(HostileMeshFiles, FifoIsRefusedWithoutBlocking) {
+    const fs::path fifo = dir_ / "pipe.obj";
+    ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+    const InputError e = catchInputError([&] { importMesh(fifo); });
+    EXPECT_CONTAINS(e.what(), "pipe.obj: is a FIFO (named pipe), not a regular file");
+}
+
+TEST_F(HostileMeshFiles, DeviceIsRefused) {
+    const fs::path zero = dir_ / "zero.obj";
+    fs::create_symlink("/dev/zero", zero);
+    const InputError e = catchInputError([&] { importMesh(zero); });
+    EXPECT_CONTAINS(e.what(), "zero.obj: is a character device, not a regular file");
+}
+
+TEST_F(HostileMeshFiles, FileBeyondTheSizeLimitIsRefusedUnread) {
+    const fs::path huge = dir_ / "huge.obj";
+    std::ofstream(huge).put('v');
+    fs::resize_file(huge, (uint64_t(5) << 30));  // sparse: takes no disk space
+    const InputError e = catchInputError([&] { importMesh(huge); });
+    EXPECT_CONTAINS(e.what(), "huge.obj: the mesh file is 5.0 GiB; penumbra reads at most 4.0 GiB");
+}
+
+TEST_F(HostileMeshFiles, GzipInflationIsBounded) {
+    // 8 KB of gzip that inflates to 8 MiB; read with a limit of 1 MiB (the default is 4 GiB).
+    const InputError e =
+        catchInputError([] { importMesh(kHostile / "inflates_to_8mib.ply.gz", uint64_t(1) << 20); });
+    EXPECT_CONTAINS(e.what(), "inflates_to_8mib.ply.gz: the mesh file decompresses to more than 1.0 MiB");
 }
 
 }  // namespace

@@ -3,6 +3,8 @@
 // once crashed, hung or wrote a wrong image with exit status 0.
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -42,9 +44,9 @@ protected:
   "lights": [{"type": "point", "position": [0, 2, 2], "intensity": [5, 5, 5]}]})");
     }
     // Runs `penumbra ARGUMENTS` and checks the failure contract: non-zero exit, the error line, and
-    // nothing in the output folder.
+    // nothing in the output folder. A run that hangs is killed after a minute (and fails).
     RunResult expectFailure(const std::string& arguments) {
-        RunResult r = runPenumbra(arguments);
+        RunResult r = penumbra::testing::runShell(std::string("timeout -s KILL 60 ") + PENUMBRA_BINARY + " " + arguments);
         EXPECT_GT(r.exitCode, 0) << r.output;
         EXPECT_NE(r.output.find("penumbra: error: "), std::string::npos) << r.output;
         EXPECT_TRUE(fs::is_empty(dir_ / "out")) << "an output file was left behind";
@@ -141,6 +143,22 @@ TEST_F(HostileInput, FullDiskFailsTheWriteNamingTheFileAndLeavesNoTemporary) {
                        ": cannot write the display image: write failed: No space left on device"),
               std::string::npos) << out;
     EXPECT_TRUE(out.ends_with("exit status 1\nlisting:\no.exr\n")) << out;
+}
+
+TEST_F(HostileInput, SceneThatIsAFifoIsRefusedWithoutBlocking) {
+    // Once blocked forever in open(); `timeout` ends the old behaviour as a failure.
+    const fs::path fifo = dir_ / "pipe.json";
+    ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+    const RunResult r = expectFailure("render " + fifo.string() + " --no-display -o " + output());
+    EXPECT_TRUE(contains(r, "pipe.json: is a FIFO (named pipe), not a regular file")) << r.output;
+}
+
+TEST_F(HostileInput, SceneBeyondTheSizeLimitIsRefusedUnread) {
+    const fs::path huge = dir_ / "huge.json";
+    std::ofstream(huge) << "{";
+    fs::resize_file(huge, uint64_t(300) << 20);  // sparse
+    const RunResult r = expectFailure("render " + huge.string() + " --no-display -o " + output());
+    EXPECT_TRUE(contains(r, "huge.json: the scene file is 300.0 MiB; penumbra reads at most 256.0 MiB")) << r.output;
 }
 
 }  // namespace
