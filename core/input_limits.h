@@ -16,6 +16,9 @@ constexpr uint64_t kMaxSceneFileBytes = uint64_t(256) << 20;
 // Bytes of a mesh file as read: an OBJ or PLY file, or a .ply.gz once decompressed.
 constexpr uint64_t kMaxMeshFileBytes = uint64_t(4) << 30;
 
+// Scattering events per path (scene "integrator.max_depth" and "roulette_start").
+constexpr int kMaxPathDepth = 1024;
+
 // Corners of one OBJ face: tinyobjloader splits polygons by ear clipping, in time that grows with
 // the square of the corners (one face of 10^5 corners took 45 s); 1024 take about 3 ms.
 constexpr int kMaxObjFaceCorners = 1024;

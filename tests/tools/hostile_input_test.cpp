@@ -161,4 +161,16 @@ TEST_F(HostileInput, SceneBeyondTheSizeLimitIsRefusedUnread) {
     EXPECT_TRUE(contains(r, "huge.json: the scene file is 300.0 MiB; penumbra reads at most 256.0 MiB")) << r.output;
 }
 
+TEST_F(HostileInput, PathDepthIsBounded) {
+    // Once rendered forever, deaf to SIGTERM (which waits for the end of a pass).
+    const RunResult r = expectFailure("render " + (kHostile / "closed_mirror_deep.json").string() +
+                                      " --no-display -o " + output());
+    EXPECT_TRUE(contains(r, "closed_mirror_deep.json: /integrator/max_depth: expected an integer in [0, 1024], found "
+                            "2147483647")) << r.output;
+    const fs::path scene = write("roulette.json", R"({"integrator": {"roulette_start": 1025}})");
+    const RunResult r2 = expectFailure("render " + scene.string() + " --no-display -o " + output());
+    EXPECT_TRUE(contains(r2, "roulette.json: /integrator/roulette_start: expected an integer in [0, 1024], found 1025"))
+        << r2.output;
+}
+
 }  // namespace
