@@ -16,6 +16,15 @@ constexpr uint64_t kMaxSceneFileBytes = uint64_t(256) << 20;
 // Bytes of a mesh file as read: an OBJ or PLY file, or a .ply.gz once decompressed.
 constexpr uint64_t kMaxMeshFileBytes = uint64_t(4) << 30;
 
+// Magnitude of a coordinate or a length in a scene (positions, corners, centres, radii, lens
+// sizes), after transforms: below it, squared distances stay within a 32-bit float (1e36 < 3.4e38);
+// beyond it, intersection tests overflow and geometry would silently vanish.
+constexpr float kMaxCoordinate = 1e18f;
+
+// Reconstruction filter radius, in pixels ("film.filter.radius"): a wider filter spreads a pixel's
+// samples over hundreds of others' and, at 3e38, off the image altogether.
+constexpr float kMaxFilterRadius = 64.0f;
+
 // Scattering events per path (scene "integrator.max_depth" and "roulette_start").
 constexpr int kMaxPathDepth = 1024;
 

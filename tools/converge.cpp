@@ -13,6 +13,7 @@
 
 #include "core/error.h"
 #include "core/input_file.h"
+#include "core/input_limits.h"
 #include "core/hash.h"
 #include "film/image_output.h"
 #include "film/image_plugin_loader.h"
@@ -434,8 +435,8 @@ int runConvergeCommand(const ConvergeCommand& cmd) {
     if (!cmd.resolution.empty()) {
         const auto parts = splitText(cmd.resolution, 'x');
         if (parts.size() != 2) throw InputError(fmt::format("--res: expected WIDTHxHEIGHT, got '{}'", cmd.resolution));
-        scene.film.width = int(parseIntegerOption("--res", parts[0], 1, 1 << 16));
-        scene.film.height = int(parseIntegerOption("--res", parts[1], 1, 1 << 16));
+        scene.film.width = int(parseIntegerOption("--res", parts[0], 1, limits::kMaxImageSide));
+        scene.film.height = int(parseIntegerOption("--res", parts[1], 1, limits::kMaxImageSide));
     }
     if (cmd.seed) scene.settings.seed = *cmd.seed;
     if (cmd.output.empty()) throw InputError("converge: -o DIR is required");

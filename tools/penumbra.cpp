@@ -79,6 +79,9 @@ void installStopHandlers() {
     sigaction(SIGTERM, &action, nullptr);
 }
 
+// --seed: checked as text before CLI11 converts it (which wraps "-1" and saturates 2^64).
+const CLI::Validator kSeedText([](std::string& text) { return checkSeedText(text); }, "SEED");
+
 // Command-line integers: 1 to 2^30 (a positive count or size), or 0 to 2^30 (an index or a pixel).
 int parsePositive(const std::string& option, const std::string& text) {
     return int(parseIntegerOption(option, text, 1, int64_t(1) << 30));
@@ -128,8 +131,9 @@ int runRender(const RenderCommand& cmd) {
     if (!cmd.resolution.empty()) {
         const auto parts = splitText(cmd.resolution, 'x');
         if (parts.size() != 2) throw InputError(fmt::format("--res: expected WIDTHxHEIGHT, got '{}'", cmd.resolution));
-        scene.film.width = parsePositive("--res", parts[0]);
-        scene.film.height = parsePositive("--res", parts[1]);
+        // The scene's own limit (film.resolution), not 2^30.
+        scene.film.width = int(parseIntegerOption("--res", parts[0], 1, limits::kMaxImageSide));
+        scene.film.height = int(parseIntegerOption("--res", parts[1], 1, limits::kMaxImageSide));
     }
 
     RenderOptions options;
@@ -243,7 +247,7 @@ int main(int argc, char** argv) {
     CLI::App* renderApp = app.add_subcommand("render", "Render a scene file to a scene-linear EXR and a display PNG");
     renderApp->add_option("SCENE", cmd.scenePath, "Scene file (penumbra JSON, see scenes/README.md)")->required();
     renderApp->add_option("--spp", cmd.spp, "Samples per pixel (overrides the scene's film.spp)");
-    renderApp->add_option("--seed", cmd.seed, "Seed of all sample values (overrides render.seed)");
+    renderApp->add_option("--seed", cmd.seed, "Seed of all sample values (overrides render.seed)")->check(kSeedText);
     renderApp->add_option("--threads", cmd.threads, "Worker threads; 0 uses every core (the image does not depend on it)")
         ->check(CLI::Range(0, limits::kMaxThreads));
     renderApp->add_option("--res", cmd.resolution, "Resolution WIDTHxHEIGHT (overrides film.resolution)");
@@ -291,7 +295,7 @@ int main(int argc, char** argv) {
     convergeApp->add_option("--reference-spp", convergeCmd.referenceSpp,
                             "Samples per pixel of the rendered reference (default 8 x the top rung, at most 8192)");
     convergeApp->add_option("--seeds", convergeCmd.seeds, "Renders per sampler with seeds S, S+1, ... (error bars)");
-    convergeApp->add_option("--seed", convergeCmd.seed, "First seed (default: the scene's)");
+    convergeApp->add_option("--seed", convergeCmd.seed, "First seed (default: the scene's)")->check(kSeedText);
     convergeApp->add_option("--freeze", convergeCmd.freeze,
                             "Fix dimensions at their centre to attribute noise: lens, time, light, pixel (comma-separated)");
     convergeApp->add_option("--res", convergeCmd.resolution, "Resolution WIDTHxHEIGHT (overrides film.resolution)");
@@ -313,7 +317,7 @@ int main(int argc, char** argv) {
     crosscheckApp->add_option("SCENE", crosscheckScene, "Scene file")->required();
     crosscheckApp->add_option("--rays", crosscheckOptions.rays, "Rays in all, a quarter of each kind (default 1000000)")
         ->check(CLI::PositiveNumber);
-    crosscheckApp->add_option("--seed", crosscheckOptions.seed, "Seed of the ray set (default 0)");
+    crosscheckApp->add_option("--seed", crosscheckOptions.seed, "Seed of the ray set (default 0)")->check(kSeedText);
     crosscheckApp->add_flag("--json", crosscheckJson, "Machine-readable output");
 
     try {

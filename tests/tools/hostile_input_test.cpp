@@ -173,4 +173,35 @@ TEST_F(HostileInput, PathDepthIsBounded) {
         << r2.output;
 }
 
+// Absurd values that were once accepted without a word: each now names its place and its limit.
+TEST_F(HostileInput, AbsurdSceneValuesAreRefused) {
+    const std::pair<const char*, const char*> cases[] = {
+        {"quad_corner_overflow.json",
+         "/shapes/0/corner/0: the coordinate 3e+38 is beyond penumbra's limit of 1e+18 in magnitude"},
+        {"quad_beyond_coordinate_limit.json",
+         "/shapes/0: vertex 1 (counting from 0) lies at (2e+18, 0, 0), beyond the coordinate limit of 1e+18"},
+        {"filter_radius_huge.json", "/film/filter/radius: expected a radius > 0 and <= 64 pixels, found 3e+38"},
+        {"aperture_radius_huge.json", "/camera/aperture_radius: expected a number in [0, 1e+18], found 3e+38"},
+    };
+    for (const auto& [file, message] : cases) {
+        const RunResult r = expectFailure("render " + (kHostile / file).string() + " --no-display -o " + output());
+        EXPECT_TRUE(contains(r, std::string(file) + ": " + message)) << r.output;
+    }
+}
+
+TEST_F(HostileInput, AbsurdCommandLineValuesAreRefused) {
+    const std::string scene = (kHostile / "../scenes/minimal.json").string();
+    // --seed once wrapped (-1 became 2^64 - 1) or saturated (2^64 became 2^64 - 1).
+    for (const std::string seed : {"-1", "18446744073709551616"}) {
+        const RunResult r = expectFailure("render " + scene + " --seed " + seed + " --no-display -o " + output());
+        EXPECT_TRUE(contains(r, "--seed: expected an integer in [0, 18446744073709551615], got '" + seed + "'"))
+            << r.output;
+    }
+    EXPECT_EQ(runPenumbra("render " + scene + " --seed 18446744073709551615 --no-display -o " +
+                          (dir_ / "max-seed.exr").string()).exitCode, 0);
+    // --res once allowed 2^30 a side, while scenes stop at 65536.
+    const RunResult r = expectFailure("render " + scene + " --res 65537x2 --no-display -o " + output());
+    EXPECT_TRUE(contains(r, "--res: expected an integer in [1, 65536], got '65537'")) << r.output;
+}
+
 }  // namespace
