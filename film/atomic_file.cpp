@@ -1,7 +1,10 @@
 #include "film/atomic_file.h"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
+
+#include <chrono>
 
 #include <cerrno>
 #include <cstring>
@@ -25,6 +28,31 @@ std::filesystem::path temporaryPathFor(const std::filesystem::path& path) {
     return tmp;
 }
 
+// Whether process `pid` exists on this machine (a process of another user counts too).
+bool processAlive(long pid) { return ::kill(pid_t(pid), 0) == 0 || errno == EPERM; }
+
+// Removes what writers of `path` killed with SIGKILL left: "<stem>.tmp-<pid><ext>" files whose
+// process is gone. A temporary modified in the last minute is kept even then: the folder may be
+// shared with another machine, whose process numbers mean nothing here.
+void removeStaleTemporaries(const std::filesystem::path& path) {
+    const std::string prefix = path.stem().string() + ".tmp-", extension = path.extension().string();
+    const std::filesystem::path folder = path.parent_path().empty() ? "." : path.parent_path();
+    std::error_code ec;
+    for (const auto& entry : std::filesystem::directory_iterator(folder, ec)) {
+        const std::string name = entry.path().filename().string();
+        if (name.size() <= prefix.size() + extension.size() || !name.starts_with(prefix) || !name.ends_with(extension))
+            continue;
+        const std::string digits = name.substr(prefix.size(), name.size() - prefix.size() - extension.size());
+        if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) continue;
+        const long pid = std::stol(digits);
+        if (pid == long(::getpid()) || processAlive(pid)) continue;
+        std::error_code ignored;
+        const auto modified = std::filesystem::last_write_time(entry.path(), ignored);
+        if (ignored || std::filesystem::file_time_type::clock::now() - modified < std::chrono::minutes(1)) continue;
+        std::filesystem::remove(entry.path(), ignored);
+    }
+}
+
 // fsync of a file or a folder; false with `error` set when it fails.
 bool syncFile(const std::filesystem::path& path, std::string& error) {
     const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
@@ -45,6 +73,7 @@ void writeFileAtomically(const std::filesystem::path& path, const char* what,
         if (ec) throwFileError(path, fmt::format("cannot create folder '{}' for the {}: {}", parent.string(), what, ec.message()));
     }
 
+    removeStaleTemporaries(path);
     const std::filesystem::path tmp = temporaryPathFor(path);
     auto cleanupAndFail = [&](const std::string& message) {
         std::error_code ignored;

@@ -2,12 +2,18 @@
 // verified (the checksum of docs/exr-layout.md) and must not overflow the exact sums or wrap the
 // sample counts when added. Each case was once accepted silently.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <fstream>
 
 #include <filesystem>
 #include <string>
 #include <vector>
 
 #include "core/error.h"
+#include "film/atomic_file.h"
 #include "film/checked_file.h"
 #include "film/film_merge.h"
 #include "film/image_output.h"
@@ -116,6 +122,37 @@ TEST(CheckedFile, AFailedWriteIsAnErrorNamingTheFile) {
     } catch (const std::runtime_error& e) {
         EXPECT_CONTAINS(e.what(), "write of '/dev/full' failed: No space left on device");
     }
+}
+
+// A process number that belonged to a process that has ended.
+long deadProcessId() {
+    const pid_t child = fork();
+    if (child == 0) _exit(0);
+    waitpid(child, nullptr, 0);
+    return long(child);
+}
+
+// A writer killed with SIGKILL leaves NAME.tmp-PID.exr; the next write to NAME.exr removes it once
+// its process is gone (and it has not been touched for a minute), and keeps the others.
+TEST_F(HostileFilm, StaleTemporariesOfDeadWritersAreRemoved) {
+    const fs::path destination = dir_ / "image.exr";
+    const fs::path stale = dir_ / ("image.tmp-" + std::to_string(deadProcessId()) + ".exr");
+    const fs::path recent = dir_ / ("image.tmp-" + std::to_string(deadProcessId()) + ".exr");
+    const fs::path alive = dir_ / ("image.tmp-" + std::to_string(long(getppid())) + ".exr");
+    const fs::path otherDestination = dir_ / ("other.tmp-" + std::to_string(deadProcessId()) + ".exr");
+    for (const fs::path& p : {stale, recent, alive, otherDestination}) std::ofstream(p) << "half-written";
+    const auto old = fs::file_time_type::clock::now() - std::chrono::minutes(5);
+    for (const fs::path& p : {stale, alive, otherDestination}) fs::last_write_time(p, old);
+
+    writeFileAtomically(destination, "test file", [](const std::string& tmp, std::string&) {
+        std::ofstream(tmp) << "complete";
+        return true;
+    });
+    EXPECT_TRUE(fs::exists(destination));
+    EXPECT_FALSE(fs::exists(stale)) << "the temporary of a dead writer was left";
+    EXPECT_TRUE(fs::exists(recent)) << "a temporary modified within the minute was removed";
+    EXPECT_TRUE(fs::exists(alive)) << "the temporary of a live process was removed";
+    EXPECT_TRUE(fs::exists(otherDestination)) << "another destination's temporary was removed";
 }
 
 }  // namespace
