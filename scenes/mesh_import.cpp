@@ -11,7 +11,6 @@
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
 #include <optional>
 #include <sstream>
 #include <unordered_map>
@@ -101,17 +100,18 @@ std::string readPlainFile(const fs::path& path, uint64_t maxBytes) {
 // `maxBytes` of output: a few megabytes of gzip can inflate to any size.
 std::string readGzipFile(const fs::path& path, uint64_t maxBytes) {
     InputFile file(path, "mesh file", maxBytes);
-    gzFile gz = gzdopen(file.release(), "rb");
+    gzFile gz = gzdopen(file.fd(), "rb");
     if (!gz) fail(path.string(), "cannot open the file for reading");
+    file.release();  // gzclose closes it now
     std::string out;
     std::vector<char> buffer(1 << 20);
     int n = 0;
     while ((n = gzread(gz, buffer.data(), unsigned(buffer.size()))) > 0) {
         if (out.size() + size_t(n) > maxBytes) {
             gzclose(gz);
-            fail(path.string(), fmt::format("the mesh file decompresses to more than {}; penumbra reads at most {} "
+            fail(path.string(), fmt::format("the mesh file decompresses to more than {}, penumbra's limit "
                                             "(docs/limits.md)",
-                                            describeBytes(maxBytes), describeBytes(maxBytes)));
+                                            describeBytes(maxBytes)));
         }
         out.append(buffer.data(), size_t(n));
     }

@@ -5,9 +5,7 @@
 #include <cmath>
 #include <array>
 #include <cstdint>
-#include <fstream>
 #include <limits>
-#include <sstream>
 
 #include "core/error.h"
 #include "core/input_file.h"
