@@ -1,24 +1,21 @@
 #include "film/film.h"
 
-#include <unistd.h>
-
 #include <limits>
 #include <stdexcept>
 
 #include <fmt/format.h>
 
 #include "core/error.h"
+#include "core/system_memory.h"
 
 namespace penumbra {
 
 Film::Film(int width, int height) : width_(width), height_(height) {
     const size_t pixels = size_t(std::max(width, 0)) * size_t(std::max(height, 0));
-    const double bytes = double(pixels) * double(sizeof(PixelSums));
-    const double memory = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGESIZE));
-    if (memory > 0 && bytes > memory)
-        throw InputError(fmt::format("a {}x{} film needs {:.1f} GiB of memory ({} bytes a pixel); this machine "
-                                     "has {:.1f} GiB",
-                                     width, height, bytes / 0x1p30, sizeof(PixelSums), memory / 0x1p30));
+    // Checked against the memory available now, not the machine's total: more than that would
+    // end in std::bad_alloc or the OOM killer, after minutes of rendering perhaps.
+    requireMemory(double(pixels) * double(sizeof(PixelSums) + kOutputBytesPerPixel),
+                  fmt::format("a {}x{} film", width, height));
     pixels_.resize(pixels);
 }
 
@@ -74,7 +71,11 @@ uint64_t Film::totalSamples() const {
 void Film::merge(const Film& other) {
     if (other.width_ != width_ || other.height_ != height_)
         throw std::invalid_argument("Film::merge: the films differ in size");
-    for (size_t i = 0; i < pixels_.size(); ++i) pixels_[i].merge(other.pixels_[i]);
+    for (size_t i = 0; i < pixels_.size(); ++i)
+        if (!pixels_[i].tryMerge(other.pixels_[i]))
+            throw InputError(fmt::format("pixel ({}, {}) would hold more than 2^32 - 1 samples or a sum beyond "
+                                         "128 bits: the films cannot both be intact parts of one render",
+                                         i % size_t(width_), i / size_t(width_)));
 }
 
 bool Film::identicalTo(const Film& other) const {

@@ -79,6 +79,8 @@ public:
         raw_ += other.raw_;
         return *this;
     }
+    // Adds `other` unless the 128-bit sum would overflow; false (and unchanged) then.
+    bool tryAdd(const ExactSum& other) { return !__builtin_add_overflow(raw_, other.raw_, &raw_); }
     bool operator==(const ExactSum&) const = default;
 
     // Word w (least significant first) of the raw 128-bit integer lies at byte 4 * w of an
@@ -157,6 +159,16 @@ struct PixelSums {
     // A sample with its first-hit AOVs.
     void add(Rgb value, float sampleWeight, const FirstHitAovs& aovs) { addSample(value, sampleWeight, &aovs); }
     // Adds another film's sums for the same pixel (exact: the order of merges does not matter).
+    // False, with this pixel unchanged, when a sum would overflow or the sample count would pass
+    // 2^32 - 1 (only crafted or corrupt films get there).
+    bool tryMerge(const PixelSums& o) {
+        PixelSums merged = *this;
+        for (int i = 0; i < kSumCount; ++i)
+            if (!merged.sum(i).tryAdd(o.sum(i))) return false;
+        if (__builtin_add_overflow(sampleCount, o.sampleCount, &merged.sampleCount)) return false;
+        *this = merged;
+        return true;
+    }
     void merge(const PixelSums& o) {
         for (int c = 0; c < 3; ++c) {
             radiance[c] += o.radiance[c];
@@ -193,8 +205,12 @@ private:
 
 class Film {
 public:
-    // Throws InputError when the film would not fit in the machine's memory (an impossible
-    // resolution, or a file that claims one), rather than failing somewhere in the allocation.
+    // Bytes a pixel needs beside its sums when the film is written: the EXR's 14 floats.
+    static constexpr size_t kOutputBytesPerPixel = 14 * sizeof(float);
+
+    // Throws InputError when the film, and the buffer to write it, would not fit in the memory
+    // available now (an impossible resolution, or a file that claims one), rather than failing
+    // somewhere in the allocation.
     Film(int width, int height);
 
     int width() const { return width_; }
@@ -205,7 +221,8 @@ public:
     // Mean radiance, row-major RGB triples, top row first.
     std::vector<float> meanRgb() const;
     uint64_t totalSamples() const;
-    // Adds `other`'s sums pixel by pixel (same size required; exact, in any order).
+    // Adds `other`'s sums pixel by pixel (same size required; exact, in any order). Throws
+    // InputError naming the pixel when a sum or a sample count would overflow (PixelSums::tryMerge).
     void merge(const Film& other);
     // True when every sum of every pixel is the same bit for bit.
     bool identicalTo(const Film& other) const;

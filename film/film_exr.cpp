@@ -4,6 +4,7 @@
 #include <OpenEXR/ImfDoubleAttribute.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfIO.h>
 #include <OpenEXR/ImfInputPart.h>
 #include <OpenEXR/ImfIntAttribute.h>
 #include <OpenEXR/ImfMultiPartInputFile.h>
@@ -15,7 +16,9 @@
 #include <OpenEXR/ImfTestFile.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <optional>
 #include <thread>
 #include <string>
@@ -25,8 +28,13 @@
 #include <tbb/parallel_for.h>
 
 #include "core/error.h"
+#include "core/input_file.h"
+#include "core/input_limits.h"
+#include "core/system_memory.h"
 #include "core/huge_page_allocator.h"
 #include "film/atomic_file.h"
+#include "film/checked_file.h"
+#include "film/film_checksum.h"
 #include "film/image_output.h"
 
 namespace penumbra {
@@ -34,9 +42,12 @@ namespace penumbra {
 namespace {
 
 // The EXR layout (docs/exr-layout.md). Version 1: every sum as four words in part "sums".
-// Version 2 (written): high words that only repeat the sign are left out, and the words are
-// spread over part "sums" (ZIP) and part "sums.noise" (RLE) by how they compress.
-constexpr int kFilmLayoutVersion = 2;
+// Version 2: high words that only repeat the sign are left out, and the words are
+// spread over part "sums" (ZIP) and part "sums.noise" (RLE) by how they compress. Version 3
+// (written): version 2 with the checksum penumbra:checksum in part "sums".
+constexpr int kFilmLayoutVersion = 3;
+constexpr int kFirstLayoutWithChecksum = 3;
+const char* const kChecksumAttribute = "penumbra:checksum";
 const char* const kSumsPart = "sums";
 const char* const kNoisePart = "sums.noise";
 
@@ -122,6 +133,57 @@ int parseIntStrict(const std::string& text, bool& ok) {
 
 const char* const kNotOurs = "is not a film written by penumbra (render or merge)";
 
+// Scanlines in one chunk of a part with this compression (OpenEXR's blocks of lines).
+int linesPerChunk(Imf::Compression compression) {
+    switch (compression) {
+        case Imf::ZIP_COMPRESSION:
+        case Imf::PXR24_COMPRESSION: return 16;
+        case Imf::PIZ_COMPRESSION:
+        case Imf::B44_COMPRESSION:
+        case Imf::B44A_COMPRESSION:
+        case Imf::DWAA_COMPRESSION: return 32;
+        case Imf::DWAB_COMPRESSION: return 256;
+        default: return 1;  // none, RLE, ZIPS
+    }
+}
+
+// Every chunk of lines takes at least 20 bytes (its offset, part number, first line and size),
+// so a file shorter than that for the rows its windows declare is truncated or lies about its
+// size: refused before a film of that size is allocated.
+void checkFileHoldsItsRows(const std::filesystem::path& path, Imf::MultiPartInputFile& file) {
+    double minimumBytes = 0;
+    for (int p = 0; p < file.parts(); ++p) {
+        const Imf::Header& h = file.header(p);
+        const double rows = double(h.dataWindow().max.y) - double(h.dataWindow().min.y) + 1;
+        minimumBytes += std::ceil(rows / linesPerChunk(h.compression())) * 20;
+    }
+    std::error_code ec;
+    const uintmax_t size = std::filesystem::file_size(path, ec);
+    if (!ec && double(size) < minimumBytes)
+        throwFileError(path, fmt::format("the file is {} bytes, too small for the rows its windows declare (at least "
+                                         "{:.0f} bytes): it is truncated or its header is corrupt",
+                                         size, minimumBytes));
+}
+
+// The attributes of the beauty part that say which samples the film holds, as the checksum covers
+// them (docs/exr-layout.md).
+std::string checksummedMetadata(const Imf::Header& beauty) {
+    return fmt::format("{}|{}|{}|{}|{}|{}|{}|{}", stringAttribute(beauty, "penumbra:resolution"),
+                       stringAttribute(beauty, "penumbra:crop"), stringAttribute(beauty, "penumbra:samples"),
+                       intAttribute(beauty, "penumbra:spp"), stringAttribute(beauty, "penumbra:seed"),
+                       stringAttribute(beauty, "penumbra:sampler"), stringAttribute(beauty, "penumbra:accel"),
+                       stringAttribute(beauty, "penumbra:sceneHash"));
+}
+
+// A sum at or beyond 2^126 units in magnitude is more than 2^32 samples can add (each adds less
+// than 2^94 units): only a corrupt or crafted file holds one, and adding to it could overflow.
+bool sumInRange(const ExactSum& sum) {
+    uint32_t w[4];
+    sum.toWords(w);
+    const uint32_t top = w[3] >> 30;  // bits 127 and 126: equal (00 or 11) below 2^126
+    return top == 0 || top == 3;
+}
+
 FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& file) {
     const Imf::Header& beauty = file.header(0);
     if (!beauty.findTypedAttribute<Imf::IntAttribute>("penumbra:film"))
@@ -137,8 +199,11 @@ FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& fi
         stringAttribute(beauty, "penumbra:resolution") != fmt::format("{}x{}", fullWidth, fullHeight))
         throwFileError(path, "the display window does not match penumbra:resolution");
 
-    FilmFile result{Film(fullWidth, fullHeight), {}};
-    RenderMetadata& m = result.metadata;
+    if (fullWidth > limits::kMaxImageSide || fullHeight > limits::kMaxImageSide)
+        throwFileError(path, fmt::format("the image is {}x{}; penumbra's limit is {} pixels a side", fullWidth,
+                                         fullHeight, limits::kMaxImageSide));
+
+    RenderMetadata m;
     m.samplesPerPixel = intAttribute(beauty, "penumbra:spp");
     m.sampler = stringAttribute(beauty, "penumbra:sampler");
     m.accelerator = stringAttribute(beauty, "penumbra:accel");
@@ -173,7 +238,7 @@ FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& fi
         throwFileError(path, "the data window does not match penumbra:crop");
     if (window != PixelWindow{0, fullWidth, 0, fullHeight}) m.crop = window;
 
-    // The parts that hold sum words: "sums" (both versions) and "sums.noise" (version 2).
+    // The parts that hold sum words: "sums" (every version) and "sums.noise" (versions 2 and 3).
     std::vector<int> sumParts;
     for (int p = 0; p < file.parts(); ++p) {
         const Imf::Header& h = file.header(p);
@@ -187,7 +252,7 @@ FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& fi
         throwFileError(path, fmt::format("{}: it has no \"sums\" part", kNotOurs));
 
     // Where each word is stored: a part, and its index among the channels read from that part.
-    // Version 1 stores every word; version 2 leaves out those it can restore (see writeExr).
+    // Version 1 stores every word; versions 2 and 3 leave out those they can restore (see writeExr).
     const std::vector<std::string>& names = sumChannels();
     struct Source {
         int part = -1;
@@ -210,7 +275,16 @@ FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& fi
         if (source[c].part < 0 && (layout == 1 || c == kSppChannel))
             throwFileError(path, fmt::format("the \"sums\" part has no channel '{}'", names[c]));
 
+    // The sizes the headers declare, against the file and the memory, before they are allocated.
+    checkFileHoldsItsRows(path, file);
     const size_t pixelCount = size_t(window.width()) * window.height();
+    size_t wordsRead = 0;
+    for (int p : sumParts) wordsRead += namesOf[p].size();
+    requireMemory(double(fullWidth) * fullHeight * double(sizeof(PixelSums) + Film::kOutputBytesPerPixel) +
+                      double(pixelCount) * double(wordsRead) * sizeof(uint32_t),
+                  fmt::format("{}: reading its {}x{} film", path.string(), fullWidth, fullHeight));
+    FilmFile result{Film(fullWidth, fullHeight), m};
+
     std::vector<std::optional<HugePageBuffer<uint32_t>>> buffers(file.parts());
     for (int p : sumParts) {
         if (namesOf[p].empty()) continue;
@@ -248,9 +322,48 @@ FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& fi
                 p.sum(s) = ExactSum::fromWords(words);
             }
             p.sampleCount = word(kSppChannel, i);
+            for (int s = 0; s < kSumCount; ++s)
+                if (!sumInRange(p.sum(s)))
+                    throwFileError(path, fmt::format("pixel ({}, {}): {} is beyond what 2^32 samples can add "
+                                                     "(2^78 in magnitude); the file is corrupt",
+                                                     x, y, kSumNames[s]));
         }
+
+    const Imf::Header& sumsHeader = file.header(
+        *std::find_if(sumParts.begin(), sumParts.end(), [&](int p) { return file.header(p).name() == kSumsPart; }));
+    const auto* stored = sumsHeader.findTypedAttribute<Imf::StringAttribute>(kChecksumAttribute);
+    if (layout >= kFirstLayoutWithChecksum) {
+        if (!stored)
+            throwFileError(path, fmt::format("the \"sums\" part has no {} attribute, which film layout {} requires",
+                                             kChecksumAttribute, layout));
+        const std::string computed = formatFilmChecksum(filmChecksum(result.film, window, checksummedMetadata(beauty)));
+        if (stored->value() != computed)
+            throwFileError(path, fmt::format("the film's sums or metadata do not match their checksum ({} stored, {} "
+                                             "computed): the file is corrupt",
+                                             stored->value(), computed));
+    } else {
+        // Films written before the checksum still read (a render resumed after an update keeps
+        // its hours), but nothing shows that their sums are intact.
+        std::fprintf(stderr,
+                     "penumbra: warning: %s: film layout version %d has no checksum, so its sums cannot be "
+                     "verified (written by an older penumbra)\n",
+                     path.string().c_str(), layout);
+    }
     return result;
 }
+
+// OpenEXR's output through a CheckedFile: its own std::ofstream would lose the last buffered bytes
+// silently when the disk is full, at a flush in its destructor.
+class CheckedExrStream : public Imf::OStream {
+public:
+    CheckedExrStream(CheckedFile& file, const std::string& name) : Imf::OStream(name.c_str()), file_(file) {}
+    void write(const char c[], int n) override { file_.write(c, size_t(n)); }
+    uint64_t tellp() override { return file_.tell(); }
+    void seekp(uint64_t position) override { file_.seek(position); }
+
+private:
+    CheckedFile& file_;
+};
 
 // OpenEXR compresses and decompresses blocks of lines on its own global thread pool, which has no
 // threads until it is given some (then a file's blocks are spread over them).
@@ -258,6 +371,9 @@ int exrThreads() {
     static const int threads = [] {
         const int n = int(std::max(1u, std::thread::hardware_concurrency()));
         Imf::setGlobalThreadCount(n);
+        // OpenEXR itself allocates by the data window when it opens a file; a corrupt header must
+        // not make it allocate more than our largest image would.
+        Imf::Header::setMaxImageSize(limits::kMaxImageSide, limits::kMaxImageSide);
         return n;
     }();
     return threads;
@@ -296,6 +412,8 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
     // Parts "sums" and "sums.noise": the film itself, losslessly, with the same windows and metadata.
     Imf::Header sums = beauty, noise = beauty;
     sums.setName(kSumsPart);
+    sums.insert(kChecksumAttribute,
+                Imf::StringAttribute(formatFilmChecksum(filmChecksum(film, window, checksummedMetadata(beauty)))));
     sums.compression() = Imf::ZIP_COMPRESSION;
     sums.zipCompressionLevel() = 1;
     noise.setName(kNoisePart);
@@ -399,20 +517,25 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
         try {
             const Imf::Header headers[3] = {beauty, sums, noise};
             const int parts = rleChannels.empty() ? 2 : 3;
-            // Compressed on every core; the bytes do not depend on the thread count, since each
-            // block of lines is compressed on its own.
-            Imf::MultiPartOutputFile file(tmp.c_str(), headers, parts, false, exrThreads());
-            Imf::OutputPart beautyPart(file, 0);
-            beautyPart.setFrameBuffer(interleaved(Imf::FLOAT, beautyPixels.get(), beautyNames, data));
-            beautyPart.writePixels(height);
-            Imf::OutputPart sumsPart(file, 1);
-            sumsPart.setFrameBuffer(filmWords(zipChannels));
-            sumsPart.writePixels(height);
-            if (parts == 3) {
-                Imf::OutputPart noisePart(file, 2);
-                noisePart.setFrameBuffer(filmWords(rleChannels));
-                noisePart.writePixels(height);
-            }
+            CheckedFile out(tmp);
+            CheckedExrStream stream(out, tmp);
+            {
+                // Compressed on every core; the bytes do not depend on the thread count, since
+                // each block of lines is compressed on its own.
+                Imf::MultiPartOutputFile file(stream, headers, parts, false, exrThreads());
+                Imf::OutputPart beautyPart(file, 0);
+                beautyPart.setFrameBuffer(interleaved(Imf::FLOAT, beautyPixels.get(), beautyNames, data));
+                beautyPart.writePixels(height);
+                Imf::OutputPart sumsPart(file, 1);
+                sumsPart.setFrameBuffer(filmWords(zipChannels));
+                sumsPart.writePixels(height);
+                if (parts == 3) {
+                    Imf::OutputPart noisePart(file, 2);
+                    noisePart.setFrameBuffer(filmWords(rleChannels));
+                    noisePart.writePixels(height);
+                }
+            }  // the offset tables are written here, by the destructor
+            out.close();
             return true;
         } catch (const std::exception& e) {  // OpenEXR throws Iex exceptions
             error = e.what();
@@ -423,8 +546,10 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
 
 bool isPenumbraFilm(const std::filesystem::path& path) {
     try {
+        std::error_code ec;
+        if (!std::filesystem::is_regular_file(path, ec)) return false;  // opening a FIFO would block
         if (!Imf::isOpenExrFile(path.c_str())) return false;
-        Imf::MultiPartInputFile file(path.c_str());
+        Imf::MultiPartInputFile file(path.c_str(), exrThreads());
         return file.header(0).find("penumbra:film") != file.header(0).end();
     } catch (const std::exception&) {
         return false;
@@ -432,7 +557,7 @@ bool isPenumbraFilm(const std::filesystem::path& path) {
 }
 
 FilmFile readFilmExr(const std::filesystem::path& path) {
-    if (!std::filesystem::is_regular_file(path)) throwFileError(path, "no such file");
+    InputFile(path, "film", UINT64_MAX);  // a regular file, or an error that says what it is
     if (!Imf::isOpenExrFile(path.c_str())) throwFileError(path, fmt::format("{}: it is not an OpenEXR file", kNotOurs));
     try {
         Imf::MultiPartInputFile file(path.c_str(), exrThreads());

@@ -61,8 +61,13 @@ MergeResult mergeFilms(const std::vector<FilmFile>& parts, const std::vector<std
     m.renderSeconds = 0;
     PixelWindow box = windowOf(parts[0]);
     uint32_t first = parts[0].metadata.firstSample, end = parts[0].metadata.endSample;
-    for (const FilmFile& part : parts) {
-        result.merged.film.merge(part.film);
+    for (size_t i = 0; i < parts.size(); ++i) {
+        const FilmFile& part = parts[i];
+        try {
+            result.merged.film.merge(part.film);
+        } catch (const InputError& e) {
+            throw InputError(fmt::format("cannot merge {}: {}", names[i], e.message()));
+        }
         m.renderSeconds += part.metadata.renderSeconds;
         const PixelWindow w = windowOf(part);
         box = {std::min(box.x0, w.x0), std::max(box.x1, w.x1), std::min(box.y0, w.y0), std::max(box.y1, w.y1)};

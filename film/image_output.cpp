@@ -2,18 +2,21 @@
 
 #include <OpenColorIO/OpenColorIO.h>
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cstdint>
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
 #include <functional>
 #include <vector>
 
 #include <fmt/format.h>
 
 #include "core/error.h"
+#include "core/input_file.h"
 #include "film/atomic_file.h"
 #include "film/image_plugin_loader.h"
 
@@ -61,17 +64,18 @@ constexpr uint64_t kFnvOffsetBasis = 0xcbf29ce484222325ull;  // FNV-1a, 64 bits
 
 // Continues the FNV-1a hash `hash` over the bytes of the file at `path`.
 void hashBytesOf(const std::filesystem::path& path, uint64_t& hash) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throwFileError(path, "cannot read the file to hash it");
+    InputFile in(path, "file to hash", UINT64_MAX);  // a regular file only: a FIFO would block
     char buffer[1 << 16];
-    while (in) {
-        in.read(buffer, sizeof buffer);
-        for (std::streamsize i = 0; i < in.gcount(); ++i) {
+    while (true) {
+        const ssize_t n = ::read(in.fd(), buffer, sizeof buffer);
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) throwFileError(path, "cannot read the file to hash it");
+        if (n == 0) break;
+        for (ssize_t i = 0; i < n; ++i) {
             hash ^= uint8_t(buffer[i]);
             hash *= 0x100000001b3ull;
         }
     }
-    if (in.bad()) throwFileError(path, "cannot read the file to hash it");
 }
 
 std::string formatHash(uint64_t hash) { return fmt::format("fnv1a64:{:016x}", hash); }

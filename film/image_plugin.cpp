@@ -2,8 +2,12 @@
 // loaded on first use, so that the penumbra executable does not link OpenImageIO.
 #include "film/image_plugin.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
+#include <fcntl.h>
+#include <unistd.h>
 
+#include <cerrno>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -19,16 +23,39 @@ int failWith(const std::string& message, char* error, size_t errorSize) {
     return 0;
 }
 
+// Writes `bytes` to `path` with every write, the fsync and the close checked; "" or the reason.
+std::string writeWholeFile(const char* path, const std::vector<unsigned char>& bytes) {
+    const int fd = ::open(path, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd < 0) return std::string("open failed: ") + std::strerror(errno);
+    std::string failure;
+    for (size_t done = 0; done < bytes.size() && failure.empty();) {
+        const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) failure = std::string("write failed: ") + std::strerror(n == 0 ? ENOSPC : errno);
+        else done += size_t(n);
+    }
+    if (failure.empty() && ::fsync(fd) != 0) failure = std::string("fsync failed: ") + std::strerror(errno);
+    if (::close(fd) != 0 && failure.empty()) failure = std::string("close failed: ") + std::strerror(errno);
+    return failure;
+}
+
 int writeRgb8(const char* path, int width, int height, const unsigned char* rgb, const char* software, int quality,
               char* error, size_t errorSize) {
     try {
+        // Encoded in memory, then written with every call checked: OpenImageIO's PNG writer ignores
+        // the failure of its final fclose, so a full disk left an empty PNG and no error.
         auto out = OIIO::ImageOutput::create(path);
         if (!out) return failWith(OIIO::geterror(), error, errorSize);
+        std::vector<unsigned char> encoded;
+        OIIO::Filesystem::IOVecOutput memory(encoded);
+        if (!out->set_ioproxy(&memory)) return failWith("the image writer cannot encode into memory", error, errorSize);
         OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
         spec.attribute("Software", software);
         if (quality > 0) spec.attribute("Compression", "jpeg:" + std::to_string(quality));
         if (!out->open(path, spec) || !out->write_image(OIIO::TypeDesc::UINT8, rgb) || !out->close())
             return failWith(out->geterror(), error, errorSize);
+        const std::string failure = writeWholeFile(path, encoded);
+        if (!failure.empty()) return failWith(failure, error, errorSize);
         return 1;
     } catch (const std::exception& e) {
         return failWith(e.what(), error, errorSize);

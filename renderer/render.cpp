@@ -6,12 +6,14 @@
 #include <mutex>
 #include <optional>
 
+#include <fmt/format.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include "cameras/camera.h"
 #include "core/error.h"
+#include "core/input_limits.h"
 #include "renderer/camera_samples.h"
 #include "film/pixel_accumulator.h"
 #include "renderer/prepared_scene.h"
@@ -139,6 +141,9 @@ RenderStats renderWith(const Accel& accel, const Scene& scene, const RenderOptio
             }
         }
     };
+    if (options.threads < 0 || options.threads > limits::kMaxThreads)
+        throw InputError(fmt::format("threads: expected 0 (every core) to {}, got {}", limits::kMaxThreads,
+                                     options.threads));
     const int threads = options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
     tbb::task_arena arena(threads);
     RenderStats stats;

@@ -7,6 +7,7 @@
 #include <set>
 
 #include "core/error.h"
+#include "core/input_limits.h"
 
 namespace penumbra {
 
@@ -244,7 +245,16 @@ Vec2f JsonValue::vec2() const {
 
 Vec3f JsonValue::vec3() const {
     if (!json_->is_array() || json_->size() != 3) failExpected("an array of 3 numbers");
-    return {element(0).number(), element(1).number(), element(2).number()};
+    // Positions, offsets and axes alike: beyond the limit, squared distances overflow a float.
+    float v[3];
+    for (size_t i = 0; i < 3; ++i) {
+        const JsonValue e = element(i);
+        v[i] = e.number();
+        if (std::abs(v[i]) > limits::kMaxCoordinate)
+            e.fail(fmt::format("the coordinate {} is beyond penumbra's limit of {:g} in magnitude (docs/limits.md)",
+                               e.json().dump(), limits::kMaxCoordinate));
+    }
+    return {v[0], v[1], v[2]};
 }
 
 Rgb JsonValue::rgb(float min, float max) const {

@@ -11,12 +11,13 @@
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
 #include <optional>
 #include <sstream>
 #include <unordered_map>
 
 #include "core/error.h"
+#include "core/input_file.h"
+#include "core/input_limits.h"
 
 namespace penumbra {
 
@@ -76,22 +77,44 @@ std::vector<Token> tokenize(std::string_view line) {
     return tokens;
 }
 
-std::string readPlainFile(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) fail(path.string(), "cannot open the file for reading");
-    std::ostringstream contents;
-    contents << in.rdbuf();
-    return contents.str();
+// Calls `visit(line, lineNumber)` for each line of `text`, ending lines where tinyobjloader does:
+// at "\n", "\r\n" and a lone "\r". The validator must see the lines the loader sees, or a lone CR
+// could hide a face from it ("#\rf 1 2 4" would be a comment to one and a face to the other).
+template <typename Visit>
+void forEachObjLine(std::string_view text, Visit visit) {
+    int lineNumber = 0;
+    for (size_t start = 0; start < text.size();) {
+        const size_t end = std::min(text.find_first_of("\r\n", start), text.size());
+        const std::string_view line = text.substr(start, end - start);
+        start = end + 1;
+        if (end < text.size() && text[end] == '\r' && start < text.size() && text[start] == '\n') ++start;
+        visit(line, ++lineNumber);
+    }
 }
 
-// Decompresses a whole gzip file in memory (zlib reads an uncompressed file unchanged).
-std::string readGzipFile(const fs::path& path) {
-    gzFile gz = gzopen(path.string().c_str(), "rb");
+std::string readPlainFile(const fs::path& path, uint64_t maxBytes) {
+    return InputFile(path, "mesh file", maxBytes).readAll();
+}
+
+// Decompresses a whole gzip file in memory (zlib reads an uncompressed file unchanged), up to
+// `maxBytes` of output: a few megabytes of gzip can inflate to any size.
+std::string readGzipFile(const fs::path& path, uint64_t maxBytes) {
+    InputFile file(path, "mesh file", maxBytes);
+    gzFile gz = gzdopen(file.fd(), "rb");
     if (!gz) fail(path.string(), "cannot open the file for reading");
+    file.release();  // gzclose closes it now
     std::string out;
     std::vector<char> buffer(1 << 20);
     int n = 0;
-    while ((n = gzread(gz, buffer.data(), unsigned(buffer.size()))) > 0) out.append(buffer.data(), size_t(n));
+    while ((n = gzread(gz, buffer.data(), unsigned(buffer.size()))) > 0) {
+        if (out.size() + size_t(n) > maxBytes) {
+            gzclose(gz);
+            fail(path.string(), fmt::format("the mesh file decompresses to more than {}, penumbra's limit "
+                                            "(docs/limits.md)",
+                                            describeBytes(maxBytes)));
+        }
+        out.append(buffer.data(), size_t(n));
+    }
     // A truncated stream reads as a short file; zlib reports it through gzerror and gzclose.
     int code = Z_OK;
     const std::string reason = gzerror(gz, &code);
@@ -100,6 +123,30 @@ std::string readGzipFile(const fs::path& path) {
         fail(path.string(), "cannot decompress the gzip data: " +
                                 (n < 0 || code != Z_OK ? reason : "the compressed stream is truncated"));
     return out;
+}
+
+// Defence in depth: whatever a loader produced, the mesh handed on must be one that the rest of the
+// renderer can use without further checks (face frames and Embree read it unguarded).
+void checkImportedMesh(const TriangleMesh& mesh, const std::string& file) {
+    if (mesh.positions.empty() || mesh.indices.empty() || mesh.indices.size() % 3 != 0)
+        fail(file, "the file contains no triangles");
+    for (size_t i = 0; i < mesh.indices.size(); ++i)
+        if (mesh.indices[i] >= mesh.positions.size())
+            fail(file, fmt::format("triangle {} (counting from 0) uses vertex {}, but the mesh has only {} vertices",
+                                   i / 3, mesh.indices[i], mesh.positions.size()));
+    for (size_t i = 0; i < mesh.positions.size(); ++i)
+        if (!isFinite(mesh.positions[i]))
+            fail(file, fmt::format("vertex {} (counting from 0) has a non-finite coordinate", i));
+    if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size())
+        fail(file, "the file gives normals for some vertices only");
+    for (size_t i = 0; i < mesh.normals.size(); ++i)
+        if (!isFinite(mesh.normals[i]))
+            fail(file, fmt::format("the normal of vertex {} (counting from 0) is not finite", i));
+    if (!mesh.uvs.empty() && mesh.uvs.size() != mesh.positions.size())
+        fail(file, "the file gives uvs for some vertices only");
+    for (size_t i = 0; i < mesh.uvs.size(); ++i)
+        if (!std::isfinite(mesh.uvs[i].x) || !std::isfinite(mesh.uvs[i].y))
+            fail(file, fmt::format("the uv of vertex {} (counting from 0) is not finite", i));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -119,15 +166,10 @@ void validateObj(std::string_view text, const std::string& file) {
     };
     std::vector<ForwardIndex> forward;
 
-    int lineNumber = 0;
-    for (size_t start = 0; start < text.size();) {
-        const size_t end = std::min(text.find('\n', start), text.size());
-        std::string_view line = text.substr(start, end - start);
-        start = end + 1;
-        ++lineNumber;
+    forEachObjLine(text, [&](std::string_view line, int lineNumber) {
         line = line.substr(0, line.find('#'));
         const std::vector<Token> tokens = tokenize(line);
-        if (tokens.empty()) continue;
+        if (tokens.empty()) return;
         const std::string_view keyword = tokens[0].text;
 
         if (keyword == "v" || keyword == "vt" || keyword == "vn") {
@@ -154,6 +196,11 @@ void validateObj(std::string_view text, const std::string& file) {
             if (tokens.size() < 4)
                 failAt(file, lineNumber, tokens[0].column,
                        fmt::format("a face needs at least 3 vertices, found {}", tokens.size() - 1));
+            if (tokens.size() - 1 > size_t(limits::kMaxObjFaceCorners))
+                failAt(file, lineNumber, tokens[0].column,
+                       fmt::format("a face with {} corners; penumbra takes at most {} (polygons are split into "
+                                   "triangles in time that grows with the square of their corners)",
+                                   tokens.size() - 1, limits::kMaxObjFaceCorners));
             for (size_t c = 1; c < tokens.size(); ++c) {
                 const Token& corner = tokens[c];
                 // v, v/vt, v//vn or v/vt/vn
@@ -191,12 +238,30 @@ void validateObj(std::string_view text, const std::string& file) {
             }
         }
         // Other statements (o, g, s, usemtl, mtllib, l, p, ...) do not affect the triangles.
-    }
+    });
     for (const ForwardIndex& f : forward)
         if (f.index > count[f.kind])
             failAt(file, f.line, f.column,
                    fmt::format("{} index {} is out of range: the file has {} {}", kindName[f.kind], f.index,
                                count[f.kind], kindPlural[f.kind]));
+}
+
+// Defence in depth: the indices tinyobjloader produced must name elements it read, whatever the
+// validator concluded, before any of them is used to read its arrays.
+void checkObjLoaderIndices(const tinyobj::attrib_t& attrib, const std::vector<tinyobj::index_t>& corners,
+                           const std::string& file) {
+    const size_t counts[3] = {attrib.vertices.size() / 3, attrib.texcoords.size() / 2, attrib.normals.size() / 3};
+    static const char* const kindPlural[] = {"vertices", "texture coordinates", "normals"};
+    for (const tinyobj::index_t& c : corners) {
+        const int indices[3] = {c.vertex_index, c.texcoord_index, c.normal_index};
+        for (int k = 0; k < 3; ++k) {
+            const bool optional = k > 0;  // a corner may lack a uv or a normal (-1)
+            if ((optional && indices[k] == -1) || (indices[k] >= 0 && size_t(indices[k]) < counts[k])) continue;
+            fail(file, fmt::format("the OBJ reader produced a face corner that refers to {} {} (counting from "
+                                   "1), but it read only {} {}; the file is malformed",
+                                   kindPlural[k], int64_t(indices[k]) + 1, counts[k], kindPlural[k]));
+        }
+    }
 }
 
 struct CornerKey {
@@ -236,6 +301,7 @@ TriangleMesh importObj(std::string_view text, const std::string& file) {
         }
     }
     if (corners.empty()) fail(file, "the file contains no triangles (no 'f' lines)");
+    checkObjLoaderIndices(attrib, corners, file);
 
     // Normals and uvs are per corner in OBJ; keep them only where every corner has one.
     const bool hasNormals =
@@ -253,6 +319,7 @@ TriangleMesh importObj(std::string_view text, const std::string& file) {
         mesh.positions.resize(attrib.vertices.size() / 3);
         for (size_t i = 0; i < mesh.positions.size(); ++i) mesh.positions[i] = position(int(i));
         for (const auto& c : corners) mesh.indices.push_back(uint32_t(c.vertex_index));
+        checkImportedMesh(mesh, file);
         return mesh;
     }
     // One vertex per distinct (position, uv, normal) combination, as a single index buffer needs.
@@ -276,6 +343,7 @@ TriangleMesh importObj(std::string_view text, const std::string& file) {
         }
         mesh.indices.push_back(it->second);
     }
+    checkImportedMesh(mesh, file);
     return mesh;
 }
 
@@ -336,10 +404,17 @@ PlyHeader parsePlyHeader(std::string_view bytes, const std::string& file) {
         if (start >= bytes.size())
             fail(file, "the PLY header is incomplete: no 'end_header' line (is the file truncated?)");
         const size_t end = std::min(bytes.find('\n', start), bytes.size());
-        const std::vector<Token> tokens = tokenize(bytes.substr(start, end - start));
+        const std::string_view line = bytes.substr(start, end - start);
+        const std::vector<Token> tokens = tokenize(line);
         start = end + 1;
         ++lineNumber;
         auto failHere = [&](const std::string& message) { failAt(file, lineNumber, 1, message); };
+        // assimp ends header lines at "\n" only; a lone CR would make it read another header than ours.
+        const size_t cr = line.find('\r');
+        if (cr != std::string_view::npos && cr + 1 != line.size())
+            failAt(file, lineNumber, int(cr) + 1,
+                   "a carriage return that does not end the line: PLY header lines must end with LF or CR LF "
+                   "(old Mac CR-only line endings are not accepted)");
 
         if (lineNumber == 1) {
             if (tokens.size() != 1 || tokens[0].text != "ply")
@@ -579,21 +654,19 @@ TriangleMesh importPly(std::string_view bytes, const std::string& file) {
     }
     if (hasNormals) normalizePlyNormals(mesh.normals, file);
     if (mesh.indices.empty()) fail(file, "the file contains no triangles");
+    checkImportedMesh(mesh, file);
     return mesh;
 }
 
-TriangleMesh importMesh(const fs::path& file) {
+TriangleMesh importMesh(const fs::path& file, uint64_t maxBytes) {
     const std::string name = file.string();
-    std::error_code ec;
-    if (!fs::exists(file, ec)) fail(name, "mesh file not found");
-    if (fs::is_directory(file, ec)) fail(name, "is a folder, not a mesh file");
 
     std::string lower = file.filename().string();
     std::transform(lower.begin(), lower.end(), lower.begin(),
                    [](unsigned char c) { return char(std::tolower(c)); });
-    if (lower.ends_with(".obj")) return importObj(readPlainFile(file), name);
-    if (lower.ends_with(".ply")) return importPly(readPlainFile(file), name);
-    if (lower.ends_with(".ply.gz")) return importPly(readGzipFile(file), name);
+    if (lower.ends_with(".obj")) return importObj(readPlainFile(file, maxBytes), name);
+    if (lower.ends_with(".ply")) return importPly(readPlainFile(file, maxBytes), name);
+    if (lower.ends_with(".ply.gz")) return importPly(readGzipFile(file, maxBytes), name);
     fail(name, "unsupported mesh file type (expected a name ending in .obj, .ply or .ply.gz)");
 }
 

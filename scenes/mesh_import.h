@@ -11,6 +11,7 @@
 #include <string>
 #include <string_view>
 
+#include "core/input_limits.h"
 #include "core/transform.h"
 #include "geometry/triangle_mesh.h"
 
@@ -22,8 +23,9 @@ namespace penumbra {
 // The mesh is named after the file; material and emission are left for the caller.
 // Throws InputError naming the file (and the line when known) for a missing, unreadable,
 // malformed or empty file, a face index out of range, or a non-finite vertex or normal.
-// Degenerate (zero-area) triangles are kept.
-TriangleMesh importMesh(const std::filesystem::path& file);
+// Degenerate (zero-area) triangles are kept. Only a regular file is read (not a FIFO or a device),
+// of at most `maxBytes` as read (a .ply.gz once decompressed).
+TriangleMesh importMesh(const std::filesystem::path& file, uint64_t maxBytes = limits::kMaxMeshFileBytes);
 
 // The same for file contents already in memory; `fileForMessages` names them in errors.
 TriangleMesh importObj(std::string_view text, const std::string& fileForMessages);

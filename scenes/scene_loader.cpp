@@ -5,11 +5,11 @@
 #include <cmath>
 #include <array>
 #include <cstdint>
-#include <fstream>
 #include <limits>
-#include <sstream>
 
 #include "core/error.h"
+#include "core/input_file.h"
+#include "core/input_limits.h"
 #include "core/frame.h"
 #include "core/motion.h"
 #include "core/transform.h"
@@ -24,8 +24,14 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// Finite and within the documented coordinate limit in every axis (NaN fails too).
+bool withinCoordinateLimit(Vec3f p) {
+    return std::abs(p.x) <= limits::kMaxCoordinate && std::abs(p.y) <= limits::kMaxCoordinate &&
+           std::abs(p.z) <= limits::kMaxCoordinate;
+}
+
 // Larger films are surely typos, and this keeps width * height far from overflowing.
-constexpr int64_t kMaxResolution = 1 << 16;
+constexpr int64_t kMaxResolution = limits::kMaxImageSide;
 constexpr int64_t kMaxInt = std::numeric_limits<int32_t>::max();
 
 // The look_from / look_at / up members of `value` (whose keys the caller has checked).
@@ -60,11 +66,15 @@ ThinLensCameraParams readCamera(const JsonValue& value) {
     const auto fNumber = object.get("f_number"), focalLength = object.get("focal_length");
     if (auto v = object.get("aperture_radius")) {
         if (fNumber) fNumber->fail("give either aperture_radius or f_number with focal_length, not both");
-        camera.apertureRadius = v->numberAtLeast(0.0f);
+        camera.apertureRadius = v->numberInRange(0.0f, limits::kMaxCoordinate);
     } else if (fNumber || focalLength) {
         if (!fNumber) value.fail("focal_length needs f_number to define the aperture");
         if (!focalLength) value.fail("f_number needs focal_length (in scene units) to define the aperture");
         camera.apertureRadius = focalLength->numberAbove(0.0f) / (2.0f * fNumber->numberAbove(0.0f));
+        if (!(camera.apertureRadius <= limits::kMaxCoordinate))
+            fNumber->fail(fmt::format("focal_length / (2 f_number) gives an aperture radius of {}, beyond the limit "
+                                      "of {:g} (docs/limits.md)",
+                                      camera.apertureRadius, limits::kMaxCoordinate));
     }
     if (auto v = object.get("aperture_blades")) {
         camera.apertureBlades = int(v->integer(0, 64));
@@ -77,6 +87,7 @@ ThinLensCameraParams readCamera(const JsonValue& value) {
     if (auto v = object.get("focus_distance")) {
         if (object.get("focus_on")) v->fail("give either focus_distance or focus_on, not both");
         camera.focusDistance = v->numberAbove(0.0f);
+        if (camera.focusDistance > limits::kMaxCoordinate) v->failExpected(fmt::format("a number > 0 and <= {:g}", limits::kMaxCoordinate));
     } else if (auto v = object.get("focus_on")) {
         const Vec3f view = normalize(camera.lookAt - camera.lookFrom);
         camera.focusDistance = dot(v->vec3() - camera.lookFrom, view);
@@ -115,7 +126,11 @@ FilmSettings readFilm(const JsonValue& value) {
         const JsonObject filter(*v, {"type", "radius"});
         if (auto type = filter.get("type"))
             film.filter = type->choice({"box", "tent"}) == 0 ? FilterKind::Box : FilterKind::Tent;
-        if (auto radius = filter.get("radius")) film.filterRadius = radius->numberAbove(0.0f);
+        if (auto radius = filter.get("radius")) {
+            film.filterRadius = radius->numberAbove(0.0f);
+            if (film.filterRadius > limits::kMaxFilterRadius)
+                radius->failExpected(fmt::format("a radius > 0 and <= {:g} pixels", limits::kMaxFilterRadius));
+        }
     }
     return film;
 }
@@ -123,8 +138,11 @@ FilmSettings readFilm(const JsonValue& value) {
 IntegratorSettings readIntegrator(const JsonValue& value) {
     const JsonObject object(value, {"max_depth", "roulette_start"});
     IntegratorSettings integrator;
-    if (auto v = object.get("max_depth")) integrator.maxDepth = int(v->integer(0, kMaxInt));
-    if (auto v = object.get("roulette_start")) integrator.rouletteStartDepth = int(v->integer(0, kMaxInt));
+    // Bounded: in a closed lossless mirror a path never ends before max_depth (roulette keeps a
+    // throughput of 1), so 2^31 bounces would run for days and never reach a pass end (SIGTERM).
+    if (auto v = object.get("max_depth")) integrator.maxDepth = int(v->integer(0, limits::kMaxPathDepth));
+    if (auto v = object.get("roulette_start"))
+        integrator.rouletteStartDepth = int(v->integer(0, limits::kMaxPathDepth));
     return integrator;
 }
 
@@ -404,6 +422,10 @@ void readSphere(const JsonValue& value, ShapeContext& context) {
         if (!isFinite(sphere.center) || !std::isfinite(sphere.radius) || !(sphere.radius > 0.0f))
             v->fail("the transformed sphere does not fit a 32-bit float");
     }
+    if (!withinCoordinateLimit(sphere.center) || !(sphere.radius <= limits::kMaxCoordinate))
+        value.fail(fmt::format("the sphere (centre ({}, {}, {}), radius {}) reaches beyond the coordinate limit of {:g} "
+                               "(docs/limits.md)",
+                               sphere.center.x, sphere.center.y, sphere.center.z, sphere.radius, limits::kMaxCoordinate));
     if (auto v = value.member("motion")) {
         if (sphere.emission.emits()) v->fail("moving light sources are not supported: a sphere with motion cannot emit");
         sphere.motion = readMotion(*v, scene.camera, false, 0).transform;
@@ -437,6 +459,20 @@ void addMeshShape(TriangleMesh mesh, const JsonValue& value, bool allowPositionK
                 v->fail(fmt::format(
                     "the transform moves vertex {} (counting from 0) beyond the range of a 32-bit float", i));
     }
+    // Derived geometry too (corner + edge, a transform, a mesh file's vertices): a vertex at
+    // infinity or near 3e38 would make its triangles vanish silently.
+    for (size_t i = 0; i < mesh.positions.size(); ++i)
+        if (!withinCoordinateLimit(mesh.positions[i]))
+            value.fail(fmt::format("vertex {} (counting from 0) lies at ({}, {}, {}), beyond the coordinate limit of "
+                                   "{:g} (docs/limits.md)",
+                                   i, mesh.positions[i].x, mesh.positions[i].y, mesh.positions[i].z,
+                                   limits::kMaxCoordinate));
+    for (const auto& key : mesh.positionKeys)
+        for (size_t i = 0; i < key.size(); ++i)
+            if (!withinCoordinateLimit(key[i]))
+                value.fail(fmt::format("vertex {} (counting from 0) of a motion key lies beyond the coordinate limit "
+                                       "of {:g} (docs/limits.md)",
+                                       i, limits::kMaxCoordinate));
     if (mesh.emission.emits()) {
         double area = 0.0;
         for (size_t t = 0; t < mesh.triangleCount(); ++t) {
@@ -534,16 +570,8 @@ Scene parseScene(std::string_view jsonText, const fs::path& file) {
 }
 
 Scene loadScene(const fs::path& file) {
-    const std::string name = file.string();
-    std::error_code ec;
-    if (!fs::exists(file, ec)) throw InputError(SourceLocation{name, 0, 0, ""}, "scene file not found");
-    if (fs::is_directory(file, ec))
-        throw InputError(SourceLocation{name, 0, 0, ""}, "is a folder, not a scene file");
-    std::ifstream in(file, std::ios::binary);
-    if (!in) throw InputError(SourceLocation{name, 0, 0, ""}, "cannot open the scene file for reading");
-    std::ostringstream text;
-    text << in.rdbuf();
-    return parseScene(text.str(), file);
+    // A regular file of bounded size: not a FIFO, a device or a file that parses into gigabytes.
+    return parseScene(InputFile(file, "scene file", limits::kMaxSceneFileBytes).readAll(), file);
 }
 
 }  // namespace penumbra

@@ -12,6 +12,8 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/input_file.h"
+#include "core/input_limits.h"
 #include "core/hash.h"
 #include "film/image_output.h"
 #include "film/image_plugin_loader.h"
@@ -56,6 +58,7 @@ RungError measure(const Film& film, const std::vector<float>& reference) {
 void loadReference(const std::filesystem::path& path, int width, int height, ConvergenceReport& report) {
     SourceLocation where;
     where.file = path.string();
+    InputFile(path, "reference image", UINT64_MAX);  // a regular file: a FIFO would block the readers
     auto checkSize = [&](int fileWidth, int fileHeight) {
         if (fileWidth != width || fileHeight != height)
             throw InputError(where, fmt::format("the reference is {}x{} but the study renders {}x{} (set --res to the "
@@ -432,8 +435,8 @@ int runConvergeCommand(const ConvergeCommand& cmd) {
     if (!cmd.resolution.empty()) {
         const auto parts = splitText(cmd.resolution, 'x');
         if (parts.size() != 2) throw InputError(fmt::format("--res: expected WIDTHxHEIGHT, got '{}'", cmd.resolution));
-        scene.film.width = int(parseIntegerOption("--res", parts[0], 1, 1 << 16));
-        scene.film.height = int(parseIntegerOption("--res", parts[1], 1, 1 << 16));
+        scene.film.width = int(parseIntegerOption("--res", parts[0], 1, limits::kMaxImageSide));
+        scene.film.height = int(parseIntegerOption("--res", parts[1], 1, limits::kMaxImageSide));
     }
     if (cmd.seed) scene.settings.seed = *cmd.seed;
     if (cmd.output.empty()) throw InputError("converge: -o DIR is required");

@@ -23,6 +23,7 @@
 #include <fmt/core.h>
 
 #include "core/error.h"
+#include "core/input_limits.h"
 #include "film/film.h"
 #include "film/image_output.h"
 #include "renderer/render.h"
@@ -78,6 +79,9 @@ void installStopHandlers() {
     sigaction(SIGTERM, &action, nullptr);
 }
 
+// --seed: checked as text before CLI11 converts it (which wraps "-1" and saturates 2^64).
+const CLI::Validator kSeedText([](std::string& text) { return checkSeedText(text); }, "SEED");
+
 // Command-line integers: 1 to 2^30 (a positive count or size), or 0 to 2^30 (an index or a pixel).
 int parsePositive(const std::string& option, const std::string& text) {
     return int(parseIntegerOption(option, text, 1, int64_t(1) << 30));
@@ -127,8 +131,9 @@ int runRender(const RenderCommand& cmd) {
     if (!cmd.resolution.empty()) {
         const auto parts = splitText(cmd.resolution, 'x');
         if (parts.size() != 2) throw InputError(fmt::format("--res: expected WIDTHxHEIGHT, got '{}'", cmd.resolution));
-        scene.film.width = parsePositive("--res", parts[0]);
-        scene.film.height = parsePositive("--res", parts[1]);
+        // The scene's own limit (film.resolution), not 2^30.
+        scene.film.width = int(parseIntegerOption("--res", parts[0], 1, limits::kMaxImageSide));
+        scene.film.height = int(parseIntegerOption("--res", parts[1], 1, limits::kMaxImageSide));
     }
 
     RenderOptions options;
@@ -242,9 +247,9 @@ int main(int argc, char** argv) {
     CLI::App* renderApp = app.add_subcommand("render", "Render a scene file to a scene-linear EXR and a display PNG");
     renderApp->add_option("SCENE", cmd.scenePath, "Scene file (penumbra JSON, see scenes/README.md)")->required();
     renderApp->add_option("--spp", cmd.spp, "Samples per pixel (overrides the scene's film.spp)");
-    renderApp->add_option("--seed", cmd.seed, "Seed of all sample values (overrides render.seed)");
+    renderApp->add_option("--seed", cmd.seed, "Seed of all sample values (overrides render.seed)")->check(kSeedText);
     renderApp->add_option("--threads", cmd.threads, "Worker threads; 0 uses every core (the image does not depend on it)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(CLI::Range(0, limits::kMaxThreads));
     renderApp->add_option("--res", cmd.resolution, "Resolution WIDTHxHEIGHT (overrides film.resolution)");
     renderApp->add_option("--sampler", cmd.sampler, "stratified (default) or independent");
     renderApp->add_option("--crop", cmd.crop, "Render only pixels x0 <= x < x1, y0 <= y < y1, given as x0,x1,y0,y1");
@@ -290,13 +295,13 @@ int main(int argc, char** argv) {
     convergeApp->add_option("--reference-spp", convergeCmd.referenceSpp,
                             "Samples per pixel of the rendered reference (default 8 x the top rung, at most 8192)");
     convergeApp->add_option("--seeds", convergeCmd.seeds, "Renders per sampler with seeds S, S+1, ... (error bars)");
-    convergeApp->add_option("--seed", convergeCmd.seed, "First seed (default: the scene's)");
+    convergeApp->add_option("--seed", convergeCmd.seed, "First seed (default: the scene's)")->check(kSeedText);
     convergeApp->add_option("--freeze", convergeCmd.freeze,
                             "Fix dimensions at their centre to attribute noise: lens, time, light, pixel (comma-separated)");
     convergeApp->add_option("--res", convergeCmd.resolution, "Resolution WIDTHxHEIGHT (overrides film.resolution)");
     convergeApp->add_option("--strip", convergeCmd.strip, "Window x0,x1,y0,y1 shown in strip.png (default: centred square)");
     convergeApp->add_option("--threads", convergeCmd.threads, "Worker threads; 0 uses every core")
-        ->check(CLI::NonNegativeNumber);
+        ->check(CLI::Range(0, limits::kMaxThreads));
     convergeApp->add_option("--accel", convergeCmd.accel, "Traversal backend: embree (default) or bvh")
         ->check(CLI::IsMember({"embree", "bvh"}));
     convergeApp->add_option("-o,--output", convergeCmd.output, "Output folder")->required();
@@ -312,7 +317,7 @@ int main(int argc, char** argv) {
     crosscheckApp->add_option("SCENE", crosscheckScene, "Scene file")->required();
     crosscheckApp->add_option("--rays", crosscheckOptions.rays, "Rays in all, a quarter of each kind (default 1000000)")
         ->check(CLI::PositiveNumber);
-    crosscheckApp->add_option("--seed", crosscheckOptions.seed, "Seed of the ray set (default 0)");
+    crosscheckApp->add_option("--seed", crosscheckOptions.seed, "Seed of the ray set (default 0)")->check(kSeedText);
     crosscheckApp->add_flag("--json", crosscheckJson, "Machine-readable output");
 
     try {

@@ -383,7 +383,7 @@ TEST_F(FilmFiles, ExrLayoutAsOpenImageIoReadsIt) {
     EXPECT_EQ(beauty.y, 2);
     EXPECT_EQ(beauty.width, 6);
     EXPECT_EQ(beauty.height, 3);
-    EXPECT_EQ(beauty.get_int_attribute("penumbra:film"), 2);
+    EXPECT_EQ(beauty.get_int_attribute("penumbra:film"), 3);
     EXPECT_EQ(beauty.get_int_attribute("penumbra:spp"), 3);
     EXPECT_EQ(beauty.get_string_attribute("penumbra:seed"), "42");
     EXPECT_EQ(beauty.get_string_attribute("penumbra:sampler"), "stratified");
@@ -587,8 +587,10 @@ TEST_F(FilmFiles, TamperedFilmsAreRefusedNamingWhatIsWrong) {
     expectRefusal("no channel 'spp'");
     writeLayout1(path, zeros, true, "-3", "");
     expectRefusal("malformed penumbra:seed '-3'");
-    writeLayout1(path, zeros, true, "7", "", 3);
-    expectRefusal("film layout version 3");
+    writeLayout1(path, zeros, true, "7", "", 4);
+    expectRefusal("film layout version 4");
+    writeLayout1(path, zeros, true, "7", "", 3);  // layout 3 must carry its checksum
+    expectRefusal("no penumbra:checksum attribute");
 }
 
 TEST_F(FilmFiles, ForeignFilesAreRefusedClearly) {

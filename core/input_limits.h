@@ -1,0 +1,38 @@
+// The limits on what penumbra reads, in one place (docs/limits.md lists them with the reasons).
+// Each is generous for any real scene; beyond it an input is refused with a message, rather than
+// hanging, overflowing or exhausting memory.
+#pragma once
+
+#include <cstdint>
+
+namespace penumbra::limits {
+
+// Image width and height (scene "film.resolution", --res, a film's EXR windows).
+constexpr int kMaxImageSide = 1 << 16;
+
+// Bytes of a scene file (JSON): parsing takes about four times its size in memory.
+constexpr uint64_t kMaxSceneFileBytes = uint64_t(256) << 20;
+
+// Bytes of a mesh file as read: an OBJ or PLY file, or a .ply.gz once decompressed.
+constexpr uint64_t kMaxMeshFileBytes = uint64_t(4) << 30;
+
+// Magnitude of a coordinate or a length in a scene (positions, corners, centres, radii, lens
+// sizes), after transforms: below it, squared distances stay within a 32-bit float (1e36 < 3.4e38);
+// beyond it, intersection tests overflow and geometry would silently vanish.
+constexpr float kMaxCoordinate = 1e18f;
+
+// Reconstruction filter radius, in pixels ("film.filter.radius"): a wider filter spreads a pixel's
+// samples over hundreds of others' and, at 3e38, off the image altogether.
+constexpr float kMaxFilterRadius = 64.0f;
+
+// Scattering events per path (scene "integrator.max_depth" and "roulette_start").
+constexpr int kMaxPathDepth = 1024;
+
+// Corners of one OBJ face: tinyobjloader splits polygons by ear clipping, in time that grows with
+// the square of the corners (one face of 10^5 corners took 45 s); 1024 take about 3 ms.
+constexpr int kMaxObjFaceCorners = 1024;
+
+// Worker threads (--threads). TBB's arena teardown crashes beyond 65536; no machine has 4096 cores.
+constexpr int kMaxThreads = 4096;
+
+}  // namespace penumbra::limits

@@ -1,0 +1,61 @@
+#include "film/checked_file.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace penumbra {
+
+CheckedFile::CheckedFile(const std::string& path) : path_(path) {
+    fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd_ < 0) fail("open");
+}
+
+CheckedFile::~CheckedFile() {
+    if (fd_ >= 0) ::close(fd_);
+}
+
+void CheckedFile::fail(const char* operation) {
+    const std::string error = fmt::format("{} of '{}' failed: {}", operation, path_, std::strerror(errno));
+    if (firstError_.empty()) firstError_ = error;
+    throw std::runtime_error(error);
+}
+
+void CheckedFile::write(const void* data, size_t size) {
+    const char* bytes = static_cast<const char*>(data);
+    while (size > 0) {
+        const ssize_t n = ::write(fd_, bytes, size);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) {
+            if (n == 0) errno = ENOSPC;  // no progress: a full device
+            fail("write");
+        }
+        bytes += n;
+        size -= size_t(n);
+    }
+}
+
+uint64_t CheckedFile::tell() {
+    const off_t position = ::lseek(fd_, 0, SEEK_CUR);
+    if (position < 0) fail("seek");
+    return uint64_t(position);
+}
+
+void CheckedFile::seek(uint64_t position) {
+    if (::lseek(fd_, off_t(position), SEEK_SET) < 0) fail("seek");
+}
+
+void CheckedFile::close() {
+    if (!firstError_.empty()) throw std::runtime_error(firstError_);
+    if (::fsync(fd_) != 0) fail("fsync");
+    const int fd = fd_;
+    fd_ = -1;
+    if (::close(fd) != 0) fail("close");
+}
+
+}  // namespace penumbra

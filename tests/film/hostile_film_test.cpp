@@ -1,0 +1,159 @@
+// Corrupt and crafted films (tests/data/hostile): what `render --resume` and `merge` read must be
+// verified (the checksum of docs/exr-layout.md) and must not overflow the exact sums or wrap the
+// sample counts when added. Each case was once accepted silently.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <fstream>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "film/atomic_file.h"
+#include "film/checked_file.h"
+#include "film/film_merge.h"
+#include "film/image_output.h"
+#include "tests/support/expect_input_error.h"
+
+namespace penumbra {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::catchInputError;
+
+const fs::path kHostile = fs::path(PENUMBRA_TEST_DATA_DIR) / "hostile";
+
+// A 4x2 film whose every pixel holds samples [first, end) of weight 1 and radiance 0.5.
+FilmFile filmOfSamples(uint32_t first, uint32_t end) {
+    FilmFile f{Film(4, 2), {}};
+    for (int y = 0; y < 2; ++y)
+        for (int x = 0; x < 4; ++x)
+            for (uint32_t s = first; s < end; ++s) f.film.at(x, y).add(Rgb(0.5f), 1.0f);
+    RenderMetadata& m = f.metadata;
+    m.seed = 1;
+    m.sampler = "stratified";
+    m.accelerator = "embree";
+    m.sceneHash = "fnv1a64:0000000000000001";
+    m.firstSample = first;
+    m.endSample = end;
+    m.samplesPerPixel = int(end - first);
+    return f;
+}
+
+class HostileFilm : public ::testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() /
+               ("penumbra-hostile-film-" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+    fs::path dir_;
+};
+
+// flipped_sums.exr: a 16x12 render with 16 bytes flipped in its RLE part "sums.noise"; OpenEXR
+// decodes it without complaint, into wrong sums.
+TEST_F(HostileFilm, FlippedBytesInTheRleSumsAreRefused) {
+    const fs::path file = kHostile / "flipped_sums.exr";
+    const InputError e = catchInputError([&] { readFilmExr(file); });
+    EXPECT_EQ(e.where().file, file.string());
+    EXPECT_CONTAINS(e.what(), "flipped_sums.exr: the film's sums or metadata do not match their checksum");
+    EXPECT_CONTAINS(e.what(), "the file is corrupt");
+}
+
+TEST_F(HostileFilm, IntactFilmsCarryAChecksumThatVerifies) {
+    const FilmFile f = filmOfSamples(0, 3);
+    writeExr(f.film, f.metadata, dir_ / "good.exr");
+    EXPECT_TRUE(readFilmExr(dir_ / "good.exr").film.identicalTo(f.film));
+}
+
+TEST_F(HostileFilm, SumsBeyondWhat2To32SamplesCanAddAreRefused) {
+    FilmFile f = filmOfSamples(0, 1);
+    const uint32_t words[4] = {0, 0, 0, 0x40000000u};  // 2^126 units
+    f.film.at(2, 1).weight = ExactSum::fromWords(words);
+    writeExr(f.film, f.metadata, dir_ / "huge.exr");  // its checksum is right: only the range tells
+    const InputError e = catchInputError([&] { readFilmExr(dir_ / "huge.exr"); });
+    EXPECT_CONTAINS(e.what(), "huge.exr: pixel (2, 1): sum.weight is beyond what 2^32 samples can add");
+}
+
+TEST_F(HostileFilm, MergeRefusesSampleCountsThatWouldPass2To32) {
+    FilmFile a = filmOfSamples(0, 1), b = filmOfSamples(1, 2);
+    a.film.at(3, 0).sampleCount = 0xfffffff0u;  // crafted: the count disagrees with the metadata
+    b.film.at(3, 0).sampleCount = 0x20u;
+    const InputError e = catchInputError([&] { mergeFilms({a, b}, {"a.exr", "b.exr"}); });
+    EXPECT_CONTAINS(e.what(), "cannot merge b.exr: pixel (3, 0) would hold more than 2^32 - 1 samples");
+}
+
+TEST_F(HostileFilm, MergeRefusesSumsThatWouldOverflow128Bits) {
+    FilmFile a = filmOfSamples(0, 1), b = filmOfSamples(1, 2);
+    const uint32_t words[4] = {0, 0, 0, 0x7fffffffu};
+    a.film.at(0, 1).radiance[1] = ExactSum::fromWords(words);
+    b.film.at(0, 1).radiance[1] = ExactSum::fromWords(words);
+    const InputError e = catchInputError([&] { mergeFilms({a, b}, {"a.exr", "b.exr"}); });
+    EXPECT_CONTAINS(e.what(), "cannot merge b.exr: pixel (0, 1) would hold");
+}
+
+// declared_9000x9000.exr (made by make_declared_9000.py): headers that declare 9000x9000 pixels
+// in 151 KB, none of whose rows are there. It once allocated a 19.3 GiB film before any check.
+TEST_F(HostileFilm, DeclaredSizeIsCheckedAgainstTheFileBeforeAllocating) {
+    const InputError e = catchInputError([] { readFilmExr(kHostile / "declared_9000x9000.exr"); });
+    EXPECT_CONTAINS(e.what(), "declared_9000x9000.exr: the file is 151752 bytes, too small for the rows its windows "
+                              "declare (at least 371260 bytes)");
+}
+
+// /dev/full fails every write with ENOSPC, as a full disk does.
+TEST(CheckedFile, AFailedWriteIsAnErrorNamingTheFile) {
+    CheckedFile file("/dev/full");
+    try {
+        file.write("x", 1);
+        ADD_FAILURE() << "a write to /dev/full succeeded";
+    } catch (const std::runtime_error& e) {
+        EXPECT_CONTAINS(e.what(), "write of '/dev/full' failed: No space left on device");
+    }
+    // A caller that swallowed the failure (OpenEXR's destructors do) still learns of it at close().
+    try {
+        file.close();
+        ADD_FAILURE() << "close() after a failed write succeeded";
+    } catch (const std::runtime_error& e) {
+        EXPECT_CONTAINS(e.what(), "write of '/dev/full' failed: No space left on device");
+    }
+}
+
+// A process number that belonged to a process that has ended.
+long deadProcessId() {
+    const pid_t child = fork();
+    if (child == 0) _exit(0);
+    waitpid(child, nullptr, 0);
+    return long(child);
+}
+
+// A writer killed with SIGKILL leaves NAME.tmp-PID.exr; the next write to NAME.exr removes it once
+// its process is gone (and it has not been touched for a minute), and keeps the others.
+TEST_F(HostileFilm, StaleTemporariesOfDeadWritersAreRemoved) {
+    const fs::path destination = dir_ / "image.exr";
+    const fs::path stale = dir_ / ("image.tmp-" + std::to_string(deadProcessId()) + ".exr");
+    const fs::path recent = dir_ / ("image.tmp-" + std::to_string(deadProcessId()) + ".exr");
+    const fs::path alive = dir_ / ("image.tmp-" + std::to_string(long(getppid())) + ".exr");
+    const fs::path otherDestination = dir_ / ("other.tmp-" + std::to_string(deadProcessId()) + ".exr");
+    for (const fs::path& p : {stale, recent, alive, otherDestination}) std::ofstream(p) << "half-written";
+    const auto old = fs::file_time_type::clock::now() - std::chrono::minutes(5);
+    for (const fs::path& p : {stale, alive, otherDestination}) fs::last_write_time(p, old);
+
+    writeFileAtomically(destination, "test file", [](const std::string& tmp, std::string&) {
+        std::ofstream(tmp) << "complete";
+        return true;
+    });
+    EXPECT_TRUE(fs::exists(destination));
+    EXPECT_FALSE(fs::exists(stale)) << "the temporary of a dead writer was left";
+    EXPECT_TRUE(fs::exists(recent)) << "a temporary modified within the minute was removed";
+    EXPECT_TRUE(fs::exists(alive)) << "the temporary of a live process was removed";
+    EXPECT_TRUE(fs::exists(otherDestination)) << "another destination's temporary was removed";
+}
+
+}  // namespace
+}  // namespace penumbra
