@@ -60,12 +60,13 @@ struct IntegratorContext {
     int maxDepth = 64;
     int rouletteStartDepth = 3;
     bool canonicalHits = true;  // RenderSettings::canonicalHits
+    LightStrategy strategy = LightStrategy::Mis;
     const FaceFrames* faceFrames = nullptr;  // optional: the still meshes' normals and frames, computed beforehand
 
     // The context of a scene's render: its lights, and its integrator settings.
     static IntegratorContext forScene(const Scene& scene, const LightSet& lights, const FaceFrames* faceFrames = nullptr) {
         return {&scene, &lights, scene.integrator.maxDepth, scene.integrator.rouletteStartDepth,
-                scene.settings.canonicalHits, faceFrames};
+                scene.settings.canonicalHits, scene.integrator.strategy, faceFrames};
     }
 };
 
@@ -91,6 +92,15 @@ inline bool isUnit(Vec3f v) { return std::abs(length(v) - 1.0f) < 1e-3f; }
     ray.direction = direction;
     ray.tnear = 0.0f;
     ray.tfar = std::numeric_limits<float>::infinity();
+}
+
+// The weight of emission that a BSDF sample found (after a vertex that is not a delta one), against
+// next-event estimation's density for the same point: the power heuristic under MIS; all of it
+// when light sampling is off; none when light sampling alone accounts for that emitter (what it
+// cannot sample, lightPdf = 0, stays with the BSDF sample).
+[[gnu::always_inline]] inline float hitWeight(LightStrategy strategy, float bsdfPdf, float lightPdf) {
+    if (strategy == LightStrategy::Mis) return powerHeuristic(bsdfPdf, lightPdf);
+    return strategy == LightStrategy::Bsdf || !(lightPdf > 0.0f) ? 1.0f : 0.0f;
 }
 
 // A shadow ray from `si` to a point on a light; both ends are moved off their surfaces, so the
@@ -146,8 +156,7 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
         if (!found) {
             const Rgb background = lights.background();
             if (!background.isBlack()) {
-                const float weight =
-                    previousWasDelta ? 1.0f : powerHeuristic(previousBsdfPdf, lights.pdfOfBackground());
+                const float weight = previousWasDelta ? 1.0f : detail::hitWeight(ctx.strategy, previousBsdfPdf, lights.pdfOfBackground());
                 radiance += throughput * background * weight;
             }
             break;
@@ -175,7 +184,7 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
         // --- Emission at the hit, found by the previous vertex's BSDF sample: weighted against NEE.
         const Rgb emitted = lights.emitted(si, wo);
         if (!emitted.isBlack()) {
-            const float weight = previousWasDelta ? 1.0f : powerHeuristic(previousBsdfPdf, lights.pdfOfHit(previousPosition, si));
+            const float weight = previousWasDelta ? 1.0f : detail::hitWeight(ctx.strategy, previousBsdfPdf, lights.pdfOfHit(previousPosition, si));
             radiance += throughput * emitted * weight;
         }
         if (int(bounce) >= ctx.maxDepth) break;
@@ -189,7 +198,7 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
         bool castsShadowRay = false;
         Ray shadowRay;
         Rgb shadowContribution;
-        if (!lights.empty() && !material.isPurelySpecular()) {
+        if (!lights.empty() && !material.isPurelySpecular() && ctx.strategy != LightStrategy::Bsdf) {
             // Sample values that would not be used are not drawn (each dimension is keyed on its
             // own, so skipping one leaves the others as they are).
             const uint32_t light = lights.choose(lights.size() > 1 ? sample.get1D(Dim::LightChoice, bounce) : 0.5f);
@@ -205,8 +214,9 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
                     PENUMBRA_CHECK(ls->pdf > 0.0f, "a light sample has a positive density");
                     castsShadowRay = true;
                     shadowRay = detail::spawnShadowRay(si, *ls, cosLight, ray.time);
-                    const float weight =
-                        ls->isDelta ? 1.0f : powerHeuristic(ls->pdf, material.pdf(woLocal, wiLocal, woAbove));
+                    const float weight = ls->isDelta || ctx.strategy == LightStrategy::Light
+                                             ? 1.0f
+                                             : powerHeuristic(ls->pdf, material.pdf(woLocal, wiLocal, woAbove));
                     shadowContribution = throughput * f * ls->radiance * (weight / ls->pdf);
                 }
             }

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "cameras/camera.h"
@@ -27,12 +28,21 @@ struct FilmSettings {
     float filterRadius = 1.0f;  // in pixels: box covers [-r, r]^2, tent falls to 0 at r
 };
 
+// How the integrator finds light at each vertex: both strategies weighted by multiple importance
+// sampling (Veach's power heuristic), or one alone, for studies of what MIS buys (`penumbra
+// converge --strategy`). BSDF sampling alone never finds point or directional lights.
+enum class LightStrategy : uint8_t { Mis, Bsdf, Light };
+constexpr std::string_view lightStrategyName(LightStrategy strategy) {
+    return strategy == LightStrategy::Mis ? "mis" : strategy == LightStrategy::Bsdf ? "bsdf" : "light";
+}
+
 struct IntegratorSettings {
     // Number of scattering events a path may have (pbrt's convention): 0 shows only emitters seen
     // directly, 1 adds direct lighting, and so on.
     int maxDepth = 64;
     // Russian roulette starts at this bounce; before it every path survives.
     int rouletteStartDepth = 3;
+    LightStrategy strategy = LightStrategy::Mis;
 };
 
 struct RenderSettings {

@@ -136,13 +136,14 @@ FilmSettings readFilm(const JsonValue& value) {
 }
 
 IntegratorSettings readIntegrator(const JsonValue& value) {
-    const JsonObject object(value, {"max_depth", "roulette_start"});
+    const JsonObject object(value, {"max_depth", "roulette_start", "strategy"});
     IntegratorSettings integrator;
     // Bounded: in a closed lossless mirror a path never ends before max_depth (roulette keeps a
     // throughput of 1), so 2^31 bounces would run for days and never reach a pass end (SIGTERM).
     if (auto v = object.get("max_depth")) integrator.maxDepth = int(v->integer(0, limits::kMaxPathDepth));
     if (auto v = object.get("roulette_start"))
         integrator.rouletteStartDepth = int(v->integer(0, limits::kMaxPathDepth));
+    if (auto v = object.get("strategy")) integrator.strategy = LightStrategy(v->choice({"mis", "bsdf", "light"}));
     return integrator;
 }
 

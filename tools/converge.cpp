@@ -227,6 +227,7 @@ ConvergenceReport runConvergence(const Scene& scene, const ConvergenceOptions& o
     } else {
         Scene refScene = scene;
         refScene.settings.sampler = SamplerKind::Stratified;
+        refScene.integrator.strategy = LightStrategy::Mis;
         refScene.settings.seed = mix64(scene.settings.seed ^ 0x7265666572656e63ull);  // not a study seed
         const uint32_t spp = options.referenceSpp
                                  ? options.referenceSpp
@@ -254,13 +255,23 @@ ConvergenceReport runConvergence(const Scene& scene, const ConvergenceOptions& o
         log(fmt::format("  {:.2f} s", stats.renderSeconds));
     }
 
-    for (SamplerKind sampler : options.samplers) {
+    // Every sampler with every strategy, in that order.
+    const std::vector<LightStrategy> strategies =
+        options.strategies.empty() ? std::vector<LightStrategy>{scene.integrator.strategy} : options.strategies;
+    std::vector<std::pair<SamplerKind, LightStrategy>> combinations;
+    for (SamplerKind sampler : options.samplers)
+        for (LightStrategy strategy : strategies) combinations.emplace_back(sampler, strategy);
+    for (const auto& [sampler, strategy] : combinations) {
         SamplerStudy study;
         study.sampler = sampler;
+        study.strategy = strategy;
+        study.name = std::string(samplerKindName(sampler));
+        if (!options.strategies.empty()) study.name += " " + std::string(lightStrategyName(strategy));
         for (int k = 0; k < options.seeds; ++k) {
             Scene s = scene;
             s.settings.sampler = sampler;
             s.settings.seed = scene.settings.seed + uint64_t(k);
+            s.integrator.strategy = strategy;
             SeedRun run;
             run.seed = s.settings.seed;
             RenderOptions o = base;
@@ -300,7 +311,7 @@ ConvergenceReport runConvergence(const Scene& scene, const ConvergenceOptions& o
                 mse.push_back(e.mse);
             }
             run.slope = logLogSlope(spp, mse);
-            log(fmt::format("{} seed {}: RMSE {:.5g} at {} spp after {:.2f} s, slope {:.3f}", samplerKindName(sampler),
+            log(fmt::format("{} seed {}: RMSE {:.5g} at {} spp after {:.2f} s, slope {:.3f}", study.name,
                             run.seed, run.rungs.back().rmse, top, run.rungs.back().seconds, run.slope));
             study.runs.push_back(std::move(run));
         }
@@ -344,12 +355,12 @@ void writeConvergenceReport(const ConvergenceReport& report, const std::string& 
     // CSV: one row per sampler, seed and rung.
     {
         std::ofstream csv(dir / "convergence.csv");
-        csv << "sampler,seed,spp,mse,rel_mse,rmse,seconds\n";
+        csv << "sampler,strategy,seed,spp,mse,rel_mse,rmse,seconds\n";
         for (const SamplerStudy& study : report.studies)
             for (const SeedRun& run : study.runs)
                 for (const RungError& e : run.rungs)
-                    csv << fmt::format("{},{},{},{:.9g},{:.9g},{:.9g},{:.6f}\n", samplerKindName(study.sampler),
-                                       run.seed, e.spp, e.mse, e.relMse, e.rmse, e.seconds);
+                    csv << fmt::format("{},{},{},{},{:.9g},{:.9g},{:.9g},{:.6f}\n", samplerKindName(study.sampler),
+                                       lightStrategyName(study.strategy), run.seed, e.spp, e.mse, e.relMse, e.rmse, e.seconds);
         if (!csv) throw InputError(where, "cannot write convergence.csv");
     }
 
@@ -365,7 +376,9 @@ void writeConvergenceReport(const ConvergenceReport& report, const std::string& 
     j["samplers"] = json::array();
     for (const SamplerStudy& study : report.studies) {
         json s;
-        s["name"] = std::string(samplerKindName(study.sampler));
+        s["name"] = study.name;
+        s["sampler"] = std::string(samplerKindName(study.sampler));
+        s["strategy"] = std::string(lightStrategyName(study.strategy));
         s["slope"] = study.slope;
         s["slope_std"] = study.slopeStd;
         s["rungs"] = json::array();
@@ -399,7 +412,7 @@ void writeConvergenceReport(const ConvergenceReport& report, const std::string& 
                   {"window", {sw.x0, sw.x1, sw.y0, sw.y1}},
                   {"rows", json::array()},
                   {"columns", report.rungs}};
-    for (const SamplerStudy& study : report.studies) j["strip"]["rows"].push_back(std::string(samplerKindName(study.sampler)));
+    for (const SamplerStudy& study : report.studies) j["strip"]["rows"].push_back(study.name);
     j["strip"]["columns"].push_back("reference");
     {
         std::ofstream out(dir / "convergence.json");
@@ -449,6 +462,13 @@ int runConvergeCommand(const ConvergeCommand& cmd) {
         else if (name == "independent") options.samplers.push_back(SamplerKind::Independent);
         else throw InputError(fmt::format("--sampler: expected stratified and/or independent, got '{}'", name));
     }
+    if (!cmd.strategies.empty())
+        for (const std::string& name : splitText(cmd.strategies, ',')) {
+            if (name == "mis") options.strategies.push_back(LightStrategy::Mis);
+            else if (name == "bsdf") options.strategies.push_back(LightStrategy::Bsdf);
+            else if (name == "light") options.strategies.push_back(LightStrategy::Light);
+            else throw InputError(fmt::format("--strategy: expected mis, bsdf and/or light, got '{}'", name));
+        }
     if (cmd.seeds < 1 || cmd.seeds > 1000) throw InputError(fmt::format("--seeds: expected 1 to 1000, got {}", cmd.seeds));
     options.seeds = cmd.seeds;
     options.frozenDims = parseFrozenDims(cmd.freeze);
@@ -496,9 +516,9 @@ int runConvergeCommand(const ConvergeCommand& cmd) {
                          command.c_str());
     }
     if (!cmd.quiet) {
-        std::printf("%-12s %8s %10s %12s %10s\n", "sampler", "slope", "spp", "RMSE", "seconds");
+        std::printf("%-18s %8s %10s %12s %10s\n", "sampler", "slope", "spp", "RMSE", "seconds");
         for (const SamplerStudy& s : report.studies)
-            std::printf("%-12s %8.3f %10u %12.5g %10.2f\n", std::string(samplerKindName(s.sampler)).c_str(), s.slope,
+            std::printf("%-18s %8.3f %10u %12.5g %10.2f\n", s.name.c_str(), s.slope,
                         s.mean.back().spp, s.mean.back().rmse, s.mean.back().seconds);
         std::printf("wrote %s\n", dir.string().c_str());
     }

@@ -26,6 +26,9 @@ namespace penumbra {
 struct ConvergenceOptions {
     std::vector<uint32_t> rungs;  // samples per pixel, ascending
     std::vector<SamplerKind> samplers{SamplerKind::Stratified, SamplerKind::Independent};
+    // Light strategies to compare (integrator "strategy"); empty: the scene's own. Each sampler is
+    // studied with each strategy; the reference always uses MIS.
+    std::vector<LightStrategy> strategies;
     int seeds = 1;                // seeds scene seed, +1, ... (K > 1 gives error bars)
     uint32_t frozenDims = 0;      // PixelSample::dimBit mask (--freeze), for the study and the reference
     std::optional<std::filesystem::path> referencePath;  // else a reference is rendered:
@@ -53,6 +56,8 @@ struct SeedRun {
 
 struct SamplerStudy {
     SamplerKind sampler = SamplerKind::Stratified;
+    LightStrategy strategy = LightStrategy::Mis;
+    std::string name;  // "stratified", or "stratified mis" when strategies are compared
     std::vector<SeedRun> runs;         // one per seed
     std::vector<RungError> mean;       // per rung: averages over the seeds
     std::vector<double> mseStd, relMseStd;  // per rung: standard deviation over the seeds (0 for one seed)
@@ -103,6 +108,7 @@ struct ConvergeCommand {
     std::string scenePath;
     std::string spp = "1,2,4,...,256";
     std::string samplers = "stratified,independent";
+    std::string strategies;  // "mis,bsdf,light"; empty: the scene's own
     std::string reference;
     std::optional<uint32_t> referenceSpp;
     int seeds = 1;

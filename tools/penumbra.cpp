@@ -290,6 +290,9 @@ int main(int argc, char** argv) {
     convergeApp->add_option("SCENE", convergeCmd.scenePath, "Scene file")->required();
     convergeApp->add_option("--spp", convergeCmd.spp, "Rungs, e.g. 1,2,4,...,1024 (default 1,2,4,...,256)");
     convergeApp->add_option("--sampler", convergeCmd.samplers, "Samplers to compare (default stratified,independent)");
+    convergeApp->add_option("--strategy", convergeCmd.strategies,
+                            "Light strategies to compare, each with every sampler: mis (both, weighted by the power "
+                            "heuristic), bsdf (BSDF sampling alone), light (light sampling alone); default the scene's");
     convergeApp->add_option("--reference", convergeCmd.reference,
                             "Reference image (a penumbra EXR, or any image with R, G, B of the same size)");
     convergeApp->add_option("--reference-spp", convergeCmd.referenceSpp,

@@ -24,7 +24,7 @@ def main(argv):
         report = json.load(f)
 
     fig, (by_spp, by_time) = plt.subplots(1, 2, figsize=(11, 4.4))
-    colours = ["tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple"]
+    colours = ["tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple", "tab:brown", "tab:pink", "tab:olive"]
     for i, sampler in enumerate(report["samplers"]):
         colour = colours[i % len(colours)]
         rungs = sampler["rungs"]

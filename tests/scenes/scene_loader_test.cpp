@@ -63,6 +63,7 @@ TEST(SceneLoader, ReadsEveryKey) {
     EXPECT_FLOAT_EQ(scene.film.filterRadius, 0.5f);
     EXPECT_EQ(scene.integrator.maxDepth, 5);
     EXPECT_EQ(scene.integrator.rouletteStartDepth, 2);
+    EXPECT_EQ(scene.integrator.strategy, LightStrategy::Light);
     EXPECT_EQ(scene.settings.sampler, SamplerKind::Independent);
     EXPECT_EQ(scene.settings.seed, 42u);
     EXPECT_FALSE(scene.settings.watertight);
@@ -124,6 +125,7 @@ TEST(SceneLoader, EmptySceneIsValidAndUsesDefaults) {
     EXPECT_TRUE(scene.background.isBlack());
     EXPECT_EQ(scene.film.width, FilmSettings{}.width);
     EXPECT_EQ(scene.film.samplesPerPixel, FilmSettings{}.samplesPerPixel);
+    EXPECT_EQ(scene.integrator.strategy, LightStrategy::Mis);
     EXPECT_EQ(scene.integrator.maxDepth, IntegratorSettings{}.maxDepth);
     EXPECT_TRUE(scene.settings.watertight);
     EXPECT_TRUE(scene.settings.canonicalHits);
@@ -418,6 +420,12 @@ TEST(SceneErrors, InlineMeshProblems) {
 TEST(SceneErrors, SppZero) {
     const InputError e = catchInputError([] { parseScene(R"({"film": {"spp": 0}})", "scene.json"); });
     EXPECT_EQ(std::string(e.what()), "scene.json: /film/spp: expected an integer >= 1, found 0");
+}
+
+TEST(SceneErrors, UnknownLightStrategy) {
+    const InputError e =
+        catchInputError([] { parseScene(R"({"integrator": {"strategy": "photons"}})", "scene.json"); });
+    EXPECT_CONTAINS(std::string(e.what()), "scene.json: /integrator/strategy: expected one of: mis, bsdf, light");
 }
 
 TEST(SceneErrors, ResolutionZero) {

@@ -162,5 +162,22 @@ TEST(Converge, ReferenceOfAnotherSizeIsRefused) {
     fs::remove_all(dir);
 }
 
+// --strategy: every sampler with every strategy, in that order, named after both; the renders
+// use the strategy (their errors differ).
+TEST(Converge, StrategiesAreStudiedWithEverySampler) {
+    ConvergenceOptions options;
+    options.rungs = parseRungs("1,2,4");
+    options.samplers = {SamplerKind::Stratified, SamplerKind::Independent};
+    options.strategies = {LightStrategy::Mis, LightStrategy::Bsdf};
+    options.referenceSpp = 256;
+    const ConvergenceReport report = runConvergence(smoothScene(), options);
+    ASSERT_EQ(report.studies.size(), 4u);
+    const char* names[] = {"stratified mis", "stratified bsdf", "independent mis", "independent bsdf"};
+    for (size_t i = 0; i < 4; ++i) EXPECT_EQ(report.studies[i].name, names[i]);
+    EXPECT_EQ(report.studies[1].strategy, LightStrategy::Bsdf);
+    EXPECT_EQ(report.studies[2].sampler, SamplerKind::Independent);
+    EXPECT_NE(report.studies[0].mean.back().mse, report.studies[1].mean.back().mse);
+}
+
 }  // namespace
 }  // namespace penumbra
