@@ -13,7 +13,7 @@ inline constexpr float kPi = std::numbers::pi_v<float>;
 inline constexpr float kInvPi = std::numbers::inv_pi_v<float>;
 
 // Shirley-Chiu concentric map: uniform on the unit disk, low distortion (keeps stratification).
-inline Vec2f sampleUniformDiskConcentric(Vec2f u) {
+[[gnu::always_inline]] inline Vec2f sampleUniformDiskConcentric(Vec2f u) {
     const float ox = 2.0f * u.x - 1.0f, oy = 2.0f * u.y - 1.0f;
     if (ox == 0.0f && oy == 0.0f) return {0.0f, 0.0f};
     // theta = (pi/4)(oy/ox), or pi/2 - (pi/4)(ox/oy) whose cosine and sine are those of
@@ -26,8 +26,10 @@ inline Vec2f sampleUniformDiskConcentric(Vec2f u) {
     return {oy * cs.y, oy * cs.x};
 }
 
-// Cosine-weighted direction on the +z hemisphere (Malley's method); pdf = cos(theta) / pi.
-inline Vec3f sampleCosineHemisphere(Vec2f u) {
+// Cosine-weighted direction on the +z hemisphere (Malley's method); pdf = cos(theta) / pi. It and
+// the disk map (with its sine and cosine) are always inlined: with several materials calling them the compiler stopped
+// inlining them into Lambert's sampling in the integrator (bench/README.md, "Speed tricks").
+[[gnu::always_inline]] inline Vec3f sampleCosineHemisphere(Vec2f u) {
     const Vec2f d = sampleUniformDiskConcentric(u);
     const float z = std::sqrt(std::max(0.0f, 1.0f - d.x * d.x - d.y * d.y));
     return {d.x, d.y, z};

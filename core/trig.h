@@ -8,7 +8,7 @@
 namespace penumbra {
 
 // (cos a, sin a) for |a| <= pi / 4.
-inline Vec2f cosSinQuarterPi(float a) {
+[[gnu::always_inline]] inline Vec2f cosSinQuarterPi(float a) {
     const float z = a * a;
     const float sine = a + a * z * (-1.6666654611e-1f + z * (8.3321608736e-3f + z * -1.9515295891e-4f));
     const float cosine = 1.0f - 0.5f * z + z * z * (4.166664568298827e-2f + z * (-1.388731625493765e-3f + z * 2.443315711809948e-5f));
