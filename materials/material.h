@@ -10,9 +10,8 @@
 // Sides. Every call takes `front`: whether wo lies on the front side of the GEOMETRIC surface (the
 // side its geometric normal points to; the shading normal, hence local +z, is turned to that side
 // too). Two-sided reflectors (the default for every reflector: Lambert, Phong, mirror, the
-// conductors, the coated diffuse) evaluate a
-// direction pair on the side where wo lies; a one-sided one is black seen from the back. A
-// dielectric's front is its outside (smooth or rough): `front` decides whether light enters or
+// conductors, the coated diffuse) evaluate a direction pair on the side where wo lies; a
+// one-sided one is black seen from the back. A dielectric's front is its outside (smooth or rough): `front` decides whether light enters or
 // leaves it.
 //
 // Specular lobes (mirror, conductor, the smooth dielectrics, the smooth coating's reflection) are
