@@ -7,6 +7,7 @@
 #include <random>
 #include <vector>
 
+#include "core/float_error.h"
 #include "core/frame.h"
 #include "core/ray_offset.h"
 #include "core/trig.h"
@@ -341,6 +342,17 @@ TEST(RayOffset, MatchesTheScalarFormulationBitForBit) {
         ++checked;
     }
     EXPECT_GT(checked, 99000);
+}
+
+TEST(FloatError, NextFloatStepsOneValue) {
+    EXPECT_EQ(nextFloatUp(1.0f), std::nextafter(1.0f, 2.0f));
+    EXPECT_EQ(nextFloatDown(1.0f), std::nextafter(1.0f, 0.0f));
+    EXPECT_EQ(nextFloatUp(-1.0f), std::nextafter(-1.0f, 0.0f));
+    EXPECT_EQ(nextFloatUp(0.0f), std::numeric_limits<float>::denorm_min());
+    EXPECT_EQ(nextFloatUp(-0.0f), std::numeric_limits<float>::denorm_min());
+    EXPECT_EQ(nextFloatDown(0.0f), -std::numeric_limits<float>::denorm_min());
+    EXPECT_EQ(nextFloatUp(std::numeric_limits<float>::infinity()), std::numeric_limits<float>::infinity());
+    EXPECT_GT(gamma(3), 3.0f * 0x1p-24f);
 }
 
 }  // namespace
