@@ -82,7 +82,7 @@ public:
     uint64_t count() const { return triangles_ + scene_.spheres.size(); }
 
     struct Point {
-        Vec3f position, normal;
+        Vec3f position, positionError, normal;
         uint32_t geomId = 0, primId = 0;
     };
     // A uniformly chosen point on primitive `g`.
@@ -92,6 +92,7 @@ public:
             const Sphere& s = scene_.spheres[g - triangles_];
             point.normal = sampleUniformSphere(u);
             point.position = s.center + point.normal * s.radius;
+            point.positionError = (abs(s.center) + abs(point.normal * s.radius)) * gamma(8);
             const Hit ids = scene_.idsOf({ShapeKind::Sphere, uint32_t(g - triangles_), 0});
             point.geomId = ids.geomId;
             point.primId = ids.primId;
@@ -104,6 +105,7 @@ public:
                     p2 = mesh.positions[mesh.indices[3 * j + 2]];
         const Vec2f b = sampleUniformTriangle(u);
         point.position = p0 * (1.0f - b.x - b.y) + p1 * b.x + p2 * b.y;
+        point.positionError = (abs(p0 * (1.0f - b.x - b.y)) + abs(p1 * b.x) + abs(p2 * b.y)) * gamma(7);
         const Vec3f n = cross(p1 - p0, p2 - p0);
         const float nLength = length(n);
         point.normal = nLength > 0.0f ? n / nLength : Vec3f{0.0f, 0.0f, 1.0f};
@@ -137,12 +139,13 @@ Ray makeCameraRay(const Scene& scene, const ThinLensCamera& camera, RayRandom& r
 
 // A segment from a surface point to a point on another surface, both ends moved off their
 // surfaces, as the integrator's shadow rays are (renderer/path_integrator.h).
-Ray makeShadowRay(Vec3f from, Vec3f fromNormal, const PrimitiveIndex::Point& to, float time) {
+Ray makeShadowRay(Vec3f from, Vec3f fromError, Vec3f fromNormal, const PrimitiveIndex::Point& to, float time) {
     const Vec3f toTarget = to.position - from;
     const Vec3f side = dot(toTarget, fromNormal) >= 0.0f ? fromNormal : -fromNormal;
     Ray ray;
-    ray.origin = offsetRayOrigin(from, side);
-    const Vec3f target = offsetRayOrigin(to.position, faceForward(to.normal, ray.origin - to.position));
+    ray.origin = offsetRayOrigin(from, fromError, side);
+    const Vec3f target =
+        offsetRayOrigin(to.position, to.positionError, faceForward(to.normal, ray.origin - to.position));
     ray.direction = target - ray.origin;
     ray.tfar = kShadowRayEnd;
     ray.time = time;
@@ -275,11 +278,11 @@ std::vector<CrosscheckRay> generateCrosscheckRays(const Scene& scene, const Embr
                     std::min(uint64_t(pick * double(primitives.count())), primitives.count() - 1);
                 const PrimitiveIndex::Point point = primitives.sample(target, random.next2());
                 if (point.geomId != hit.geomId || point.primId != hit.primId)
-                    shadows.push_back({makeShadowRay(si.position, si.geometricNormal, point, ray.time),
+                    shadows.push_back({makeShadowRay(si.position, si.positionError, si.geometricNormal, point, ray.time),
                                        CrosscheckRayKind::Shadow, shadows.size()});
             }
             Ray next;
-            next.origin = offsetRayOrigin(si.position, normal);
+            next.origin = offsetRayOrigin(si.position, si.positionError, normal);
             next.direction = Frame::fromNormal(normal).toWorld(sampleCosineHemisphere(random.next2()));
             next.time = ray.time;
             if (bounces.size() < perKind)
