@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 
 #include "core/float_error.h"
 #include "core/vec.h"
@@ -107,6 +108,28 @@ inline bool intersectTriangleWatertight(const WatertightRay& r, const float* ver
     hit.b1 = e1 * invDet;
     hit.b2 = e2 * invDet;
     return true;
+}
+
+// The bound intersectTriangleWatertight compares t with, for a ray and triangle whatever the test
+// says (for tools that explain why a hit was rejected); infinity when the triangle is degenerate
+// in the ray's projection.
+inline float watertightTErrorBound(const WatertightRay& r, const float* vertices) {
+    const float* v0 = vertices;
+    const float* v1 = vertices + 3;
+    const float* v2 = vertices + 6;
+    const float z0 = v0[r.kz] - r.oz, z1 = v1[r.kz] - r.oz, z2 = v2[r.kz] - r.oz;
+    const float x0 = (v0[r.kx] - r.ox) + r.sx * z0, y0 = (v0[r.ky] - r.oy) + r.sy * z0;
+    const float x1 = (v1[r.kx] - r.ox) + r.sx * z1, y1 = (v1[r.ky] - r.oy) + r.sy * z1;
+    const float x2 = (v2[r.kx] - r.ox) + r.sx * z2, y2 = (v2[r.ky] - r.oy) + r.sy * z2;
+    const float e0 = x1 * y2 - y1 * x2, e1 = x2 * y0 - y2 * x0, e2 = x0 * y1 - y0 * x1;
+    const float det = e0 + e1 + e2;
+    if (det == 0.0f) return std::numeric_limits<float>::infinity();
+    const float maxXt = std::max({std::abs(x0), std::abs(x1), std::abs(x2)});
+    const float maxYt = std::max({std::abs(y0), std::abs(y1), std::abs(y2)});
+    const float maxZ = std::max({std::abs(z0), std::abs(z1), std::abs(z2)});
+    const float maxZt = std::max({std::abs(z0 * r.sz), std::abs(z1 * r.sz), std::abs(z2 * r.sz)});
+    const float maxE = std::max({std::abs(e0), std::abs(e1), std::abs(e2)});
+    return watertightTError(maxXt, maxYt, maxZ, maxZt, maxE, 1.0f / det);
 }
 
 }  // namespace penumbra
