@@ -14,17 +14,12 @@
 
 #include <xmmintrin.h>
 
+#include "core/float_error.h"
 #include "core/vec.h"
 #include "accel/bvh_wide.h"
 
 namespace penumbra {
 
-// pbrt-v4's gamma(n) = n u / (1 - n u), u = 2^-24: a bound on the relative error of n rounded
-// float operations.
-constexpr float gamma(int n) {
-    constexpr float u = 0x1p-24f;
-    return float(n) * u / (1.0f - float(n) * u);
-}
 inline constexpr float kBoxFarScale = 1.0f + 2.0f * gamma(3);
 
 // What the box test needs of a ray, computed once per ray.

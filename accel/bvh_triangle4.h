@@ -75,6 +75,27 @@ inline void intersectTrianglesWatertight4(const WatertightRay4& r, const Triangl
     const __m128 rejected =
         _mm_or_ps(_mm_or_ps(_mm_and_ps(anyNegative, anyPositive), _mm_cmpeq_ps(det, zero)), behind);
     out.hit = _mm_movemask_ps(_mm_andnot_ps(rejected, inRange)) & ~out.fallback;
+    if (out.hit != 0) {  // t beyond its error bound (watertightTError), lane by lane as there
+        const __m128 absMask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+        const auto abs4 = [&](__m128 a) { return _mm_and_ps(a, absMask); };
+        const auto max3 = [&](__m128 a, __m128 b, __m128 c) { return _mm_max_ps(_mm_max_ps(abs4(a), abs4(b)), abs4(c)); };
+        const __m128 maxXt = max3(x0, x1, x2), maxYt = max3(y0, y1, y2);
+        const __m128 maxZ = max3(z0, z1, z2);
+        const __m128 maxZt = max3(_mm_mul_ps(z0, r.sz), _mm_mul_ps(z1, r.sz), _mm_mul_ps(z2, r.sz));
+        const __m128 maxE = max3(e0, e1, e2);
+        const __m128 deltaZ = _mm_mul_ps(_mm_set1_ps(gamma(3)), maxZt);
+        const __m128 deltaX = _mm_mul_ps(_mm_set1_ps(gamma(5)), _mm_add_ps(maxXt, maxZ));
+        const __m128 deltaY = _mm_mul_ps(_mm_set1_ps(gamma(5)), _mm_add_ps(maxYt, maxZ));
+        const __m128 deltaE = _mm_mul_ps(
+            _mm_set1_ps(2.0f),
+            _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_mul_ps(_mm_set1_ps(gamma(2)), maxXt), maxYt), _mm_mul_ps(deltaY, maxXt)),
+                       _mm_mul_ps(deltaX, maxYt)));
+        const __m128 sum = _mm_add_ps(
+            _mm_add_ps(_mm_mul_ps(_mm_mul_ps(_mm_set1_ps(gamma(3)), maxE), maxZt), _mm_mul_ps(deltaE, maxZt)),
+            _mm_mul_ps(deltaZ, maxE));
+        const __m128 tError = _mm_mul_ps(_mm_mul_ps(_mm_set1_ps(3.0f), sum), abs4(invDet));
+        out.hit &= _mm_movemask_ps(_mm_cmpnle_ps(t, tError));  // !(t <= tError), as the scalar test
+    }
     _mm_store_ps(out.t, t);
     _mm_store_ps(out.b1, _mm_mul_ps(e1, invDet));
     _mm_store_ps(out.b2, _mm_mul_ps(e2, invDet));

@@ -1,33 +1,43 @@
-// Moving a ray origin off a surface so the new ray does not hit the surface it leaves.
-// Wächter and Binder, "A Fast and Robust Method for Avoiding Self-Intersection" (Ray Tracing
-// Gems, 2019): offset by a few ULPs along the normal in integer space, which scales with the
-// magnitude of the coordinates, with a small fixed offset near the origin where ULPs vanish.
+// Moving a ray origin off a surface so the new ray does not hit the surface it leaves (pbrt-v4,
+// Pharr, Jakob and Humphreys, "Physically Based Rendering", 4th ed., section 6.8.6). The computed
+// point p lies within the box p +- pointError of the true surface point; the plane through the
+// true point with normal n then lies within dot(|n|, pointError) of p along n, so moving p that far
+// along n puts it on the normal's side of the surface, and rounding the sum away from p keeps it
+// there (a step is taken even when the error is 0, so the origin always leaves the surface).
+// Intersection tests reject hits within their own error of the origin (geometry/ray_triangle.h),
+// so a ray cannot hit the surface it leaves however large or small the coordinates are: the offset
+// follows the error of the point, not fixed constants.
 #pragma once
 
 #include <emmintrin.h>
 
+#include <limits>
+
+#include "core/float_error.h"
 #include "core/vec.h"
 
 namespace penumbra {
 
-// `normal` is the geometric normal on the side the new ray leaves towards. The three axes are
-// done at once with SSE2, lane for lane the same operations as one axis in scalar code.
-inline Vec3f offsetRayOrigin(Vec3f point, Vec3f normal) {
-    constexpr float kOriginRadius = 1.0f / 32.0f;
-    constexpr float kFloatScale = 1.0f / 65536.0f;
-    constexpr float kIntScale = 256.0f;
-    const __m128 p = _mm_setr_ps(point.x, point.y, point.z, 0.0f);
+// `normal`: the geometric normal, on the side the new ray leaves towards; `pointError`: a bound on
+// the absolute error of each coordinate of `point`. The three axes are done at once with SSE2.
+[[gnu::always_inline]] inline Vec3f offsetRayOrigin(Vec3f point, Vec3f pointError, Vec3f normal) {
+    // 1 + gamma(8) covers the rounding of d and of n d, and |n| a few ulps short of 1.
+    const float d = dot(abs(normal), pointError) * (1.0f + gamma(8));
     const __m128 n = _mm_setr_ps(normal.x, normal.y, normal.z, 0.0f);
-    // The offset in ULPs, negated for negative coordinates (whose bits grow the other way).
-    const __m128i offsetUlps = _mm_cvttps_epi32(_mm_mul_ps(_mm_set1_ps(kIntScale), n));
-    const __m128i negative = _mm_castps_si128(_mm_cmplt_ps(p, _mm_setzero_ps()));
-    const __m128i signedUlps = _mm_sub_epi32(_mm_xor_si128(offsetUlps, negative), negative);
-    const __m128 shifted = _mm_castsi128_ps(_mm_add_epi32(_mm_castps_si128(p), signedUlps));
-    // Near the origin, where ULPs vanish, a fixed offset instead.
-    const __m128 absP = _mm_andnot_ps(_mm_set1_ps(-0.0f), p);
-    const __m128 nearOrigin = _mm_cmplt_ps(absP, _mm_set1_ps(kOriginRadius));
-    const __m128 fixed = _mm_add_ps(p, _mm_mul_ps(_mm_set1_ps(kFloatScale), n));
-    const __m128 result = _mm_or_ps(_mm_and_ps(nearOrigin, fixed), _mm_andnot_ps(nearOrigin, shifted));
+    const __m128 moved = _mm_add_ps(_mm_setr_ps(point.x, point.y, point.z, 0.0f), _mm_mul_ps(n, _mm_set1_ps(d)));
+    // One float further along n: the bits grow by one where moved and n have the same sign (away
+    // from zero) and shrink by one where not; nothing where n is 0.
+    const __m128i bits = _mm_castps_si128(moved);
+    const __m128i opposite = _mm_srai_epi32(_mm_xor_si128(bits, _mm_castps_si128(n)), 31);  // 0 or -1
+    const __m128i alongN = _mm_castps_si128(_mm_cmpneq_ps(n, _mm_setzero_ps()));
+    const __m128i step = _mm_and_si128(_mm_or_si128(opposite, _mm_set1_epi32(1)), alongN);
+    const __m128 stepped = _mm_castsi128_ps(_mm_add_epi32(bits, step));
+    // Embree runs with denormals read as zero: a zero or subnormal origin would lie on the surface,
+    // so it becomes the smallest normal float on n's side (stepping a zero would not do either).
+    const __m128 signMask = _mm_set1_ps(-0.0f), smallest = _mm_set1_ps(std::numeric_limits<float>::min());
+    const __m128 tiny = _mm_and_ps(_mm_cmplt_ps(_mm_andnot_ps(signMask, moved), smallest), _mm_castsi128_ps(alongN));
+    const __m128 replacement = _mm_or_ps(_mm_and_ps(n, signMask), smallest);
+    const __m128 result = _mm_or_ps(_mm_and_ps(tiny, replacement), _mm_andnot_ps(tiny, stepped));
     alignas(16) float out[4];
     _mm_store_ps(out, result);
     return {out[0], out[1], out[2]};

@@ -9,11 +9,17 @@
 // exact, so its sign is right. This needs a*b - c*d to be evaluated without contraction into a
 // fused multiply-add (an FMA would make the two triangles' values differ): the file that includes
 // this one is compiled with -ffp-contract=off.
+//
+// A hit is accepted only when t exceeds the bound on t's rounding error of pbrt-v4 (section
+// 6.8.7): within it the hit may be the surface the ray starts on, offset by core/ray_offset.h.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 
+#include "core/float_error.h"
 #include "core/vec.h"
 
 namespace penumbra {
@@ -41,12 +47,26 @@ struct WatertightRay {
     }
 };
 
+// pbrt-v4's bound on the absolute error of t: maxXt, maxYt are the largest magnitudes of the
+// triangle's sheared x and y, maxZ that of its unscaled z (relative to the origin), maxZt that of
+// z * sz, maxE that of the edge functions. pbrt bounds the error of x + sx z with the scaled z,
+// which is wrong by the factor |direction| and lost hits of unnormalized rays at small scales;
+// |sx|, |sy| <= 1 (z is the dominant axis), so the unscaled maxZ bounds |sx z| and |sy z|.
+inline float watertightTError(float maxXt, float maxYt, float maxZ, float maxZt, float maxE, float invDet) {
+    const float deltaZ = gamma(3) * maxZt;
+    const float deltaX = gamma(5) * (maxXt + maxZ);
+    const float deltaY = gamma(5) * (maxYt + maxZ);
+    const float deltaE = 2.0f * (gamma(2) * maxXt * maxYt + deltaY * maxXt + deltaX * maxYt);
+    return 3.0f * (gamma(3) * maxE * maxZt + deltaE * maxZt + deltaZ * maxE) * std::abs(invDet);
+}
+
 struct TriangleHit {
     float t = 0.0f;
     float b1 = 0.0f, b2 = 0.0f;  // barycentrics of vertices 1 and 2
 };
 
-// `vertices` holds p0, p1, p2 as nine floats. True when tMin <= t <= tMax.
+// `vertices` holds p0, p1, p2 as nine floats. True when tMin <= t <= tMax and t exceeds its error
+// bound.
 inline bool intersectTriangleWatertight(const WatertightRay& r, const float* vertices, float tMin, float tMax,
                                         TriangleHit& hit) {
     // Vertices relative to the ray origin, permuted so the ray runs along z, then sheared.
@@ -78,10 +98,38 @@ inline bool intersectTriangleWatertight(const WatertightRay& r, const float* ver
     const float invDet = 1.0f / det;
     const float t = tScaled * invDet;
     if (!(t >= tMin && t <= tMax)) return false;  // also rejects NaN
+    const float maxXt = std::max({std::abs(x0), std::abs(x1), std::abs(x2)});
+    const float maxYt = std::max({std::abs(y0), std::abs(y1), std::abs(y2)});
+    const float maxZ = std::max({std::abs(z0), std::abs(z1), std::abs(z2)});
+    const float maxZt = std::max({std::abs(z0 * r.sz), std::abs(z1 * r.sz), std::abs(z2 * r.sz)});
+    const float maxE = std::max({std::abs(e0), std::abs(e1), std::abs(e2)});
+    if (t <= watertightTError(maxXt, maxYt, maxZ, maxZt, maxE, invDet)) return false;
     hit.t = t;
     hit.b1 = e1 * invDet;
     hit.b2 = e2 * invDet;
     return true;
+}
+
+// The bound intersectTriangleWatertight compares t with, for a ray and triangle whatever the test
+// says (for tools that explain why a hit was rejected); infinity when the triangle is degenerate
+// in the ray's projection.
+inline float watertightTErrorBound(const WatertightRay& r, const float* vertices) {
+    const float* v0 = vertices;
+    const float* v1 = vertices + 3;
+    const float* v2 = vertices + 6;
+    const float z0 = v0[r.kz] - r.oz, z1 = v1[r.kz] - r.oz, z2 = v2[r.kz] - r.oz;
+    const float x0 = (v0[r.kx] - r.ox) + r.sx * z0, y0 = (v0[r.ky] - r.oy) + r.sy * z0;
+    const float x1 = (v1[r.kx] - r.ox) + r.sx * z1, y1 = (v1[r.ky] - r.oy) + r.sy * z1;
+    const float x2 = (v2[r.kx] - r.ox) + r.sx * z2, y2 = (v2[r.ky] - r.oy) + r.sy * z2;
+    const float e0 = x1 * y2 - y1 * x2, e1 = x2 * y0 - y2 * x0, e2 = x0 * y1 - y0 * x1;
+    const float det = e0 + e1 + e2;
+    if (det == 0.0f) return std::numeric_limits<float>::infinity();
+    const float maxXt = std::max({std::abs(x0), std::abs(x1), std::abs(x2)});
+    const float maxYt = std::max({std::abs(y0), std::abs(y1), std::abs(y2)});
+    const float maxZ = std::max({std::abs(z0), std::abs(z1), std::abs(z2)});
+    const float maxZt = std::max({std::abs(z0 * r.sz), std::abs(z1 * r.sz), std::abs(z2 * r.sz)});
+    const float maxE = std::max({std::abs(e0), std::abs(e1), std::abs(e2)});
+    return watertightTError(maxXt, maxYt, maxZ, maxZt, maxE, 1.0f / det);
 }
 
 }  // namespace penumbra

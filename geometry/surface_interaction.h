@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/float_error.h"
 #include "core/frame.h"
 #include "core/motion.h"
 #include "core/ray.h"
@@ -20,6 +21,7 @@ namespace penumbra {
 
 struct SurfaceInteraction {
     Vec3f position;
+    Vec3f positionError;    // bound on each coordinate's absolute error (core/ray_offset.h)
     Vec3f geometricNormal;  // unit, on the shape's front side
     Vec3f shadingNormal;    // unit, in the hemisphere of geometricNormal
     Vec2f uv;
@@ -37,7 +39,15 @@ inline Vec3f vertexAt(const TriangleMesh& mesh, uint32_t vertex, float time) {
 }
 
 // Moves a point and its normals from object to world space for a moving shape.
+// The error bound grows by the transform's own rounding (pbrt-v4, section 6.8.5).
 inline void placeInWorld(const Transform& toWorld, SurfaceInteraction& si) {
+    const Vec3f p = abs(si.position), e = si.positionError;
+    for (int row = 0; row < 3; ++row) {
+        const auto& m = toWorld.matrix().m[row];
+        const float absSum = std::abs(m[0]) * p.x + std::abs(m[1]) * p.y + std::abs(m[2]) * p.z + std::abs(m[3]);
+        const float propagated = std::abs(m[0]) * e.x + std::abs(m[1]) * e.y + std::abs(m[2]) * e.z;
+        si.positionError[row] = gamma(3) * absSum + (1.0f + gamma(3)) * propagated;
+    }
     si.position = toWorld.applyPoint(si.position);
     si.geometricNormal = normalize(toWorld.applyNormal(si.geometricNormal));
     si.shadingNormal = faceForward(normalize(toWorld.applyNormal(si.shadingNormal)), si.geometricNormal);
@@ -66,6 +76,8 @@ inline void recomputeTriangleHit(Vec3f origin, Vec3f direction, Vec3f p0, Vec3f 
                                                        const Frame* faceFrame = nullptr) {
     const float b1 = hit.u, b2 = hit.v, b0 = 1.0f - b1 - b2;
     si.position = p0 * b0 + p1 * b1 + p2 * b2;
+    // b0 = 1 - b1 - b2 (two roundings), then three products and two sums: gamma(7) is pbrt-v4's bound.
+    si.positionError = (abs(p0 * b0) + abs(p1 * b1) + abs(p2 * b2)) * gamma(7);
     si.geometricNormal = faceFrame ? faceFrame->n : triangleNormal(p0, p1, p2);
     const bool hasNormal = si.geometricNormal != Vec3f{0.0f, 0.0f, 0.0f};
     if (!hasNormal) si.geometricNormal = {0.0f, 0.0f, 1.0f};
@@ -141,6 +153,9 @@ inline SurfaceInteraction makeSurfaceInteraction(const SceneGeometry& scene, con
         const float outwardLength = length(outward);
         outward = outwardLength > 0.0f ? outward / outwardLength : Vec3f{0.0f, 0.0f, 1.0f};
         si.position = sphere.center + outward * sphere.radius;
+        // outward is unit within a few roundings (difference, length, division), and any unit
+        // vector times the radius lies on the sphere: then a product and a sum.
+        si.positionError = (abs(sphere.center) + abs(outward * sphere.radius)) * gamma(8);
         si.geometricNormal = outward;
         si.shadingNormal = outward;
         const float phi = std::atan2(outward.y, outward.x);

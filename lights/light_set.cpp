@@ -128,6 +128,8 @@ std::optional<LightSample> LightSet::sampleOther(uint32_t index, Vec3f reference
         case LightKind::Triangle: {
             const Vec2f b = sampleUniformTriangle(u);
             ls.point = light.p0 * (1.0f - b.x - b.y) + light.p1 * b.x + light.p2 * b.y;
+            // As for a hit's barycentric interpolation (geometry/surface_interaction.h).
+            ls.pointError = (abs(light.p0 * (1.0f - b.x - b.y)) + abs(light.p1 * b.x) + abs(light.p2 * b.y)) * gamma(7);
             ls.lightNormal = light.normal;
             break;
         }
@@ -139,6 +141,7 @@ std::optional<LightSample> LightSet::sampleOther(uint32_t index, Vec3f reference
                 // Inside (or on) the sphere: every point is visible, sample by area.
                 ls.lightNormal = sampleUniformSphere(u);
                 ls.point = light.center + ls.lightNormal * light.radius;
+                ls.pointError = (abs(light.center) + abs(ls.lightNormal * light.radius)) * gamma(8);
             } else {
                 // Outside: sample the cone of directions the sphere subtends (pbrt-v4's
                 // Sphere::Sample), then find the point on the sphere that direction hits first.
@@ -161,6 +164,7 @@ std::optional<LightSample> LightSet::sampleOther(uint32_t index, Vec3f reference
                 const Vec3f fromCenter = frame.toWorld({sinAlpha * std::cos(phi), sinAlpha * std::sin(phi), -cosAlpha});
                 ls.lightNormal = normalize(fromCenter);
                 ls.point = light.center + ls.lightNormal * light.radius;
+                ls.pointError = (abs(light.center) + abs(ls.lightNormal * light.radius)) * gamma(8);
             }
             break;
         }

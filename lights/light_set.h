@@ -34,6 +34,7 @@ struct LightSample {
     Vec3f direction;   // unit, from the reference point towards the light
     float distance;    // to the sampled point; infinity for the background
     Vec3f point;       // sampled point on the light (for area lights)
+    Vec3f pointError;  // bound on each coordinate's absolute error of point (core/ray_offset.h)
     Vec3f lightNormal; // front normal at the sampled point (area lights)
     Rgb radiance;      // arriving along -direction (intensity / distance^2 for point lights)
     float pdf;         // solid-angle density including the light choice; choice probability for deltas

@@ -88,7 +88,7 @@ inline bool isUnit(Vec3f v) { return std::abs(length(v) - 1.0f) < 1e-3f; }
 // computed already). Written in place, field by field (bench/README.md, "Speed tricks").
 [[gnu::always_inline]] inline void continueRay(Ray& ray, const SurfaceInteraction& si, Vec3f direction, float cosGeometric) {
     const Vec3f side = cosGeometric >= 0.0f ? si.geometricNormal : -si.geometricNormal;
-    ray.origin = offsetRayOrigin(si.position, side);
+    ray.origin = offsetRayOrigin(si.position, si.positionError, side);
     ray.direction = direction;
     ray.tnear = 0.0f;
     ray.tfar = std::numeric_limits<float>::infinity();
@@ -108,14 +108,14 @@ inline bool isUnit(Vec3f v) { return std::abs(length(v) - 1.0f) < 1e-3f; }
 [[gnu::always_inline]] inline Ray spawnShadowRay(const SurfaceInteraction& si, const LightSample& ls, float cosGeometric, float time) {
     const Vec3f side = cosGeometric >= 0.0f ? si.geometricNormal : -si.geometricNormal;
     Ray ray;
-    ray.origin = offsetRayOrigin(si.position, side);
+    ray.origin = offsetRayOrigin(si.position, si.positionError, side);
     ray.time = time;
     if (std::isinf(ls.distance)) {
         ray.direction = ls.direction;
         return ray;
     }
     Vec3f target = ls.point;
-    if (!ls.isDelta) target = offsetRayOrigin(ls.point, faceForward(ls.lightNormal, -ls.direction));
+    if (!ls.isDelta) target = offsetRayOrigin(ls.point, ls.pointError, faceForward(ls.lightNormal, -ls.direction));
     ray.direction = target - ray.origin;
     ray.tfar = 1.0f - 0x1p-20f;
     return ray;

@@ -14,6 +14,7 @@
 #include "core/hash.h"
 #include "core/ray_offset.h"
 #include "core/sampling.h"
+#include "geometry/ray_triangle.h"
 #include "geometry/surface_interaction.h"
 #include "accel/bvh_accelerator.h"
 #include "accel/embree_accelerator.h"
@@ -82,7 +83,7 @@ public:
     uint64_t count() const { return triangles_ + scene_.spheres.size(); }
 
     struct Point {
-        Vec3f position, normal;
+        Vec3f position, positionError, normal;
         uint32_t geomId = 0, primId = 0;
     };
     // A uniformly chosen point on primitive `g`.
@@ -92,6 +93,7 @@ public:
             const Sphere& s = scene_.spheres[g - triangles_];
             point.normal = sampleUniformSphere(u);
             point.position = s.center + point.normal * s.radius;
+            point.positionError = (abs(s.center) + abs(point.normal * s.radius)) * gamma(8);
             const Hit ids = scene_.idsOf({ShapeKind::Sphere, uint32_t(g - triangles_), 0});
             point.geomId = ids.geomId;
             point.primId = ids.primId;
@@ -104,6 +106,7 @@ public:
                     p2 = mesh.positions[mesh.indices[3 * j + 2]];
         const Vec2f b = sampleUniformTriangle(u);
         point.position = p0 * (1.0f - b.x - b.y) + p1 * b.x + p2 * b.y;
+        point.positionError = (abs(p0 * (1.0f - b.x - b.y)) + abs(p1 * b.x) + abs(p2 * b.y)) * gamma(7);
         const Vec3f n = cross(p1 - p0, p2 - p0);
         const float nLength = length(n);
         point.normal = nLength > 0.0f ? n / nLength : Vec3f{0.0f, 0.0f, 1.0f};
@@ -137,15 +140,25 @@ Ray makeCameraRay(const Scene& scene, const ThinLensCamera& camera, RayRandom& r
 
 // A segment from a surface point to a point on another surface, both ends moved off their
 // surfaces, as the integrator's shadow rays are (renderer/path_integrator.h).
-Ray makeShadowRay(Vec3f from, Vec3f fromNormal, const PrimitiveIndex::Point& to, float time) {
+Ray makeShadowRay(Vec3f from, Vec3f fromError, Vec3f fromNormal, const PrimitiveIndex::Point& to, float time) {
     const Vec3f toTarget = to.position - from;
     const Vec3f side = dot(toTarget, fromNormal) >= 0.0f ? fromNormal : -fromNormal;
     Ray ray;
-    ray.origin = offsetRayOrigin(from, side);
-    const Vec3f target = offsetRayOrigin(to.position, faceForward(to.normal, ray.origin - to.position));
+    ray.origin = offsetRayOrigin(from, fromError, side);
+    const Vec3f target =
+        offsetRayOrigin(to.position, to.positionError, faceForward(to.normal, ray.origin - to.position));
     ray.direction = target - ray.origin;
     ray.tfar = kShadowRayEnd;
     ray.time = time;
+    return ray;
+}
+
+// `ray` marked as leaving the surface of `hit` at `si`.
+CrosscheckRay leaving(const Hit& hit, const SurfaceInteraction& si, CrosscheckRay ray) {
+    ray.leavesSurface = true;
+    ray.sourceGeomId = hit.geomId;
+    ray.sourcePrimId = hit.primId;
+    ray.sourceDistance = length(ray.ray.origin - si.position) + length(si.positionError);
     return ray;
 }
 
@@ -232,6 +245,7 @@ const char* mismatchKindName(MismatchKind kind) {
         case MismatchKind::Tie: return "tie";
         case MismatchKind::Grazing: return "grazing";
         case MismatchKind::RangeBoundary: return "range boundary";
+        case MismatchKind::SelfIntersection: return "self-intersection";
         case MismatchKind::Unexplained: return "unexplained";
     }
     return "?";
@@ -275,15 +289,16 @@ std::vector<CrosscheckRay> generateCrosscheckRays(const Scene& scene, const Embr
                     std::min(uint64_t(pick * double(primitives.count())), primitives.count() - 1);
                 const PrimitiveIndex::Point point = primitives.sample(target, random.next2());
                 if (point.geomId != hit.geomId || point.primId != hit.primId)
-                    shadows.push_back({makeShadowRay(si.position, si.geometricNormal, point, ray.time),
-                                       CrosscheckRayKind::Shadow, shadows.size()});
+                    shadows.push_back(leaving(hit, si, {makeShadowRay(si.position, si.positionError, si.geometricNormal,
+                                                                      point, ray.time),
+                                                        CrosscheckRayKind::Shadow, shadows.size()}));
             }
             Ray next;
-            next.origin = offsetRayOrigin(si.position, normal);
+            next.origin = offsetRayOrigin(si.position, si.positionError, normal);
             next.direction = Frame::fromNormal(normal).toWorld(sampleCosineHemisphere(random.next2()));
             next.time = ray.time;
             if (bounces.size() < perKind)
-                bounces.push_back({next, CrosscheckRayKind::Bounce, bounces.size()});
+                bounces.push_back(leaving(hit, si, {next, CrosscheckRayKind::Bounce, bounces.size()}));
             ray = next;
             found = reference.intersect(ray, hit);
         }
@@ -320,15 +335,40 @@ bool MismatchClassifier::sameDistance(const Ray& ray, float a, float b) const {
 std::optional<MismatchKind> MismatchClassifier::explainHit(const Ray& ray, const Hit& hit) const {
     if (isNearEdge(scene_, hit)) return MismatchKind::EdgeOrVertex;
     if (incidenceCosine(scene_, ray, hit) < kGrazingCosine) return MismatchKind::Grazing;
-    if (sameDistance(ray, hit.t, ray.tnear) ||
+    if (sameDistance(ray, hit.t, ray.tnear) || withinTriangleTestError(ray, hit) ||
         (std::isfinite(ray.tfar) && sameDistance(ray, hit.t, ray.tfar)))
         return MismatchKind::RangeBoundary;
     return std::nullopt;
 }
 
+// A flat triangle cannot be hit again by a ray leaving it; a sphere can (from inside), but not
+// within twice the origin's offset.
+bool MismatchClassifier::isSelfIntersection(const CrosscheckRay& cray, const BackendAnswer& answer) const {
+    if (!cray.leavesSurface || !answer.hasHit) return false;
+    const Hit& hit = answer.hit;
+    if (hit.geomId != cray.sourceGeomId || hit.primId != cray.sourcePrimId) return false;
+    return isTriangleHit(scene_, hit) ||
+           double(hit.t) * double(length(cray.ray.direction)) <= 2.0 * double(cray.sourceDistance);
+}
+
+// Our triangle test rejects hits within its error bound on t of the origin (geometry/
+// ray_triangle.h): there rounding cannot tell whether the ray starts before or after the surface.
+bool MismatchClassifier::withinTriangleTestError(const Ray& ray, const Hit& hit) const {
+    if (!isTriangleHit(scene_, hit)) return false;
+    const TriangleMesh& mesh = scene_.meshes[hit.geomId];
+    if (mesh.moves()) return false;
+    float vertices[9];
+    for (int k = 0; k < 3; ++k) {
+        const Vec3f p = mesh.positions[mesh.indices[3 * size_t(hit.primId) + k]];
+        for (int axis = 0; axis < 3; ++axis) vertices[3 * k + axis] = p[axis];
+    }
+    return hit.t - ray.tnear <= watertightTErrorBound(WatertightRay(ray.origin, ray.direction), vertices);
+}
+
 MismatchKind MismatchClassifier::classify(const CrosscheckRay& cray, const BackendAnswer& ours,
                                           const BackendAnswer& embree) const {
     const Ray& ray = cray.ray;
+    if (isSelfIntersection(cray, ours) || isSelfIntersection(cray, embree)) return MismatchKind::SelfIntersection;
     if (ours.hitSomething && embree.hitSomething && !cray.isSegment()) {
         const Hit& a = ours.hit;
         const Hit& b = embree.hit;
@@ -396,7 +436,8 @@ CrosscheckReport compareBackends(const Scene& scene, const BvhAccelerator& ours,
         }
         Mismatch m{r, a, b, classifier.classify(r, a, b)};
         ++report.mismatchesByKind[size_t(m.kind)];
-        std::vector<Mismatch>& kept = m.kind == MismatchKind::Unexplained ? unexplained : explained;
+        const bool failure = m.kind == MismatchKind::Unexplained || m.kind == MismatchKind::SelfIntersection;
+        std::vector<Mismatch>& kept = failure ? unexplained : explained;
         if (kept.size() < options.keptMismatches) kept.push_back(m);
     }
     if (report.samePrimitiveHits > 0) {
@@ -523,6 +564,7 @@ std::string formatCrosscheckJson(const CrosscheckReport& report, size_t maxListe
         byKind[mismatchKindName(MismatchKind(k))] = report.mismatchesByKind[k];
     j["mismatches"] = byKind;
     j["unexplained"] = report.unexplained();
+    j["selfIntersections"] = report.selfIntersections();
     j["throughput"] = {
         {"bvhRaysPerSecond", report.oursRaysPerSecond},
         {"embreeRaysPerSecond", report.embreeRaysPerSecond},
@@ -567,9 +609,11 @@ int runCrosscheckCommand(const std::string& scenePath, const CrosscheckOptions& 
     const CrosscheckReport report = runCrosscheck(scene, options);
     const std::string text = json ? formatCrosscheckJson(report) : formatCrosscheckText(report);
     std::fwrite(text.data(), 1, text.size(), stdout);
-    if (report.unexplained() > 0) {
-        std::fprintf(stderr, "penumbra: crosscheck: %llu unexplained mismatches between bvh and embree\n",
-                     (unsigned long long)report.unexplained());
+    if (report.failures() > 0) {
+        std::fprintf(stderr,
+                     "penumbra: crosscheck: %llu unexplained mismatches and %llu self-intersections between bvh "
+                     "and embree\n",
+                     (unsigned long long)report.unexplained(), (unsigned long long)report.selfIntersections());
         return kCrosscheckFailed;
     }
     return 0;

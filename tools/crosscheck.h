@@ -15,8 +15,11 @@
 //    triangle (barycentric coordinate), where the two tests' roundings differ;
 //  - tie: two different primitives at the same distance (coplanar or overlapping triangles);
 //  - grazing: the ray meets the surface at a glancing angle (|cos| < kGrazingCosine);
-//  - range boundary: the hit lies at the ray's tnear or tfar, within the distance tolerance.
-// Anything else is unexplained: a bug in one of the backends.
+//  - range boundary: the hit lies at the ray's tnear or tfar, within the distance tolerance, or
+//    within our triangle test's error bound on t of tnear (which that test rejects).
+// Two are failures: a self-intersection (a ray leaving a surface, a bounce or shadow ray, hits the
+// triangle it leaves, or the sphere it leaves within twice its offset: an offset or an error bound
+// is too small) and anything else, which is unexplained: a bug in one of the backends.
 //
 // Two distances along a ray agree when the points they give are closer than kDistanceTolerance
 // times (the distance travelled + the magnitude of the scene's coordinates): a ray starting a hair
@@ -43,8 +46,8 @@ enum class CrosscheckRayKind : uint8_t { Camera, Bounce, Shadow, Random };
 inline constexpr int kCrosscheckRayKindCount = 4;
 const char* crosscheckRayKindName(CrosscheckRayKind kind);
 
-enum class MismatchKind : uint8_t { EdgeOrVertex, Tie, Grazing, RangeBoundary, Unexplained };
-inline constexpr int kMismatchKindCount = 5;
+enum class MismatchKind : uint8_t { EdgeOrVertex, Tie, Grazing, RangeBoundary, SelfIntersection, Unexplained };
+inline constexpr int kMismatchKindCount = 6;
 const char* mismatchKindName(MismatchKind kind);
 
 inline constexpr float kEdgeTolerance = 1e-5f;      // barycentric coordinate
@@ -55,6 +58,11 @@ struct CrosscheckRay {
     Ray ray;
     CrosscheckRayKind kind = CrosscheckRayKind::Random;
     uint64_t index = 0;                                                   // within its kind
+    // Rays leaving a surface: the primitive left, and how far the origin was moved off the hit
+    // point plus that point's error bound (core/ray_offset.h).
+    bool leavesSurface = false;
+    uint32_t sourceGeomId = 0, sourcePrimId = 0;
+    float sourceDistance = 0.0f;
     bool isSegment() const { return kind == CrosscheckRayKind::Shadow; }  // traced with occluded()
 };
 
@@ -102,12 +110,14 @@ struct CrosscheckReport {
     double maxPointDistance = 0.0;
     double meanPointDistance = 0.0;
     std::array<uint64_t, kMismatchKindCount> mismatchesByKind{};
-    std::vector<Mismatch> mismatches;  // unexplained ones first, at most CrosscheckOptions::keptMismatches
+    std::vector<Mismatch> mismatches;  // failures first, at most CrosscheckOptions::keptMismatches
     // Single-thread throughput on the same rays.
     double oursRaysPerSecond = 0.0, embreeRaysPerSecond = 0.0;
     double oursBuildSeconds = 0.0, embreeBuildSeconds = 0.0;
 
     uint64_t unexplained() const { return mismatchesByKind[size_t(MismatchKind::Unexplained)]; }
+    uint64_t selfIntersections() const { return mismatchesByKind[size_t(MismatchKind::SelfIntersection)]; }
+    uint64_t failures() const { return unexplained() + selfIntersections(); }
     double agreementRatio() const { return rayCount ? double(agreements) / double(rayCount) : 1.0; }
     // Counting ties as agreements: meshes with overlapping coplanar triangles (scanned meshes
     // often have some) make both answers right.
@@ -135,6 +145,8 @@ public:
 
 private:
     std::optional<MismatchKind> explainHit(const Ray& ray, const Hit& hit) const;
+    bool isSelfIntersection(const CrosscheckRay& ray, const BackendAnswer& answer) const;
+    bool withinTriangleTestError(const Ray& ray, const Hit& hit) const;
 
     const Scene& scene_;
     float coordinateMagnitude_ = 1.0f;  // largest |coordinate| of the scene's bounds
@@ -153,7 +165,8 @@ CrosscheckReport runCrosscheck(const Scene& scene, const CrosscheckOptions& opti
 std::string formatCrosscheckText(const CrosscheckReport& report, size_t maxListed = 20);
 std::string formatCrosscheckJson(const CrosscheckReport& report, size_t maxListed = 100);
 
-// `penumbra crosscheck SCENE`: 0 when every mismatch is explained, kCrosscheckFailed otherwise.
+// `penumbra crosscheck SCENE`: 0 when every mismatch is explained and none is a self-intersection,
+// kCrosscheckFailed otherwise.
 // Throws InputError for a bad scene.
 inline constexpr int kCrosscheckFailed = 3;
 int runCrosscheckCommand(const std::string& scenePath, const CrosscheckOptions& options, bool json);

@@ -316,7 +316,7 @@ int main(int argc, char** argv) {
     bool crosscheckJson = false;
     CLI::App* crosscheckApp = app.add_subcommand(
         "crosscheck", "Trace the same rays through our BVH and Embree and explain every disagreement; exits with "
-                      "status 3 when a mismatch is unexplained");
+                      "status 3 when a mismatch is unexplained or a self-intersection");
     crosscheckApp->add_option("SCENE", crosscheckScene, "Scene file")->required();
     crosscheckApp->add_option("--rays", crosscheckOptions.rays, "Rays in all, a quarter of each kind (default 1000000)")
         ->check(CLI::PositiveNumber);

@@ -7,6 +7,7 @@
 #include <random>
 #include <vector>
 
+#include "core/float_error.h"
 #include "core/frame.h"
 #include "core/ray_offset.h"
 #include "core/trig.h"
@@ -316,31 +317,45 @@ TEST(Trig, CosSinQuarterPiMatchesLibmWithinTwoUlps) {
     EXPECT_LE(worstSinRelative, 0x1p-22);
 }
 
-// The SSE offset against Waechter and Binder's scalar code (Ray Tracing Gems, listing 6-1), axis by
-// axis, bit for bit: points of every magnitude and sign, zeros and points near the origin, random
-// unit normals.
-TEST(RayOffset, MatchesTheScalarFormulationBitForBit) {
-    const auto scalarOffset = [](float p, float n) {
-        const int32_t ulps = int32_t(256.0f * n);
-        const float shifted = std::bit_cast<float>(std::bit_cast<int32_t>(p) + (p < 0.0f ? -ulps : ulps));
-        return std::abs(p) < 1.0f / 32.0f ? p + (1.0f / 65536.0f) * n : shifted;
-    };
+// The moved point lies beyond the plane through every point of the error box: in exact arithmetic
+// (double holds these sums exactly enough), dot(moved - p, n) >= dot(|n|, pointError), at every
+// magnitude, with zero errors (then moved differs from p only where n is non-zero) and zero points.
+TEST(RayOffset, ClearsTheErrorBoxAlongTheNormal) {
     std::mt19937 rng(7);
-    std::uniform_real_distribution<float> unit(-1.0f, 1.0f), exponent(-12.0f, 12.0f);
+    std::uniform_real_distribution<float> unit(-1.0f, 1.0f), exponent(-40.0f, 40.0f);
     int checked = 0;
     for (int i = 0; i < 100000; ++i) {
-        Vec3f p, n{unit(rng), unit(rng), unit(rng)};
+        Vec3f p, e, n{unit(rng), unit(rng), unit(rng)};
         if (lengthSquared(n) == 0.0f) continue;
         n = normalize(n);
-        for (int a = 0; a < 3; ++a) p[a] = i % 10 == 0 ? (a == 0 ? 0.0f : -0.0f) : unit(rng) * std::exp2(exponent(rng));
-        const Vec3f q = offsetRayOrigin(p, n);
+        const float magnitude = std::exp2(exponent(rng));
         for (int a = 0; a < 3; ++a) {
-            const float expected = scalarOffset(p[a], n[a]);
-            ASSERT_EQ(std::bit_cast<uint32_t>(q[a]), std::bit_cast<uint32_t>(expected)) << "p " << p[a] << " n " << n[a];
+            p[a] = i % 10 == 0 ? 0.0f : unit(rng) * magnitude;
+            e[a] = i % 7 == 0 ? 0.0f : std::abs(unit(rng)) * magnitude * 1e-6f;
         }
+        const Vec3f q = offsetRayOrigin(p, e, n);
+        double along = 0, bound = 0;
+        for (int a = 0; a < 3; ++a) {
+            along += (double(q[a]) - double(p[a])) * double(n[a]);
+            bound += std::abs(double(n[a])) * double(e[a]);
+            if (n[a] > 0.0f) ASSERT_GT(q[a], p[a]);
+            if (n[a] < 0.0f) ASSERT_LT(q[a], p[a]);
+        }
+        ASSERT_GE(along, bound) << "p.x " << p.x << " e.x " << e.x << " n.x " << n.x;
         ++checked;
     }
     EXPECT_GT(checked, 99000);
+}
+
+TEST(FloatError, NextFloatStepsOneValue) {
+    EXPECT_EQ(nextFloatUp(1.0f), std::nextafter(1.0f, 2.0f));
+    EXPECT_EQ(nextFloatDown(1.0f), std::nextafter(1.0f, 0.0f));
+    EXPECT_EQ(nextFloatUp(-1.0f), std::nextafter(-1.0f, 0.0f));
+    EXPECT_EQ(nextFloatUp(0.0f), std::numeric_limits<float>::denorm_min());
+    EXPECT_EQ(nextFloatUp(-0.0f), std::numeric_limits<float>::denorm_min());
+    EXPECT_EQ(nextFloatDown(0.0f), -std::numeric_limits<float>::denorm_min());
+    EXPECT_EQ(nextFloatUp(std::numeric_limits<float>::infinity()), std::numeric_limits<float>::infinity());
+    EXPECT_GT(gamma(3), 3.0f * 0x1p-24f);
 }
 
 }  // namespace

@@ -122,6 +122,38 @@ TEST_F(Classification, NamesTheExpectedReasons) {
     EXPECT_EQ(classifier.classify(segment, blockedWithoutHit, BackendAnswer{}), MismatchKind::Unexplained);
 }
 
+// A ray leaving the floor that one backend finds on the triangle it leaves is a self-intersection,
+// a failure; a hit our triangle test rejects as within its error of the origin, or a shadow
+// segment blocked at its far end, are range boundaries.
+TEST_F(Classification, NamesSelfIntersections) {
+    const MismatchClassifier classifier(scene);
+    const BackendAnswer miss;
+    CrosscheckRay bounce = ray({0.5f, 0.5f, 1e-7f}, {0.6f, 0, 0.8f}, CrosscheckRayKind::Bounce);
+    bounce.leavesSurface = true;
+    bounce.sourceGeomId = 0;
+    bounce.sourcePrimId = 1;
+    bounce.sourceDistance = 2e-7f;
+    EXPECT_EQ(classifier.classify(bounce, hit(0, 1, 1e-6f), miss), MismatchKind::SelfIntersection);
+    EXPECT_EQ(classifier.classify(bounce, miss, hit(0, 1, 1e-6f)), MismatchKind::SelfIntersection);
+    const CrosscheckRay up = ray({0.6f, 0.6f, -1e-9f}, {0, 0, 1});
+    EXPECT_EQ(classifier.classify(up, miss, hit(0, 1, 1e-9f)), MismatchKind::RangeBoundary);
+    // Leaving the sphere inwards, its far side is a genuine hit.
+    CrosscheckRay inwards = ray({2.0f + 1e-6f, 0, 0}, {1, 0, 0}, CrosscheckRayKind::Bounce);
+    inwards.leavesSurface = true;
+    inwards.sourceGeomId = 2;
+    inwards.sourceDistance = 2e-6f;
+    EXPECT_NE(classifier.classify(inwards, hit(2, 0, 2.0f, 0, 0), miss), MismatchKind::SelfIntersection);
+    CrosscheckRay segment = ray({0.5f, 0.5f, 1}, {0, 0, -1}, CrosscheckRayKind::Shadow);
+    segment.leavesSurface = true;
+    segment.sourceGeomId = 2;
+    segment.sourceDistance = 1e-6f;
+    EXPECT_EQ(classifier.classify(segment, hit(0, 0, segment.ray.tfar), BackendAnswer{}),
+              MismatchKind::RangeBoundary);
+    CrosscheckReport report;
+    report.mismatchesByKind[size_t(MismatchKind::SelfIntersection)] = 1;
+    EXPECT_EQ(report.failures(), 1u);
+}
+
 TEST(Crosscheck, BoxSceneAgreesAndReportsFigures) {
     CrosscheckOptions options;
     options.rays = 20000;
