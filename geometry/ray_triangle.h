@@ -60,6 +60,22 @@ inline float watertightTError(float maxXt, float maxYt, float maxZ, float maxZt,
     return 3.0f * (gamma(3) * maxE * maxZt + deltaE * maxZt + deltaZ * maxE) * std::abs(invDet);
 }
 
+// A triangle's vertices (nine floats: p0, p1, p2) relative to the ray origin, permuted so the
+// ray runs along z, then sheared so it runs along +z; z is left unscaled (times r.sz it is the
+// scaled depth).
+struct ShearedTriangle {
+    float x0, y0, z0, x1, y1, z1, x2, y2, z2;
+};
+[[gnu::always_inline]] inline ShearedTriangle shearedVertices(const WatertightRay& r, const float* vertices) {
+    const float* v0 = vertices;
+    const float* v1 = vertices + 3;
+    const float* v2 = vertices + 6;
+    const float z0 = v0[r.kz] - r.oz, z1 = v1[r.kz] - r.oz, z2 = v2[r.kz] - r.oz;
+    return {(v0[r.kx] - r.ox) + r.sx * z0, (v0[r.ky] - r.oy) + r.sy * z0, z0,
+            (v1[r.kx] - r.ox) + r.sx * z1, (v1[r.ky] - r.oy) + r.sy * z1, z1,
+            (v2[r.kx] - r.ox) + r.sx * z2, (v2[r.ky] - r.oy) + r.sy * z2, z2};
+}
+
 struct TriangleHit {
     float t = 0.0f;
     float b1 = 0.0f, b2 = 0.0f;  // barycentrics of vertices 1 and 2
@@ -69,14 +85,7 @@ struct TriangleHit {
 // bound.
 inline bool intersectTriangleWatertight(const WatertightRay& r, const float* vertices, float tMin, float tMax,
                                         TriangleHit& hit) {
-    // Vertices relative to the ray origin, permuted so the ray runs along z, then sheared.
-    const float* v0 = vertices;
-    const float* v1 = vertices + 3;
-    const float* v2 = vertices + 6;
-    const float z0 = v0[r.kz] - r.oz, z1 = v1[r.kz] - r.oz, z2 = v2[r.kz] - r.oz;
-    const float x0 = (v0[r.kx] - r.ox) + r.sx * z0, y0 = (v0[r.ky] - r.oy) + r.sy * z0;
-    const float x1 = (v1[r.kx] - r.ox) + r.sx * z1, y1 = (v1[r.ky] - r.oy) + r.sy * z1;
-    const float x2 = (v2[r.kx] - r.ox) + r.sx * z2, y2 = (v2[r.ky] - r.oy) + r.sy * z2;
+    const auto [x0, y0, z0, x1, y1, z1, x2, y2, z2] = shearedVertices(r, vertices);
 
     // Edge functions; e_i is twice the signed area of the sub-triangle opposite vertex i.
     float e0 = x1 * y2 - y1 * x2;
@@ -114,13 +123,7 @@ inline bool intersectTriangleWatertight(const WatertightRay& r, const float* ver
 // says (for tools that explain why a hit was rejected); infinity when the triangle is degenerate
 // in the ray's projection.
 inline float watertightTErrorBound(const WatertightRay& r, const float* vertices) {
-    const float* v0 = vertices;
-    const float* v1 = vertices + 3;
-    const float* v2 = vertices + 6;
-    const float z0 = v0[r.kz] - r.oz, z1 = v1[r.kz] - r.oz, z2 = v2[r.kz] - r.oz;
-    const float x0 = (v0[r.kx] - r.ox) + r.sx * z0, y0 = (v0[r.ky] - r.oy) + r.sy * z0;
-    const float x1 = (v1[r.kx] - r.ox) + r.sx * z1, y1 = (v1[r.ky] - r.oy) + r.sy * z1;
-    const float x2 = (v2[r.kx] - r.ox) + r.sx * z2, y2 = (v2[r.ky] - r.oy) + r.sy * z2;
+    const auto [x0, y0, z0, x1, y1, z1, x2, y2, z2] = shearedVertices(r, vertices);
     const float e0 = x1 * y2 - y1 * x2, e1 = x2 * y0 - y2 * x0, e2 = x0 * y1 - y0 * x1;
     const float det = e0 + e1 + e2;
     if (det == 0.0f) return std::numeric_limits<float>::infinity();
