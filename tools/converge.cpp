@@ -464,10 +464,12 @@ int runConvergeCommand(const ConvergeCommand& cmd) {
     }
     if (!cmd.strategies.empty())
         for (const std::string& name : splitText(cmd.strategies, ',')) {
-            if (name == "mis") options.strategies.push_back(LightStrategy::Mis);
-            else if (name == "bsdf") options.strategies.push_back(LightStrategy::Bsdf);
-            else if (name == "light") options.strategies.push_back(LightStrategy::Light);
-            else throw InputError(fmt::format("--strategy: expected mis, bsdf and/or light, got '{}'", name));
+            const LightStrategy all[] = {LightStrategy::Mis, LightStrategy::Bsdf, LightStrategy::Light};
+            const auto found = std::find_if(std::begin(all), std::end(all),
+                                            [&](LightStrategy s) { return lightStrategyName(s) == name; });
+            if (found == std::end(all))
+                throw InputError(fmt::format("--strategy: expected mis, bsdf and/or light, got '{}'", name));
+            options.strategies.push_back(*found);
         }
     if (cmd.seeds < 1 || cmd.seeds > 1000) throw InputError(fmt::format("--seeds: expected 1 to 1000, got {}", cmd.seeds));
     options.seeds = cmd.seeds;

@@ -120,7 +120,8 @@ void PrintTo(const RoughCase& c, std::ostream* out) { *out << c.name; }
 
 double perTestAlpha() { return test::sidakAlpha(0.01, int(roughCases().size())); }
 
-// The largest slope of a material's lobes (0 for the smooth coating's diffuse part alone).
+// The smaller alpha of a material's lobe (its narrowest direction, which sets how fine the rings
+// of the binning must be); 1 for a model without a microfacet lobe (the smooth coating).
 float roughnessOf(const Material& m) {
     return std::visit(
         [](const auto& model) -> float {
