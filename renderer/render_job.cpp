@@ -10,7 +10,9 @@
 namespace penumbra {
 
 SceneSource SceneSource::of(const std::filesystem::path& sceneFile, const Scene& scene) {
-    return SceneSource{sceneFile.string(), hashSceneFiles(sceneFile, scene.meshFiles)};
+    std::vector<std::filesystem::path> files = scene.includedFiles;
+    files.insert(files.end(), scene.meshFiles.begin(), scene.meshFiles.end());
+    return SceneSource{sceneFile.string(), hashSceneFiles(sceneFile, files)};
 }
 
 RenderJob::RenderJob(const Scene& scene, SceneSource source, RenderOptions options)

@@ -544,8 +544,11 @@ const std::array<TypeRow<LightReader>, 2> kLightTypes{{
 }  // namespace
 
 Scene parseScene(std::string_view jsonText, const fs::path& file) {
+    return buildScene(parseJsonText(jsonText, file.string()), file);
+}
+
+Scene buildScene(const Json& document, const fs::path& file) {
     const std::string fileName = file.string();
-    const Json document = parseJsonText(jsonText, fileName);
     const JsonValue root(document, fileName, "");
     if (!document.is_object()) root.failExpected("a JSON object holding the scene's sections");
     const JsonObject top(

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <string_view>
 
+#include "scenes/json_reader.h"
 #include "scenes/scene.h"
 
 namespace penumbra {
@@ -18,5 +19,8 @@ Scene loadScene(const std::filesystem::path& file);
 // out of range, unknown material names), and what was expected. Mesh file errors name the mesh
 // file and the shape that refers to it.
 Scene parseScene(std::string_view jsonText, const std::filesystem::path& file);
+
+// The same for a parsed document (a scene converted from another format, or patched).
+Scene buildScene(const Json& document, const std::filesystem::path& file);
 
 }  // namespace penumbra

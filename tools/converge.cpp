@@ -20,7 +20,7 @@
 #include "renderer/render.h"
 #include "tools/cli_numbers.h"
 #include "tools/split_text.h"
-#include "scenes/scene_loader.h"
+#include "scenes/scene_file.h"
 
 namespace penumbra {
 
@@ -444,7 +444,7 @@ void writeConvergenceReport(const ConvergenceReport& report, const std::string& 
 }
 
 int runConvergeCommand(const ConvergeCommand& cmd) {
-    Scene scene = loadScene(cmd.scenePath);
+    Scene scene = loadSceneFile(cmd.scenePath);
     if (!cmd.resolution.empty()) {
         const auto parts = splitText(cmd.resolution, 'x');
         if (parts.size() != 2) throw InputError(fmt::format("--res: expected WIDTHxHEIGHT, got '{}'", cmd.resolution));

@@ -18,7 +18,7 @@
 #include "geometry/surface_interaction.h"
 #include "accel/bvh_accelerator.h"
 #include "accel/embree_accelerator.h"
-#include "scenes/scene_loader.h"
+#include "scenes/scene_file.h"
 
 namespace penumbra {
 
@@ -605,7 +605,7 @@ std::string formatCrosscheckJson(const CrosscheckReport& report, size_t maxListe
 }
 
 int runCrosscheckCommand(const std::string& scenePath, const CrosscheckOptions& options, bool json) {
-    const Scene scene = loadScene(scenePath);
+    const Scene scene = loadSceneFile(scenePath);
     const CrosscheckReport report = runCrosscheck(scene, options);
     const std::string text = json ? formatCrosscheckJson(report) : formatCrosscheckText(report);
     std::fwrite(text.data(), 1, text.size(), stdout);

@@ -4,6 +4,9 @@
 //   penumbra crosscheck SCENE [--rays N] [--seed S] [--json]
 //   penumbra merge PART.exr... -o OUT.exr
 //   penumbra converge SCENE --spp 1,2,4,...,1024 [--sampler ...] [--reference REF.exr] -o DIR
+//   penumbra convert SCENE.pbrt -o SCENE.json
+//
+// SCENE is penumbra's JSON (scenes/README.md) or a pbrt-v4 scene (.pbrt, docs/pbrt-import.md).
 //
 // Bad input is reported as "penumbra: error: FILE:LINE: message" (or a JSON pointer instead of
 // the line) with a non-zero exit status, and no output file is written.
@@ -28,7 +31,7 @@
 #include "film/image_output.h"
 #include "renderer/render.h"
 #include "renderer/render_job.h"
-#include "scenes/scene_loader.h"
+#include "scenes/scene_file.h"
 #include "tools/cli_numbers.h"
 #include "tools/split_text.h"
 #include "tools/converge.h"
@@ -58,6 +61,7 @@ struct RenderCommand {
     std::string resume;                       // a film to continue up to --spp
     std::optional<double> checkpointMinutes;  // write the film every so often (0: after every pass)
     std::optional<uint32_t> passSize;         // sample indices per pass
+    std::string patch;                        // a JSON merge patch applied to the scene
 };
 
 // SIGINT / SIGTERM ask the render to stop at the end of the current pass; the film as of that
@@ -117,7 +121,9 @@ private:
 };
 
 int runRender(const RenderCommand& cmd) {
-    Scene scene = loadScene(cmd.scenePath);
+    SceneFileOptions sceneOptions;
+    sceneOptions.patch = cmd.patch;
+    Scene scene = loadSceneFile(cmd.scenePath, sceneOptions);
     if (cmd.spp) {
         if (*cmd.spp <= 0) throw InputError(fmt::format("--spp: expected a positive integer, got {}", *cmd.spp));
         scene.film.samplesPerPixel = *cmd.spp;
@@ -236,6 +242,25 @@ int runRender(const RenderCommand& cmd) {
     return 0;
 }
 
+// `penumbra convert`: the JSON is written only once the whole scene has been read and built.
+int runConvertCommand(const std::string& scenePath, const std::string& outputPath) {
+    const std::string json = convertSceneToJson(scenePath, outputPath);
+    const fs::path output(outputPath);
+    const fs::path temporary = fs::path(outputPath + ".partial");
+    {
+        std::FILE* file = std::fopen(temporary.string().c_str(), "wb");
+        if (!file) throw InputError(fmt::format("{}: cannot be written", outputPath));
+        const bool written = std::fwrite(json.data(), 1, json.size(), file) == json.size();
+        if (std::fclose(file) != 0 || !written) {
+            fs::remove(temporary);
+            throw InputError(fmt::format("{}: cannot be written", outputPath));
+        }
+    }
+    fs::rename(temporary, output);
+    std::printf("wrote %s\n", outputPath.c_str());
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -270,6 +295,15 @@ int main(int argc, char** argv) {
                           "Sample indices per pass (default: about a million samples a pass); checkpoints and signals "
                           "take effect between passes")
         ->check(CLI::PositiveNumber);
+    renderApp->add_option("--patch", cmd.patch,
+                          "A JSON merge patch (RFC 7386) applied to the scene in penumbra's format before it is built, "
+                          "e.g. to change a converted pbrt scene (docs/pbrt-import.md)");
+
+    std::string convertScene, convertOutput;
+    CLI::App* convertApp = app.add_subcommand(
+        "convert", "Convert a pbrt-v4 scene (.pbrt) to penumbra's JSON format; mesh files are referenced in place");
+    convertApp->add_option("SCENE", convertScene, "pbrt-v4 scene file")->required();
+    convertApp->add_option("-o,--output", convertOutput, "Output JSON scene file")->required();
 
     std::vector<std::string> mergeParts;
     std::string mergeOutput;
@@ -341,6 +375,7 @@ int main(int argc, char** argv) {
         if (crosscheckApp->parsed()) return runCrosscheckCommand(crosscheckScene, crosscheckOptions, crosscheckJson);
         if (mergeApp->parsed()) return runMergeCommand(mergeParts, mergeOutput, mergeNoDisplay, mergeQuiet);
         if (convergeApp->parsed()) return runConvergeCommand(convergeCmd);
+        if (convertApp->parsed()) return runConvertCommand(convertScene, convertOutput);
     } catch (const InputError& e) {
         std::fprintf(stderr, "penumbra: error: %s\n", e.what());
         return 1;

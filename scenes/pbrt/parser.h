@@ -1,0 +1,40 @@
+// pbrt-v4's scene grammar: directives with their fixed arguments and typed parameter lists, and
+// Include / Import of other files. The parser knows each directive's argument shape and nothing
+// of what it means; it hands every directive to a DirectiveTarget (the scene builder), as
+// pbrt-v4's parser hands them to its ParserTarget.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "scenes/pbrt/parameter_list.h"
+
+namespace penumbra::pbrt {
+
+struct Directive {
+    std::string name;                  // "Shape", "Translate", ...
+    SourceLocation where;              // of the directive's name
+    std::vector<std::string> strings;  // leading string arguments: Shape "sphere" -> {"sphere"}
+    std::vector<double> numbers;       // numeric arguments: Translate 1 2 3 -> {1, 2, 3}
+    ParameterList parameters;
+};
+
+class DirectiveTarget {
+public:
+    virtual ~DirectiveTarget() = default;
+    virtual void directive(const Directive& directive) = 0;
+};
+
+// Parses a scene file, with the files it includes, into `target`. Relative Include, Import and
+// mesh file names are resolved against the folder of the first file, as pbrt-v4 does. Every file
+// read is appended to `filesRead` (the scene file first). Throws InputError at FILE:LINE:COLUMN for
+// syntax errors, unknown directives, malformed parameter lists and missing Include files.
+void parseSceneFile(const std::filesystem::path& file, DirectiveTarget& target, std::vector<std::filesystem::path>& filesRead);
+
+// The same for scene text in memory; `file` names it in messages and gives the base folder.
+void parseSceneText(std::string_view text, const std::filesystem::path& file, DirectiveTarget& target,
+                    std::vector<std::filesystem::path>& filesRead);
+
+}  // namespace penumbra::pbrt

@@ -1,0 +1,776 @@
+#include "scenes/pbrt/scene_builder.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace penumbra::pbrt {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kDegrees = 180.0 / kPi;
+
+Json vec3Json(Vec3d v) { return Json::array({v.x, v.y, v.z}); }
+// A float as the shortest decimal that reads back as the same float ("0.63", not
+// "0.6299999952316284"): the loader reads floats, and the converted file stays readable.
+double shortest(float v) { return std::stod(fmt::format("{}", v)); }
+Json rgbJson(Rgb c) { return Json::array({shortest(c.r), shortest(c.g), shortest(c.b)}); }
+
+Matrix4d translation(Vec3d d) {
+    Matrix4d m = Matrix4d::identity();
+    m.m[0][3] = d.x, m.m[1][3] = d.y, m.m[2][3] = d.z;
+    return m;
+}
+
+Matrix4d scaling(Vec3d s) {
+    Matrix4d m = Matrix4d::identity();
+    m.m[0][0] = s.x, m.m[1][1] = s.y, m.m[2][2] = s.z;
+    return m;
+}
+
+// pbrt's Rotate: right-handed rotation by `degrees` about `axis` (Rodrigues).
+Matrix4d rotation(double degrees, Vec3d axis) {
+    const Vec3d a = normalize(axis);
+    const double s = std::sin(degrees / kDegrees), c = std::cos(degrees / kDegrees);
+    Matrix4d m = Matrix4d::identity();
+    m.m[0][0] = a.x * a.x + (1 - a.x * a.x) * c;
+    m.m[0][1] = a.x * a.y * (1 - c) - a.z * s;
+    m.m[0][2] = a.x * a.z * (1 - c) + a.y * s;
+    m.m[1][0] = a.x * a.y * (1 - c) + a.z * s;
+    m.m[1][1] = a.y * a.y + (1 - a.y * a.y) * c;
+    m.m[1][2] = a.y * a.z * (1 - c) - a.x * s;
+    m.m[2][0] = a.x * a.z * (1 - c) - a.y * s;
+    m.m[2][1] = a.y * a.z * (1 - c) + a.x * s;
+    m.m[2][2] = a.z * a.z + (1 - a.z * a.z) * c;
+    return m;
+}
+
+// The 16 numbers of Transform / ConcatTransform are pbrt's matrix in column order.
+Matrix4d fromColumns(const std::vector<double>& v) {
+    Matrix4d m;
+    for (int i = 0; i < 16; ++i) m.m[i % 4][i / 4] = v[size_t(i)];
+    return m;
+}
+
+Json matrixJson(const Matrix4d& m) {
+    Json out = Json::array();
+    for (const auto& row : m.m)
+        for (double v : row) out.push_back(v);
+    return out;
+}
+
+// A rigid motion key (scale, then rotate, then translate) of an affine matrix without shear;
+// `sheared` is set when the matrix has shear, which such a key cannot hold.
+Json motionKey(const Matrix4d& m, bool& sheared) {
+    Vec3d c[3] = {{m.m[0][0], m.m[1][0], m.m[2][0]}, {m.m[0][1], m.m[1][1], m.m[2][1]}, {m.m[0][2], m.m[1][2], m.m[2][2]}};
+    Vec3d scale{length(c[0]), length(c[1]), length(c[2])};
+    if (m.determinant3() < 0) {  // a mirror: a negative x scale
+        scale.x = -scale.x;
+    }
+    Vec3d r[3] = {c[0] * (1.0 / scale.x), c[1] * (1.0 / scale.y), c[2] * (1.0 / scale.z)};
+    if (std::abs(dot(r[0], r[1])) > 1e-4 || std::abs(dot(r[0], r[2])) > 1e-4 || std::abs(dot(r[1], r[2])) > 1e-4)
+        sheared = true;
+    // Rotation matrix (columns r) to a quaternion, then to axis and angle.
+    const double trace = r[0].x + r[1].y + r[2].z;
+    double w, x, y, z;
+    if (trace > 0) {
+        const double s = 0.5 / std::sqrt(trace + 1.0);
+        w = 0.25 / s, x = (r[1].z - r[2].y) * s, y = (r[2].x - r[0].z) * s, z = (r[0].y - r[1].x) * s;
+    } else if (r[0].x > r[1].y && r[0].x > r[2].z) {
+        const double s = 2.0 * std::sqrt(1.0 + r[0].x - r[1].y - r[2].z);
+        w = (r[1].z - r[2].y) / s, x = 0.25 * s, y = (r[1].x + r[0].y) / s, z = (r[2].x + r[0].z) / s;
+    } else if (r[1].y > r[2].z) {
+        const double s = 2.0 * std::sqrt(1.0 + r[1].y - r[0].x - r[2].z);
+        w = (r[2].x - r[0].z) / s, x = (r[1].x + r[0].y) / s, y = 0.25 * s, z = (r[2].y + r[1].z) / s;
+    } else {
+        const double s = 2.0 * std::sqrt(1.0 + r[2].z - r[0].x - r[1].y);
+        w = (r[0].y - r[1].x) / s, x = (r[2].x + r[0].z) / s, y = (r[2].y + r[1].z) / s, z = 0.25 * s;
+    }
+    const double sinHalf = std::sqrt(x * x + y * y + z * z);
+    const double degrees = 2.0 * std::atan2(sinHalf, w) * kDegrees;
+    const Vec3d axis = sinHalf > 1e-12 ? Vec3d{x / sinHalf, y / sinHalf, z / sinHalf} : Vec3d{0, 0, 1};
+    return Json{{"scale", vec3Json(scale)},
+                {"rotate", {{"axis", vec3Json(axis)}, {"degrees", degrees}}},
+                {"translate", vec3Json({m.m[0][3], m.m[1][3], m.m[2][3]})}};
+}
+
+void requireNumberCount(const Parameter* p, size_t count) {
+    if (p && p->numbers.size() != count)
+        failAt(p->where, fmt::format("parameter \"{}\" takes {} numbers, found {}", p->declaration(), count, p->numbers.size()));
+}
+
+}  // namespace
+
+SceneBuilder::SceneBuilder(fs::path mainFile, WarningLog& log)
+    : mainFile_(std::move(mainFile)), folder_(mainFile_.parent_path()), log_(log) {
+    scene_["materials"] = Json::object();
+    scene_["shapes"] = Json::array();
+    scene_["lights"] = Json::array();
+    // pbrt-v4's defaults, where they differ from penumbra's.
+    scene_["film"] = Json{{"resolution", {1280, 720}}, {"spp", 16}};
+    scene_["integrator"] = Json{{"max_depth", 5}};
+}
+
+void SceneBuilder::requireWorld(const Directive& d, bool inWorld) const {
+    if (inWorld && !inWorld_) failAt(d.where, fmt::format("{} is only allowed after WorldBegin", d.name));
+    if (!inWorld && inWorld_) failAt(d.where, fmt::format("{} must come before WorldBegin", d.name));
+}
+
+void SceneBuilder::concat(const Matrix4d& t) {
+    for (int i = 0; i < 2; ++i)
+        if (state_.activeTransforms & (1u << i)) state_.ctm[size_t(i)] = state_.ctm[size_t(i)] * t;
+}
+
+void SceneBuilder::directive(const Directive& d) {
+    const std::string& n = d.name;
+    if (n == "Translate" || n == "Scale" || n == "Rotate" || n == "LookAt" || n == "Transform" ||
+        n == "ConcatTransform" || n == "Identity" || n == "CoordinateSystem" || n == "CoordSysTransform" ||
+        n == "ActiveTransform" || n == "TransformTimes") {
+        transformDirective(d);
+    } else if (n == "AttributeBegin" || n == "TransformBegin") {
+        stack_.push_back({state_, n == "AttributeBegin", d.where});
+    } else if (n == "AttributeEnd" || n == "TransformEnd") {
+        const bool attributes = n == "AttributeEnd";
+        if (stack_.empty()) failAt(d.where, fmt::format("{} without a matching {}", n, attributes ? "AttributeBegin" : "TransformBegin"));
+        if (stack_.back().attributes != attributes)
+            failAt(d.where, fmt::format("{} closes the {} at {}", n, stack_.back().attributes ? "AttributeBegin" : "TransformBegin",
+                                        stack_.back().where.describe()));
+        if (currentObject_ && stack_.size() == 1 && attributes)
+            failAt(d.where, fmt::format("AttributeEnd closes the ObjectBegin \"{}\" at {} (use ObjectEnd)", currentObject_->first,
+                                        currentObject_->second.describe()));
+        if (attributes) {
+            state_ = stack_.back().state;
+        } else {
+            state_.ctm = stack_.back().state.ctm;
+            state_.activeTransforms = stack_.back().state.activeTransforms;
+        }
+        stack_.pop_back();
+    } else if (n == "ReverseOrientation") {
+        state_.reverseOrientation = !state_.reverseOrientation;
+    } else if (n == "WorldBegin") {
+        if (inWorld_) failAt(d.where, "a second WorldBegin");
+        finishCamera(scene_);
+        inWorld_ = true;
+        state_.ctm = {Matrix4d::identity(), Matrix4d::identity()};
+        state_.activeTransforms = 3;
+        namedCoordinateSystems_["world"] = state_.ctm;
+    } else if (n == "WorldEnd") {
+        log_.warn(d.where, "WorldEnd is pbrt-v3 syntax; ignored");
+    } else if (n == "Camera" || n == "Film" || n == "Sampler" || n == "PixelFilter" || n == "Integrator" ||
+               n == "Accelerator" || n == "ColorSpace" || n == "Option") {
+        optionDirective(d);
+    } else if (n == "Material" || n == "MakeNamedMaterial" || n == "NamedMaterial" || n == "Texture") {
+        materialDirective(d);
+    } else if (n == "LightSource") {
+        lightSource(d);
+    } else if (n == "AreaLightSource") {
+        areaLightSource(d);
+    } else if (n == "ObjectBegin" || n == "ObjectEnd" || n == "ObjectInstance") {
+        objectDirective(d);
+    } else if (n == "Shape") {
+        requireWorld(d, true);
+        ShapeRecord shape{d.strings[0], d.parameters, state_, d.where};
+        if (currentObject_) {
+            objects_[currentObject_->first].push_back(std::move(shape));
+        } else {
+            addShape(shape, nullptr);
+        }
+    } else if (n == "MakeNamedMedium" || n == "MediumInterface" || n == "Attribute") {
+        d.parameters.markAllUsed();
+        log_.warn(d.where, fmt::format("{} is not supported and was ignored (participating media and default "
+                                       "attributes are not supported)",
+                                       n));
+    } else {
+        failAt(d.where, fmt::format("directive '{}' is not handled", n));
+    }
+}
+
+void SceneBuilder::transformDirective(const Directive& d) {
+    const std::string& n = d.name;
+    const auto& v = d.numbers;
+    if (n == "Translate") {
+        concat(translation({v[0], v[1], v[2]}));
+    } else if (n == "Scale") {
+        concat(scaling({v[0], v[1], v[2]}));
+    } else if (n == "Rotate") {
+        const Vec3d axis{v[1], v[2], v[3]};
+        if (!(length(axis) > 0.0)) failAt(d.where, "Rotate needs a non-zero axis");
+        concat(rotation(v[0], axis));
+    } else if (n == "LookAt") {
+        // pbrt's LookAt: a world-to-camera transform of a left-handed camera frame.
+        const Vec3d eye{v[0], v[1], v[2]}, look{v[3], v[4], v[5]}, up{v[6], v[7], v[8]};
+        if (!(length(look - eye) > 0.0)) failAt(d.where, "LookAt: the eye and the point looked at are the same");
+        const Vec3d dir = normalize(look - eye);
+        if (!(length(up) > 0.0) || !(length(cross(normalize(up), dir)) > 1e-9))
+            failAt(d.where, "LookAt: the up vector is zero or parallel to the viewing direction");
+        const Vec3d right = normalize(cross(normalize(up), dir));
+        const Vec3d newUp = cross(dir, right);
+        Matrix4d worldFromCamera = Matrix4d::identity();
+        for (int i = 0; i < 3; ++i) {
+            worldFromCamera.m[i][0] = right[i];
+            worldFromCamera.m[i][1] = newUp[i];
+            worldFromCamera.m[i][2] = dir[i];
+            worldFromCamera.m[i][3] = eye[i];
+        }
+        concat(*worldFromCamera.inverse());
+    } else if (n == "Transform") {
+        const Matrix4d m = fromColumns(v);
+        for (int i = 0; i < 2; ++i)
+            if (state_.activeTransforms & (1u << i)) state_.ctm[size_t(i)] = m;
+    } else if (n == "ConcatTransform") {
+        concat(fromColumns(v));
+    } else if (n == "Identity") {
+        for (int i = 0; i < 2; ++i)
+            if (state_.activeTransforms & (1u << i)) state_.ctm[size_t(i)] = Matrix4d::identity();
+    } else if (n == "CoordinateSystem") {
+        namedCoordinateSystems_[d.strings[0]] = state_.ctm;
+    } else if (n == "CoordSysTransform") {
+        auto it = namedCoordinateSystems_.find(d.strings[0]);
+        if (it == namedCoordinateSystems_.end()) {
+            log_.warn(d.where, fmt::format("CoordSysTransform: unknown coordinate system \"{}\"; ignored", d.strings[0]));
+            return;
+        }
+        for (int i = 0; i < 2; ++i)
+            if (state_.activeTransforms & (1u << i)) state_.ctm[size_t(i)] = it->second[size_t(i)];
+    } else if (n == "ActiveTransform") {
+        const std::string& which = d.strings[0];
+        if (which == "StartTime") state_.activeTransforms = 1;
+        else if (which == "EndTime") state_.activeTransforms = 2;
+        else if (which == "All") state_.activeTransforms = 3;
+        else failAt(d.where, fmt::format("ActiveTransform expects StartTime, EndTime or All, found '{}'", which));
+    } else if (n == "TransformTimes") {
+        if (!(v[1] >= v[0])) failAt(d.where, "TransformTimes: the end time must not be before the start time");
+        transformTimes_[0] = v[0];
+        transformTimes_[1] = v[1];
+    }
+}
+
+void SceneBuilder::optionDirective(const Directive& d) {
+    const std::string& n = d.name;
+    const ParameterList& p = d.parameters;
+    if (n != "Option" && n != "ColorSpace") requireWorld(d, false);
+    if (n == "Camera") {
+        camera_.cameraFromWorld = state_.ctm;
+        camera_.params = p;
+        camera_.type = d.strings[0];
+        camera_.where = d.where;
+        camera_.given = true;
+        // pbrt-v4 names the camera's coordinate system "camera".
+        std::array<Matrix4d, 2> worldFromCamera;
+        for (size_t i = 0; i < 2; ++i) {
+            const auto inverse = state_.ctm[i].inverse();
+            if (!inverse) failAt(d.where, "the camera transform is singular (it has no inverse)");
+            worldFromCamera[i] = *inverse;
+        }
+        namedCoordinateSystems_["camera"] = worldFromCamera;
+        return;  // its parameters are read at WorldBegin, when the film is known
+    }
+    Json& film = scene_["film"];
+    if (n == "Film") {
+        if (d.strings[0] != "rgb" && d.strings[0] != "gbuffer" && d.strings[0] != "spectral")
+            log_.warn(d.where, fmt::format("Film \"{}\" is not supported: rendered as an rgb film", d.strings[0]));
+        const int64_t w = p.getInt("xresolution").value_or(1280), h = p.getInt("yresolution").value_or(720);
+        if (w < 1 || h < 1 || w > 65536 || h > 65536)
+            failAt(d.where, fmt::format("Film: resolution {}x{} is outside 1 to 65536 pixels a side", w, h));
+        filmWidth_ = int(w), filmHeight_ = int(h);
+        film["resolution"] = {w, h};
+        if (auto f = p.getString("filename"))
+            log_.warn(p.find("filename", {ParamType::String})->where,
+                      fmt::format("Film filename \"{}\" is not used: penumbra writes the EXR that -o names", *f));
+        if (const Parameter* crop = p.find("cropwindow", {ParamType::Float})) {
+            requireNumberCount(crop, 4);
+            const auto& c = crop->numbers;
+            log_.warn(crop->where, fmt::format("Film cropwindow is not applied: render the same pixels with --crop {},{},{},{}",
+                                               int(std::ceil(w * c[0])), int(std::ceil(w * c[1])), int(std::ceil(h * c[2])),
+                                               int(std::ceil(h * c[3]))));
+        }
+    } else if (n == "Sampler") {
+        const std::string& type = d.strings[0];
+        int64_t spp = p.getInt("pixelsamples").value_or(16);
+        if (type == "stratified") {
+            const int64_t xs = p.getInt("xsamples").value_or(4), ys = p.getInt("ysamples").value_or(4);
+            spp = xs * ys;
+            p.getBool("jitter");
+        }
+        if (spp < 1) failAt(d.where, fmt::format("Sampler: expected at least 1 sample per pixel, found {}", spp));
+        film["spp"] = spp;
+        if (auto seed = p.getInt("seed")) scene_["render"]["seed"] = std::max<int64_t>(*seed, 0);
+        if (type == "independent") {
+            scene_["render"]["sampler"] = "independent";
+        } else if (type != "stratified") {
+            p.getString("randomization");
+            log_.warn(d.where, fmt::format("Sampler \"{}\" is rendered with penumbra's stratified sampler (the same image "
+                                           "in expectation, different noise)",
+                                           type));
+        }
+    } else if (n == "PixelFilter") {
+        filterGiven_ = true;
+        const std::string& type = d.strings[0];
+        const double defaultRadius = type == "box" ? 0.5 : type == "gaussian" ? 1.5 : type == "sinc" ? 4.0 : 2.0;
+        const double xr = p.getFloat("xradius").value_or(defaultRadius), yr = p.getFloat("yradius").value_or(defaultRadius);
+        if (xr != yr) log_.warn(d.where, fmt::format("PixelFilter: xradius {} and yradius {} differ; both use {}", xr, yr, std::max(xr, yr)));
+        double radius = std::max(xr, yr);
+        std::string kind = "tent";
+        if (type == "box") {
+            kind = "box";
+        } else if (type == "gaussian") {
+            // The tent with the Gaussian's standard deviation (a tent of radius r has r / sqrt(6)).
+            const double sigma = p.getFloat("sigma").value_or(0.5);
+            radius = std::min(radius, sigma * std::sqrt(6.0));
+            log_.warn(d.where, fmt::format("PixelFilter \"gaussian\" is rendered as a tent of the same standard deviation "
+                                           "(radius {:.3g})",
+                                           radius));
+        } else if (type != "triangle") {
+            p.markAllUsed();
+            log_.warn(d.where, fmt::format("PixelFilter \"{}\" is rendered as a tent of radius {}", type, radius));
+        }
+        if (!(radius > 0.0)) failAt(d.where, "PixelFilter: the radius must be > 0");
+        film["filter"] = Json{{"type", kind}, {"radius", radius}};
+    } else if (n == "Integrator") {
+        const std::string& type = d.strings[0];
+        const int64_t depth = p.getInt("maxdepth").value_or(5);
+        if (depth < 0) failAt(d.where, fmt::format("Integrator: maxdepth must be >= 0, found {}", depth));
+        scene_["integrator"]["max_depth"] = depth;
+        if (const Parameter* r = p.find("regularize", {ParamType::Bool}))
+            log_.warn(r->where, "Integrator \"regularize\" is not supported and was ignored");
+        if (type != "path" && type != "volpath")
+            log_.warn(d.where, fmt::format("Integrator \"{}\" is rendered with penumbra's path tracer (next-event estimation "
+                                           "with MIS)",
+                                           type));
+    } else if (n == "Accelerator") {
+        p.markAllUsed();
+        log_.warn(d.where, "Accelerator is ignored: penumbra chooses its own (--accel)");
+    } else if (n == "ColorSpace") {
+        if (d.strings[0] != "srgb")
+            log_.warn(d.where, fmt::format("ColorSpace \"{}\" is not supported: colours are read as sRGB (Rec.709)", d.strings[0]));
+    } else if (n == "Option") {
+        p.markAllUsed();
+        for (const Parameter& option : p.parameters())
+            log_.warn(option.where, fmt::format("Option \"{}\" is not supported and was ignored", option.declaration()));
+    }
+    p.reportUnused(log_, fmt::format("{} \"{}\"", n, d.strings.empty() ? "" : d.strings[0]));
+}
+
+void SceneBuilder::finishCamera(Json& scene) {
+    const ParameterList& p = camera_.params;
+    const SourceLocation& where = camera_.where;
+    if (camera_.type != "perspective") {
+        p.markAllUsed();
+        log_.warn(where, fmt::format("Camera \"{}\" is not supported: rendered as a perspective camera", camera_.type));
+    }
+    std::array<Matrix4d, 2> worldFromCamera;
+    for (size_t i = 0; i < 2; ++i) worldFromCamera[i] = *camera_.cameraFromWorld[i].inverse();
+
+    // The frame penumbra's camera would build from eye, forward and up has its x axis to the
+    // image's right: when pbrt's camera x axis points the other way, mirror the world.
+    auto poseOf = [](const Matrix4d& w) {
+        const Vec3d eye = w.applyPoint({0, 0, 0});
+        const Vec3d forward = normalize(w.applyVector({0, 0, 1}));
+        const Vec3d up = normalize(w.applyVector({0, 1, 0}));
+        return std::array<Vec3d, 3>{eye, forward, up};
+    };
+    const auto pose = poseOf(worldFromCamera[0]);
+    const Vec3d right = normalize(cross(pose[1], pose[2]));
+    if (dot(worldFromCamera[0].applyVector({1, 0, 0}), right) < 0.0) {
+        // Reflection across the plane through the eye with normal `right`: p - 2 (n.(p - eye)) n.
+        Matrix4d g = Matrix4d::identity();
+        for (int i = 0; i < 3; ++i) {
+            for (int j = 0; j < 3; ++j) g.m[i][j] -= 2.0 * right[i] * right[j];
+            g.m[i][3] = 2.0 * right[i] * dot(right, pose[0]);
+        }
+        mirror_ = g;
+    }
+
+    Json camera = Json::object();
+    auto addPose = [&](Json& target, const std::array<Vec3d, 3>& pz) {
+        target["look_from"] = vec3Json(pz[0]);
+        target["look_at"] = vec3Json(pz[0] + pz[1]);
+        target["up"] = vec3Json(pz[2]);
+    };
+    addPose(camera, pose);
+
+    // fov is the shorter image axis's; penumbra's is the vertical one.
+    const double fov = p.getFloat("fov").value_or(90.0);
+    if (!(fov > 0.0 && fov < 180.0)) failAt(where, fmt::format("Camera: fov must be between 0 and 180 degrees, found {}", fov));
+    const double aspect = double(filmWidth_) / double(filmHeight_);
+    double frame = aspect;
+    if (auto f = p.getFloat("frameaspectratio")) {
+        frame = *f;
+        if (std::abs(frame - aspect) > 1e-3 * aspect)
+            log_.warn(where, fmt::format("Camera frameaspectratio {} differs from the film's {}: the film's is used", frame, aspect));
+        frame = aspect;
+    }
+    double halfHeight = frame >= 1.0 ? 1.0 : 1.0 / frame;  // the screen window's, in units of tan(fov / 2)
+    if (const Parameter* window = p.find("screenwindow", {ParamType::Float})) {
+        requireNumberCount(window, 4);
+        const auto& s = window->numbers;
+        const bool centred = std::abs(s[0] + s[1]) <= 1e-6 * std::abs(s[1]) && std::abs(s[2] + s[3]) <= 1e-6 * std::abs(s[3]);
+        const bool matching = s[3] > 0.0 && std::abs(s[1] / s[3] - aspect) <= 1e-3 * aspect;
+        if (centred && matching) halfHeight = s[3];
+        else log_.warn(window->where, "Camera screenwindow that is off-centre or of another aspect ratio is not supported: the default one is used");
+    }
+    const double verticalFov = 2.0 * std::atan(std::tan(fov / 2.0 / kDegrees) * halfHeight) * kDegrees;
+    camera["fov"] = verticalFov;
+    const double lensRadius = p.getFloat("lensradius").value_or(0.0);
+    const double focus = p.getFloat("focaldistance").value_or(1e6);
+    if (lensRadius < 0.0) failAt(where, "Camera: lensradius must be >= 0");
+    if (!(focus > 0.0)) failAt(where, "Camera: focaldistance must be > 0");
+    if (lensRadius > 0.0) {
+        camera["aperture_radius"] = lensRadius;
+        camera["focus_distance"] = focus;
+    }
+    const double open = p.getFloat("shutteropen").value_or(0.0), close = p.getFloat("shutterclose").value_or(1.0);
+    if (close < open) failAt(where, "Camera: shutterclose must not be before shutteropen");
+    if (!(camera_.cameraFromWorld[0] == camera_.cameraFromWorld[1])) {
+        Json second = Json::object();
+        addPose(second, poseOf(worldFromCamera[1]));
+        Json first = Json::object();
+        addPose(first, pose);
+        camera["motion"] = Json::array({first, second});
+    }
+    camera["shutter"] = Json::array({open, close});
+    scene["camera"] = camera;
+    p.reportUnused(log_, fmt::format("Camera \"{}\"", camera_.type));
+    if (!filterGiven_)
+        log_.warn({mainFile_.string(), 0, 0, {}},
+                  "no PixelFilter: pbrt-v4's default Gaussian filter is rendered as a tent of the same standard deviation "
+                  "(radius 1.22)");
+    if (!filterGiven_) scene_["film"]["filter"] = Json{{"type", "tent"}, {"radius", 0.5 * std::sqrt(6.0)}};
+}
+
+std::string SceneBuilder::currentMaterialName(const SourceLocation&) {
+    if (!state_.material.empty()) return state_.material;
+    if (defaultMaterial_.empty()) {
+        defaultMaterial_ = "pbrt default (diffuse 0.5)";
+        scene_["materials"][defaultMaterial_] = Json{{"type", "lambert"}, {"albedo", 0.5}};
+    }
+    return defaultMaterial_;
+}
+
+void SceneBuilder::materialDirective(const Directive& d) {
+    requireWorld(d, true);
+    const std::string& n = d.name;
+    const ParameterList& p = d.parameters;
+    if (n == "Texture") {
+        textures_.define(d.strings[0], d.strings[1], d.strings[2], p, d.where, folder_, log_);
+        return;
+    }
+    if (n == "NamedMaterial") {
+        auto it = namedMaterials_.find(d.strings[0]);
+        if (it == namedMaterials_.end()) failAt(d.where, fmt::format("NamedMaterial: no material named \"{}\"", d.strings[0]));
+        state_.material = it->second;
+        return;
+    }
+    std::string type, name;
+    if (n == "Material") {
+        type = d.strings[0];
+        name = fmt::format("Material at {}", d.where.describe());
+    } else {
+        name = d.strings[0];
+        if (namedMaterials_.count(name)) failAt(d.where, fmt::format("MakeNamedMaterial: \"{}\" is defined twice", name));
+        const auto t = p.getString("type");
+        if (!t) failAt(d.where, fmt::format("MakeNamedMaterial \"{}\" needs a \"string type\" parameter", name));
+        type = *t;
+    }
+    std::string jsonName = name;
+    if (type == "mix") {
+        // No mixed materials yet: the one of the two with the larger weight.
+        const Parameter* materials = p.find("materials", {ParamType::String});
+        if (!materials || materials->strings.size() != 2) failAt(d.where, "mix needs \"string materials\" with two names");
+        const double amount = readScalar(p, "amount", 0.5, textures_);
+        const std::string& chosen = materials->strings[amount <= 0.5 ? 0 : 1];
+        auto it = namedMaterials_.find(chosen);
+        if (it == namedMaterials_.end()) failAt(materials->where, fmt::format("mix: no material named \"{}\"", chosen));
+        jsonName = it->second;
+        log_.warn(d.where, "mix materials are not supported yet: rendered as the one of the two with the larger weight");
+    } else {
+        scene_["materials"][jsonName] = mapMaterial(type, p, textures_, d.where, log_);
+        origins_.push_back({"/materials/" + escapeJsonPointerToken(jsonName), d.where});
+    }
+    p.reportUnused(log_, fmt::format("material \"{}\"", type));
+    if (n == "Material") state_.material = jsonName;
+    else namedMaterials_[name] = jsonName;
+}
+
+void SceneBuilder::areaLightSource(const Directive& d) {
+    requireWorld(d, true);
+    const ParameterList& p = d.parameters;
+    if (d.strings[0] != "diffuse") {
+        p.markAllUsed();
+        log_.warn(d.where, fmt::format("AreaLightSource \"{}\" is not supported (only \"diffuse\"): the shapes do not emit", d.strings[0]));
+        state_.areaLight.reset();
+        return;
+    }
+    Rgb radiance = readColor(p, "L", Rgb(1.0f), SpectrumUse::Emission, textures_, log_);
+    radiance *= float(p.getFloat("scale").value_or(1.0));
+    if (const Parameter* f = p.find("filename", {ParamType::String})) {
+        log_.warn(f->where, "image area lights are not supported: the light emits its L (times scale) instead");
+    }
+    if (const Parameter* power = p.find("power", {ParamType::Float}))
+        log_.warn(power->where, "area light \"power\" is not supported: the light emits its L (times scale)");
+    state_.areaLight = AreaLight{radiance, p.getBool("twosided").value_or(false), d.where};
+    p.reportUnused(log_, "AreaLightSource \"diffuse\"");
+}
+
+void SceneBuilder::lightSource(const Directive& d) {
+    requireWorld(d, true);
+    const std::string& type = d.strings[0];
+    const ParameterList& p = d.parameters;
+    const Matrix4d world = toWorld(state_.ctm[0]);
+    const float scale = float(p.getFloat("scale").value_or(1.0));
+    Json light;
+    if (type == "point" || type == "spot") {
+        Rgb intensity = readColor(p, "I", Rgb(1.0f), SpectrumUse::Emission, textures_, log_) * scale;
+        // pbrt-v4 scales by power / (4 pi) without dividing by the RGB's own luminance.
+        if (auto power = p.getFloat("power"); power && *power > 0.0) intensity *= float(*power / (4.0 * kPi));
+        const Vec3d from = p.getPoint3("from").value_or(Vec3d{0, 0, 0});
+        if (type == "spot") {
+            p.getPoint3("to");
+            p.getFloat("coneangle");
+            p.getFloat("conedelta");
+            log_.warn(d.where, "spot lights are not supported yet: rendered as a point light of the same intensity (no cone)");
+        }
+        light = Json{{"type", "point"}, {"position", vec3Json(world.applyPoint(from))}, {"intensity", rgbJson(intensity)}};
+    } else if (type == "distant") {
+        Rgb irradiance = readColor(p, "L", Rgb(1.0f), SpectrumUse::Emission, textures_, log_) * scale;
+        if (auto e = p.getFloat("illuminance"); e && *e > 0.0) irradiance *= float(*e);
+        const Vec3d from = p.getPoint3("from").value_or(Vec3d{0, 0, 0}), to = p.getPoint3("to").value_or(Vec3d{0, 0, 1});
+        const Vec3d direction = world.applyVector(to - from);
+        if (!(length(direction) > 0.0)) failAt(d.where, "distant light: from and to must differ");
+        light = Json{{"type", "directional"}, {"direction", vec3Json(normalize(direction))}, {"irradiance", rgbJson(irradiance)}};
+    } else if (type == "infinite") {
+        Rgb radiance = readColor(p, "L", Rgb(1.0f), SpectrumUse::Emission, textures_, log_) * scale;
+        if (auto file = p.getString("filename")) {
+            const fs::path path = fs::path(*file).is_absolute() ? fs::path(*file) : folder_ / *file;
+            const std::optional<Rgb> mean = imageMean(path, true, d.where, log_);
+            radiance = mean.value_or(Rgb(1.0f)) * scale;
+            log_.warn(d.where, mean ? "image environment lights are not supported yet: rendered as a constant background "
+                                      "of the image's mean radiance (the same total power)"
+                                    : "image environment lights are not supported yet: rendered as a constant background of "
+                                      "radiance 1 (times scale)");
+        } else if (auto e = p.getFloat("illuminance"); e && *e > 0.0) {
+            radiance *= float(*e / kPi);  // a uniform sky of radiance L gives the illuminance pi L
+        }
+        Rgb background = radiance;
+        if (scene_.contains("background")) {
+            const Json& b = scene_["background"];
+            background += Rgb(b[0].get<float>(), b[1].get<float>(), b[2].get<float>());
+        }
+        scene_["background"] = rgbJson(background);
+        p.reportUnused(log_, "LightSource \"infinite\"");
+        return;
+    } else {
+        p.markAllUsed();
+        log_.warn(d.where, fmt::format("LightSource \"{}\" is not supported and was left out", type));
+        return;
+    }
+    origins_.push_back({fmt::format("/lights/{}", scene_["lights"].size()), d.where});
+    scene_["lights"].push_back(light);
+    p.reportUnused(log_, fmt::format("LightSource \"{}\"", type));
+}
+
+void SceneBuilder::objectDirective(const Directive& d) {
+    requireWorld(d, true);
+    if (d.name == "ObjectBegin") {
+        if (currentObject_)
+            failAt(d.where, fmt::format("ObjectBegin inside the definition of \"{}\" (started at {})", currentObject_->first,
+                                        currentObject_->second.describe()));
+        if (objects_.count(d.strings[0])) failAt(d.where, fmt::format("ObjectBegin: object \"{}\" is defined twice", d.strings[0]));
+        stack_.push_back({state_, true, d.where});  // ObjectBegin opens attributes, as in pbrt-v4
+        currentObject_ = {d.strings[0], d.where};
+        objects_[d.strings[0]];
+    } else if (d.name == "ObjectEnd") {
+        if (!currentObject_) failAt(d.where, "ObjectEnd without a matching ObjectBegin");
+        if (stack_.empty() || stack_.back().where.line != currentObject_->second.line ||
+            stack_.back().where.file != currentObject_->second.file)
+            failAt(d.where, fmt::format("ObjectEnd while the AttributeBegin at {} is open", stack_.back().where.describe()));
+        state_ = stack_.back().state;
+        stack_.pop_back();
+        currentObject_.reset();
+    } else {
+        if (currentObject_) failAt(d.where, "ObjectInstance inside an object definition");
+        auto it = objects_.find(d.strings[0]);
+        if (it == objects_.end()) failAt(d.where, fmt::format("ObjectInstance: no object named \"{}\"", d.strings[0]));
+        if (!(state_.ctm[0] == state_.ctm[1]))
+            log_.warn(d.where, "moving object instances are not supported: placed at the start time");
+        flattenInstance(it->second, state_.ctm[0], d.where);
+    }
+}
+
+void SceneBuilder::flattenInstance(const std::vector<ShapeRecord>& shapes, const Matrix4d& worldFromInstance,
+                                   const SourceLocation& where) {
+    static bool once = false;
+    (void)once;
+    log_.warn(where, "object instances are expanded into copies of their shapes (penumbra has no instancing yet)");
+    for (const ShapeRecord& shape : shapes) addShape(shape, &worldFromInstance);
+}
+
+void SceneBuilder::addPlacement(Json& shape, const std::array<Matrix4d, 2>& ctm, const SourceLocation& where) {
+    if (ctm[0] == ctm[1]) {
+        const Matrix4d world = toWorld(ctm[0]);
+        if (!(world == Matrix4d::identity())) shape["transform"] = Json::array({Json{{"matrix", matrixJson(world)}}});
+        return;
+    }
+    bool sheared = false;
+    shape["motion"] = Json{{"transforms", Json::array({motionKey(toWorld(ctm[0]), sheared), motionKey(toWorld(ctm[1]), sheared)})}};
+    if (sheared) log_.warn(where, "a moving transform with shear is rendered without the shear");
+    const Json& shutter = scene_["camera"]["shutter"];
+    if (shutter[0].get<double>() != transformTimes_[0] || shutter[1].get<double>() != transformTimes_[1])
+        log_.warn(where, "TransformTimes differ from the camera's shutter: penumbra spreads motion keys over the shutter");
+}
+
+void SceneBuilder::addShape(const ShapeRecord& record, const Matrix4d* instance) {
+    const ParameterList& p = record.params;
+    const SourceLocation& where = record.where;
+    const std::string& type = record.type;
+    std::array<Matrix4d, 2> ctm = record.state.ctm;
+    if (instance)
+        for (Matrix4d& m : ctm) m = *instance * m;
+    const bool reverse = record.state.reverseOrientation;
+    const bool swaps = ctm[0].determinant3() < 0.0;
+    Json shape = Json::object();
+
+    if (type == "trianglemesh" || type == "bilinearmesh") {
+        const bool bilinear = type == "bilinearmesh";
+        const std::vector<Vec3d> positions = p.getPoint3s("P");
+        if (positions.empty()) failAt(where, fmt::format("{} needs vertex positions (\"point3 P\")", type));
+        std::vector<int64_t> indices = p.getInts("indices");
+        const size_t corners = bilinear ? 4 : 3;
+        if (indices.empty()) {
+            if (positions.size() != corners)
+                failAt(where, fmt::format("{} needs \"integer indices\" unless it has exactly {} vertices", type, corners));
+            for (size_t i = 0; i < corners; ++i) indices.push_back(int64_t(i));
+        }
+        const Parameter* indexParam = p.find("indices", {ParamType::Integer});
+        const SourceLocation& indexPlace = indexParam ? indexParam->where : where;
+        if (indices.size() % corners != 0)
+            failAt(indexPlace, fmt::format("{}: the number of indices ({}) is not a multiple of {}", type, indices.size(), corners));
+        for (int64_t i : indices)
+            if (i < 0 || uint64_t(i) >= positions.size())
+                failAt(indexPlace, fmt::format("{}: index {} is out of range: the mesh has {} vertices (counting from 0)", type,
+                                               i, positions.size()));
+        const std::vector<Vec3d> normals = p.getNormals("N");
+        if (!normals.empty() && normals.size() != positions.size())
+            failAt(p.find("N", {ParamType::Normal})->where,
+                   fmt::format("{}: {} normals for {} vertices (one per vertex expected)", type, normals.size(), positions.size()));
+        const std::vector<Vec2d> uvs = p.getPoint2s(p.has("uv") ? "uv" : "st");
+        if (!uvs.empty() && uvs.size() != positions.size())
+            failAt(where, fmt::format("{}: {} uvs for {} vertices (one per vertex expected)", type, uvs.size(), positions.size()));
+        // Triangles: a bilinear patch (p00, p10, p01, p11) becomes (p00, p10, p11) and (p00, p11, p01).
+        std::vector<int64_t> triangles;
+        if (bilinear) {
+            for (size_t i = 0; i < indices.size(); i += 4)
+                triangles.insert(triangles.end(), {indices[i], indices[i + 1], indices[i + 3], indices[i], indices[i + 3], indices[i + 2]});
+            log_.warn(where, "bilinear patches are rendered as two triangles each (exact for flat patches)");
+        } else {
+            triangles = std::move(indices);
+        }
+        // The front of each triangle is where pbrt-v4's surface normal points: the winding's side,
+        // turned to the side of the mesh's normals when it has them, and reversed by ReverseOrientation.
+        size_t turned = 0;
+        for (size_t t = 0; t < triangles.size(); t += 3) {
+            const Vec3d p0 = positions[size_t(triangles[t])], p1 = positions[size_t(triangles[t + 1])],
+                        p2 = positions[size_t(triangles[t + 2])];
+            const Vec3d front = cross(p1 - p0, p2 - p0);
+            bool flip = reverse;
+            if (!normals.empty()) {
+                const Vec3d n = normals[size_t(triangles[t])] + normals[size_t(triangles[t + 1])] + normals[size_t(triangles[t + 2])];
+                flip = (dot(front, n) < 0.0) != reverse;
+            }
+            if (flip) {
+                std::swap(triangles[t + 1], triangles[t + 2]);
+                ++turned;
+            }
+        }
+        shape["type"] = "triangle_mesh";
+        Json jp = Json::array();
+        for (const Vec3d& v : positions) jp.push_back(vec3Json(v));
+        shape["positions"] = std::move(jp);
+        shape["indices"] = triangles;
+        if (!normals.empty()) {
+            Json jn = Json::array();
+            for (const Vec3d& v : normals) {
+                if (!(length(v) > 0.0)) failAt(p.find("N", {ParamType::Normal})->where, fmt::format("{}: a normal is zero", type));
+                jn.push_back(vec3Json(v));
+            }
+            shape["normals"] = std::move(jn);
+        }
+        if (!uvs.empty()) {
+            Json ju = Json::array();
+            for (const Vec2d& v : uvs) ju.push_back(Json::array({v.x, v.y}));
+            shape["uvs"] = std::move(ju);
+        }
+        p.find("S", {ParamType::Vector3});
+        if (const Parameter* s = p.find("S", {ParamType::Vector3}))
+            log_.warn(s->where, "mesh tangents (\"S\") are not used");
+        if (const Parameter* f = p.find("faceIndices", {ParamType::Integer}))
+            log_.warn(f->where, "mesh \"faceIndices\" are not used");
+    } else if (type == "plymesh") {
+        const auto file = p.getString("filename");
+        if (!file || file->empty()) failAt(where, "plymesh needs a \"string filename\"");
+        const fs::path path = fs::path(*file).is_absolute() ? fs::path(*file) : folder_ / *file;
+        std::error_code error;
+        if (!fs::exists(path, error))
+            failAt(p.find("filename", {ParamType::String})->where,
+                   fmt::format("plymesh: mesh file \"{}\" not found (looked for {})", *file, path.string()));
+        shape["type"] = "mesh_file";
+        shape["file"] = *file;
+        if (reverse)
+            log_.warn(where, "ReverseOrientation on a plymesh is not supported: its faces keep the winding of the file");
+        if (p.has("displacement")) log_.warn(where, "plymesh displacement is not supported");
+        p.markAllUsed();
+    } else if (type == "sphere") {
+        const double radius = p.getFloat("radius").value_or(1.0);
+        if (!(radius > 0.0)) failAt(where, fmt::format("sphere: the radius must be > 0, found {}", radius));
+        const double zmin = p.getFloat("zmin").value_or(-radius), zmax = p.getFloat("zmax").value_or(radius);
+        const double phimax = p.getFloat("phimax").value_or(360.0);
+        if (zmin > -radius || zmax < radius || phimax < 360.0)
+            failAt(where, "partial spheres (zmin, zmax, phimax) are not supported: penumbra renders whole spheres only");
+        if (reverse != swaps)
+            log_.warn(where, "a sphere whose normals face inward (ReverseOrientation or a mirroring transform) is rendered "
+                             "facing outward");
+        shape["type"] = "sphere";
+        shape["center"] = Json::array({0.0, 0.0, 0.0});
+        shape["radius"] = radius;
+    } else if (type == "disk") {
+        const double radius = p.getFloat("radius").value_or(1.0), height = p.getFloat("height").value_or(0.0);
+        if (!(radius > 0.0)) failAt(where, fmt::format("disk: the radius must be > 0, found {}", radius));
+        if (p.getFloat("innerradius").value_or(0.0) > 0.0 || p.getFloat("phimax").value_or(360.0) < 360.0)
+            failAt(where, "partial disks (innerradius, phimax) are not supported: penumbra renders whole disks only");
+        shape["type"] = "disk";
+        shape["center"] = Json::array({0.0, 0.0, height});
+        // pbrt's disk faces +z, flipped by ReverseOrientation and by a mirroring transform.
+        shape["normal"] = Json::array({0.0, 0.0, reverse != swaps ? -1.0 : 1.0});
+        shape["radius"] = radius;
+    } else {
+        p.markAllUsed();
+        log_.warn(where, fmt::format("Shape \"{}\" is not supported and was left out", type));
+        return;
+    }
+    if (const Parameter* alpha = p.find("alpha", {ParamType::Float, ParamType::Texture}))
+        log_.warn(alpha->where, "shape \"alpha\" (cut-outs) is not supported: the shape is opaque");
+    p.reportUnused(log_, fmt::format("Shape \"{}\"", type));
+
+    shape["material"] = record.state.material.empty() ? currentMaterialName(where) : record.state.material;
+    if (const auto& light = record.state.areaLight; light && !light->radiance.isBlack())
+        shape["emission"] = Json{{"radiance", rgbJson(light->radiance)}, {"two_sided", light->twoSided}};
+    addPlacement(shape, ctm, where);
+    origins_.push_back({fmt::format("/shapes/{}", scene_["shapes"].size()), where});
+    scene_["shapes"].push_back(std::move(shape));
+}
+
+Json SceneBuilder::finish() {
+    if (currentObject_)
+        failAt(currentObject_->second, fmt::format("ObjectBegin \"{}\" is never closed by ObjectEnd", currentObject_->first));
+    if (!stack_.empty())
+        failAt(stack_.back().where, fmt::format("{} is never closed", stack_.back().attributes ? "AttributeBegin" : "TransformBegin"));
+    if (!inWorld_) finishCamera(scene_);
+    return scene_;
+}
+
+}  // namespace penumbra::pbrt

@@ -1,0 +1,132 @@
+// pbrt-v4's scene semantics: the graphics state (transform stack with motion, materials, area
+// lights, orientation), named coordinate systems, materials, textures and object definitions,
+// and the mapping of each directive to penumbra's scene. The result is a scene in penumbra's own
+// format (a JSON document, scenes/README.md), which the native loader then builds: one set of
+// checks, and `penumbra convert` writes that document as it is.
+//
+// Conventions honoured (docs/pbrt-import.md): pbrt's camera is left-handed (camera space: +x to
+// the image's right, +y up, +z forward, with the image as pbrt-v4 shows it), the fov is for the
+// shorter image axis, area lights are one-sided on the side of the surface normal pbrt-v4 computes
+// (ReverseOrientation, mirroring transforms and mesh normals included), and RGB values are taken
+// as pbrt-v4 uses them (scenes/pbrt/spectrum.h).
+#pragma once
+
+#include <array>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "scenes/json_reader.h"
+#include "scenes/pbrt/double_math.h"
+#include "scenes/pbrt/materials.h"
+#include "scenes/pbrt/parser.h"
+#include "scenes/pbrt/warning_log.h"
+
+namespace penumbra::pbrt {
+
+// Where a part of the produced document came from: a JSON pointer prefix and the directive.
+struct Origin {
+    std::string pointer;
+    SourceLocation where;
+};
+
+class SceneBuilder : public DirectiveTarget {
+public:
+    // `mainFile` is the scene file: relative file names (meshes, images) are resolved against
+    // its folder, as pbrt-v4 does.
+    SceneBuilder(std::filesystem::path mainFile, WarningLog& log);
+
+    void directive(const Directive& d) override;
+
+    // The scene in penumbra's format, once every directive has been given. Throws InputError for
+    // what is still open (AttributeBegin, ObjectBegin).
+    Json finish();
+    const std::vector<Origin>& origins() const { return origins_; }
+
+private:
+    struct AreaLight {
+        Rgb radiance;
+        bool twoSided = false;
+        SourceLocation where;
+    };
+    struct GraphicsState {
+        std::array<Matrix4d, 2> ctm = {Matrix4d::identity(), Matrix4d::identity()};  // at the start and end time
+        unsigned activeTransforms = 3;                                   // bit 0: start, bit 1: end
+        bool reverseOrientation = false;
+        std::string material;  // the JSON name of the current material; empty: pbrt's default
+        std::optional<AreaLight> areaLight;
+    };
+    struct PushedState {
+        GraphicsState state;
+        bool attributes = true;  // AttributeBegin, or TransformBegin (transform only)
+        SourceLocation where;
+    };
+    // A shape as the scene gave it, kept for object definitions, which are placed once per instance.
+    struct ShapeRecord {
+        std::string type;
+        ParameterList params;
+        GraphicsState state;
+        SourceLocation where;
+    };
+
+    // Directive groups.
+    void transformDirective(const Directive& d);
+    void optionDirective(const Directive& d);  // Camera, Film, Sampler, PixelFilter, Integrator, ...
+    void materialDirective(const Directive& d);
+    void lightSource(const Directive& d);
+    void areaLightSource(const Directive& d);
+    void objectDirective(const Directive& d);
+
+    // Applies `t` to the active transforms: ctm = ctm * t (pbrt's order).
+    void concat(const Matrix4d& t);
+    void requireWorld(const Directive& d, bool inWorld) const;
+
+    // Shapes.
+    void addShape(const ShapeRecord& shape, const Matrix4d* instance);
+    // ObjectInstance: each shape of the definition is added as a copy placed by the instance's
+    // transform. The one place to change when penumbra gains instances.
+    void flattenInstance(const std::vector<ShapeRecord>& shapes, const Matrix4d& worldFromInstance,
+                         const SourceLocation& where);
+    std::string currentMaterialName(const SourceLocation& where);
+    void addPlacement(Json& shape, const std::array<Matrix4d, 2>& ctm, const SourceLocation& where);
+
+    void finishCamera(Json& scene);
+    Matrix4d toWorld(const Matrix4d& m) const { return mirror_ * m; }
+
+    std::filesystem::path mainFile_, folder_;
+    WarningLog& log_;
+    Json scene_ = Json::object();
+    std::vector<Origin> origins_;
+
+    GraphicsState state_;
+    std::vector<PushedState> stack_;
+    std::map<std::string, std::array<Matrix4d, 2>> namedCoordinateSystems_;
+    double transformTimes_[2] = {0.0, 1.0};
+    bool inWorld_ = false;
+
+    // The camera, finished when the film's resolution is known.
+    struct Camera {
+        std::array<Matrix4d, 2> cameraFromWorld = {Matrix4d::identity(), Matrix4d::identity()};
+        ParameterList params;
+        std::string type = "perspective";
+        SourceLocation where;
+        bool given = false;
+    } camera_;
+    // pbrt's camera may be mirrored (its LookAt is left-handed), penumbra's is not: the whole
+    // world is mirrored across the camera's vertical plane instead, which leaves the image as it is.
+    Matrix4d mirror_ = Matrix4d::identity();
+    int filmWidth_ = 1280, filmHeight_ = 720;
+
+    TextureTable textures_;
+    std::map<std::string, std::string> namedMaterials_;  // pbrt name -> JSON material name
+    std::string defaultMaterial_;
+    int anonymousMaterials_ = 0;
+    bool filterGiven_ = false;
+
+    std::map<std::string, std::vector<ShapeRecord>> objects_;
+    std::optional<std::pair<std::string, SourceLocation>> currentObject_;
+};
+
+}  // namespace penumbra::pbrt

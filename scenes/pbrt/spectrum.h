@@ -1,0 +1,37 @@
+// pbrt-v4 spectra as RGB. penumbra renders in linear Rec.709 (sRGB primaries) RGB, so every
+// spectrum a pbrt scene gives is turned into an RGB triple once, by one stated method:
+//  - "rgb" values pass through: pbrt-v4 makes lights' RGB values RGBIlluminantSpectrum (the RGB
+//    times the colour space's illuminant, D65 for sRGB) and divides by that illuminant's
+//    luminance, which nets out to the RGB value on an sRGB film; reflectances are the RGB.
+//  - "blackbody" T: Planck's law at T kelvin, integrated against the CIE 1931 colour matching
+//    functions (the multi-lobe fit of Wyman, Sloan and Shirley 2013, within about 1% of the
+//    tabulated ones), XYZ to linear sRGB, normalized to luminance Y = 1: pbrt-v4 normalizes an
+//    emitter's spectrum to 1 nit before applying its "scale" / "power".
+//  - (wavelength, value) pairs: piecewise linear. As an emitter, like a blackbody (Y = 1). As a
+//    reflectance or an index of refraction, the spectrum seen under a 6504 K blackbody (close to
+//    D65) divided per channel by that illuminant's own RGB, so a constant spectrum c gives c.
+//  - named spectra: the metals' complex indices ("metal-Cu-eta", "metal-Au-k", ... for Cu, Au,
+//    Ag, Al) as the RGB values Tungsten and Mitsuba use (at about 650, 550 and 450 nm), the
+//    glasses' ("glass-BK7", ...) index at the sodium d line (587.6 nm), "stdillum-D65" as white and
+//    "stdillum-A" as a 2856 K blackbody.
+#pragma once
+
+#include <optional>
+#include <string_view>
+#include <vector>
+
+#include "core/rgb.h"
+
+namespace penumbra::pbrt {
+
+// The colour of a blackbody at `kelvin`, with luminance 1.
+Rgb blackbodyRgb(double kelvin);
+
+// (wavelength in nm, value) pairs, sorted by wavelength.
+Rgb emissionSpectrumRgb(const std::vector<double>& pairs);
+Rgb reflectanceSpectrumRgb(const std::vector<double>& pairs);
+
+// A named spectrum of pbrt-v4 as RGB; empty for names penumbra does not know.
+std::optional<Rgb> namedSpectrumRgb(std::string_view name);
+
+}  // namespace penumbra::pbrt

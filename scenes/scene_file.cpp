@@ -1,0 +1,115 @@
+#include "scenes/scene_file.h"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "core/input_file.h"
+#include "core/input_limits.h"
+#include "scenes/json_reader.h"
+#include "scenes/pbrt/pbrt_reader.h"
+#include "scenes/scene_loader.h"
+
+namespace penumbra {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+void emitWarnings(const std::vector<std::string>& lines, std::vector<std::string>* sink) {
+    for (const std::string& line : lines) {
+        if (sink) sink->push_back(line);
+        else std::fprintf(stderr, "penumbra: warning: %s\n", line.c_str());
+    }
+}
+
+void applyPatch(Json& document, const fs::path& patch) {
+    if (patch.empty()) return;
+    const Json changes = parseJsonText(InputFile(patch, "patch file", limits::kMaxSceneFileBytes).readAll(), patch.string());
+    if (!changes.is_object()) throwFileError(patch, "expected a JSON object (a merge patch of the scene)");
+    document.merge_patch(changes);
+}
+
+// JSON laid out for reading: objects one member a line, arrays of numbers (and arrays of such
+// arrays: vertex lists) on one line.
+void writeJson(const Json& value, int indent, std::string& out) {
+    auto flat = [](const Json& v) {
+        if (!v.is_array()) return !v.is_structured();
+        for (const Json& e : v)
+            if (e.is_object() || (e.is_array() && !std::all_of(e.begin(), e.end(), [](const Json& x) { return !x.is_structured(); })))
+                return false;
+        return true;
+    };
+    const std::string pad(size_t(indent + 4), ' ');
+    if (value.is_object() && !value.empty()) {
+        out += "{\n";
+        size_t i = 0;
+        for (const auto& [key, member] : value.items()) {
+            out += pad + Json(key).dump() + ": ";
+            writeJson(member, indent + 4, out);
+            out += ++i < value.size() ? ",\n" : "\n";
+        }
+        out += std::string(size_t(indent), ' ') + "}";
+    } else if (value.is_array() && !flat(value)) {
+        out += "[\n";
+        for (size_t i = 0; i < value.size(); ++i) {
+            out += pad;
+            writeJson(value[i], indent + 4, out);
+            out += i + 1 < value.size() ? ",\n" : "\n";
+        }
+        out += std::string(size_t(indent), ' ') + "]";
+    } else {
+        std::string text = value.dump();
+        // nlohmann writes [1,2,3]; a space after each comma reads better.
+        std::string spaced;
+        bool inString = false;
+        for (size_t i = 0; i < text.size(); ++i) {
+            const char c = text[i];
+            if (c == '"' && (i == 0 || text[i - 1] != '\\')) inString = !inString;
+            spaced += c;
+            if (c == ',' && !inString) spaced += ' ';
+        }
+        out += spaced;
+    }
+}
+
+}  // namespace
+
+bool isPbrtScene(const fs::path& file) { return file.extension() == ".pbrt"; }
+
+Scene loadSceneFile(const fs::path& file, const SceneFileOptions& options) {
+    if (isPbrtScene(file)) {
+        pbrt::PbrtConversion conversion = pbrt::convertPbrtFile(file);
+        emitWarnings(conversion.warnings, options.warnings);
+        applyPatch(conversion.document, options.patch);
+        return pbrt::buildPbrtScene(conversion, file);
+    }
+    if (options.patch.empty()) return loadScene(file);
+    Json document = parseJsonText(InputFile(file, "scene file", limits::kMaxSceneFileBytes).readAll(), file.string());
+    applyPatch(document, options.patch);
+    return buildScene(document, file);
+}
+
+std::string convertSceneToJson(const fs::path& file, const fs::path& output, std::vector<std::string>* warnings) {
+    if (!isPbrtScene(file)) throwFileError(file, "convert reads pbrt-v4 scenes (.pbrt)");
+    pbrt::PbrtConversion conversion = pbrt::convertPbrtFile(file);
+    emitWarnings(conversion.warnings, warnings);
+    // Check that the scene builds before anything is written.
+    (void)pbrt::buildPbrtScene(conversion, file);
+    // Mesh files are named relative to the pbrt file; name them relative to the output.
+    const fs::path from = fs::absolute(file).parent_path(), to = fs::absolute(output).parent_path();
+    for (Json& shape : conversion.document["shapes"])
+        if (shape.contains("file")) {
+            const fs::path mesh = fs::path(shape["file"].get<std::string>());
+            const fs::path absolute = mesh.is_absolute() ? mesh : (from / mesh).lexically_normal();
+            const fs::path relative = absolute.lexically_relative(to);
+            shape["file"] = relative.empty() ? absolute.string() : relative.string();
+        }
+    return "// Converted from " + file.filename().string() + " by penumbra convert (docs/pbrt-import.md).\n" +
+           [&] {
+               std::string text;
+               writeJson(conversion.document, 0, text);
+               return text;
+           }() + "\n";
+}
+
+}  // namespace penumbra
