@@ -253,7 +253,9 @@ private:
             while (true) {
                 const Token t = tokens.next();
                 if (t.kind == Token::Kind::CloseBracket) break;
-                if (t.kind == Token::Kind::End || t.kind == Token::Kind::OpenBracket)
+                // A directive's name inside the brackets: the ']' was forgotten.
+                const bool directive = t.kind == Token::Kind::Word && findDirective(t.text);
+                if (t.kind == Token::Kind::End || t.kind == Token::Kind::OpenBracket || directive)
                     tokens.fail(t, fmt::format("the values of parameter \"{}\" (opened with '[' at line {}) need a closing ']', "
                                                "found {}",
                                                p.declaration(), first.line, describe(t)));

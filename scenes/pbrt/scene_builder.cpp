@@ -604,8 +604,6 @@ void SceneBuilder::objectDirective(const Directive& d) {
 
 void SceneBuilder::flattenInstance(const std::vector<ShapeRecord>& shapes, const Matrix4d& worldFromInstance,
                                    const SourceLocation& where) {
-    static bool once = false;
-    (void)once;
     log_.warn(where, "object instances are expanded into copies of their shapes (penumbra has no instancing yet)");
     for (const ShapeRecord& shape : shapes) addShape(shape, &worldFromInstance);
 }
