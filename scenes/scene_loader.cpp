@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <array>
 #include <cstdint>
@@ -303,10 +304,47 @@ ShapeMotion readMotion(const JsonValue& value, const ThinLensCameraParams& camer
     return motion;
 }
 
+// Speed trick: inline meshes of a million vertices (a converted pbrt scene's) are read straight
+// from the document when every entry is well-formed, without the located access that names each
+// value; any entry that is not sends the caller to the checked reading, which reports it
+// (bench/README.md, pbrt_parse_bench).
+bool readVec3sDirectly(const Json& array, std::vector<Vec3f>& out) {
+    if (!array.is_array()) return false;
+    out.reserve(array.size());
+    for (const Json& entry : array) {
+        if (!entry.is_array() || entry.size() != 3) return false;
+        float v[3];
+        for (size_t i = 0; i < 3; ++i) {
+            if (!entry[i].is_number()) return false;
+            const double d = entry[i].get<double>();
+            if (!(std::abs(d) <= double(limits::kMaxCoordinate))) return false;
+            v[i] = float(d);
+            if (!(std::abs(v[i]) <= limits::kMaxCoordinate)) return false;
+        }
+        out.push_back({v[0], v[1], v[2]});
+    }
+    return true;
+}
+
+bool readIndicesDirectly(const Json& array, size_t count, std::vector<uint32_t>& out) {
+    if (!array.is_array()) return false;
+    out.reserve(array.size());
+    for (const Json& entry : array) {
+        if (!entry.is_number_integer()) return false;
+        const int64_t i = entry.get<int64_t>();
+        if (i < 0 || uint64_t(i) >= count) return false;
+        out.push_back(uint32_t(i));
+    }
+    return true;
+}
+
 TriangleMesh readInlineMesh(const JsonValue& value) {
     TriangleMesh mesh;
     const JsonValue positions = value.requiredMember("positions");
-    for (const JsonValue& p : positions.elements()) mesh.positions.push_back(p.vec3());
+    if (!readVec3sDirectly(positions.json(), mesh.positions)) {
+        mesh.positions.clear();
+        for (const JsonValue& p : positions.elements()) mesh.positions.push_back(p.vec3());
+    }
     if (mesh.positions.empty()) positions.failExpected("a non-empty array of [x, y, z] positions");
     const size_t count = mesh.positions.size();
 
@@ -314,20 +352,30 @@ TriangleMesh readInlineMesh(const JsonValue& value) {
     const size_t indexCount = indices.arraySize();
     if (indexCount == 0 || indexCount % 3 != 0)
         indices.failExpected("a non-empty array of vertex indices, 3 per triangle");
-    for (const JsonValue& i : indices.elements()) {
-        const int64_t index = i.integer(0);
-        if (uint64_t(index) >= count)
-            i.fail(fmt::format("index {} is out of range: the mesh has {} positions (indices count from 0)",
-                               index, count));
-        mesh.indices.push_back(uint32_t(index));
+    if (!readIndicesDirectly(indices.json(), count, mesh.indices)) {
+        mesh.indices.clear();
+        for (const JsonValue& i : indices.elements()) {
+            const int64_t index = i.integer(0);
+            if (uint64_t(index) >= count)
+                i.fail(fmt::format("index {} is out of range: the mesh has {} positions (indices count from 0)",
+                                   index, count));
+            mesh.indices.push_back(uint32_t(index));
+        }
     }
     if (auto normals = value.member("normals")) {
         if (normals->arraySize() != count)
             normals->failExpected(fmt::format("an array of {} normals, one per position", count));
-        for (const JsonValue& n : normals->elements()) {
-            const Vec3f normal = n.vec3();
-            if (!(length(normal) > 0.0f)) n.failExpected("a non-zero normal");
-            mesh.normals.push_back(normalize(normal));
+        const bool direct = readVec3sDirectly(normals->json(), mesh.normals) &&
+                            std::all_of(mesh.normals.begin(), mesh.normals.end(), [](Vec3f n) { return length(n) > 0.0f; });
+        if (direct) {
+            for (Vec3f& n : mesh.normals) n = normalize(n);
+        } else {
+            mesh.normals.clear();
+            for (const JsonValue& n : normals->elements()) {
+                const Vec3f normal = n.vec3();
+                if (!(length(normal) > 0.0f)) n.failExpected("a non-zero normal");
+                mesh.normals.push_back(normalize(normal));
+            }
         }
     }
     if (auto uvs = value.member("uvs")) {

@@ -109,7 +109,7 @@ public:
                 include(tokens, t, d, depth);
                 continue;
             }
-            target_.directive(d);
+            target_.directive(std::move(d));
         }
     }
 

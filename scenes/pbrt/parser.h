@@ -24,7 +24,8 @@ struct Directive {
 class DirectiveTarget {
 public:
     virtual ~DirectiveTarget() = default;
-    virtual void directive(const Directive& directive) = 0;
+    // The directive is the target's to keep (a shape's parameters are moved, not copied).
+    virtual void directive(Directive&& directive) = 0;
 };
 
 // Parses a scene file, with the files it includes, into `target`. Relative Include, Import and

@@ -126,7 +126,7 @@ void SceneBuilder::concat(const Matrix4d& t) {
         if (state_.activeTransforms & (1u << i)) state_.ctm[size_t(i)] = state_.ctm[size_t(i)] * t;
 }
 
-void SceneBuilder::directive(const Directive& d) {
+void SceneBuilder::directive(Directive&& d) {
     const std::string& n = d.name;
     if (n == "Translate" || n == "Scale" || n == "Rotate" || n == "LookAt" || n == "Transform" ||
         n == "ConcatTransform" || n == "Identity" || n == "CoordinateSystem" || n == "CoordSysTransform" ||
@@ -174,7 +174,7 @@ void SceneBuilder::directive(const Directive& d) {
         objectDirective(d);
     } else if (n == "Shape") {
         requireWorld(d, true);
-        ShapeRecord shape{d.strings[0], d.parameters, state_, d.where};
+        ShapeRecord shape{d.strings[0], std::move(d.parameters), state_, d.where};
         if (currentObject_) {
             objects_[currentObject_->first].push_back(std::move(shape));
         } else {
@@ -687,6 +687,7 @@ void SceneBuilder::addShape(const ShapeRecord& record, const Matrix4d* instance)
         }
         shape["type"] = "triangle_mesh";
         Json jp = Json::array();
+        jp.get_ref<Json::array_t&>().reserve(positions.size());
         for (const Vec3d& v : positions) jp.push_back(vec3Json(v));
         shape["positions"] = std::move(jp);
         shape["indices"] = triangles;
@@ -768,7 +769,7 @@ Json SceneBuilder::finish() {
     if (!stack_.empty())
         failAt(stack_.back().where, fmt::format("{} is never closed", stack_.back().attributes ? "AttributeBegin" : "TransformBegin"));
     if (!inWorld_) finishCamera(scene_);
-    return scene_;
+    return std::move(scene_);
 }
 
 }  // namespace penumbra::pbrt

@@ -38,10 +38,10 @@ public:
     // its folder, as pbrt-v4 does.
     SceneBuilder(std::filesystem::path mainFile, WarningLog& log);
 
-    void directive(const Directive& d) override;
+    void directive(Directive&& d) override;
 
-    // The scene in penumbra's format, once every directive has been given. Throws InputError for
-    // what is still open (AttributeBegin, ObjectBegin).
+    // The scene in penumbra's format, once every directive has been given (called once: the
+    // document is moved out). Throws InputError for what is still open (AttributeBegin, ObjectBegin).
     Json finish();
     const std::vector<Origin>& origins() const { return origins_; }
 

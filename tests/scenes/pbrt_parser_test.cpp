@@ -21,7 +21,7 @@ namespace fs = std::filesystem;
 
 struct Recorder : DirectiveTarget {
     std::vector<Directive> directives;
-    void directive(const Directive& d) override { directives.push_back(d); }
+    void directive(Directive&& d) override { directives.push_back(std::move(d)); }
 };
 
 std::vector<Directive> parse(const std::string& text) {
