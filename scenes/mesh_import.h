@@ -1,10 +1,11 @@
 // Triangle meshes from files: Wavefront OBJ (read with tinyobjloader), PLY in ASCII or binary and
-// gzip-compressed PLY (read with assimp, after zlib for .ply.gz), and placing a mesh in the world
-// with a transform.
+// gzip-compressed PLY (read by our own checking walk, after zlib for .ply.gz), and placing a mesh
+// in the world with a transform.
 //
-// Both libraries accept broken files silently (tinyobjloader reads "abc" as 0; assimp 5.2 hangs or
-// crashes on a truncated PLY), so each file is checked first by a small validator of our own that
-// reports the line (OBJ, ASCII PLY) of what is wrong.
+// tinyobjloader accepts broken files silently (it reads "abc" as 0), so each OBJ file is checked
+// first by a small validator of our own that reports the line of what is wrong; PLY files are
+// read by such a walk itself (assimp 5.2's reader, used before, hung or crashed on truncated
+// files), which reports the line (ASCII) or the element (binary) of what is wrong.
 #pragma once
 
 #include <filesystem>
