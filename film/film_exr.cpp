@@ -184,11 +184,13 @@ bool sumInRange(const ExactSum& sum) {
     return top == 0 || top == 3;
 }
 
-FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& file) {
+// The metadata and full size of the film in `file`, from its first header alone; `layout` is
+// set to the film layout version.
+FilmHeader readHeader(const std::filesystem::path& path, Imf::MultiPartInputFile& file, int& layout) {
     const Imf::Header& beauty = file.header(0);
     if (!beauty.findTypedAttribute<Imf::IntAttribute>("penumbra:film"))
         throwFileError(path, fmt::format("{}: it has no penumbra:film attribute", kNotOurs));
-    const int layout = intAttribute(beauty, "penumbra:film");
+    layout = intAttribute(beauty, "penumbra:film");
     if (layout < 1 || layout > kFilmLayoutVersion)
         throwFileError(path, fmt::format("film layout version {} is not supported (this penumbra reads versions 1 to {})",
                                          layout, kFilmLayoutVersion));
@@ -237,6 +239,17 @@ FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& fi
         stringAttribute(beauty, "penumbra:crop") != formatWindow(window))
         throwFileError(path, "the data window does not match penumbra:crop");
     if (window != PixelWindow{0, fullWidth, 0, fullHeight}) m.crop = window;
+    return FilmHeader{m, fullWidth, fullHeight};
+}
+
+FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& file) {
+    int layout = 0;
+    const FilmHeader header = readHeader(path, file, layout);
+    const RenderMetadata& m = header.metadata;
+    const int fullWidth = header.width, fullHeight = header.height;
+    const Imf::Header& beauty = file.header(0);
+    const Imath::Box2i data = beauty.dataWindow();
+    const PixelWindow window = windowOf(data);
 
     // The parts that hold sum words: "sums" (every version) and "sums.noise" (versions 2 and 3).
     std::vector<int> sumParts;
@@ -542,6 +555,20 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
             return false;
         }
     });
+}
+
+FilmHeader readFilmHeader(const std::filesystem::path& path) {
+    InputFile(path, "film", UINT64_MAX);
+    if (!Imf::isOpenExrFile(path.c_str())) throwFileError(path, fmt::format("{}: it is not an OpenEXR file", kNotOurs));
+    try {
+        Imf::MultiPartInputFile file(path.c_str(), exrThreads());
+        int layout = 0;
+        return readHeader(path, file, layout);
+    } catch (const InputError&) {
+        throw;
+    } catch (const std::exception& e) {
+        throwFileError(path, fmt::format("cannot read the image: {}", e.what()));
+    }
 }
 
 bool isPenumbraFilm(const std::filesystem::path& path) {

@@ -16,15 +16,16 @@ PixelWindow windowOf(const FilmFile& f) {
 }
 
 // Throws when `part` was not rendered like `first` (the metadata that decides the samples).
-void checkSameRender(const FilmFile& first, const std::string& firstName, const FilmFile& part,
+void checkSameRender(int width, int height, const FilmMerger::Seen& first, const FilmFile& part,
                      const std::string& name) {
+    const std::string& firstName = first.name;
     const RenderMetadata &a = first.metadata, &b = part.metadata;
     auto mismatch = [&](const char* what, const std::string& va, const std::string& vb) {
         throw InputError(fmt::format("cannot merge {} and {}: they were rendered with different {} ({} and {})",
                                      firstName, name, what, va, vb));
     };
-    if (first.film.width() != part.film.width() || first.film.height() != part.film.height())
-        mismatch("resolutions", fmt::format("{}x{}", first.film.width(), first.film.height()),
+    if (width != part.film.width() || height != part.film.height())
+        mismatch("resolutions", fmt::format("{}x{}", width, height),
                  fmt::format("{}x{}", part.film.width(), part.film.height()));
     if (a.sceneHash != b.sceneHash)
         mismatch("scenes", fmt::format("'{}' {}", a.sceneFile, a.sceneHash), fmt::format("'{}' {}", b.sceneFile, b.sceneHash));
@@ -39,50 +40,70 @@ std::string describeWindow(const PixelWindow& w) { return fmt::format("{},{},{},
 
 std::string describeRange(const RenderMetadata& m) { return fmt::format("[{}, {})", m.firstSample, m.endSample); }
 
-MergeResult mergeFilms(const std::vector<FilmFile>& parts, const std::vector<std::string>& names) {
-    if (parts.empty()) throw InputError("merge: no films to merge");
-    for (size_t i = 1; i < parts.size(); ++i) checkSameRender(parts[0], names[0], parts[i], names[i]);
-
+void FilmMerger::add(FilmFile part, const std::string& name) {
+    if (merged_) checkSameRender(merged_->film.width(), merged_->film.height(), first_, part, name);
     // Two parts overlap when they share pixels and sample indices: those samples would count twice.
-    for (size_t i = 0; i < parts.size(); ++i)
-        for (size_t j = i + 1; j < parts.size(); ++j) {
-            const RenderMetadata &a = parts[i].metadata, &b = parts[j].metadata;
-            const bool samplesOverlap = a.firstSample < b.endSample && b.firstSample < a.endSample;
-            if (samplesOverlap && windowOf(parts[i]).intersects(windowOf(parts[j])))
-                throw InputError(fmt::format(
-                    "cannot merge {} and {}: their sample ranges {} and {} overlap on shared pixels (windows {} and {}); "
-                    "each sample of a pixel must come from one part",
-                    names[i], names[j], describeRange(a), describeRange(b), describeWindow(windowOf(parts[i])),
-                    describeWindow(windowOf(parts[j]))));
-        }
+    const PixelWindow window = windowOf(part);
+    for (const Seen& earlier : seen_) {
+        const RenderMetadata &a = earlier.metadata, &b = part.metadata;
+        const bool samplesOverlap = a.firstSample < b.endSample && b.firstSample < a.endSample;
+        if (samplesOverlap && earlier.window.intersects(window))
+            throw InputError(fmt::format(
+                "cannot merge {} and {}: their sample ranges {} and {} overlap on shared pixels (windows {} and {}); "
+                "each sample of a pixel must come from one part",
+                earlier.name, name, describeRange(a), describeRange(b), describeWindow(earlier.window),
+                describeWindow(window)));
+    }
+    seen_.push_back(Seen{part.metadata, window, name});
+    if (!merged_) {
+        first_ = Seen{part.metadata, window, name};
+        merged_ = std::move(part);  // zero + the first part's sums, exactly
+        return;
+    }
+    try {
+        merged_->film.merge(part.film);
+    } catch (const InputError& e) {
+        throw InputError(fmt::format("cannot merge {}: {}", name, e.message()));
+    }
+}
 
-    MergeResult result{FilmFile{Film(parts[0].film.width(), parts[0].film.height()), parts[0].metadata}, true, {}};
+MergeResult FilmMerger::finish() {
+    if (!merged_) throw InputError("merge: no films to merge");
+    MergeResult result{std::move(*merged_), true, {}};
+    merged_.reset();
     RenderMetadata& m = result.merged.metadata;
     m.renderSeconds = 0;
-    PixelWindow box = windowOf(parts[0]);
-    uint32_t first = parts[0].metadata.firstSample, end = parts[0].metadata.endSample;
-    for (size_t i = 0; i < parts.size(); ++i) {
-        const FilmFile& part = parts[i];
-        try {
-            result.merged.film.merge(part.film);
-        } catch (const InputError& e) {
-            throw InputError(fmt::format("cannot merge {}: {}", names[i], e.message()));
-        }
+    PixelWindow box = seen_.front().window;
+    uint32_t first = seen_.front().metadata.firstSample, end = seen_.front().metadata.endSample;
+    for (const Seen& part : seen_) {
         m.renderSeconds += part.metadata.renderSeconds;
-        const PixelWindow w = windowOf(part);
+        const PixelWindow& w = part.window;
         box = {std::min(box.x0, w.x0), std::max(box.x1, w.x1), std::min(box.y0, w.y0), std::max(box.y1, w.y1)};
         first = std::min(first, part.metadata.firstSample);
         end = std::max(end, part.metadata.endSample);
     }
 
-    // Does every pixel of the bounding box get the same contiguous range of samples?
+    // Does every pixel of the bounding box get the same contiguous range of samples? The parts'
+    // window edges cut the box into cells whose pixels all lie in the same parts, so one pixel per
+    // cell answers for the cell (in raster order, so the first bad cell holds the first bad pixel).
+    std::vector<int> xs{box.x0, box.x1}, ys{box.y0, box.y1};
+    for (const Seen& part : seen_) {
+        xs.insert(xs.end(), {part.window.x0, part.window.x1});
+        ys.insert(ys.end(), {part.window.y0, part.window.y1});
+    }
+    for (std::vector<int>* edges : {&xs, &ys}) {
+        std::sort(edges->begin(), edges->end());
+        edges->erase(std::unique(edges->begin(), edges->end()), edges->end());
+    }
     std::vector<std::pair<uint32_t, uint32_t>> ranges;
     std::optional<std::pair<uint32_t, uint32_t>> common;
-    for (int y = box.y0; y < box.y1 && result.uniform; ++y)
-        for (int x = box.x0; x < box.x1 && result.uniform; ++x) {
+    for (size_t j = 0; j + 1 < ys.size() && result.uniform; ++j)
+        for (size_t i = 0; i + 1 < xs.size() && result.uniform; ++i) {
+            const int x = xs[i], y = ys[j];
+            if (!box.contains(x, y)) continue;
             ranges.clear();
-            for (const FilmFile& part : parts)
-                if (windowOf(part).contains(x, y) && part.metadata.endSample > part.metadata.firstSample)
+            for (const Seen& part : seen_)
+                if (part.window.contains(x, y) && part.metadata.endSample > part.metadata.firstSample)
                     ranges.emplace_back(part.metadata.firstSample, part.metadata.endSample);
             std::sort(ranges.begin(), ranges.end());
             bool contiguous = !ranges.empty();
@@ -112,17 +133,20 @@ MergeResult mergeFilms(const std::vector<FilmFile>& parts, const std::vector<std
     m.samplesPerPixel = int(end - first);
     m.crop = box == PixelWindow{0, result.merged.film.width(), 0, result.merged.film.height()} ? std::nullopt
                                                                                               : std::optional(box);
+    seen_.clear();
     return result;
 }
 
+MergeResult mergeFilms(const std::vector<FilmFile>& parts, const std::vector<std::string>& names) {
+    FilmMerger merger;
+    for (size_t i = 0; i < parts.size(); ++i) merger.add(parts[i], names[i]);
+    return merger.finish();
+}
+
 MergeResult mergeFilmFiles(const std::vector<std::filesystem::path>& paths) {
-    std::vector<FilmFile> parts;
-    std::vector<std::string> names;
-    for (const auto& path : paths) {
-        parts.push_back(readFilmExr(path));
-        names.push_back(path.string());
-    }
-    return mergeFilms(parts, names);
+    FilmMerger merger;
+    for (const auto& path : paths) merger.add(readFilmExr(path), path.string());
+    return merger.finish();
 }
 
 void checkResumable(const FilmFile& file, const std::string& path, const ResumeTarget& target) {
@@ -157,6 +181,9 @@ void checkResumable(const FilmFile& file, const std::string& path, const ResumeT
                                  "do not cover the same samples everywhere?)",
                                  x, y, file.film.at(x, y).sampleCount, describeRange(m), expected));
         }
+    if (target.firstSample && m.firstSample != *target.firstSample)
+        fail(fmt::format("it holds samples {}, the render starts at sample {} (--samples)", describeRange(m),
+                         *target.firstSample));
     if (m.endSample > target.endSample)
         fail(fmt::format("it already holds samples {}, beyond --spp {}", describeRange(m), target.endSample));
 }

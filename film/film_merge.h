@@ -22,11 +22,34 @@ struct MergeResult {
     std::string note;
 };
 
+// Merges films one at a time, so that a merge of many parts holds two films in memory, not all
+// of them: add() each part (read with readFilmExr; `name`, the file, for messages), then finish().
+class FilmMerger {
+public:
+    // Throws InputError when `part` is not a part of the same render as the first or overlaps
+    // an earlier part.
+    void add(FilmFile part, const std::string& name);
+    // The merged film; throws InputError when nothing was added.
+    MergeResult finish();
+
+    // What is kept of each part added: enough to check the next ones and the merged window.
+    struct Seen {
+        RenderMetadata metadata;
+        PixelWindow window;
+        std::string name;
+    };
+
+private:
+    std::optional<FilmFile> merged_;
+    Seen first_;
+    std::vector<Seen> seen_;
+};
+
 // Merges films read with readFilmExr; `names` (the files, for messages) parallel `parts`.
 // Throws InputError when they are not parts of one render or overlap.
 MergeResult mergeFilms(const std::vector<FilmFile>& parts, const std::vector<std::string>& names);
 
-// Reads and merges the files; nothing is written.
+// Reads and merges the files, one at a time (FilmMerger); nothing is written.
 MergeResult mergeFilmFiles(const std::vector<std::filesystem::path>& paths);
 
 // What a render that continues `file` must agree on.
@@ -37,11 +60,15 @@ struct ResumeTarget {
     std::string sampler, accelerator;
     std::optional<PixelWindow> crop;
     uint32_t endSample = 0;  // the render is to end at this sample index
+    // The render's first sample index (render --samples FIRST:END), when it names one: the film
+    // must start there.
+    std::optional<uint32_t> firstSample;
 };
 
 // Throws InputError (naming `path`) unless `file` is a film that a render of `target` can
 // continue: same scene contents, resolution, seed, sampler, backend and crop, every pixel of the
-// window holding the same samples [first, end), and end <= target.endSample.
+// window holding the same samples [first, end), end <= target.endSample and, when the target
+// names one, first == target.firstSample.
 void checkResumable(const FilmFile& file, const std::string& path, const ResumeTarget& target);
 
 // "x0,x1,y0,y1" and "[first, end)", as the command line writes them.

@@ -49,6 +49,15 @@ struct FilmFile {
 // it cannot be read or is not a film written by penumbra.
 FilmFile readFilmExr(const std::filesystem::path& path);
 
+// A film file's metadata and full resolution, read from its headers alone (no pixels): what a
+// look at many large parts needs. Throws like readFilmExr when the headers are not a film's;
+// pixels cut short by a killed writer are found only by readFilmExr.
+struct FilmHeader {
+    RenderMetadata metadata;
+    int width = 0, height = 0;
+};
+FilmHeader readFilmHeader(const std::filesystem::path& path);
+
 // Whether `path` is an EXR written by writeExr (its first part has "penumbra:film"); never throws.
 bool isPenumbraFilm(const std::filesystem::path& path);
 

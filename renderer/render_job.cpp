@@ -21,13 +21,13 @@ RenderJob::RenderJob(const Scene& scene, SceneSource source, RenderOptions optio
     firstSample_ = options_.firstSample;
 }
 
-void RenderJob::resumeFrom(const std::filesystem::path& path) {
+void RenderJob::resumeFrom(const std::filesystem::path& path, std::optional<uint32_t> startingAt) {
     FilmFile loaded = readFilmExr(path);
     checkResumable(loaded, path.string(),
                    ResumeTarget{source_.hash, scene_.film.width, scene_.film.height, scene_.settings.seed,
                                 std::string(samplerKindName(scene_.settings.sampler)),
                                 std::string(acceleratorKindName(options_.accelerator)), options_.crop,
-                                options_.endSample});
+                                options_.endSample, startingAt});
     firstSample_ = loaded.metadata.firstSample;
     options_.firstSample = loaded.metadata.endSample;
     previousSeconds_ = loaded.metadata.renderSeconds;

@@ -32,9 +32,11 @@ public:
     RenderJob(const Scene& scene, SceneSource source, RenderOptions options);
 
     // Continues the film in `path` instead of a new one: its samples [first, end) are kept and
-    // this run renders [end, options.endSample). Throws InputError naming the file when it is not
-    // a film of this render (checkResumable, film/film_merge.h).
-    void resumeFrom(const std::filesystem::path& path);
+    // this run renders [end, options.endSample). With `startingAt` (render --samples FIRST:END)
+    // the film must start at that sample (a checkpoint of the same sample range). Throws
+    // InputError naming the file when it is not a film of this render (checkResumable,
+    // film/film_merge.h).
+    void resumeFrom(const std::filesystem::path& path, std::optional<uint32_t> startingAt = std::nullopt);
 
     // During run(), writes the film to `path` after a pass whenever `minutes` have passed since
     // the last write (0: after every pass), then calls `written` with the film's sample range.

@@ -12,6 +12,10 @@ packages=(
     python3 python3-numpy python3-openimageio python3-matplotlib
     embree-tools time  # bench/compare_pathtracer.py: Embree's pathtracer and GNU time
 )
+# penumbra submit's tests and benchmarks start a real single-node Slurm cluster
+# (tests/support/slurm_cluster.sh): the scheduler's daemons and commands, and MUNGE for its auth.
+slurm_packages=(slurm-wlm munge)
+packages+=("${slurm_packages[@]}")
 
 missing=()
 for p in "${packages[@]}"; do

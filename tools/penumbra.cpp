@@ -2,7 +2,9 @@
 //
 //   penumbra render SCENE [--spp N] [--seed S] [--threads N] [--res WxH] [--accel embree|bvh] [-o PATH] ...
 //   penumbra crosscheck SCENE [--rays N] [--seed S] [--json]
-//   penumbra merge PART.exr... -o OUT.exr
+//   penumbra merge PART.exr... -o OUT.exr    (or --manifest OUT.parts.json)
+//   penumbra submit SCENE --parts N --spp S -o OUT.exr [--by samples|rows] [--dry-run] [--resume] ...
+//   penumbra status OUT.exr
 //   penumbra converge SCENE --spp 1,2,4,...,1024 [--sampler ...] [--reference REF.exr] -o DIR
 //   penumbra convert SCENE.pbrt -o SCENE.json
 //
@@ -37,6 +39,8 @@
 #include "tools/converge.h"
 #include "tools/crosscheck.h"
 #include "tools/merge_command.h"
+#include "tools/status_command.h"
+#include "tools/submit_command.h"
 
 namespace fs = std::filesystem;
 using namespace penumbra;
@@ -179,13 +183,11 @@ int runRender(const RenderCommand& cmd) {
     options.cancel = &gStopRequested;
 
     RenderJob job(scene, SceneSource::of(cmd.scenePath, scene), options);
-    // --resume: continue the film in the file from where it ends up to --spp (the same samples,
-    // so the result is the same bit for bit as one render).
-    if (!cmd.resume.empty()) {
-        if (!cmd.samples.empty())
-            throw InputError("--resume continues a film up to --spp; it cannot be combined with --samples");
-        job.resumeFrom(cmd.resume);
-    }
+    // --resume: continue the film in the file from where it ends up to --spp, or to END of
+    // --samples FIRST:END when the film starts at FIRST (the same samples, so the result is the
+    // same bit for bit as one render).
+    if (!cmd.resume.empty())
+        job.resumeFrom(cmd.resume, cmd.samples.empty() ? std::nullopt : std::optional(options.firstSample));
     if (cmd.checkpointMinutes)
         job.checkpointEvery(*cmd.checkpointMinutes, exrPath, [&](uint32_t first, uint32_t end) {
             if (interactive) std::fprintf(stderr, "\r");
@@ -286,8 +288,9 @@ int main(int argc, char** argv) {
     renderApp->add_option("--accel", cmd.accel, "Traversal backend: embree (default) or bvh (our own)")
         ->check(CLI::IsMember({"embree", "bvh"}));
     renderApp->add_option("--resume", cmd.resume,
-                          "Continue the film in this EXR (written by render or merge) up to --spp; it must come from "
-                          "the same scene, resolution, seed, sampler, crop and --accel");
+                          "Continue the film in this EXR (written by render or merge) up to --spp (or END of "
+                          "--samples FIRST:END, for a film that starts at FIRST); it must come from the same scene, "
+                          "resolution, seed, sampler, crop and --accel");
     renderApp->add_option("--checkpoint", cmd.checkpointMinutes,
                           "Write the film to the output EXR every MINUTES (fractions allowed; 0: after every pass); "
                           "SIGINT/SIGTERM always write it before exiting");
@@ -311,11 +314,57 @@ int main(int argc, char** argv) {
     CLI::App* mergeApp = app.add_subcommand(
         "merge", "Add partial renders (--samples ranges, --crop windows) of one scene into one EXR, bit for bit as "
                  "one render of the union");
-    mergeApp->add_option("PARTS", mergeParts, "EXR files written by penumbra render or merge")->required();
-    mergeApp->add_option("-o,--output", mergeOutput, "Output EXR; a PNG through OpenColorIO is written beside it")
-        ->required();
+    std::string mergeManifest;
+    std::optional<int> mergeGroup;
+    mergeApp->add_option("PARTS", mergeParts, "EXR files written by penumbra render or merge");
+    mergeApp->add_option("-o,--output", mergeOutput,
+                         "Output EXR (with --manifest, default the manifest's); a PNG through OpenColorIO is written "
+                         "beside it");
+    mergeApp->add_option("--manifest", mergeManifest,
+                         "Merge the parts listed in this manifest (written by submit), each checked done")
+        ->excludes("PARTS");
+    mergeApp->add_option("--group", mergeGroup, "With --manifest: merge only this merge group into its file")
+        ->needs("--manifest");
     mergeApp->add_flag("--no-display", mergeNoDisplay, "Write only the EXR, no display PNG");
     mergeApp->add_flag("-q,--quiet", mergeQuiet, "No summary");
+
+    SubmitCommand submitCmd;
+    CLI::App* submitApp = app.add_subcommand(
+        "submit", "Render on a Slurm cluster: a job array of parts (sample ranges or bands of rows) and a merge job "
+                  "after it, bit for bit one render; see docs/scale-out.md");
+    submitApp->add_option("SCENE", submitCmd.scenePath, "Scene file")->required();
+    submitApp->add_option("--parts", submitCmd.parts, "Number of parts (array tasks)")->required()->check(CLI::PositiveNumber);
+    submitApp->add_option("--by", submitCmd.by, "Split by samples (default: ranges of sample indices) or rows (bands)")
+        ->check(CLI::IsMember({"samples", "rows", "tiles"}));
+    submitApp->add_option("--spp", submitCmd.spp, "Samples per pixel in all (default the scene's)");
+    submitApp->add_option("-o,--output", submitCmd.output, "The merged EXR; the manifest and parts go beside it")->required();
+    submitApp->add_option("--partition", submitCmd.slurm.partition, "Slurm partition (default the cluster's)");
+    submitApp->add_option("--time", submitCmd.slurm.time, "Time limit of each job, as sbatch --time takes it");
+    submitApp->add_option("--cpus-per-task", submitCmd.slurm.cpusPerTask,
+                          "Cores per part (default 0: a whole node each, --exclusive)")->check(CLI::NonNegativeNumber);
+    submitApp->add_option("--checkpoint", submitCmd.slurm.checkpointMinutes,
+                          "Minutes between a part's checkpoints (default 10; 0: after every pass)")->check(CLI::NonNegativeNumber);
+    submitApp->add_option("--sbatch", submitCmd.slurm.sbatchArguments,
+                          "More sbatch options for every job, e.g. --sbatch=--account=lab (repeatable)");
+    submitApp->add_option("--merge-tree-above", submitCmd.mergeTreeAbove,
+                          "Merge in two levels (groups of about sqrt(N) parts) when there are more parts than this "
+                          "(default 16)")->check(CLI::NonNegativeNumber);
+    submitApp->add_option("--seed", submitCmd.seed, "Seed of all sample values (overrides render.seed)")->check(kSeedText);
+    submitApp->add_option("--res", submitCmd.resolution, "Resolution WIDTHxHEIGHT (overrides film.resolution)");
+    submitApp->add_option("--sampler", submitCmd.sampler, "stratified (default) or independent");
+    submitApp->add_option("--accel", submitCmd.accel, "Traversal backend: embree (default) or bvh")
+        ->check(CLI::IsMember({"embree", "bvh"}));
+    submitApp->add_option("--pass-size", submitCmd.passSize, "Sample indices per pass of each part's render")
+        ->check(CLI::PositiveNumber);
+    submitApp->add_flag("--dry-run", submitCmd.dryRun, "Print the batch scripts; write and submit nothing");
+    submitApp->add_flag("--resume", submitCmd.resume,
+                        "Submit only the parts that are not done (same options as the first submit)");
+
+    std::string statusTarget;
+    CLI::App* statusApp = app.add_subcommand(
+        "status", "Which parts of a submitted render are done, partial, started or missing (from the files alone)");
+    statusApp->add_option("OUTPUT", statusTarget, "The merged EXR named to submit -o, or its .parts.json manifest")
+        ->required();
 
     ConvergeCommand convergeCmd;
     CLI::App* convergeApp = app.add_subcommand(
@@ -373,7 +422,18 @@ int main(int argc, char** argv) {
     try {
         if (renderApp->parsed()) return runRender(cmd);
         if (crosscheckApp->parsed()) return runCrosscheckCommand(crosscheckScene, crosscheckOptions, crosscheckJson);
-        if (mergeApp->parsed()) return runMergeCommand(mergeParts, mergeOutput, mergeNoDisplay, mergeQuiet);
+        if (mergeApp->parsed()) {
+            if (!mergeManifest.empty())
+                return runManifestMerge(mergeManifest, mergeGroup, mergeOutput, mergeNoDisplay, mergeQuiet);
+            if (mergeParts.empty() || mergeOutput.empty())
+                throw InputError("merge: expected PART.exr... -o OUT.exr, or --manifest OUT.parts.json");
+            return runMergeCommand(mergeParts, mergeOutput, mergeNoDisplay, mergeQuiet);
+        }
+        if (submitApp->parsed()) {
+            if (submitCmd.by == "tiles") submitCmd.by = "rows";  // bands of rows are the tiles of a split render
+            return runSubmitCommand(submitCmd);
+        }
+        if (statusApp->parsed()) return runStatusCommand(statusTarget);
         if (convergeApp->parsed()) return runConvergeCommand(convergeCmd);
         if (convertApp->parsed()) return runConvertCommand(convertScene, convertOutput);
     } catch (const InputError& e) {

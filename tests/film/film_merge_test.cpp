@@ -105,7 +105,7 @@ TEST(Merge, PartsOfDifferentRendersOrOverlappingSamplesAreRefused) {
 TEST(Resume, OnlyAFilmOfTheSameRenderCanBeContinued) {
     const Scene scene = testing::makeSmallBoxScene(8, 6, 4);
     const FilmFile f = part(scene, 0, 3, PixelWindow{1, 7, 0, 6});
-    const ResumeTarget good{"fnv1a64:0000000000000001", 8, 6, 0, "stratified", "embree", PixelWindow{1, 7, 0, 6}, 8};
+    const ResumeTarget good{"fnv1a64:0000000000000001", 8, 6, 0, "stratified", "embree", PixelWindow{1, 7, 0, 6}, 8, {}};
     EXPECT_NO_THROW(checkResumable(f, "f.exr", good));
 
     auto error = [&](ResumeTarget t) -> std::string {

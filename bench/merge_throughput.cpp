@@ -1,0 +1,125 @@
+// Merge throughput (docs/scale-out.md): how fast `penumbra merge` adds full-frame parts. Renders
+// one real film of an example scene at one sample per pixel, writes it PARTS times as the parts
+// [i, i+1) of a PARTS-sample render (the same bytes a real one-sample part has; only the sample
+// range in the metadata differs), then merges them one at a time as `merge` does (FilmMerger:
+// read a part, add it) and writes the result. In the same run, the peer: reading the same files'
+// bytes and nothing else. Prints bytes per pixel on disk, and parts x pixels per second.
+//
+//   penumbra_merge_throughput SCENE [--parts 64] [--res 1920x1080] [--dir /tmp/penumbra-merge-bench]
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "film/film_merge.h"
+#include "film/image_output.h"
+#include "renderer/render_job.h"
+#include "scenes/scene_loader.h"
+
+using namespace penumbra;
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc < 2) {
+        std::fprintf(stderr, "usage: %s SCENE [--parts N] [--res WxH] [--dir DIR]\n", argv[0]);
+        return 2;
+    }
+    try {
+        Scene scene = loadScene(argv[1]);
+        int parts = 64;
+        scene.film.width = 1920;
+        scene.film.height = 1080;
+        fs::path dir = "/tmp/penumbra-merge-bench";
+        for (int i = 2; i + 1 < argc; i += 2) {
+            const std::string option = argv[i], value = argv[i + 1];
+            if (option == "--parts") parts = std::stoi(value);
+            else if (option == "--res") std::sscanf(value.c_str(), "%dx%d", &scene.film.width, &scene.film.height);
+            else if (option == "--dir") dir = value;
+            else throw InputError("unknown option " + option);
+        }
+        fs::create_directories(dir);
+        const double pixels = double(scene.film.width) * scene.film.height;
+
+        RenderOptions options;
+        options.firstSample = 0;
+        options.endSample = 1;
+        RenderJob job(scene, SceneSource::of(argv[1], scene), options);
+        const RenderStats stats = job.run();
+
+        std::vector<fs::path> files;
+        auto start = Clock::now();
+        for (int i = 0; i < parts; ++i) {
+            RenderMetadata m = job.metadata();
+            m.firstSample = uint32_t(i);
+            m.endSample = uint32_t(i + 1);
+            files.push_back(dir / ("part-" + std::to_string(i) + ".exr"));
+            writeExr(job.film(), m, files.back());
+        }
+        const double writeSeconds = secondsSince(start);
+        uint64_t bytes = 0;
+        for (const fs::path& f : files) bytes += fs::file_size(f);
+
+        // The peer: the files' bytes read, nothing done with them (mostly from the page cache).
+        start = Clock::now();
+        std::vector<char> buffer(size_t(1) << 24);
+        for (const fs::path& f : files) {
+            std::ifstream in(f, std::ios::binary);
+            while (in.read(buffer.data(), std::streamsize(buffer.size())) || in.gcount() > 0) {
+            }
+        }
+        const double readBytesSeconds = secondsSince(start);
+
+        double readSeconds = 0, addSeconds = 0;
+        FilmMerger merger;
+        for (const fs::path& f : files) {
+            start = Clock::now();
+            FilmFile part = readFilmExr(f);
+            readSeconds += secondsSince(start);
+            start = Clock::now();
+            merger.add(std::move(part), f.string());
+            addSeconds += secondsSince(start);
+        }
+        start = Clock::now();
+        MergeResult merged = merger.finish();
+        const double finishSeconds = secondsSince(start);
+        start = Clock::now();
+        writeExr(merged.merged.film, merged.merged.metadata, dir / "merged.exr");
+        const double mergedWriteSeconds = secondsSince(start);
+        const uint64_t mergedBytes = fs::file_size(dir / "merged.exr");
+        if (merged.merged.film.at(0, 0).sampleCount != uint32_t(parts) || merged.merged.metadata.endSample != uint32_t(parts))
+            throw InputError("the merged film does not hold every part's sample");
+        for (const fs::path& f : files) fs::remove(f);
+        fs::remove(dir / "merged.exr");
+
+        const double mergeSeconds = readSeconds + addSeconds + finishSeconds + mergedWriteSeconds;
+        std::printf("%s at %dx%d, %d parts of one sample each\n", argv[1], scene.film.width, scene.film.height, parts);
+        std::printf("render of one part: %.2f s (%.2f M samples/s)\n", stats.renderSeconds,
+                    pixels / stats.renderSeconds * 1e-6);
+        std::printf("part on disk: %.1f MB, %.1f bytes/pixel (merged film: %.1f bytes/pixel); write %.2f s a part\n",
+                    double(bytes) / parts * 1e-6, double(bytes) / parts / pixels, double(mergedBytes) / pixels,
+                    writeSeconds / parts);
+        std::printf("peer, read the bytes:  %6.2f s  %7.1f MB/s  %7.1f M parts x pixels/s\n", readBytesSeconds,
+                    double(bytes) / readBytesSeconds * 1e-6, parts * pixels / readBytesSeconds * 1e-6);
+        std::printf("merge (read + add):    %6.2f s  %7.1f MB/s  %7.1f M parts x pixels/s  (%.2f s a part: read %.2f, add %.2f)\n",
+                    readSeconds + addSeconds, double(bytes) / (readSeconds + addSeconds) * 1e-6,
+                    parts * pixels / (readSeconds + addSeconds) * 1e-6, (readSeconds + addSeconds) / parts,
+                    readSeconds / parts, addSeconds / parts);
+        std::printf("merge, all of it:      %6.2f s  (checks %.2f s, writing the merged film %.2f s)\n", mergeSeconds,
+                    finishSeconds, mergedWriteSeconds);
+        std::printf("merge / peer time: %.1f\n", (readSeconds + addSeconds) / readBytesSeconds);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "penumbra_merge_throughput: error: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}
