@@ -83,6 +83,17 @@ Bounds3f boundsOverShutter(const MotionTransform& motion, const Bounds3f& object
     return padded(result, pad);
 }
 
+// A world box holding `objectBox` placed by `toWorld`: its transformed corners (the transform
+// being affine), padded for their rounding.
+Bounds3f placedBounds(const Transform& toWorld, const Bounds3f& objectBox) {
+    Bounds3f result;
+    for (int c = 0; c < 8; ++c)
+        result.extend(toWorld.applyPoint({(c & 1) ? objectBox.upper.x : objectBox.lower.x,
+                                          (c & 2) ? objectBox.upper.y : objectBox.lower.y,
+                                          (c & 4) ? objectBox.upper.z : objectBox.lower.z}));
+    return padded(result, 0.0f);
+}
+
 }  // namespace
 
 BvhAccelerator::BvhAccelerator(const SceneGeometry& scene, const BvhBuildSettings& settings) {
@@ -227,12 +238,13 @@ void BvhAccelerator::addMovingPrimitives(const SceneGeometry& scene, const BvhBu
         bounds.push_back(box);
         specials_.push_back(special);
     };
-    // An instance: the shape alone, in object space, in a tree of its own.
-    auto addInstance = [&](SceneGeometry&& child, const MotionTransform& motion, uint32_t geomId, uint32_t primId) {
-        auto accelerator = std::make_unique<BvhAccelerator>(child, settings);
-        skippedCount_ += accelerator->skippedCount_;
-        if (accelerator->nodes_.empty()) return;
-        const Bounds3f worldBox = boundsOverShutter(motion, accelerator->bounds_);
+    // An instance of tree `child` (object space), placed by `motion` when it moves, else by
+    // `placement`, and boxed in the world over the whole shutter.
+    auto placeInstance = [&](const BvhAccelerator* child, const MotionTransform& motion, const Transform& placement,
+                             uint32_t geomId, uint32_t primId) {
+        if (child->nodes_.empty()) return;
+        const Bounds3f worldBox = motion.moves() ? boundsOverShutter(motion, child->bounds_)
+                                                 : placedBounds(placement, child->bounds_);
         if (!isFinite(worldBox.lower) || !isFinite(worldBox.upper)) {
             ++skippedCount_;
             return;
@@ -242,9 +254,34 @@ void BvhAccelerator::addMovingPrimitives(const SceneGeometry& scene, const BvhBu
         special.primId = primId;
         special.source = uint32_t(instances_.size());
         special.isInstance = true;
-        instances_.push_back({motion, std::move(accelerator)});
+        instances_.push_back({motion, placement, child});
         addSpecial(special, worldBox);
     };
+    // A moving shape: the shape alone, in object space, in a tree of its own.
+    auto addInstance = [&](SceneGeometry&& child, const MotionTransform& motion, uint32_t geomId, uint32_t primId) {
+        auto accelerator = std::make_unique<BvhAccelerator>(child, settings);
+        skippedCount_ += accelerator->skippedCount_;
+        children_.push_back(std::move(accelerator));
+        placeInstance(children_.back().get(), motion, Transform(), geomId, primId);
+    };
+    // The scene's instances: one tree per prototype (its positions and indices only), traversed
+    // by every instance that places it (pbrt-v4's TransformedPrimitive over a shared BVHAggregate).
+    std::vector<const BvhAccelerator*> prototypeTrees;
+    for (const TriangleMesh& prototype : scene.prototypes) {
+        SceneGeometry child;
+        child.meshes.emplace_back();
+        child.meshes[0].positions = prototype.positions;
+        child.meshes[0].indices = prototype.indices;
+        auto accelerator = std::make_unique<BvhAccelerator>(child, settings);
+        skippedCount_ += accelerator->skippedCount_;
+        children_.push_back(std::move(accelerator));
+        prototypeTrees.push_back(children_.back().get());
+    }
+    for (size_t k = 0; k < scene.instances.size(); ++k) {
+        const MeshInstance& instance = scene.instances[k];
+        placeInstance(prototypeTrees[instance.prototype], instance.motion, instance.placement,
+                      scene.instanceGeomId(k), kNoHit);
+    }
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
         const TriangleMesh& mesh = scene.meshes[m];
         if (mesh.motion.moves()) {
@@ -317,9 +354,10 @@ bool BvhAccelerator::intersectSpecial(const Ray& ray, const WatertightRay& trian
         return true;
     }
     const Instance& instance = instances_[special.source];
-    // The same transform the shading code places the hit with; the direction is not normalized,
+    // The same transform the shading code places the hit with, and the same object-space ray that
+    // hits are recomputed with (geometry/surface_interaction.h); the direction is not normalized,
     // so t is the same in both spaces.
-    const Transform toWorld = instance.motion.at(ray.time);
+    const Transform toWorld = instance.motion.moves() ? instance.motion.at(ray.time) : instance.placement;
     const Transform toObject = toWorld.inverse();
     Ray objectRay = ray;
     objectRay.origin = toObject.applyPoint(ray.origin);
@@ -353,10 +391,12 @@ BvhAccelerator::Stats BvhAccelerator::stats() const {
                     meshFirstTriangle_.capacity() * sizeof(uint32_t) + specials_.capacity() * sizeof(Special);
     for (const auto& keys : deformingMeshes_)
         for (const auto& key : keys) s.memoryBytes += key.capacity() * sizeof(Vec3f);
-    for (const Instance& instance : instances_) {
-        const Stats child = instance.child->stats();
-        s.memoryBytes += child.memoryBytes;
-        s.primitiveCount += child.primitiveCount;
+    // Each tree once, however many instances share it.
+    s.memoryBytes += instances_.capacity() * sizeof(Instance);
+    for (const auto& child : children_) {
+        const Stats c = child->stats();
+        s.memoryBytes += c.memoryBytes;
+        s.primitiveCount += c.primitiveCount;
     }
     return s;
 }

@@ -19,6 +19,12 @@
 // conservatively over the whole shutter and intersected with the ray taken into object space by
 // motion.at(time).inverse() (the direction is not normalized, so t carries over). These are
 // "special" primitives whose global index is past the spheres', so a static scene pays nothing.
+//
+// Instancing (SceneGeometry::instances) is the same two-level structure: each prototype mesh gets
+// one bottom-level tree, built once, and every instance is a special primitive of the top level,
+// boxed by its placement (over the shutter when it moves), that takes the ray into the
+// prototype's space and traverses the shared tree; a hit names the instance's geomId and the
+// prototype's triangle.
 #pragma once
 
 #include <cstddef>
@@ -97,9 +103,11 @@ private:
         uint32_t vertex[3];       // deforming triangle: its vertex indices
         bool isInstance;
     };
+    // A tree placed in the world: by `motion` when it moves, else by `placement`.
     struct Instance {
         MotionTransform motion;
-        std::unique_ptr<BvhAccelerator> child;  // object space, never moving
+        Transform placement;
+        const BvhAccelerator* child;  // object space, never moving; one of children_
     };
     // Intersects special primitive `index` within [ray.tnear, tFar]; on a hit sets t and, for a
     // deforming triangle, the barycentrics, or for an instance, `instanceHit`.
@@ -118,6 +126,9 @@ private:
     std::vector<Special> specials_;
     std::vector<std::vector<std::vector<Vec3f>>> deformingMeshes_;  // position keys
     std::vector<Instance> instances_;
+    // The trees instances place: one per moving shape and one per prototype, shared by all its
+    // instances.
+    std::vector<std::unique_ptr<BvhAccelerator>> children_;
     size_t skippedCount_ = 0;
     size_t leafCount_ = 0;
     int maxDepth_ = 0;

@@ -99,6 +99,18 @@ RTCGeometry newMotionInstance(RTCDevice device, RTCScene child, const MotionTran
     return instance;
 }
 
+// A still instance: the prototype's scene placed by one affine transform.
+RTCGeometry newStillInstance(RTCDevice device, RTCScene child, const Transform& toWorld) {
+    RTCGeometry instance = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
+    rtcSetGeometryInstancedScene(instance, child);
+    float rows[12];
+    for (int row = 0; row < 3; ++row)
+        for (int column = 0; column < 4; ++column) rows[4 * row + column] = toWorld.matrix().m[row][column];
+    rtcSetGeometryTransform(instance, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, rows);
+    rtcCommitGeometry(instance);
+    return instance;
+}
+
 }  // namespace
 
 EmbreeAccelerator::EmbreeAccelerator(const SceneGeometry& scene, EmbreeOptions options) {
@@ -121,6 +133,28 @@ EmbreeAccelerator::EmbreeAccelerator(const SceneGeometry& scene, EmbreeOptions o
         attach(scene_, newMotionInstance(device_, child, mesh.motion), unsigned(i));
     }
     sphereGeomId_ = scene.sphereGeomId();
+    // Instances: each prototype is a scene of its own, built once, that all its instances place
+    // (Embree's instanced_geometry tutorial). Hits report the instance's geomId in instID[0] and
+    // the prototype's triangle in primID.
+    std::vector<RTCScene> prototypeScenes(scene.prototypes.size(), nullptr);
+    for (size_t p = 0; p < scene.prototypes.size(); ++p) {
+        if (scene.prototypes[p].triangleCount() == 0) continue;
+        RTCScene child = newScene(device_, options);
+        instancedScenes_.push_back(child);
+        attach(child, newTriangleGeometry(device_, scene.prototypes[p]), 0);
+        rtcCommitScene(child);
+        prototypeScenes[p] = child;
+    }
+    for (size_t k = 0; k < scene.instances.size(); ++k) {
+        const MeshInstance& instance = scene.instances[k];
+        RTCScene child = prototypeScenes[instance.prototype];
+        if (!child) continue;
+        attach(scene_,
+               instance.moves() ? newMotionInstance(device_, child, instance.motion)
+                                : newStillInstance(device_, child, instance.placement),
+               scene.instanceGeomId(k));
+    }
+    movingSphereBase_ = scene.instanceGeomId(scene.instances.size());
     std::vector<const Sphere*> staticSpheres;
     for (const Sphere& sphere : scene.spheres)
         if (!sphere.motion.moves()) staticSpheres.push_back(&sphere);
@@ -138,7 +172,7 @@ EmbreeAccelerator::EmbreeAccelerator(const SceneGeometry& scene, EmbreeOptions o
             rtcCommitScene(child);
             MotionTransform placement = sphere.motion;
             if (!placement.moves()) placement.keys = {TransformKey{}, TransformKey{}};  // identity, twice
-            const unsigned geomId = sphereGeomId_ + 1 + unsigned(movingSphereOfGeomId_.size());
+            const unsigned geomId = movingSphereBase_ + unsigned(movingSphereOfGeomId_.size());
             attach(scene_, newMotionInstance(device_, child, placement), geomId);
             movingSphereOfGeomId_.push_back(uint32_t(s));
         }

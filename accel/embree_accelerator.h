@@ -49,11 +49,12 @@ private:
     static bool traceableRows(const Ray& ray, __m128& orgTnear, __m128& dirTime);
     // `ray` in Embree's layout; false (and `out` unset) when Embree must not trace it.
     static bool toTraceableEmbreeRay(const Ray& ray, RTCRay& out);
-    // Scene ids from Embree's (geometry/scene_geometry.h).
+    // Scene ids from Embree's (geometry/scene_geometry.h): Embree's ids are the scene's but for
+    // the moving spheres, numbered after the instances.
     void setIds(unsigned geomId, unsigned primId, Hit& hit) const {
-        if (geomId > sphereGeomId_) [[unlikely]] {
+        if (geomId >= movingSphereBase_) [[unlikely]] {
             hit.geomId = sphereGeomId_;
-            hit.primId = movingSphereOfGeomId_[geomId - sphereGeomId_ - 1];
+            hit.primId = movingSphereOfGeomId_[geomId - movingSphereBase_];
         } else {
             hit.geomId = geomId;
             hit.primId = primId;
@@ -62,9 +63,12 @@ private:
 
     RTCDevice device_ = nullptr;
     RTCScene scene_ = nullptr;
-    std::vector<RTCScene> instancedScenes_;  // one per moving object, released with the backend
-    uint32_t sphereGeomId_ = 0;              // == meshes.size(): all static spheres
-    std::vector<uint32_t> movingSphereOfGeomId_;  // geomId - sphereGeomId_ - 1 -> sphere index
+    // One per moving object and one per prototype (shared by its instances), released with the
+    // backend.
+    std::vector<RTCScene> instancedScenes_;
+    uint32_t sphereGeomId_ = 0;      // == meshes.size(): all static spheres
+    uint32_t movingSphereBase_ = 0;  // Embree's geomId of the first moving sphere, after the instances
+    std::vector<uint32_t> movingSphereOfGeomId_;  // geomId - movingSphereBase_ -> sphere index
 };
 
 inline bool EmbreeAccelerator::traceableRows(const Ray& ray, __m128& orgTnear, __m128& dirTime) {

@@ -3,7 +3,9 @@
 // computing a cross product, a square root and two divisions on the path's critical chain, for
 // 36 bytes per triangle. The frame serves shading wherever the shading normal is the triangle's
 // own (meshes without vertex normals). Meshes that move or deform are not tabulated: their normals
-// change over the shutter and are computed at the hit as before.
+// change over the shutter and are computed at the hit as before. Instanced meshes are tabulated
+// once per prototype, in object space, however many instances place them: a hit on an instance
+// reads its prototype triangle's normal there and transforms it to the world.
 #pragma once
 
 #include <cstdint>
@@ -36,8 +38,15 @@ public:
         return &byMesh_[mesh][triangle];
     }
 
+    // The same for triangle `triangle` of prototype `prototype` (SceneGeometry::prototypes), in
+    // the prototype's own space; prototypes never move, so every one is tabulated.
+    const Frame* findPrototype(uint32_t prototype, uint32_t triangle) const {
+        return &byPrototype_[prototype][triangle];
+    }
+
 private:
     std::vector<std::vector<Frame>> byMesh_;
+    std::vector<std::vector<Frame>> byPrototype_;
 };
 
 }  // namespace penumbra

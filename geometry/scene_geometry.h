@@ -1,21 +1,24 @@
 // The shapes of a scene, and the one rule that names them in a backend's hit: mesh i has geomId i
-// (primId = its triangle), and all spheres share geomId meshes.size() (primId = the sphere).
-// Backends, shading, lights and tools ask shapeOf() or the geomId functions below; nothing else
-// spells the rule out.
+// (primId = its triangle), all spheres share geomId meshes.size() (primId = the sphere), and
+// instance k has geomId meshes.size() + 1 + k (primId = the triangle of its prototype, which the
+// instance names). Backends, shading, lights and tools ask shapeOf() or the geomId functions
+// below; nothing else spells the rule out.
 #pragma once
 
 #include <cstdint>
 #include <vector>
 
 #include "geometry/hit.h"
+#include "geometry/mesh_instance.h"
 #include "geometry/sphere.h"
 #include "geometry/triangle_mesh.h"
 
 namespace penumbra {
 
-enum class ShapeKind : uint8_t { Mesh, Sphere };
+enum class ShapeKind : uint8_t { Mesh, Sphere, Instance };
 
-// Which shape a hit is on: meshes[index] (triangle `primitive`) or spheres[index] (primitive 0).
+// Which shape a hit is on: meshes[index] (triangle `primitive`), spheres[index] (primitive 0) or
+// instances[index] (triangle `primitive` of prototypes[instances[index].prototype]).
 struct ShapeRef {
     ShapeKind kind = ShapeKind::Mesh;
     uint32_t index = 0;
@@ -25,24 +28,53 @@ struct ShapeRef {
 struct SceneGeometry {
     std::vector<TriangleMesh> meshes;
     std::vector<Sphere> spheres;
+    // Meshes defined once and placed by `instances` only; in object space, never moving or
+    // deforming, and neither emitting nor naming a material (their instances do).
+    std::vector<TriangleMesh> prototypes;
+    std::vector<MeshInstance> instances;
 
     uint32_t meshGeomId(size_t mesh) const { return uint32_t(mesh); }
     uint32_t sphereGeomId() const { return uint32_t(meshes.size()); }
+    uint32_t instanceGeomId(size_t instance) const { return uint32_t(meshes.size() + 1 + instance); }
     bool isMeshHit(const Hit& hit) const { return hit.geomId < meshes.size(); }
 
     ShapeRef shapeOf(const Hit& hit) const {
-        if (isMeshHit(hit)) return {ShapeKind::Mesh, hit.geomId, hit.primId};
-        return {ShapeKind::Sphere, hit.primId, 0};
+        if (isMeshHit(hit)) [[likely]] return {ShapeKind::Mesh, hit.geomId, hit.primId};
+        if (hit.geomId == sphereGeomId()) return {ShapeKind::Sphere, hit.primId, 0};
+        return {ShapeKind::Instance, hit.geomId - sphereGeomId() - 1, hit.primId};
     }
     // The hit ids of a shape's primitive (the inverse of shapeOf).
     Hit idsOf(ShapeRef shape) const {
         Hit hit;
-        hit.geomId = shape.kind == ShapeKind::Mesh ? meshGeomId(shape.index) : sphereGeomId();
-        hit.primId = shape.kind == ShapeKind::Mesh ? shape.primitive : shape.index;
+        switch (shape.kind) {
+            case ShapeKind::Mesh: hit.geomId = meshGeomId(shape.index), hit.primId = shape.primitive; break;
+            case ShapeKind::Sphere: hit.geomId = sphereGeomId(), hit.primId = shape.index; break;
+            case ShapeKind::Instance: hit.geomId = instanceGeomId(shape.index), hit.primId = shape.primitive; break;
+        }
         return hit;
     }
-    const MotionTransform& motionOf(ShapeRef shape) const {
-        return shape.kind == ShapeKind::Mesh ? meshes[shape.index].motion : spheres[shape.index].motion;
+    // The triangle mesh a mesh or instance hit lies on (an instance's in object space).
+    const TriangleMesh& triangleMeshOf(ShapeRef shape) const {
+        return shape.kind == ShapeKind::Instance ? prototypes[instances[shape.index].prototype] : meshes[shape.index];
+    }
+    // Object to world at `time` of a moving mesh or sphere or of any instance (identity otherwise:
+    // still meshes and spheres are in world space).
+    Transform toWorldOf(ShapeRef shape, float time) const {
+        switch (shape.kind) {
+            case ShapeKind::Mesh: return meshes[shape.index].motion.at(time);
+            case ShapeKind::Sphere: return spheres[shape.index].motion.at(time);
+            case ShapeKind::Instance: return instances[shape.index].toWorld(time);
+        }
+        return {};
+    }
+    // Whether the shape's geometry is in a space of its own (toWorldOf is not the identity).
+    bool inObjectSpace(ShapeRef shape) const {
+        switch (shape.kind) {
+            case ShapeKind::Mesh: return meshes[shape.index].motion.moves();
+            case ShapeKind::Sphere: return spheres[shape.index].motion.moves();
+            case ShapeKind::Instance: return true;
+        }
+        return false;
     }
 
     // Whether any shape moves or deforms over the shutter.
@@ -51,6 +83,8 @@ struct SceneGeometry {
             if (mesh.moves()) return true;
         for (const Sphere& sphere : spheres)
             if (sphere.motion.moves()) return true;
+        for (const MeshInstance& instance : instances)
+            if (instance.moves()) return true;
         return false;
     }
 };

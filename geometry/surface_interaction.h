@@ -38,9 +38,24 @@ inline Vec3f vertexAt(const TriangleMesh& mesh, uint32_t vertex, float time) {
     return mesh.deforms() ? interpolateKeys(mesh.positionKeys, vertex, time) : mesh.positions[vertex];
 }
 
-// Moves a point and its normals from object to world space for a moving shape.
-// The error bound grows by the transform's own rounding (pbrt-v4, section 6.8.5).
+// The ray in a shape's object space, as both backends trace it there (accel/bvh_accelerator.h,
+// Embree's instances) and as hits are recomputed: the direction is not normalized, so t is the
+// same in both spaces.
+struct ObjectSpaceRay {
+    Vec3f origin, direction;
+};
+inline ObjectSpaceRay toObjectSpace(const Transform& toWorld, const Ray& ray) {
+    const Transform toObject = toWorld.inverse();
+    return {toObject.applyPoint(ray.origin), toObject.applyVector(ray.direction)};
+}
+
+// Moves a point and its normals from object to world space for a moving shape or an instance:
+// the position as a point, the normals by the inverse transpose (renormalized; a mirroring
+// transform keeps them on the side they were on), and the error bound grown by the transform's
+// own rounding (pbrt-v4, section 6.8.5). A shading frame computed beforehand is in object space,
+// so it is dropped: the integrator builds the world one from the shading normal.
 inline void placeInWorld(const Transform& toWorld, SurfaceInteraction& si) {
+    si.shadingFrame = nullptr;
     const Vec3f p = abs(si.position), e = si.positionError;
     for (int row = 0; row < 3; ++row) {
         const auto& m = toWorld.matrix().m[row];
@@ -101,37 +116,56 @@ inline void recomputeTriangleHit(Vec3f origin, Vec3f direction, Vec3f p0, Vec3f 
 
 // The same hit whichever backend found it: t and the barycentrics of the primitive the backend
 // reports are recomputed with the tests our BVH uses (geometry/ray_triangle.h, ray_sphere.h; moving
-// shapes in object space, as the BVH's instances do), so that whenever Embree and the BVH find the
+// shapes and instances in object space, as the BVH traverses them), so that whenever Embree and the BVH find the
 // same primitive everything downstream sees the same bits, and renders with either backend are
 // bit-identical unless some hit differs. Embree rounds differently (its Plücker-form test); should
 // our test miss the primitive (a ray along an edge), the backend's values stay.
 inline void canonicalizeHit(const SceneGeometry& scene, const Ray& ray, Hit& hit) {
-    Vec3f origin = ray.origin, direction = ray.direction;
+    detail::ObjectSpaceRay objectRay{ray.origin, ray.direction};
     const ShapeRef shape = scene.shapeOf(hit);
-    const MotionTransform& motion = scene.motionOf(shape);
-    if (motion.moves()) {
-        // Into object space exactly as the BVH takes a ray into an instance.
-        const Transform toObject = motion.at(ray.time).inverse();
-        origin = toObject.applyPoint(ray.origin);
-        direction = toObject.applyVector(ray.direction);
-    }
-    if (shape.kind == ShapeKind::Mesh) {
-        const TriangleMesh& mesh = scene.meshes[shape.index];
+    // Into object space exactly as the BVH takes a ray into an instance.
+    if (scene.inObjectSpace(shape)) objectRay = detail::toObjectSpace(scene.toWorldOf(shape, ray.time), ray);
+    if (shape.kind != ShapeKind::Sphere) {
+        const TriangleMesh& mesh = scene.triangleMeshOf(shape);
         const uint32_t* index = &mesh.indices[3 * size_t(shape.primitive)];
-        detail::recomputeTriangleHit(origin, direction, detail::vertexAt(mesh, index[0], ray.time),
+        detail::recomputeTriangleHit(objectRay.origin, objectRay.direction, detail::vertexAt(mesh, index[0], ray.time),
                                      detail::vertexAt(mesh, index[1], ray.time),
                                      detail::vertexAt(mesh, index[2], ray.time), ray, hit);
     } else {
         const Sphere& sphere = scene.spheres[shape.index];
         float t;
-        if (intersectSphere(origin, direction, sphere.center, sphere.radius, ray.tnear, ray.tfar, t)) hit.t = t;
+        if (intersectSphere(objectRay.origin, objectRay.direction, sphere.center, sphere.radius, ray.tnear, ray.tfar, t))
+            hit.t = t;
     }
 }
+
+namespace detail {
+
+// The shading point on triangle `shape.primitive` of an instance's prototype, placed in the world;
+// `faceFrames`, when given, supplies the prototype triangle's normal (the same bits as computing it).
+inline SurfaceInteraction instanceInteraction(const SceneGeometry& scene, ShapeRef shape, const Ray& ray,
+                                              const Hit& hit, const FaceFrames* faceFrames) {
+    const MeshInstance& instance = scene.instances[shape.index];
+    const TriangleMesh& mesh = scene.prototypes[instance.prototype];
+    const uint32_t* index = &mesh.indices[3 * size_t(shape.primitive)];
+    SurfaceInteraction si;
+    si.shape = shape;
+    const Frame* faceFrame = faceFrames ? faceFrames->findPrototype(instance.prototype, shape.primitive) : nullptr;
+    const bool hasNormal = triangleInteraction(mesh, index, mesh.positions[index[0]], mesh.positions[index[1]],
+                                               mesh.positions[index[2]], hit, si, faceFrame);
+    placeInWorld(instance.toWorld(ray.time), si);
+    si.material = instance.material;
+    if (!hasNormal) si.geometricNormal = si.shadingNormal = normalize(-ray.direction);
+    return si;
+}
+
+}  // namespace detail
 
 inline SurfaceInteraction makeSurfaceInteraction(const SceneGeometry& scene, const Ray& ray, const Hit& hit) {
     SurfaceInteraction si;
     const ShapeRef shape = scene.shapeOf(hit);
     si.shape = shape;
+    if (shape.kind == ShapeKind::Instance) return detail::instanceInteraction(scene, shape, ray, hit, nullptr);
     if (shape.kind == ShapeKind::Mesh) {
         const TriangleMesh& mesh = scene.meshes[shape.index];
         const uint32_t* index = &mesh.indices[3 * size_t(shape.primitive)];
@@ -189,6 +223,7 @@ template <bool kHitIsCanonical>
         }
     }
     if constexpr (!kHitIsCanonical) canonicalizeHit(scene, ray, hit);
+    if (shape.kind == ShapeKind::Instance) return detail::instanceInteraction(scene, shape, ray, hit, faceFrames);
     return makeSurfaceInteraction(scene, ray, hit);
 }
 

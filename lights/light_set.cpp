@@ -219,6 +219,7 @@ int32_t LightSet::lightIndexOf(ShapeRef shape) const {
             return first < 0 ? -1 : first + int32_t(shape.primitive);
         }
         case ShapeKind::Sphere: return sphereLight_[shape.index];
+        case ShapeKind::Instance: return -1;  // instances never emit (the scene loader refuses it)
     }
     return -1;
 }

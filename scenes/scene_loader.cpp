@@ -449,6 +449,7 @@ TriangleMesh readDisk(const JsonValue& value) {
 struct ShapeContext {
     Scene& scene;
     const fs::path& folder;
+    std::vector<std::string> prototypeNames;  // prototypeNames[i] names scene.prototypes[i]
 };
 
 void readSphere(const JsonValue& value, ShapeContext& context) {
@@ -556,9 +557,65 @@ void readDiskShape(const JsonValue& value, ShapeContext& context) {
     addMeshShape(std::move(mesh), value, false, context.scene);
 }
 
+// Whether every vertex of `mesh` placed by `toWorld` lies within the coordinate limit: the
+// corners of its box, placed, bound them all.
+bool placedWithinCoordinateLimit(const TriangleMesh& mesh, const Transform& toWorld) {
+    if (mesh.positions.empty()) return true;
+    Vec3f lower = mesh.positions.front(), upper = lower;
+    for (const Vec3f& p : mesh.positions) {
+        lower = min(lower, p);
+        upper = max(upper, p);
+    }
+    for (int c = 0; c < 8; ++c)
+        if (!withinCoordinateLimit(toWorld.applyPoint(
+                {(c & 1) ? upper.x : lower.x, (c & 2) ? upper.y : lower.y, (c & 4) ? upper.z : lower.z})))
+            return false;
+    return true;
+}
+
+// {"type": "instance", "prototype": name, "material": name, "transform" or "motion"}: a placement
+// of a mesh of the scene's "prototypes".
+void readInstance(const JsonValue& value, ShapeContext& context) {
+    Scene& scene = context.scene;
+    MeshInstance instance;
+    instance.name = value.pointer();
+    const JsonValue prototypeValue = value.requiredMember("prototype");
+    const std::string name = prototypeValue.string();
+    const auto found = std::find(context.prototypeNames.begin(), context.prototypeNames.end(), name);
+    if (found == context.prototypeNames.end()) {
+        std::string known;
+        for (const std::string& n : context.prototypeNames) known += (known.empty() ? "" : ", ") + n;
+        prototypeValue.fail(fmt::format("unknown prototype \"{}\" ({})", name,
+                                        known.empty() ? "the scene defines no prototypes"
+                                                      : "known prototypes: " + known));
+    }
+    instance.prototype = uint32_t(found - context.prototypeNames.begin());
+    instance.material = readMaterialReference(value.requiredMember("material"), scene.materialNames);
+    if (auto v = value.member("emission"))
+        v->fail("an instance cannot emit light: give the emitting mesh as a shape of its own (triangle_mesh, "
+                "mesh_file, quad or disk)");
+    const auto transformValue = value.member("transform");
+    if (transformValue) instance.placement = readTransform(*transformValue);
+    if (auto v = value.member("motion")) {
+        if (transformValue)
+            v->fail("an instance takes either transform or motion, not both: motion keys scale, rotate and "
+                    "translate the prototype themselves");
+        instance.motion = readMotion(*v, scene.camera, false, 0).transform;
+    }
+    const TriangleMesh& prototype = scene.prototypes[instance.prototype];
+    const std::vector<TransformKey> keys = instance.motion.keys;
+    bool within = keys.empty() ? placedWithinCoordinateLimit(prototype, instance.placement) : true;
+    for (const TransformKey& key : keys) within = within && placedWithinCoordinateLimit(prototype, key.toTransform());
+    if (!within)
+        value.fail(fmt::format("the placed prototype \"{}\" reaches beyond the coordinate limit of {:g} "
+                               "(docs/limits.md)",
+                               name, limits::kMaxCoordinate));
+    scene.instances.push_back(std::move(instance));
+}
+
 using ShapeReader = void (*)(const JsonValue&, ShapeContext&);
 
-const std::array<TypeRow<ShapeReader>, 5> kShapeTypes{{
+const std::array<TypeRow<ShapeReader>, 6> kShapeTypes{{
     {"triangle_mesh", {"type", "positions", "indices", "normals", "uvs", "material", "emission", "transform", "motion"},
      readTriangleMeshShape},
     {"mesh_file", {"type", "file", "material", "emission", "transform", "motion"}, readMeshFileShape},
@@ -566,7 +623,49 @@ const std::array<TypeRow<ShapeReader>, 5> kShapeTypes{{
     {"sphere", {"type", "center", "radius", "material", "emission", "transform", "motion"}, readSphere},
     {"disk", {"type", "center", "normal", "radius", "segments", "material", "emission", "transform", "motion"},
      readDiskShape},
+    {"instance", {"type", "prototype", "material", "emission", "transform", "motion"}, readInstance},
 }};
+
+// A prototype: a mesh in its own space, stored once and placed by "instance" shapes. Its geometry
+// is given as for the mesh shapes (with an optional transform baked in); material, emission and
+// motion belong to the instances.
+using PrototypeReader = TriangleMesh (*)(const JsonValue&, ShapeContext&);
+
+TriangleMesh readInlinePrototype(const JsonValue& value, ShapeContext&) { return readInlineMesh(value); }
+TriangleMesh readMeshFilePrototype(const JsonValue& value, ShapeContext& context) {
+    return readMeshFile(value, context.folder, context.scene.meshFiles);
+}
+TriangleMesh readQuadPrototype(const JsonValue& value, ShapeContext&) { return readQuad(value); }
+TriangleMesh readDiskPrototype(const JsonValue& value, ShapeContext&) { return readDisk(value); }
+
+const std::array<TypeRow<PrototypeReader>, 4> kPrototypeTypes{{
+    {"triangle_mesh", {"type", "positions", "indices", "normals", "uvs", "transform"}, readInlinePrototype},
+    {"mesh_file", {"type", "file", "transform"}, readMeshFilePrototype},
+    {"quad", {"type", "corner", "edge1", "edge2", "transform"}, readQuadPrototype},
+    {"disk", {"type", "center", "normal", "radius", "segments", "transform"}, readDiskPrototype},
+}};
+
+void readPrototypes(const JsonValue& section, ShapeContext& context) {
+    for (const auto& [name, value] : section.members()) {
+        TriangleMesh mesh = findTypeRow<PrototypeReader>(value, kPrototypeTypes).read(value, context);
+        if (mesh.name.empty()) mesh.name = value.pointer();
+        if (auto v = value.member("transform")) {
+            transformMesh(mesh, readTransform(*v));
+            for (size_t i = 0; i < mesh.positions.size(); ++i)
+                if (!isFinite(mesh.positions[i]))
+                    v->fail(fmt::format(
+                        "the transform moves vertex {} (counting from 0) beyond the range of a 32-bit float", i));
+        }
+        for (size_t i = 0; i < mesh.positions.size(); ++i)
+            if (!withinCoordinateLimit(mesh.positions[i]))
+                value.fail(fmt::format("vertex {} (counting from 0) lies at ({}, {}, {}), beyond the coordinate limit "
+                                       "of {:g} (docs/limits.md)",
+                                       i, mesh.positions[i].x, mesh.positions[i].y, mesh.positions[i].z,
+                                       limits::kMaxCoordinate));
+        context.scene.prototypes.push_back(std::move(mesh));
+        context.prototypeNames.push_back(name);
+    }
+}
 
 void readPointLight(const JsonValue& value, Scene& scene) {
     PointLight light;
@@ -600,7 +699,7 @@ Scene buildScene(const Json& document, const fs::path& file) {
     const JsonValue root(document, fileName, "");
     if (!document.is_object()) root.failExpected("a JSON object holding the scene's sections");
     const JsonObject top(
-        root, {"camera", "film", "integrator", "render", "background", "materials", "shapes", "lights"});
+        root, {"camera", "film", "integrator", "render", "background", "materials", "prototypes", "shapes", "lights"});
 
     Scene scene;
     scene.sourcePath = file;
@@ -611,11 +710,11 @@ Scene buildScene(const Json& document, const fs::path& file) {
     if (auto v = top.get("background")) scene.background = v->rgb(0.0f);
     if (auto v = top.get("materials"))
         readMaterials(*v, scene.materials, scene.materialNames);  // before the shapes that name them
-    if (auto v = top.get("shapes")) {
-        const fs::path folder = file.parent_path();
-        ShapeContext context{scene, folder};
+    const fs::path folder = file.parent_path();
+    ShapeContext context{scene, folder, {}};
+    if (auto v = top.get("prototypes")) readPrototypes(*v, context);  // before the instances that name them
+    if (auto v = top.get("shapes"))
         for (const JsonValue& shape : v->elements()) findTypeRow<ShapeReader>(shape, kShapeTypes).read(shape, context);
-    }
     if (auto v = top.get("lights"))
         for (const JsonValue& light : v->elements()) findTypeRow<LightReader>(light, kLightTypes).read(light, scene);
     return scene;

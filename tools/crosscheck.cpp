@@ -64,11 +64,29 @@ SceneExtent measureScene(const Scene& scene) {
         lower = min(lower, s.center - r);
         upper = max(upper, s.center + r);
     }
+    // Instances: the corners of their prototype's box, placed at the shutter's opening and closing.
+    std::vector<std::pair<Vec3f, Vec3f>> prototypeBoxes;
+    for (const TriangleMesh& prototype : scene.prototypes) {
+        Vec3f a{inf, inf, inf}, b{-inf, -inf, -inf};
+        for (const Vec3f& p : prototype.positions) a = min(a, p), b = max(b, p);
+        prototypeBoxes.emplace_back(a, b);
+    }
+    for (const MeshInstance& instance : scene.instances) {
+        const auto [a, b] = prototypeBoxes[instance.prototype];
+        if (!(a.x <= b.x)) continue;
+        for (const float time : {0.0f, 1.0f})
+            for (int c = 0; c < 8; ++c) {
+                const Vec3f p = instance.toWorld(time).applyPoint(
+                    {(c & 1) ? b.x : a.x, (c & 2) ? b.y : a.y, (c & 4) ? b.z : a.z});
+                if (isFinite(p)) lower = min(lower, p), upper = max(upper, p);
+            }
+    }
     if (!(lower.x <= upper.x && lower.y <= upper.y && lower.z <= upper.z)) return {};
     return {lower, upper};
 }
 
-// Every primitive of the scene by one global index: triangles of all meshes in order, then spheres.
+// Every primitive of the scene by one global index: triangles of all meshes in order, then spheres,
+// then the triangles of all instances in order.
 class PrimitiveIndex {
 public:
     explicit PrimitiveIndex(const Scene& scene) : scene_(scene) {
@@ -79,8 +97,14 @@ public:
         }
         first_.push_back(total);
         triangles_ = total;
+        total = 0;
+        for (const MeshInstance& instance : scene.instances) {
+            instanceFirst_.push_back(total);
+            total += scene.prototypes[instance.prototype].triangleCount();
+        }
+        instanceFirst_.push_back(total);
     }
-    uint64_t count() const { return triangles_ + scene_.spheres.size(); }
+    uint64_t count() const { return triangles_ + scene_.spheres.size() + instanceFirst_.back(); }
 
     struct Point {
         Vec3f position, positionError, normal;
@@ -89,6 +113,7 @@ public:
     // A uniformly chosen point on primitive `g`.
     Point sample(uint64_t g, Vec2f u) const {
         Point point;
+        if (g >= triangles_ + scene_.spheres.size()) return sampleInstance(g - triangles_ - scene_.spheres.size(), u);
         if (g >= triangles_) {
             const Sphere& s = scene_.spheres[g - triangles_];
             point.normal = sampleUniformSphere(u);
@@ -117,9 +142,35 @@ public:
     }
 
 private:
+    // A point on instance triangle `g` (counted over all instances), placed where the instance is
+    // at the shutter's opening.
+    Point sampleInstance(uint64_t g, Vec2f u) const {
+        const size_t k = size_t(std::upper_bound(instanceFirst_.begin(), instanceFirst_.end(), g) - instanceFirst_.begin()) - 1;
+        const TriangleMesh& mesh = scene_.prototypes[scene_.instances[k].prototype];
+        const size_t j = size_t(g - instanceFirst_[k]);
+        const Vec3f p0 = mesh.positions[mesh.indices[3 * j]], p1 = mesh.positions[mesh.indices[3 * j + 1]],
+                    p2 = mesh.positions[mesh.indices[3 * j + 2]];
+        const Vec2f b = sampleUniformTriangle(u);
+        SurfaceInteraction si;
+        si.position = p0 * (1.0f - b.x - b.y) + p1 * b.x + p2 * b.y;
+        si.positionError = (abs(p0 * (1.0f - b.x - b.y)) + abs(p1 * b.x) + abs(p2 * b.y)) * gamma(7);
+        const Vec3f n = triangleNormal(p0, p1, p2);
+        si.geometricNormal = si.shadingNormal = n != Vec3f{0.0f, 0.0f, 0.0f} ? n : Vec3f{0.0f, 0.0f, 1.0f};
+        detail::placeInWorld(scene_.instances[k].toWorld(0.0f), si);
+        Point point;
+        point.position = si.position;
+        point.positionError = si.positionError;
+        point.normal = si.geometricNormal;
+        const Hit ids = scene_.idsOf({ShapeKind::Instance, uint32_t(k), uint32_t(j)});
+        point.geomId = ids.geomId;
+        point.primId = ids.primId;
+        return point;
+    }
+
     const Scene& scene_;
     std::vector<uint64_t> first_;
     uint64_t triangles_ = 0;
+    std::vector<uint64_t> instanceFirst_;  // each instance's first triangle, then the total
 };
 
 Ray makeRandomRay(const SceneExtent& extent, RayRandom& random) {
@@ -168,7 +219,7 @@ double relativeDifference(double a, double b) {
     return scale > 0.0 ? std::abs(a - b) / scale : 0.0;
 }
 
-bool isTriangleHit(const Scene& scene, const Hit& hit) { return scene.shapeOf(hit).kind == ShapeKind::Mesh; }
+bool isTriangleHit(const Scene& scene, const Hit& hit) { return scene.shapeOf(hit).kind != ShapeKind::Sphere; }
 
 bool isNearEdge(const Scene& scene, const Hit& hit) {
     if (!isTriangleHit(scene, hit)) return false;
@@ -179,11 +230,12 @@ bool isNearEdge(const Scene& scene, const Hit& hit) {
 float incidenceCosine(const Scene& scene, const Ray& ray, const Hit& hit) {
     Vec3f normal;
     const ShapeRef shape = scene.shapeOf(hit);
-    if (shape.kind == ShapeKind::Mesh) {
-        const TriangleMesh& mesh = scene.meshes[shape.index];
+    if (shape.kind != ShapeKind::Sphere) {
+        const TriangleMesh& mesh = scene.triangleMeshOf(shape);
         const uint32_t* index = &mesh.indices[3 * size_t(shape.primitive)];
         const Vec3f p0 = mesh.positions[index[0]], p1 = mesh.positions[index[1]], p2 = mesh.positions[index[2]];
         normal = cross(p1 - p0, p2 - p0);
+        if (shape.kind == ShapeKind::Instance) normal = scene.toWorldOf(shape, ray.time).applyNormal(normal);
     } else {
         normal = ray.at(hit.t) - scene.spheres[shape.index].center;
     }
@@ -355,14 +407,18 @@ bool MismatchClassifier::isSelfIntersection(const CrosscheckRay& cray, const Bac
 // ray_triangle.h): there rounding cannot tell whether the ray starts before or after the surface.
 bool MismatchClassifier::withinTriangleTestError(const Ray& ray, const Hit& hit) const {
     if (!isTriangleHit(scene_, hit)) return false;
-    const TriangleMesh& mesh = scene_.meshes[hit.geomId];
+    const ShapeRef shape = scene_.shapeOf(hit);
+    const TriangleMesh& mesh = scene_.triangleMeshOf(shape);
     if (mesh.moves()) return false;
     float vertices[9];
     for (int k = 0; k < 3; ++k) {
-        const Vec3f p = mesh.positions[mesh.indices[3 * size_t(hit.primId) + k]];
+        const Vec3f p = mesh.positions[mesh.indices[3 * size_t(shape.primitive) + k]];
         for (int axis = 0; axis < 3; ++axis) vertices[3 * k + axis] = p[axis];
     }
-    return hit.t - ray.tnear <= watertightTErrorBound(WatertightRay(ray.origin, ray.direction), vertices);
+    // An instance's triangle is tested in its prototype's space, as both backends test it.
+    detail::ObjectSpaceRay objectRay{ray.origin, ray.direction};
+    if (shape.kind == ShapeKind::Instance) objectRay = detail::toObjectSpace(scene_.toWorldOf(shape, ray.time), ray);
+    return hit.t - ray.tnear <= watertightTErrorBound(WatertightRay(objectRay.origin, objectRay.direction), vertices);
 }
 
 MismatchKind MismatchClassifier::classify(const CrosscheckRay& cray, const BackendAnswer& ours,
