@@ -65,7 +65,8 @@ struct Scene : SceneGeometry {
     // The mesh files the scene names, in the order it names them (a file named twice is listed
     // twice): with the scene file, what the scene hash in a film's metadata covers.
     std::vector<std::filesystem::path> meshFiles;
-    // The files the scene file includes (pbrt's Include and Import), also covered by the hash.
+    // The files the scene file includes (pbrt's Include and Import) and a patch applied to it
+    // (scene_file.h), also covered by the hash.
     std::vector<std::filesystem::path> includedFiles;
     ThinLensCameraParams camera;
     FilmSettings film;

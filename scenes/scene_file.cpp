@@ -77,16 +77,22 @@ void writeJson(const Json& value, int indent, std::string& out) {
 bool isPbrtScene(const fs::path& file) { return file.extension() == ".pbrt"; }
 
 Scene loadSceneFile(const fs::path& file, const SceneFileOptions& options) {
+    Scene scene;
     if (isPbrtScene(file)) {
         pbrt::PbrtConversion conversion = pbrt::convertPbrtFile(file);
         emitWarnings(conversion.warnings, options.warnings);
         applyPatch(conversion.document, options.patch);
-        return pbrt::buildPbrtScene(conversion, file);
+        scene = pbrt::buildPbrtScene(conversion, file);
+    } else if (options.patch.empty()) {
+        return loadScene(file);
+    } else {
+        Json document = parseJsonText(InputFile(file, "scene file", limits::kMaxSceneFileBytes).readAll(), file.string());
+        applyPatch(document, options.patch);
+        scene = buildScene(document, file);
     }
-    if (options.patch.empty()) return loadScene(file);
-    Json document = parseJsonText(InputFile(file, "scene file", limits::kMaxSceneFileBytes).readAll(), file.string());
-    applyPatch(document, options.patch);
-    return buildScene(document, file);
+    // The patch is part of the scene: the film's scene hash covers it (resume and merge checks).
+    if (!options.patch.empty()) scene.includedFiles.push_back(options.patch);
+    return scene;
 }
 
 std::string convertSceneToJson(const fs::path& file, const fs::path& output, std::vector<std::string>* warnings) {

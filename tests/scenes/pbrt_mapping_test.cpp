@@ -298,6 +298,9 @@ TEST(PbrtMapping, APatchChangesTheConvertedScene) {
     EXPECT_EQ(scene.integrator.maxDepth, 1);
     ASSERT_TRUE(std::holds_alternative<RoughConductor>(scene.materials[0].model()));
     EXPECT_FLOAT_EQ(std::get<RoughConductor>(scene.materials[0].model()).tint.r, 0.3f);
+    // The patch is part of the scene: the film's scene hash covers it.
+    ASSERT_EQ(scene.includedFiles.size(), 1u);
+    EXPECT_EQ(scene.includedFiles[0], dir / "patch.json");
     fs::remove_all(dir);
 }
 

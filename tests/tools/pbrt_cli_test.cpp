@@ -1,0 +1,87 @@
+// pbrt-v4 scenes through the `penumbra` program: `render` takes a .pbrt file with the usual
+// overrides and prints one warning line per kind; `convert` writes penumbra's JSON only when the
+// whole scene is good, and a malformed pbrt file is a FILE:LINE:COLUMN error with nothing written.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "tests/support/run_command.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using penumbra::testing::RunResult;
+using penumbra::testing::runPenumbra;
+
+class PbrtCommandLine : public ::testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() /
+               ("penumbra-pbrt-cli-" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+    fs::path write(const std::string& name, const std::string& text) {
+        std::ofstream(dir_ / name) << text;
+        return dir_ / name;
+    }
+    fs::path dir_;
+};
+
+const char* kScene = R"(Scale -1 1 1
+LookAt 0 1 4  0 0 0  0 1 0
+Camera "perspective" "float fov" 40
+Film "rgb" "integer xresolution" 64 "integer yresolution" 48
+Sampler "sobol" "integer pixelsamples" 64
+WorldBegin
+MakeNamedMedium "fog" "string type" "homogeneous"
+MakeNamedMedium "mist" "string type" "homogeneous"
+LightSource "point" "rgb I" [5 5 5] "point3 from" [0 3 0]
+Shape "trianglemesh" "point3 P" [-2 0 -2 2 0 -2 2 0 2 -2 0 2] "integer indices" [0 2 1 0 3 2]
+)";
+
+bool contains(const RunResult& r, const std::string& text) { return r.output.find(text) != std::string::npos; }
+
+TEST_F(PbrtCommandLine, RenderTakesAPbrtSceneWithOverrides) {
+    const fs::path scene = write("scene.pbrt", kScene);
+    const RunResult r = runPenumbra("render " + scene.string() + " --res 16x12 --spp 2 --no-display -o " +
+                                    (dir_ / "out.exr").string());
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_TRUE(contains(r, "rendered 16x12, samples 0:2")) << r.output;
+    EXPECT_TRUE(fs::exists(dir_ / "out.exr"));
+    // One line for both media, with its first place and the count.
+    EXPECT_TRUE(contains(r, "penumbra: warning: " + scene.string() + ":7:1: MakeNamedMedium is not supported")) << r.output;
+    EXPECT_TRUE(contains(r, "(2 times)")) << r.output;
+}
+
+TEST_F(PbrtCommandLine, ConvertWritesJsonThatRenders) {
+    const fs::path scene = write("scene.pbrt", kScene);
+    fs::create_directories(dir_ / "json");
+    const fs::path json = dir_ / "json" / "scene.json";
+    const RunResult r = runPenumbra("convert " + scene.string() + " -o " + json.string());
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    ASSERT_TRUE(fs::exists(json));
+    const RunResult render = runPenumbra("render " + json.string() + " --res 16x12 --spp 2 --no-display -o " +
+                                         (dir_ / "json.exr").string());
+    EXPECT_EQ(render.exitCode, 0) << render.output;
+}
+
+TEST_F(PbrtCommandLine, AMalformedSceneIsAPlacedErrorAndNothingIsWritten) {
+    const fs::path scene = write("bad.pbrt", "WorldBegin\nAttributeBegin\nShape \"sphere\"\n");
+    const fs::path json = dir_ / "bad.json";
+    const RunResult convert = runPenumbra("convert " + scene.string() + " -o " + json.string());
+    EXPECT_NE(convert.exitCode, 0);
+    EXPECT_TRUE(contains(convert, "penumbra: error: " + scene.string() + ":2:1: AttributeBegin is never closed")) << convert.output;
+    EXPECT_FALSE(fs::exists(json));
+    EXPECT_FALSE(fs::exists(dir_ / "bad.json.partial"));
+    const RunResult render = runPenumbra("render " + scene.string() + " -o " + (dir_ / "bad.exr").string());
+    EXPECT_NE(render.exitCode, 0);
+    EXPECT_TRUE(contains(render, scene.string() + ":2:1: AttributeBegin is never closed")) << render.output;
+    EXPECT_FALSE(fs::exists(dir_ / "bad.exr"));
+}
+
+}  // namespace
