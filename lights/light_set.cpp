@@ -10,7 +10,7 @@ namespace penumbra {
 
 namespace {
 
-// Radius of a sphere that bounds all geometry, for the background's power estimate.
+// Radius of a sphere that bounds all geometry, for the environment's power estimate.
 float sceneBoundingRadius(const SceneGeometry& scene) {
     Vec3f lo{std::numeric_limits<float>::max(), std::numeric_limits<float>::max(), std::numeric_limits<float>::max()};
     Vec3f hi = -lo;
@@ -32,8 +32,8 @@ float sceneBoundingRadius(const SceneGeometry& scene) {
 }  // namespace
 
 LightSet::LightSet(const SceneGeometry& scene, const std::vector<PointLight>& pointLights,
-                   const std::vector<DirectionalLight>& directionalLights, Rgb background)
-    : background_(background) {
+                   const std::vector<DirectionalLight>& directionalLights, const EnvironmentLight& environment)
+    : environment_(environment) {
     std::vector<double> power;
     meshFirstLight_.assign(scene.meshes.size(), -1);
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
@@ -89,14 +89,14 @@ LightSet::LightSet(const SceneGeometry& scene, const std::vector<PointLight>& po
         // The power crossing a disk the size of the scene (pbrt-v4's DistantLight::Phi).
         power.push_back(kPi * sceneRadius * sceneRadius * double(directional.irradiance.luminance()));
     }
-    if (!background_.isBlack()) {
-        backgroundLight_ = int32_t(lights_.size());
+    if (!environment_.isBlack()) {
+        environmentLight_ = int32_t(lights_.size());
         Light light;
-        light.kind = LightKind::Background;
-        light.radiance = background_;
+        light.kind = LightKind::Environment;
         lights_.push_back(light);
-        // Power through a disk the size of the scene, from every direction (pbrt-v4's estimate).
-        power.push_back(4.0 * kPi * kPi * sceneRadius * sceneRadius * double(background_.luminance()));
+        // Power through a disk the size of the scene, from every direction (pbrt-v4's estimate),
+        // with the radiance averaged over the sphere.
+        power.push_back(4.0 * kPi * kPi * sceneRadius * sceneRadius * double(environment_.average().luminance()));
     }
     for (const Light& light : lights_)
         hasAreaLights_ |= light.kind == LightKind::Triangle || light.kind == LightKind::Sphere;
@@ -117,11 +117,13 @@ std::optional<LightSample> LightSet::sampleOther(uint32_t index, Vec3f reference
             ls.isDelta = true;
             return ls;
         }
-        case LightKind::Background: {
-            ls.direction = sampleUniformSphere(u);
+        case LightKind::Environment: {
+            const std::optional<EnvironmentSample> es = environment_.sample(u);
+            if (!es) return std::nullopt;
+            ls.direction = es->direction;
             ls.distance = std::numeric_limits<float>::infinity();
-            ls.radiance = light.radiance;
-            ls.pdf = choicePdf * uniformSpherePdf();
+            ls.radiance = es->radiance;
+            ls.pdf = choicePdf * es->pdf;
             ls.isDelta = false;
             return ls;
         }
@@ -207,7 +209,7 @@ float LightSet::solidAnglePdf(const Light& light, Vec3f reference, Vec3f point) 
         }
         case LightKind::Point:
         case LightKind::Directional:
-        case LightKind::Background: return 0.0f;  // not sampled by solid angle around a point
+        case LightKind::Environment: return 0.0f;  // not sampled by solid angle around a point
     }
     return 0.0f;
 }
@@ -237,9 +239,9 @@ float LightSet::pdfOfHit(Vec3f reference, const SurfaceInteraction& si) const {
     return choice_.probability(size_t(index)) * solidAnglePdf(lights_[index], reference, si.position);
 }
 
-float LightSet::pdfOfBackground() const {
-    if (backgroundLight_ < 0) return 0.0f;
-    return choice_.probability(size_t(backgroundLight_)) * uniformSpherePdf();
+float LightSet::pdfOfEnvironment(Vec3f direction) const {
+    if (environmentLight_ < 0) return 0.0f;
+    return choice_.probability(size_t(environmentLight_)) * environment_.pdf(direction);
 }
 
 }  // namespace penumbra

@@ -17,6 +17,7 @@
 #include "scenes/material_reader.h"
 #include "scenes/mesh_import.h"
 #include "scenes/type_table.h"
+#include "textures/image_file.h"
 
 namespace penumbra {
 
@@ -536,6 +537,46 @@ void readDirectionalLight(const JsonValue& value, Scene& scene) {
 
 using LightReader = void (*)(const JsonValue&, Scene&);
 
+EnvironmentLight readConstantEnvironment(const JsonValue& value, const fs::path&) {
+    return EnvironmentLight::constant(value.requiredMember("radiance").rgb(0.0f));
+}
+
+// An equirectangular image (lights/environment_light.h has its orientation), scaled and rotated.
+EnvironmentLight readImageEnvironment(const JsonValue& value, const fs::path& folder) {
+    const JsonValue fileValue = value.requiredMember("file");
+    fs::path path = fileValue.string();
+    if (path.is_relative()) path = folder / path;
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec))
+        fileValue.fail(fmt::format("the image {} {}", path.string(), fs::exists(path, ec) ? "is not a regular file" : "does not exist"));
+    Rgb scale(1.0f);
+    if (auto v = value.member("scale")) scale = v->rgb(0.0f);
+    Transform rotation;
+    if (auto v = value.member("rotate")) {
+        const JsonObject rotate(*v, {"axis", "degrees"});
+        const JsonValue axisValue = rotate.require("axis");
+        const Vec3f axis = axisValue.vec3();
+        if (!(lengthSquared(axis) > 0.0f)) axisValue.failExpected("a non-zero axis");
+        rotation = Transform::rotate(rotate.require("degrees").number(), axis);
+    }
+    SourceLocation where;
+    where.file = fileValue.file();
+    where.jsonPointer = fileValue.pointer();
+    LinearRgbImage image = readLinearRgbImage(path, where);
+    return EnvironmentLight::fromImage(EnvironmentImage{image.width, image.height, std::move(image.texels)}, scale, rotation);
+}
+
+using EnvironmentReader = EnvironmentLight (*)(const JsonValue&, const fs::path&);
+
+const std::array<TypeRow<EnvironmentReader>, 2> kEnvironmentTypes{{
+    {"constant", {"type", "radiance"}, readConstantEnvironment},
+    {"image", {"type", "file", "scale", "rotate"}, readImageEnvironment},
+}};
+
+EnvironmentLight readEnvironment(const JsonValue& value, const fs::path& folder) {
+    return findTypeRow<EnvironmentReader>(value, kEnvironmentTypes).read(value, folder);
+}
+
 const std::array<TypeRow<LightReader>, 2> kLightTypes{{
     {"point", {"type", "position", "intensity"}, readPointLight},
     {"directional", {"type", "direction", "irradiance"}, readDirectionalLight},
@@ -549,7 +590,7 @@ Scene parseScene(std::string_view jsonText, const fs::path& file) {
     const JsonValue root(document, fileName, "");
     if (!document.is_object()) root.failExpected("a JSON object holding the scene's sections");
     const JsonObject top(
-        root, {"camera", "film", "integrator", "render", "background", "materials", "shapes", "lights"});
+        root, {"camera", "film", "integrator", "render", "background", "environment", "materials", "shapes", "lights"});
 
     Scene scene;
     scene.sourcePath = file;
@@ -557,9 +598,13 @@ Scene parseScene(std::string_view jsonText, const fs::path& file) {
     if (auto v = top.get("film")) scene.film = readFilm(*v);
     if (auto v = top.get("integrator")) scene.integrator = readIntegrator(*v);
     if (auto v = top.get("render")) scene.settings = readRender(*v);
-    if (auto v = top.get("background")) scene.background = v->rgb(0.0f);
+    if (auto v = top.get("background")) scene.environment = EnvironmentLight::constant(v->rgb(0.0f));
+    if (auto v = top.get("environment")) {
+        if (top.get("background")) v->fail("give either \"background\" or \"environment\", not both");
+        scene.environment = readEnvironment(*v, file.parent_path());
+    }
     if (auto v = top.get("materials"))
-        readMaterials(*v, scene.materials, scene.materialNames);  // before the shapes that name them
+        readMaterials(*v, file.parent_path(), scene.materials, scene.materialNames);  // before the shapes that name them
     if (auto v = top.get("shapes")) {
         const fs::path folder = file.parent_path();
         ShapeContext context{scene, folder};
