@@ -157,6 +157,8 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
     float previousBsdfPdf = 0.0f;
     bool previousWasDelta = true;  // the camera vertex: emitters seen directly get full weight
     Vec3f previousPosition = ray.origin;
+    // A textured material's values at the current vertex (Material::at); untouched otherwise.
+    std::optional<Material> textured;
     ++rays.primary;
 
     for (uint32_t bounce = 0;; ++bounce) {
@@ -189,10 +191,10 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
         // Bounce rays leave in unit directions (the BSDF's, turned into the world); only the
         // caller's camera ray may not be.
         const Vec3f wo = bounce == 0 ? -normalize(ray.direction) : -ray.direction;
-        const Material& stored = ctx.scene->materials[si.material];
-        std::optional<Material> textured;
-        if (stored.isTextured()) [[unlikely]] textured.emplace(detail::texturedMaterial(stored, ctx, si, ray.time));
-        const Material& material = textured ? *textured : stored;
+        const Material* shaded = &ctx.scene->materials[si.material];
+        if (shaded->isTextured()) [[unlikely]]
+            shaded = &textured.emplace(detail::texturedMaterial(*shaded, ctx, si, ray.time));
+        const Material& material = *shaded;
         const bool woAbove = dot(wo, si.geometricNormal) > 0.0f;
         if (bounce == 0 && firstHit) *firstHit = {true, hit.t * length(ray.direction), si.shadingNormal, material.albedo()};
 

@@ -12,6 +12,7 @@
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfOutputFile.h>
+#include <Imath/half.h>
 
 #include <algorithm>
 #include <cmath>
@@ -96,10 +97,12 @@ int main(int argc, char** argv) {
         const char* names[3] = {"R", "G", "B"};
         for (const char* name : names) header.channels().insert(name, Imf::Channel(Imf::HALF));
         Imf::OutputFile file(argv[1], header);
+        // Half floats: 11 significant bits are plenty for a sky, and the file stays small.
+        std::vector<Imath::half> halves(pixels.begin(), pixels.end());
         Imf::FrameBuffer buffer;
         for (int c = 0; c < 3; ++c)
-            buffer.insert(names[c], Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(pixels.data() + c), 3 * sizeof(float),
-                                               3 * sizeof(float) * size_t(width)));
+            buffer.insert(names[c], Imf::Slice(Imf::HALF, reinterpret_cast<char*>(halves.data() + c),
+                                               3 * sizeof(Imath::half), 3 * sizeof(Imath::half) * size_t(width)));
         file.setFrameBuffer(buffer);
         file.writePixels(height);
     } catch (const std::exception& e) {
