@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <vector>
@@ -167,6 +168,19 @@ TEST(TextureImage, ReadsWholeImagesLinear) {
     const LinearRgbImage decoded = readLinearRgbImage(png, SourceLocation{});
     EXPECT_NEAR(decoded.texels[0].g, srgbToLinear(128.0 / 255.0), 1e-5);
     EXPECT_NEAR(decoded.texels[0].b, 1.0, 1e-6);
+}
+
+// The shipped environment map is what tools/make_sky makes with its defaults, texel for texel.
+TEST(EnvironmentSkyMap, ShippedMapIsMakeSkysOutput) {
+    const fs::path made = temporaryFile("sky.exr");
+    ASSERT_EQ(std::system((std::string(PENUMBRA_MAKE_SKY) + " " + made.string()).c_str()), 0);
+    const LinearRgbImage fresh = readLinearRgbImage(made, SourceLocation{});
+    const LinearRgbImage shipped = readLinearRgbImage(fs::path(PENUMBRA_SOURCE_DIR) / "scenes/textures/sky.exr", SourceLocation{});
+    ASSERT_EQ(fresh.width, shipped.width);
+    ASSERT_EQ(fresh.height, shipped.height);
+    size_t different = 0;
+    for (size_t i = 0; i < fresh.texels.size(); ++i) different += !(fresh.texels[i] == shipped.texels[i]);
+    EXPECT_EQ(different, 0u);
 }
 
 }  // namespace
