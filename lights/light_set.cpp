@@ -1,5 +1,6 @@
 #include "lights/light_set.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -29,6 +30,19 @@ float sceneBoundingRadius(const SceneGeometry& scene) {
     return any ? std::max(0.5f * length(hi - lo), 1e-3f) : 1.0f;
 }
 
+// A sphere's (u, v) at its outward normal, as geometry/surface_interaction.h computes it.
+Vec2f sphereUv(Vec3f outward) {
+    const float phi = std::atan2(outward.y, outward.x);
+    return {phi < 0.0f ? phi / (2.0f * kPi) + 1.0f : phi / (2.0f * kPi), std::acos(std::clamp(outward.z, -1.0f, 1.0f)) / kPi};
+}
+
+// Textured emission is looked up without a footprint (the finest level).
+Rgb emittedRadiance(const Texture& texture, Vec2f uv) {
+    TextureQuery query;
+    query.uv = uv;
+    return texture.evaluate(query);
+}
+
 }  // namespace
 
 LightSet::LightSet(const SceneGeometry& scene, const std::vector<PointLight>& pointLights,
@@ -48,6 +62,12 @@ LightSet::LightSet(const SceneGeometry& scene, const std::vector<PointLight>& po
             light.p0 = mesh.positions[mesh.indices[3 * t]];
             light.p1 = mesh.positions[mesh.indices[3 * t + 1]];
             light.p2 = mesh.positions[mesh.indices[3 * t + 2]];
+            light.texture = mesh.emission.texture.get();
+            if (light.texture && !mesh.uvs.empty()) {
+                light.uv0 = mesh.uvs[mesh.indices[3 * t]];
+                light.uv1 = mesh.uvs[mesh.indices[3 * t + 1]];
+                light.uv2 = mesh.uvs[mesh.indices[3 * t + 2]];
+            }
             const Vec3f n = cross(light.p1 - light.p0, light.p2 - light.p0);
             light.area = 0.5f * length(n);
             light.normal = light.area > 0.0f ? normalize(n) : Vec3f{0, 0, 1};
@@ -67,6 +87,7 @@ LightSet::LightSet(const SceneGeometry& scene, const std::vector<PointLight>& po
         light.twoSided = sphere.emission.twoSided;
         light.center = sphere.center;
         light.radius = sphere.radius;
+        light.texture = sphere.emission.texture.get();
         lights_.push_back(light);
         const double area = 4.0 * kPi * double(sphere.radius) * sphere.radius;
         power.push_back(double(light.radiance.luminance()) * area * kPi * (light.twoSided ? 2 : 1));
@@ -107,6 +128,7 @@ std::optional<LightSample> LightSet::sampleOther(uint32_t index, Vec3f reference
     const float choicePdf = choice_.probability(index);
     const Light& light = lights_[index];
     LightSample ls{};
+    Vec2f uv{0.0f, 0.0f};  // the sampled point's surface coordinates, for textured emission
     switch (light.kind) {
         case LightKind::Point: return samplePoint(index, reference);
         case LightKind::Directional: {
@@ -133,6 +155,7 @@ std::optional<LightSample> LightSet::sampleOther(uint32_t index, Vec3f reference
             // As for a hit's barycentric interpolation (geometry/surface_interaction.h).
             ls.pointError = (abs(light.p0 * (1.0f - b.x - b.y)) + abs(light.p1 * b.x) + abs(light.p2 * b.y)) * gamma(7);
             ls.lightNormal = light.normal;
+            if (light.texture) uv = light.uv0 * (1.0f - b.x - b.y) + light.uv1 * b.x + light.uv2 * b.y;
             break;
         }
         case LightKind::Sphere: {
@@ -177,7 +200,9 @@ std::optional<LightSample> LightSet::sampleOther(uint32_t index, Vec3f reference
     ls.distance = std::sqrt(distanceSquared);
     ls.direction = toLight / ls.distance;
     const float cosAtLight = dot(ls.lightNormal, -ls.direction);
-    ls.radiance = (cosAtLight > 0.0f || light.twoSided) ? light.radiance : Rgb(0.0f);
+    if (light.kind == LightKind::Sphere && light.texture) uv = sphereUv(ls.lightNormal);
+    const Rgb radiance = light.texture ? emittedRadiance(*light.texture, uv) : light.radiance;
+    ls.radiance = (cosAtLight > 0.0f || light.twoSided) ? radiance : Rgb(0.0f);
     ls.pdf = choicePdf * solidAnglePdf(light, reference, ls.point);
     ls.isDelta = false;
     if (!(ls.pdf > 0.0f) || !std::isfinite(ls.pdf)) return std::nullopt;
@@ -229,7 +254,8 @@ Rgb LightSet::emittedByAreaLight(const SurfaceInteraction& si, Vec3f towardsView
     const int32_t index = lightIndexOf(si.shape);
     if (index < 0) return Rgb(0.0f);
     const Light& light = lights_[index];
-    if (light.twoSided || dot(si.geometricNormal, towardsViewer) > 0.0f) return light.radiance;
+    if (light.twoSided || dot(si.geometricNormal, towardsViewer) > 0.0f)
+        return light.texture ? emittedRadiance(*light.texture, si.uv) : light.radiance;
     return Rgb(0.0f);
 }
 

@@ -31,6 +31,8 @@ struct Light {
     float area = 0;          // triangle area
     Vec3f center;            // sphere centre or point-light position
     float radius = 0;        // sphere radius
+    const Texture* texture = nullptr;  // textured emission (geometry/emission.h); radiance then its average
+    Vec2f uv0, uv1, uv2;     // textured triangles: the vertices' uvs
 };
 
 struct LightSample {

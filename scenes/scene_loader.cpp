@@ -16,6 +16,7 @@
 #include "scenes/json_reader.h"
 #include "scenes/material_reader.h"
 #include "scenes/mesh_import.h"
+#include "scenes/texture_reader.h"
 #include "scenes/type_table.h"
 #include "textures/image_file.h"
 
@@ -160,10 +161,29 @@ RenderSettings readRender(const JsonValue& value) {
     return settings;
 }
 
-Emission readEmission(const JsonValue& value) {
+// "radiance" may be a texture over the shape's (u, v) (scenes/README.md, "Textures"); its average
+// over [0, 1)^2 (32 x 32 lookups) then sets the light's power.
+Emission readEmission(const JsonValue& value, const fs::path& folder) {
     const JsonObject object(value, {"radiance", "two_sided"});
     Emission emission;
-    emission.radiance = object.require("radiance").rgb(0.0f);
+    const JsonValue radiance = object.require("radiance");
+    if (isTextureValue(radiance)) {
+        emission.texture = std::make_shared<const Texture>(readTexture(radiance, folder, 0.0f, std::numeric_limits<float>::max()));
+        const int n = 32;
+        double sum[3] = {0.0, 0.0, 0.0};
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                TextureQuery query;
+                query.uv = {(i + 0.5f) / n, (j + 0.5f) / n};
+                const Rgb c = emission.texture->evaluate(query);
+                for (int k = 0; k < 3; ++k) sum[k] += std::max(0.0f, c[k]);
+            }
+        emission.radiance = Rgb(float(sum[0] / (n * n)), float(sum[1] / (n * n)), float(sum[2] / (n * n)));
+        if (emission.radiance.isBlack())
+            radiance.fail("the emission texture is black at every one of 32 x 32 points spread over [0, 1)^2");
+    } else {
+        emission.radiance = radiance.rgb(0.0f);
+    }
     if (auto v = object.get("two_sided")) emission.twoSided = v->boolean();
     return emission;
 }
@@ -411,7 +431,7 @@ void readSphere(const JsonValue& value, ShapeContext& context) {
     sphere.center = value.requiredMember("center").vec3();
     sphere.radius = value.requiredMember("radius").numberAbove(0.0f);
     sphere.material = readMaterialReference(value.requiredMember("material"), scene.materialNames);
-    if (auto v = value.member("emission")) sphere.emission = readEmission(*v);
+    if (auto v = value.member("emission")) sphere.emission = readEmission(*v, context.folder);
     if (auto v = value.member("transform")) {
         const Transform transform = readTransform(*v);
         const std::optional<float> scale = similarityScale(transform);
@@ -437,9 +457,9 @@ void readSphere(const JsonValue& value, ShapeContext& context) {
 
 // What all triangle-mesh shapes share, once their own reader has made the mesh: the material,
 // emission, motion and transform keys.
-void addMeshShape(TriangleMesh mesh, const JsonValue& value, bool allowPositionKeys, Scene& scene) {
+void addMeshShape(TriangleMesh mesh, const JsonValue& value, bool allowPositionKeys, Scene& scene, const fs::path& folder) {
     mesh.material = readMaterialReference(value.requiredMember("material"), scene.materialNames);
-    if (auto v = value.member("emission")) mesh.emission = readEmission(*v);
+    if (auto v = value.member("emission")) mesh.emission = readEmission(*v, folder);
     if (auto v = value.member("motion")) {
         if (mesh.emission.emits()) v->fail("moving light sources are not supported: a shape with motion cannot emit");
         ShapeMotion motion = readMotion(*v, scene.camera, allowPositionKeys, mesh.positions.size());
@@ -490,23 +510,23 @@ void addMeshShape(TriangleMesh mesh, const JsonValue& value, bool allowPositionK
 void readTriangleMeshShape(const JsonValue& value, ShapeContext& context) {
     TriangleMesh mesh = readInlineMesh(value);
     mesh.name = value.pointer();
-    addMeshShape(std::move(mesh), value, true, context.scene);
+    addMeshShape(std::move(mesh), value, true, context.scene, context.folder);
 }
 
 void readMeshFileShape(const JsonValue& value, ShapeContext& context) {
-    addMeshShape(readMeshFile(value, context.folder, context.scene.meshFiles), value, false, context.scene);
+    addMeshShape(readMeshFile(value, context.folder, context.scene.meshFiles), value, false, context.scene, context.folder);
 }
 
 void readQuadShape(const JsonValue& value, ShapeContext& context) {
     TriangleMesh mesh = readQuad(value);
     mesh.name = value.pointer();
-    addMeshShape(std::move(mesh), value, false, context.scene);
+    addMeshShape(std::move(mesh), value, false, context.scene, context.folder);
 }
 
 void readDiskShape(const JsonValue& value, ShapeContext& context) {
     TriangleMesh mesh = readDisk(value);
     mesh.name = value.pointer();
-    addMeshShape(std::move(mesh), value, false, context.scene);
+    addMeshShape(std::move(mesh), value, false, context.scene, context.folder);
 }
 
 using ShapeReader = void (*)(const JsonValue&, ShapeContext&);
