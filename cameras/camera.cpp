@@ -34,6 +34,17 @@ ThinLensCamera::ThinLensCamera(const ThinLensCameraParams& p, int filmWidth, int
     motion_ = p.motion;
 }
 
+CameraFootprint ThinLensCamera::footprint(int samplesPerPixel) const {
+    const Transform toWorld = cameraToWorld(0.0f);
+    CameraFootprint f;
+    f.origin = toWorld.applyPoint({0.0f, 0.0f, 0.0f});
+    f.right = normalize(toWorld.applyVector({1.0f, 0.0f, 0.0f}));
+    f.up = normalize(toWorld.applyVector({0.0f, 1.0f, 0.0f}));
+    f.pixelSpacing = 2.0f * halfHeight_ * invHeight_;
+    f.sampleScale = std::max(0.125f, 1.0f / std::sqrt(float(std::max(samplesPerPixel, 1))));
+    return f;
+}
+
 Vec2f ThinLensCamera::sampleAperture(Vec2f u) const {
     if (apertureBlades_ < 3) return sampleUniformDiskConcentric(u);
     // Uniform on a regular polygon: the blade's triangle (centre, vertex i, vertex i + 1) is

@@ -9,6 +9,7 @@
 #include "core/ray.h"
 #include "core/transform.h"
 #include "core/vec.h"
+#include "textures/texture_footprint.h"
 
 namespace penumbra {
 
@@ -53,6 +54,9 @@ public:
 
     // The camera-to-world transform at a shutter fraction.
     Transform cameraToWorld(float time = 0.0f) const;
+    // What a texture lookup's footprint needs of the camera (textures/texture_footprint.h), at
+    // shutter open, for `samplesPerPixel` samples per pixel.
+    CameraFootprint footprint(int samplesPerPixel) const;
 
 private:
     // A point on the unit aperture (disk or polygon) from a uniform 2D sample.

@@ -9,6 +9,8 @@ namespace penumbra::limits {
 
 // Image width and height (scene "film.resolution", --res, a film's EXR windows).
 constexpr int kMaxImageSide = 1 << 16;
+// Texels of an image read whole into memory (an environment map): 2^27, 1.5 GiB of RGB floats.
+constexpr int64_t kMaxImageTexels = int64_t(1) << 27;
 
 // Bytes of a scene file (JSON): parsing takes about four times its size in memory.
 constexpr uint64_t kMaxSceneFileBytes = uint64_t(256) << 20;

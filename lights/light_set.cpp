@@ -1,5 +1,6 @@
 #include "lights/light_set.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -10,7 +11,7 @@ namespace penumbra {
 
 namespace {
 
-// Radius of a sphere that bounds all geometry, for the background's power estimate.
+// Radius of a sphere that bounds all geometry, for the environment's power estimate.
 float sceneBoundingRadius(const SceneGeometry& scene) {
     Vec3f lo{std::numeric_limits<float>::max(), std::numeric_limits<float>::max(), std::numeric_limits<float>::max()};
     Vec3f hi = -lo;
@@ -29,11 +30,24 @@ float sceneBoundingRadius(const SceneGeometry& scene) {
     return any ? std::max(0.5f * length(hi - lo), 1e-3f) : 1.0f;
 }
 
+// A sphere's (u, v) at its outward normal, as geometry/surface_interaction.h computes it.
+Vec2f sphereUv(Vec3f outward) {
+    const float phi = std::atan2(outward.y, outward.x);
+    return {phi < 0.0f ? phi / (2.0f * kPi) + 1.0f : phi / (2.0f * kPi), std::acos(std::clamp(outward.z, -1.0f, 1.0f)) / kPi};
+}
+
+// Textured emission is looked up without a footprint (the finest level).
+Rgb emittedRadiance(const Texture& texture, Vec2f uv) {
+    TextureQuery query;
+    query.uv = uv;
+    return texture.evaluate(query);
+}
+
 }  // namespace
 
 LightSet::LightSet(const SceneGeometry& scene, const std::vector<PointLight>& pointLights,
-                   const std::vector<DirectionalLight>& directionalLights, Rgb background)
-    : background_(background) {
+                   const std::vector<DirectionalLight>& directionalLights, const EnvironmentLight& environment)
+    : environment_(environment) {
     std::vector<double> power;
     meshFirstLight_.assign(scene.meshes.size(), -1);
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
@@ -48,6 +62,12 @@ LightSet::LightSet(const SceneGeometry& scene, const std::vector<PointLight>& po
             light.p0 = mesh.positions[mesh.indices[3 * t]];
             light.p1 = mesh.positions[mesh.indices[3 * t + 1]];
             light.p2 = mesh.positions[mesh.indices[3 * t + 2]];
+            light.texture = mesh.emission.texture.get();
+            if (light.texture && !mesh.uvs.empty()) {
+                light.uv0 = mesh.uvs[mesh.indices[3 * t]];
+                light.uv1 = mesh.uvs[mesh.indices[3 * t + 1]];
+                light.uv2 = mesh.uvs[mesh.indices[3 * t + 2]];
+            }
             const Vec3f n = cross(light.p1 - light.p0, light.p2 - light.p0);
             light.area = 0.5f * length(n);
             light.normal = light.area > 0.0f ? normalize(n) : Vec3f{0, 0, 1};
@@ -67,6 +87,7 @@ LightSet::LightSet(const SceneGeometry& scene, const std::vector<PointLight>& po
         light.twoSided = sphere.emission.twoSided;
         light.center = sphere.center;
         light.radius = sphere.radius;
+        light.texture = sphere.emission.texture.get();
         lights_.push_back(light);
         const double area = 4.0 * kPi * double(sphere.radius) * sphere.radius;
         power.push_back(double(light.radiance.luminance()) * area * kPi * (light.twoSided ? 2 : 1));
@@ -89,14 +110,14 @@ LightSet::LightSet(const SceneGeometry& scene, const std::vector<PointLight>& po
         // The power crossing a disk the size of the scene (pbrt-v4's DistantLight::Phi).
         power.push_back(kPi * sceneRadius * sceneRadius * double(directional.irradiance.luminance()));
     }
-    if (!background_.isBlack()) {
-        backgroundLight_ = int32_t(lights_.size());
+    if (!environment_.isBlack()) {
+        environmentLight_ = int32_t(lights_.size());
         Light light;
-        light.kind = LightKind::Background;
-        light.radiance = background_;
+        light.kind = LightKind::Environment;
         lights_.push_back(light);
-        // Power through a disk the size of the scene, from every direction (pbrt-v4's estimate).
-        power.push_back(4.0 * kPi * kPi * sceneRadius * sceneRadius * double(background_.luminance()));
+        // Power through a disk the size of the scene, from every direction (pbrt-v4's estimate),
+        // with the radiance averaged over the sphere.
+        power.push_back(4.0 * kPi * kPi * sceneRadius * sceneRadius * double(environment_.average().luminance()));
     }
     for (const Light& light : lights_)
         hasAreaLights_ |= light.kind == LightKind::Triangle || light.kind == LightKind::Sphere;
@@ -107,6 +128,7 @@ std::optional<LightSample> LightSet::sampleOther(uint32_t index, Vec3f reference
     const float choicePdf = choice_.probability(index);
     const Light& light = lights_[index];
     LightSample ls{};
+    Vec2f uv{0.0f, 0.0f};  // the sampled point's surface coordinates, for textured emission
     switch (light.kind) {
         case LightKind::Point: return samplePoint(index, reference);
         case LightKind::Directional: {
@@ -117,11 +139,13 @@ std::optional<LightSample> LightSet::sampleOther(uint32_t index, Vec3f reference
             ls.isDelta = true;
             return ls;
         }
-        case LightKind::Background: {
-            ls.direction = sampleUniformSphere(u);
+        case LightKind::Environment: {
+            const std::optional<EnvironmentSample> es = environment_.sample(u);
+            if (!es) return std::nullopt;
+            ls.direction = es->direction;
             ls.distance = std::numeric_limits<float>::infinity();
-            ls.radiance = light.radiance;
-            ls.pdf = choicePdf * uniformSpherePdf();
+            ls.radiance = es->radiance;
+            ls.pdf = choicePdf * es->pdf;
             ls.isDelta = false;
             return ls;
         }
@@ -131,6 +155,7 @@ std::optional<LightSample> LightSet::sampleOther(uint32_t index, Vec3f reference
             // As for a hit's barycentric interpolation (geometry/surface_interaction.h).
             ls.pointError = (abs(light.p0 * (1.0f - b.x - b.y)) + abs(light.p1 * b.x) + abs(light.p2 * b.y)) * gamma(7);
             ls.lightNormal = light.normal;
+            if (light.texture) uv = light.uv0 * (1.0f - b.x - b.y) + light.uv1 * b.x + light.uv2 * b.y;
             break;
         }
         case LightKind::Sphere: {
@@ -175,7 +200,9 @@ std::optional<LightSample> LightSet::sampleOther(uint32_t index, Vec3f reference
     ls.distance = std::sqrt(distanceSquared);
     ls.direction = toLight / ls.distance;
     const float cosAtLight = dot(ls.lightNormal, -ls.direction);
-    ls.radiance = (cosAtLight > 0.0f || light.twoSided) ? light.radiance : Rgb(0.0f);
+    if (light.kind == LightKind::Sphere && light.texture) uv = sphereUv(ls.lightNormal);
+    const Rgb radiance = light.texture ? emittedRadiance(*light.texture, uv) : light.radiance;
+    ls.radiance = (cosAtLight > 0.0f || light.twoSided) ? radiance : Rgb(0.0f);
     ls.pdf = choicePdf * solidAnglePdf(light, reference, ls.point);
     ls.isDelta = false;
     if (!(ls.pdf > 0.0f) || !std::isfinite(ls.pdf)) return std::nullopt;
@@ -207,7 +234,7 @@ float LightSet::solidAnglePdf(const Light& light, Vec3f reference, Vec3f point) 
         }
         case LightKind::Point:
         case LightKind::Directional:
-        case LightKind::Background: return 0.0f;  // not sampled by solid angle around a point
+        case LightKind::Environment: return 0.0f;  // not sampled by solid angle around a point
     }
     return 0.0f;
 }
@@ -228,7 +255,8 @@ Rgb LightSet::emittedByAreaLight(const SurfaceInteraction& si, Vec3f towardsView
     const int32_t index = lightIndexOf(si.shape);
     if (index < 0) return Rgb(0.0f);
     const Light& light = lights_[index];
-    if (light.twoSided || dot(si.geometricNormal, towardsViewer) > 0.0f) return light.radiance;
+    if (light.twoSided || dot(si.geometricNormal, towardsViewer) > 0.0f)
+        return light.texture ? emittedRadiance(*light.texture, si.uv) : light.radiance;
     return Rgb(0.0f);
 }
 
@@ -238,9 +266,9 @@ float LightSet::pdfOfHit(Vec3f reference, const SurfaceInteraction& si) const {
     return choice_.probability(size_t(index)) * solidAnglePdf(lights_[index], reference, si.position);
 }
 
-float LightSet::pdfOfBackground() const {
-    if (backgroundLight_ < 0) return 0.0f;
-    return choice_.probability(size_t(backgroundLight_)) * uniformSpherePdf();
+float LightSet::pdfOfEnvironment(Vec3f direction) const {
+    if (environmentLight_ < 0) return 0.0f;
+    return choice_.probability(size_t(environmentLight_)) * environment_.pdf(direction);
 }
 
 }  // namespace penumbra

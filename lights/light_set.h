@@ -1,6 +1,8 @@
-// The lights of a scene as one closed set: emitting triangles, emitting spheres, point lights and
-// the constant background. Next-event estimation picks one light with probability proportional
-// to its power, then a point on it (triangles by area, spheres by the solid angle they subtend).
+// The lights of a scene as one closed set: emitting triangles, emitting spheres, point and
+// directional lights and the environment (lights/environment_light.h). Next-event estimation picks
+// one light with probability proportional to its power, then a point on it (triangles by area,
+// spheres by the solid angle they subtend) or a direction (the environment: uniformly for a
+// constant one, by luminance for an image).
 #pragma once
 
 #include <cmath>
@@ -13,26 +15,29 @@
 #include "core/vec.h"
 #include "geometry/scene_geometry.h"
 #include "geometry/surface_interaction.h"
+#include "lights/environment_light.h"
 #include "lights/light.h"
 
 namespace penumbra {
 
-enum class LightKind : uint8_t { Triangle, Sphere, Point, Directional, Background };
+enum class LightKind : uint8_t { Triangle, Sphere, Point, Directional, Environment };
 
 struct Light {
     LightKind kind = LightKind::Point;
-    Rgb radiance;            // area lights, background: radiance; point: intensity; directional: irradiance
+    Rgb radiance;            // area lights: radiance; point: intensity; directional: irradiance
     bool twoSided = false;   // area lights
     Vec3f p0, p1, p2;        // triangle vertices
     Vec3f normal;            // triangle front normal (unit); directional: the direction light travels
     float area = 0;          // triangle area
     Vec3f center;            // sphere centre or point-light position
     float radius = 0;        // sphere radius
+    const Texture* texture = nullptr;  // textured emission (geometry/emission.h); radiance then its average
+    Vec2f uv0, uv1, uv2;     // textured triangles: the vertices' uvs
 };
 
 struct LightSample {
     Vec3f direction;   // unit, from the reference point towards the light
-    float distance;    // to the sampled point; infinity for the background
+    float distance;    // to the sampled point; infinity for the environment
     Vec3f point;       // sampled point on the light (for area lights)
     Vec3f pointError;  // bound on each coordinate's absolute error of point (core/ray_offset.h)
     Vec3f lightNormal; // front normal at the sampled point (area lights)
@@ -45,12 +50,12 @@ class LightSet {
 public:
     LightSet() = default;
     LightSet(const SceneGeometry& geometry, const std::vector<PointLight>& pointLights,
-             const std::vector<DirectionalLight>& directionalLights, Rgb background);
+             const std::vector<DirectionalLight>& directionalLights, const EnvironmentLight& environment);
 
     bool empty() const { return choice_.empty(); }
-    // Whether a ray can find emission by hitting something (an area light or the background);
+    // Whether a ray can find emission by hitting something (an area light or the environment);
     // with only point and directional lights it cannot.
-    bool emitsAlongRays() const { return hasAreaLights_ || !background_.isBlack(); }
+    bool emitsAlongRays() const { return hasAreaLights_ || !environment_.isBlack(); }
     size_t size() const { return lights_.size(); }
 
     // Next-event estimation in two steps, so that the point sample is only drawn when it is used:
@@ -70,12 +75,15 @@ public:
     Rgb emitted(const SurfaceInteraction& si, Vec3f towardsViewer) const {
         return hasAreaLights_ ? emittedByAreaLight(si, towardsViewer) : Rgb(0.0f);
     }
-    Rgb background() const { return background_; }
+    bool hasEnvironment() const { return !environment_.isBlack(); }
+    // Radiance arriving along -direction from the environment, for a ray that escapes.
+    Rgb environmentRadiance(Vec3f direction) const { return environment_.radiance(direction); }
 
     // Density with which sample() from `reference` would have produced the emitter point `si`
     // (solid angle, light choice included): the MIS weight of a BSDF-sampled hit.
     float pdfOfHit(Vec3f reference, const SurfaceInteraction& si) const;
-    float pdfOfBackground() const;
+    // The same for a ray that escaped along `direction` (the ray's own: it need not be unit).
+    float pdfOfEnvironment(Vec3f direction) const;
 
 private:
     std::optional<LightSample> samplePoint(uint32_t index, Vec3f reference) const {
@@ -101,9 +109,9 @@ private:
     DiscreteDistribution choice_;
     std::vector<int32_t> meshFirstLight_;    // per mesh: index of its first triangle light, or -1
     std::vector<int32_t> sphereLight_;       // per sphere: its light index, or -1
-    int32_t backgroundLight_ = -1;
+    int32_t environmentLight_ = -1;
     bool hasAreaLights_ = false;
-    Rgb background_;
+    EnvironmentLight environment_;
 };
 
 }  // namespace penumbra

@@ -18,12 +18,20 @@
 // never evaluated: eval() and pdf() leave them out and only sample() produces them, with
 // BsdfFlags::Specular and pdf = the lobe's probability.
 //
+// Textures: any colour or scalar parameter may vary over the surface (textures/texture.h). The
+// models themselves hold plain values; a textured Material also holds, per textured parameter, the
+// texture and the function that writes its value into the model. At a shading point the integrator
+// asks at(query) for a copy with those values written in; untextured materials (isTextured() false)
+// are used as they are, so they cost nothing more.
+//
 // Adding a material: its header here, one alternative in MaterialModel, one row in the scene
 // loader's material table (scenes/material_reader.cpp), and its tests.
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <variant>
+#include <vector>
 
 #include "core/rgb.h"
 #include "core/vec.h"
@@ -35,11 +43,19 @@
 #include "materials/phong.h"
 #include "materials/rough_conductor.h"
 #include "materials/rough_dielectric.h"
+#include "textures/texture.h"
 
 namespace penumbra {
 
 using MaterialModel = std::variant<Lambert, Phong, Dielectric, ThinDielectric, Mirror, Conductor, RoughConductor,
                                    RoughDielectric, CoatedDiffuse, RoughCoatedDiffuse>;
+
+// One textured parameter: its texture, and how a value of it is written into the model (the scene
+// loader's material table knows which member of which model a key names).
+struct TexturedParameter {
+    Texture texture;
+    void (*apply)(MaterialModel& model, Rgb value);
+};
 
 class Material {
 public:
@@ -49,6 +65,23 @@ public:
         : model_(std::move(model)), twoSided_(twoSided),
           flags_(std::visit([](const auto& m) { return m.kFlags; }, model_)),
           usesLobeSample_(hasSeveralLobes(flags_)), purelySpecular_(penumbra::isPurelySpecular(flags_)) {}
+    // `model` holds the untextured parameters' values; each of `textures` overrides one parameter.
+    Material(MaterialModel model, bool twoSided, std::vector<TexturedParameter> textures) : Material(std::move(model), twoSided) {
+        if (textures.empty()) return;
+        for (const TexturedParameter& p : textures) needsFootprint_ |= p.texture.needsFootprint();
+        textures_ = std::make_shared<const std::vector<TexturedParameter>>(std::move(textures));
+    }
+
+    bool isTextured() const { return textures_ != nullptr; }
+    // Whether a texture lookup needs the pixel's footprint (textures/texture_footprint.h).
+    bool needsFootprint() const { return needsFootprint_; }
+    const std::vector<TexturedParameter>* texturedParameters() const { return textures_.get(); }
+    // This material at a shading point: its textured parameters evaluated there, untextured.
+    [[gnu::noinline]] Material at(const TextureQuery& query) const {
+        MaterialModel model = model_;
+        for (const TexturedParameter& p : *textures_) p.apply(model, p.texture.evaluate(query));
+        return Material(std::move(model), twoSided_);
+    }
 
     const MaterialModel& model() const { return model_; }
     bool twoSided() const { return twoSided_; }
@@ -108,7 +141,9 @@ private:
     }
 
     MaterialModel model_;
+    std::shared_ptr<const std::vector<TexturedParameter>> textures_;  // null: untextured
     bool twoSided_ = true;
+    bool needsFootprint_ = false;
     BsdfFlags flags_;
     // Derived from flags_ once: the integrator asks at every vertex.
     bool usesLobeSample_;

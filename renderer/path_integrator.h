@@ -27,6 +27,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 
 #include "accel/traversal.h"
 #include "core/check.h"
@@ -36,10 +37,12 @@
 #include "core/sampler.h"
 #include "film/aov.h"
 #include "geometry/face_frames.h"
+#include "geometry/surface_derivatives.h"
 #include "geometry/surface_interaction.h"
 #include "lights/light_set.h"
 #include "materials/material.h"
 #include "scenes/scene.h"
+#include "textures/texture_footprint.h"
 
 namespace penumbra {
 
@@ -62,11 +65,13 @@ struct IntegratorContext {
     bool canonicalHits = true;  // RenderSettings::canonicalHits
     LightStrategy strategy = LightStrategy::Mis;
     const FaceFrames* faceFrames = nullptr;  // optional: the still meshes' normals and frames, computed beforehand
+    CameraFootprint footprint;  // for textures that filter by footprint (textures/texture_footprint.h)
 
     // The context of a scene's render: its lights, and its integrator settings.
-    static IntegratorContext forScene(const Scene& scene, const LightSet& lights, const FaceFrames* faceFrames = nullptr) {
+    static IntegratorContext forScene(const Scene& scene, const LightSet& lights, const FaceFrames* faceFrames = nullptr,
+                                      const CameraFootprint& footprint = {}) {
         return {&scene, &lights, scene.integrator.maxDepth, scene.integrator.rouletteStartDepth,
-                scene.settings.canonicalHits, scene.integrator.strategy, faceFrames};
+                scene.settings.canonicalHits, scene.integrator.strategy, faceFrames, footprint};
     }
 };
 
@@ -101,6 +106,19 @@ inline bool isUnit(Vec3f v) { return std::abs(length(v) - 1.0f) < 1e-3f; }
 [[gnu::always_inline]] inline float hitWeight(LightStrategy strategy, float bsdfPdf, float lightPdf) {
     if (strategy == LightStrategy::Mis) return powerHeuristic(bsdfPdf, lightPdf);
     return strategy == LightStrategy::Bsdf || !(lightPdf > 0.0f) ? 1.0f : 0.0f;
+}
+
+// The material at `si` with its textures evaluated there (Material::at), the footprint computed
+// only when a texture filters by it. Out of line: untextured scenes never call it.
+[[gnu::noinline]] inline Material texturedMaterial(const Material& material, const IntegratorContext& ctx,
+                                                   const SurfaceInteraction& si, float time) {
+    TextureQuery query;
+    query.uv = si.uv;
+    if (material.needsFootprint()) {
+        const SurfaceDerivatives d = surfaceDerivatives(*ctx.scene, si, time);
+        query = textureQueryAt(ctx.footprint, si.position, si.geometricNormal, si.uv, d.dpdu, d.dpdv);
+    }
+    return material.at(query);
 }
 
 // A shadow ray from `si` to a point on a light; both ends are moved off their surfaces, so the
@@ -139,6 +157,8 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
     float previousBsdfPdf = 0.0f;
     bool previousWasDelta = true;  // the camera vertex: emitters seen directly get full weight
     Vec3f previousPosition = ray.origin;
+    // A textured material's values at the current vertex (Material::at); untouched otherwise.
+    std::optional<Material> textured;
     ++rays.primary;
 
     for (uint32_t bounce = 0;; ++bounce) {
@@ -152,12 +172,16 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
         } else {
             found = accel.intersect(ray, hit);
         }
-        // --- Escape: the background, weighted against its NEE.
+        // --- Escape: the environment, weighted against its NEE.
         if (!found) {
-            const Rgb background = lights.background();
-            if (!background.isBlack()) {
-                const float weight = previousWasDelta ? 1.0f : detail::hitWeight(ctx.strategy, previousBsdfPdf, lights.pdfOfBackground());
-                radiance += throughput * background * weight;
+            if (lights.hasEnvironment()) {
+                const Rgb environment = lights.environmentRadiance(ray.direction);
+                if (!environment.isBlack()) {
+                    const float weight = previousWasDelta ? 1.0f
+                                                          : detail::hitWeight(ctx.strategy, previousBsdfPdf,
+                                                                              lights.pdfOfEnvironment(ray.direction));
+                    radiance += throughput * environment * weight;
+                }
             }
             break;
         }
@@ -167,7 +191,10 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
         // Bounce rays leave in unit directions (the BSDF's, turned into the world); only the
         // caller's camera ray may not be.
         const Vec3f wo = bounce == 0 ? -normalize(ray.direction) : -ray.direction;
-        const Material& material = ctx.scene->materials[si.material];
+        const Material* shaded = &ctx.scene->materials[si.material];
+        if (shaded->isTextured()) [[unlikely]]
+            shaded = &textured.emplace(detail::texturedMaterial(*shaded, ctx, si, ray.time));
+        const Material& material = *shaded;
         const bool woAbove = dot(wo, si.geometricNormal) > 0.0f;
         if (bounce == 0 && firstHit) *firstHit = {true, hit.t * length(ray.direction), si.shadingNormal, material.albedo()};
 

@@ -16,7 +16,7 @@ public:
     explicit PreparedScene(const Scene& scene)
         : scene_(scene),
           camera_(scene.camera, scene.film.width, scene.film.height),
-          lights_(scene, scene.pointLights, scene.directionalLights, scene.background),
+          lights_(scene, scene.pointLights, scene.directionalLights, scene.environment),
           faceFrames_(scene),
           moves_(scene.hasMotion()) {}
     // The context points into this object.
@@ -28,7 +28,9 @@ public:
     const LightSet& lights() const { return lights_; }
     // Whether a ray's time matters (otherwise no time sample is drawn).
     bool moves() const { return moves_; }
-    IntegratorContext integratorContext() const { return IntegratorContext::forScene(scene_, lights_, &faceFrames_); }
+    IntegratorContext integratorContext() const {
+        return IntegratorContext::forScene(scene_, lights_, &faceFrames_, camera_.footprint(scene_.film.samplesPerPixel));
+    }
 
 private:
     const Scene& scene_;

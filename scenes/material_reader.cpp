@@ -7,11 +7,40 @@
 #include <cmath>
 #include <optional>
 
+#include "scenes/texture_reader.h"
 #include "scenes/type_table.h"
 
 namespace penumbra {
 
 namespace {
+
+// What a material's reader needs besides its JSON: the scene file's folder (for image files) and
+// the textured parameters it collects.
+struct MaterialContext {
+    const std::filesystem::path& folder;
+    std::vector<TexturedParameter> textures;
+};
+
+using ApplyColor = void (*)(MaterialModel&, Rgb);
+
+// A colour parameter within [min, max]: its constant value, or (a texture object) the default
+// value, with the texture recorded to override it at each shading point through `apply`.
+Rgb readColorParameter(const JsonValue& value, float min, float max, Rgb defaultValue, MaterialContext& context,
+                       ApplyColor apply) {
+    if (!isTextureValue(value)) return value.rgb(min, max);
+    context.textures.push_back({readTexture(value, context.folder, min, max), apply});
+    return defaultValue;
+}
+
+// Texture values clamped to what the parameter allows (images may hold anything).
+Rgb clampedColor(Rgb c, float max = 1.0f) {
+    return {std::clamp(c.r, 0.0f, max), std::clamp(c.g, 0.0f, max), std::clamp(c.b, 0.0f, max)};
+}
+
+// A textured roughness (its first channel) as the distribution's slopes.
+void setRoughness(MicrofacetDistribution& d, Rgb value) {
+    d.alphaX = d.alphaY = std::max(roughnessToAlpha(std::clamp(value.r, 0.0f, 1.0f)), 1e-4f);
+}
 
 FresnelModel readFresnel(const JsonValue& value) {
     return value.choice({"exact", "schlick"}) == 0 ? FresnelModel::Exact : FresnelModel::Schlick;
@@ -36,19 +65,28 @@ bool readTwoSided(const JsonValue& material) {
     return v ? v->boolean() : true;
 }
 
-Material readLambert(const JsonValue& material) {
+Material readLambert(const JsonValue& material, MaterialContext& context) {
     Lambert lambert;
-    if (auto v = material.member("albedo")) lambert.albedo = v->rgb(0.0f, 1.0f);
-    return Material(lambert, readTwoSided(material));
+    if (auto v = material.member("albedo"))
+        lambert.albedo = readColorParameter(*v, 0.0f, 1.0f, lambert.albedo, context, [](MaterialModel& m, Rgb c) {
+            std::get<Lambert>(m).albedo = clampedColor(c);
+        });
+    return Material(lambert, readTwoSided(material), std::move(context.textures));
 }
 
-Material readPhong(const JsonValue& material) {
+// Textured diffuse and specular colours are each clamped to [0, 1]; their sum is not checked.
+Material readPhong(const JsonValue& material, MaterialContext& context) {
     Phong phong;
-    if (auto v = material.member("diffuse")) phong.kd = v->rgb(0.0f, 1.0f);
+    if (auto v = material.member("diffuse"))
+        phong.kd = readColorParameter(*v, 0.0f, 1.0f, phong.kd, context, [](MaterialModel& m, Rgb c) {
+            std::get<Phong>(m).kd = clampedColor(c);
+        });
     if (auto v = material.member("exponent")) phong.exponent = v->numberAtLeast(0.0f);
     const bool twoSided = readTwoSided(material);
     if (auto v = material.member("specular")) {
-        phong.ks = v->rgb(0.0f, 1.0f);
+        phong.ks = readColorParameter(*v, 0.0f, 1.0f, phong.ks, context, [](MaterialModel& m, Rgb c) {
+            std::get<Phong>(m).ks = clampedColor(c);
+        });
         // diffuse alone is at most 1, so a sum above 1 always involves a given specular.
         static constexpr const char* kChannels[] = {"red", "green", "blue"};
         for (int c = 0; c < 3; ++c)
@@ -58,27 +96,32 @@ Material readPhong(const JsonValue& material) {
                     "the {} channel has {} + {} = {}",
                     kChannels[c], phong.kd[c], phong.ks[c], phong.kd[c] + phong.ks[c]));
     }
-    return Material(phong, twoSided);
+    return Material(phong, twoSided, std::move(context.textures));
 }
 
-Material readThinDielectric(const JsonValue& material) {
+Material readThinDielectric(const JsonValue& material, MaterialContext&) {
     ThinDielectric thin;
     if (auto v = material.member("eta")) thin.eta = v->numberAbove(0.0f);
     if (auto v = material.member("fresnel")) thin.fresnel = readFresnel(*v);
     return Material(thin);
 }
 
-Material readMirror(const JsonValue& material) {
+Material readMirror(const JsonValue& material, MaterialContext& context) {
     Mirror mirror;
-    if (auto v = material.member("tint")) mirror.tint = v->rgb(0.0f, 1.0f);
-    return Material(mirror, readTwoSided(material));
+    if (auto v = material.member("tint"))
+        mirror.tint = readColorParameter(*v, 0.0f, 1.0f, mirror.tint, context, [](MaterialModel& m, Rgb c) {
+            std::get<Mirror>(m).tint = clampedColor(c);
+        });
+    return Material(mirror, readTwoSided(material), std::move(context.textures));
 }
 
 
 // A rough surface's microfacet distribution: "distribution" ("ggx" or "beckmann") and the slopes
 // from "roughness" r in [0, 1] (alpha = r^2) or "alpha" > 0, each a number or [along u, along v]
 // for an anisotropic surface; none when no roughness is given.
-std::optional<MicrofacetDistribution> readDistribution(const JsonValue& material) {
+// A textured "roughness" (an object) gives an isotropic rough surface whose slopes come from the
+// texture's first channel at each point (`textured` is set; the slopes returned are placeholders).
+std::optional<MicrofacetDistribution> readDistribution(const JsonValue& material, bool* textured = nullptr) {
     const auto roughness = material.member("roughness");
     const auto alpha = material.member("alpha");
     const auto kind = material.member("distribution");
@@ -86,6 +129,14 @@ std::optional<MicrofacetDistribution> readDistribution(const JsonValue& material
     if (!roughness && !alpha) {
         if (kind) kind->fail("a distribution needs a \"roughness\" or an \"alpha\"");
         return std::nullopt;
+    }
+    if (roughness && isTextureValue(*roughness)) {
+        if (!textured) roughness->fail("this material's roughness cannot be a texture");
+        *textured = true;
+        MicrofacetDistribution d;
+        if (kind) d.kind = kind->choice({"ggx", "beckmann"}) == 0 ? MicrofacetKind::Ggx : MicrofacetKind::Beckmann;
+        d.alphaX = d.alphaY = 0.25f;
+        return d;
     }
     const JsonValue& value = roughness ? *roughness : *alpha;
     auto read = [&](const JsonValue& v) {
@@ -131,38 +182,66 @@ Rgb readConductorEta(const JsonValue& material) {
 }
 
 // "conductor" and "rough_conductor" (whose table row also accepts the roughness keys).
-Material readConductor(const JsonValue& material) {
+Material readConductor(const JsonValue& material, MaterialContext& context) {
     const Rgb eta = readConductorEta(material);
     const Rgb k = material.requiredMember("k").rgb(0.0f);
+    bool texturedRoughness = false;
+    const std::optional<MicrofacetDistribution> distribution = readDistribution(material, &texturedRoughness);
+    const bool smooth = isSmooth(distribution) && !texturedRoughness;
     Rgb tint(1.0f);
-    if (auto v = material.member("tint")) tint = v->rgb(0.0f, 1.0f);
-    const std::optional<MicrofacetDistribution> distribution = readDistribution(material);
-    if (isSmooth(distribution)) return Material(Conductor{eta, k, tint}, readTwoSided(material));
-    return Material(RoughConductor{eta, k, clampedForRendering(*distribution), tint}, readTwoSided(material));
+    if (auto v = material.member("tint")) {
+        tint = smooth ? readColorParameter(*v, 0.0f, 1.0f, tint, context,
+                                           [](MaterialModel& m, Rgb c) { std::get<Conductor>(m).tint = clampedColor(c); })
+                      : readColorParameter(*v, 0.0f, 1.0f, tint, context, [](MaterialModel& m, Rgb c) {
+                            std::get<RoughConductor>(m).tint = clampedColor(c);
+                        });
+    }
+    if (smooth) return Material(Conductor{eta, k, tint}, readTwoSided(material), std::move(context.textures));
+    if (texturedRoughness)
+        context.textures.push_back({readTexture(*material.member("roughness"), context.folder, 0.0f, 1.0f),
+                                    [](MaterialModel& m, Rgb r) { setRoughness(std::get<RoughConductor>(m).distribution, r); }});
+    return Material(RoughConductor{eta, k, clampedForRendering(*distribution), tint}, readTwoSided(material),
+                    std::move(context.textures));
 }
 
 // "dielectric" and "rough_dielectric", likewise.
-Material readDielectric(const JsonValue& material) {
+Material readDielectric(const JsonValue& material, MaterialContext& context) {
     Dielectric smooth;
     if (auto v = material.member("eta")) smooth.eta = v->numberAbove(0.0f);
     if (auto v = material.member("fresnel")) smooth.fresnel = readFresnel(*v);
     if (auto v = material.member("absorption")) smooth.absorption = readAbsorption(*v);
-    const std::optional<MicrofacetDistribution> distribution = readDistribution(material);
-    if (isSmooth(distribution)) return Material(smooth);
-    return Material(RoughDielectric{smooth.eta, smooth.fresnel, smooth.absorption, clampedForRendering(*distribution)});
+    bool texturedRoughness = false;
+    const std::optional<MicrofacetDistribution> distribution = readDistribution(material, &texturedRoughness);
+    if (isSmooth(distribution) && !texturedRoughness) return Material(smooth);
+    if (texturedRoughness)
+        context.textures.push_back({readTexture(*material.member("roughness"), context.folder, 0.0f, 1.0f),
+                                    [](MaterialModel& m, Rgb r) { setRoughness(std::get<RoughDielectric>(m).distribution, r); }});
+    return Material(RoughDielectric{smooth.eta, smooth.fresnel, smooth.absorption, clampedForRendering(*distribution)},
+                    true, std::move(context.textures));
 }
 
-Material readCoatedDiffuse(const JsonValue& material) {
-    Rgb albedo(0.5f);
-    if (auto v = material.member("albedo")) albedo = v->rgb(0.0f, 1.0f);
+Material readCoatedDiffuse(const JsonValue& material, MaterialContext& context) {
     float eta = 1.5f;
     if (auto v = material.member("eta")) eta = v->numberAbove(0.0f);
-    const std::optional<MicrofacetDistribution> distribution = readDistribution(material);
-    if (isSmooth(distribution)) return Material(CoatedDiffuse::make(albedo, eta), readTwoSided(material));
-    return Material(RoughCoatedDiffuse::make(albedo, eta, clampedForRendering(*distribution)), readTwoSided(material));
+    bool texturedRoughness = false;
+    const std::optional<MicrofacetDistribution> distribution = readDistribution(material, &texturedRoughness);
+    const bool smooth = isSmooth(distribution) && !texturedRoughness;
+    Rgb albedo(0.5f);
+    if (auto v = material.member("albedo"))
+        albedo = smooth ? readColorParameter(*v, 0.0f, 1.0f, albedo, context,
+                                             [](MaterialModel& m, Rgb c) { std::get<CoatedDiffuse>(m).albedo = clampedColor(c); })
+                        : readColorParameter(*v, 0.0f, 1.0f, albedo, context, [](MaterialModel& m, Rgb c) {
+                              std::get<RoughCoatedDiffuse>(m).albedo = clampedColor(c);
+                          });
+    if (smooth) return Material(CoatedDiffuse::make(albedo, eta), readTwoSided(material), std::move(context.textures));
+    if (texturedRoughness)
+        context.textures.push_back({readTexture(*material.member("roughness"), context.folder, 0.0f, 1.0f),
+                                    [](MaterialModel& m, Rgb r) { setRoughness(std::get<RoughCoatedDiffuse>(m).distribution, r); }});
+    return Material(RoughCoatedDiffuse::make(albedo, eta, clampedForRendering(*distribution)), readTwoSided(material),
+                    std::move(context.textures));
 }
 
-using MaterialReader = Material (*)(const JsonValue&);
+using MaterialReader = Material (*)(const JsonValue&, MaterialContext&);
 
 const std::array<TypeRow<MaterialReader>, 9> kMaterialTypes{{
     {"lambert", {"type", "albedo", "two_sided"}, readLambert},
@@ -178,9 +257,11 @@ const std::array<TypeRow<MaterialReader>, 9> kMaterialTypes{{
 
 }  // namespace
 
-void readMaterials(const JsonValue& section, std::vector<Material>& materials, std::vector<std::string>& names) {
+void readMaterials(const JsonValue& section, const std::filesystem::path& folder, std::vector<Material>& materials,
+                   std::vector<std::string>& names) {
     for (const auto& [name, value] : section.members()) {
-        materials.push_back(findTypeRow<MaterialReader>(value, kMaterialTypes).read(value));
+        MaterialContext context{folder, {}};
+        materials.push_back(findTypeRow<MaterialReader>(value, kMaterialTypes).read(value, context));
         names.push_back(name);
     }
 }

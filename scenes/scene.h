@@ -13,6 +13,7 @@
 #include "core/rgb.h"
 #include "core/sampler.h"
 #include "geometry/scene_geometry.h"
+#include "lights/environment_light.h"
 #include "lights/light.h"
 #include "materials/material.h"
 
@@ -76,7 +77,9 @@ struct Scene : SceneGeometry {
     std::vector<std::string> materialNames;  // materialNames[i] names materials[i]
     std::vector<PointLight> pointLights;
     std::vector<DirectionalLight> directionalLights;
-    Rgb background;  // constant radiance arriving from every direction that escapes the scene
+    // Light arriving along every direction that escapes the scene: black, a constant (the scene
+    // file's "background") or an image (its "environment").
+    EnvironmentLight environment;
 
     // Whether any shape moves or deforms over the shutter or the camera moves: otherwise a ray's
     // time changes nothing.

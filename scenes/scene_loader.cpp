@@ -17,7 +17,9 @@
 #include "scenes/json_reader.h"
 #include "scenes/material_reader.h"
 #include "scenes/mesh_import.h"
+#include "scenes/texture_reader.h"
 #include "scenes/type_table.h"
+#include "textures/image_file.h"
 
 namespace penumbra {
 
@@ -160,10 +162,29 @@ RenderSettings readRender(const JsonValue& value) {
     return settings;
 }
 
-Emission readEmission(const JsonValue& value) {
+// "radiance" may be a texture over the shape's (u, v) (scenes/README.md, "Textures"); its average
+// over [0, 1)^2 (32 x 32 lookups) then sets the light's power.
+Emission readEmission(const JsonValue& value, const fs::path& folder) {
     const JsonObject object(value, {"radiance", "two_sided"});
     Emission emission;
-    emission.radiance = object.require("radiance").rgb(0.0f);
+    const JsonValue radiance = object.require("radiance");
+    if (isTextureValue(radiance)) {
+        emission.texture = std::make_shared<const Texture>(readTexture(radiance, folder, 0.0f, std::numeric_limits<float>::max()));
+        const int n = 32;
+        double sum[3] = {0.0, 0.0, 0.0};
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                TextureQuery query;
+                query.uv = {(i + 0.5f) / n, (j + 0.5f) / n};
+                const Rgb c = emission.texture->evaluate(query);
+                for (int k = 0; k < 3; ++k) sum[k] += std::max(0.0f, c[k]);
+            }
+        emission.radiance = Rgb(float(sum[0] / (n * n)), float(sum[1] / (n * n)), float(sum[2] / (n * n)));
+        if (emission.radiance.isBlack())
+            radiance.fail("the emission texture is black at every one of 32 x 32 points spread over [0, 1)^2");
+    } else {
+        emission.radiance = radiance.rgb(0.0f);
+    }
     if (auto v = object.get("two_sided")) emission.twoSided = v->boolean();
     return emission;
 }
@@ -459,7 +480,7 @@ void readSphere(const JsonValue& value, ShapeContext& context) {
     sphere.center = value.requiredMember("center").vec3();
     sphere.radius = value.requiredMember("radius").numberAbove(0.0f);
     sphere.material = readMaterialReference(value.requiredMember("material"), scene.materialNames);
-    if (auto v = value.member("emission")) sphere.emission = readEmission(*v);
+    if (auto v = value.member("emission")) sphere.emission = readEmission(*v, context.folder);
     if (auto v = value.member("transform")) {
         const Transform transform = readTransform(*v);
         const std::optional<float> scale = similarityScale(transform);
@@ -485,9 +506,9 @@ void readSphere(const JsonValue& value, ShapeContext& context) {
 
 // What all triangle-mesh shapes share, once their own reader has made the mesh: the material,
 // emission, motion and transform keys.
-void addMeshShape(TriangleMesh mesh, const JsonValue& value, bool allowPositionKeys, Scene& scene) {
+void addMeshShape(TriangleMesh mesh, const JsonValue& value, bool allowPositionKeys, Scene& scene, const fs::path& folder) {
     mesh.material = readMaterialReference(value.requiredMember("material"), scene.materialNames);
-    if (auto v = value.member("emission")) mesh.emission = readEmission(*v);
+    if (auto v = value.member("emission")) mesh.emission = readEmission(*v, folder);
     if (auto v = value.member("motion")) {
         if (mesh.emission.emits()) v->fail("moving light sources are not supported: a shape with motion cannot emit");
         ShapeMotion motion = readMotion(*v, scene.camera, allowPositionKeys, mesh.positions.size());
@@ -538,23 +559,23 @@ void addMeshShape(TriangleMesh mesh, const JsonValue& value, bool allowPositionK
 void readTriangleMeshShape(const JsonValue& value, ShapeContext& context) {
     TriangleMesh mesh = readInlineMesh(value);
     mesh.name = value.pointer();
-    addMeshShape(std::move(mesh), value, true, context.scene);
+    addMeshShape(std::move(mesh), value, true, context.scene, context.folder);
 }
 
 void readMeshFileShape(const JsonValue& value, ShapeContext& context) {
-    addMeshShape(readMeshFile(value, context.folder, context.scene.meshFiles), value, false, context.scene);
+    addMeshShape(readMeshFile(value, context.folder, context.scene.meshFiles), value, false, context.scene, context.folder);
 }
 
 void readQuadShape(const JsonValue& value, ShapeContext& context) {
     TriangleMesh mesh = readQuad(value);
     mesh.name = value.pointer();
-    addMeshShape(std::move(mesh), value, false, context.scene);
+    addMeshShape(std::move(mesh), value, false, context.scene, context.folder);
 }
 
 void readDiskShape(const JsonValue& value, ShapeContext& context) {
     TriangleMesh mesh = readDisk(value);
     mesh.name = value.pointer();
-    addMeshShape(std::move(mesh), value, false, context.scene);
+    addMeshShape(std::move(mesh), value, false, context.scene, context.folder);
 }
 
 // Whether every vertex of `mesh` placed by `toWorld` lies within the coordinate limit: the
@@ -683,6 +704,46 @@ void readDirectionalLight(const JsonValue& value, Scene& scene) {
 
 using LightReader = void (*)(const JsonValue&, Scene&);
 
+EnvironmentLight readConstantEnvironment(const JsonValue& value, const fs::path&) {
+    return EnvironmentLight::constant(value.requiredMember("radiance").rgb(0.0f));
+}
+
+// An equirectangular image (lights/environment_light.h has its orientation), scaled and rotated.
+EnvironmentLight readImageEnvironment(const JsonValue& value, const fs::path& folder) {
+    const JsonValue fileValue = value.requiredMember("file");
+    fs::path path = fileValue.string();
+    if (path.is_relative()) path = folder / path;
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec))
+        fileValue.fail(fmt::format("the image {} {}", path.string(), fs::exists(path, ec) ? "is not a regular file" : "does not exist"));
+    Rgb scale(1.0f);
+    if (auto v = value.member("scale")) scale = v->rgb(0.0f);
+    Transform rotation;
+    if (auto v = value.member("rotate")) {
+        const JsonObject rotate(*v, {"axis", "degrees"});
+        const JsonValue axisValue = rotate.require("axis");
+        const Vec3f axis = axisValue.vec3();
+        if (!(lengthSquared(axis) > 0.0f)) axisValue.failExpected("a non-zero axis");
+        rotation = Transform::rotate(rotate.require("degrees").number(), axis);
+    }
+    SourceLocation where;
+    where.file = fileValue.file();
+    where.jsonPointer = fileValue.pointer();
+    LinearRgbImage image = readLinearRgbImage(path, where);
+    return EnvironmentLight::fromImage(EnvironmentImage{image.width, image.height, std::move(image.texels)}, scale, rotation);
+}
+
+using EnvironmentReader = EnvironmentLight (*)(const JsonValue&, const fs::path&);
+
+const std::array<TypeRow<EnvironmentReader>, 2> kEnvironmentTypes{{
+    {"constant", {"type", "radiance"}, readConstantEnvironment},
+    {"image", {"type", "file", "scale", "rotate"}, readImageEnvironment},
+}};
+
+EnvironmentLight readEnvironment(const JsonValue& value, const fs::path& folder) {
+    return findTypeRow<EnvironmentReader>(value, kEnvironmentTypes).read(value, folder);
+}
+
 const std::array<TypeRow<LightReader>, 2> kLightTypes{{
     {"point", {"type", "position", "intensity"}, readPointLight},
     {"directional", {"type", "direction", "irradiance"}, readDirectionalLight},
@@ -699,7 +760,7 @@ Scene buildScene(const Json& document, const fs::path& file) {
     const JsonValue root(document, fileName, "");
     if (!document.is_object()) root.failExpected("a JSON object holding the scene's sections");
     const JsonObject top(
-        root, {"camera", "film", "integrator", "render", "background", "materials", "prototypes", "shapes", "lights"});
+        root, {"camera", "film", "integrator", "render", "background", "environment", "materials", "prototypes", "shapes", "lights"});
 
     Scene scene;
     scene.sourcePath = file;
@@ -707,9 +768,13 @@ Scene buildScene(const Json& document, const fs::path& file) {
     if (auto v = top.get("film")) scene.film = readFilm(*v);
     if (auto v = top.get("integrator")) scene.integrator = readIntegrator(*v);
     if (auto v = top.get("render")) scene.settings = readRender(*v);
-    if (auto v = top.get("background")) scene.background = v->rgb(0.0f);
+    if (auto v = top.get("background")) scene.environment = EnvironmentLight::constant(v->rgb(0.0f));
+    if (auto v = top.get("environment")) {
+        if (top.get("background")) v->fail("give either \"background\" or \"environment\", not both");
+        scene.environment = readEnvironment(*v, file.parent_path());
+    }
     if (auto v = top.get("materials"))
-        readMaterials(*v, scene.materials, scene.materialNames);  // before the shapes that name them
+        readMaterials(*v, file.parent_path(), scene.materials, scene.materialNames);  // before the shapes that name them
     const fs::path folder = file.parent_path();
     ShapeContext context{scene, folder, {}};
     if (auto v = top.get("prototypes")) readPrototypes(*v, context);  // before the instances that name them

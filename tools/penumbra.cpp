@@ -34,6 +34,7 @@
 #include "renderer/render.h"
 #include "renderer/render_job.h"
 #include "scenes/scene_file.h"
+#include "textures/texture_plugin_loader.h"
 #include "tools/cli_numbers.h"
 #include "tools/split_text.h"
 #include "tools/converge.h"
@@ -61,6 +62,7 @@ struct RenderCommand {
     std::string output;
     bool noDisplay = false;
     bool quiet = false;
+    bool textureStats = false;
     std::string accel = "embree";
     std::string resume;                       // a film to continue up to --spp
     std::optional<double> checkpointMinutes;  // write the film every so often (0: after every pass)
@@ -228,8 +230,20 @@ int runRender(const RenderCommand& cmd) {
                     stats.samples / seconds * 1e-6, stats.rays.total() / seconds * 1e-6,
                     (unsigned long long)stats.rays.primary, (unsigned long long)stats.rays.extension,
                     (unsigned long long)stats.rays.shadow);
+        // Image textures' cache: only when the scene loaded the texture plugin (it names an image).
+        if (texturePluginLoaded()) {
+            unsigned long long lookups = 0, files = 0, bytesRead = 0, cacheBytes = 0;
+            texturePlugin().counters(&lookups, &files, &bytesRead, &cacheBytes);
+            std::printf("  textures: %llu lookups, %llu files, %.1f MB read, %.1f MB in the tile cache\n", lookups, files,
+                        bytesRead * 1e-6, cacheBytes * 1e-6);
+        }
         std::printf("wrote %s\n", exrPath.string().c_str());
         if (!cmd.noDisplay) std::printf("wrote %s\n", displayPath.string().c_str());
+    }
+    if (cmd.textureStats && texturePluginLoaded()) {
+        std::string text(1 << 16, '\0');
+        texturePlugin().statistics(3, text.data(), text.size());
+        std::printf("%s\n", text.c_str());
     }
     if (stats.nonFiniteCount > 0) {
         const NonFiniteSample& first = stats.nonFiniteExamples.front();
@@ -284,6 +298,8 @@ int main(int argc, char** argv) {
     renderApp->add_option("-o,--output", cmd.output,
                           "Output EXR (default out/SCENE_NAME.exr); a PNG through OpenColorIO is written beside it");
     renderApp->add_flag("--no-display", cmd.noDisplay, "Write only the EXR, no display PNG");
+    renderApp->add_flag("--texture-stats", cmd.textureStats,
+                        "Print OpenImageIO's texture cache statistics after the render (scenes with image textures)");
     renderApp->add_flag("-q,--quiet", cmd.quiet, "No progress line and no summary");
     renderApp->add_option("--accel", cmd.accel, "Traversal backend: embree (default) or bvh (our own)")
         ->check(CLI::IsMember({"embree", "bvh"}));

@@ -63,7 +63,7 @@ Scene sphereFurnace(const Material& material, float background) {
     scene.camera.verticalFovDegrees = 16.0f;
     scene.integrator.maxDepth = 10000;  // truncation: the chance of 10000 internal reflections is nil
     scene.settings.seed = 3;
-    scene.background = Rgb(background);
+    scene.environment = EnvironmentLight::constant(Rgb(background));
     scene.materials = {material};
     Sphere sphere;
     sphere.radius = 1.0f;
@@ -82,7 +82,7 @@ Scene quadFurnace(const Material& material, float background, double thetaDegree
     scene.camera.verticalFovDegrees = 0.25f;
     scene.integrator.maxDepth = 1000;
     scene.settings.seed = 11;
-    scene.background = Rgb(background);
+    scene.environment = EnvironmentLight::constant(Rgb(background));
     scene.materials = {material};
     scene.meshes.push_back(testing::makeQuad({-10, -10, 0}, {20, 0, 0}, {0, 20, 0}, 0));
     return scene;
@@ -205,7 +205,7 @@ TEST(Absorption, SlabTransmittanceMatchesBeerLambertWithFresnel) {
     scene.camera.verticalFovDegrees = 0.25f;
     scene.integrator.maxDepth = 1000;
     scene.settings.seed = 5;
-    scene.background = Rgb(1.0f);
+    scene.environment = EnvironmentLight::constant(Rgb(1.0f));
     scene.materials = {m};
     scene.meshes.push_back(testing::makeQuad({-50, -50, 0}, {100, 0, 0}, {0, 100, 0}, 0));           // front, +z
     scene.meshes.push_back(testing::makeQuad({-50, -50, -thickness}, {0, 100, 0}, {100, 0, 0}, 0));  // back, -z

@@ -57,7 +57,7 @@ Scene movingQuadScene(std::vector<TransformKey> keys, bool deform) {
     scene.camera.verticalFovDegrees = 0.01f;
     scene.camera.shutterOpen = 0.0f;
     scene.camera.shutterClose = 1.0f / 48.0f;
-    scene.background = Rgb(1.0f);
+    scene.environment = EnvironmentLight::constant(Rgb(1.0f));
     scene.materials = {testing::makeLambert(Rgb(0.0f))};
     // A unit-wide quad: x in [0, 1] before its motion, at depth 2.
     TriangleMesh quad = testing::makeQuad({0, -5, -2}, {1, 0, 0}, {0, 10, 0}, 0);
@@ -112,7 +112,7 @@ double rotationalAsymmetry(float totalDegrees, AcceleratorKind accelerator) {
     scene.camera.lookAt = {0, 0, -1};
     scene.camera.verticalFovDegrees = 40.0f;
     scene.camera.shutterClose = 1.0f;
-    scene.background = Rgb(1.0f);
+    scene.environment = EnvironmentLight::constant(Rgb(1.0f));
     scene.materials = {testing::makeLambert(Rgb(0.0f))};
     TriangleMesh hand = testing::makeQuad({0, -0.15f, 0}, {0.6f, 0, 0}, {0, 0.3f, 0}, 0);
     for (int k = 0; k <= 8; ++k) {

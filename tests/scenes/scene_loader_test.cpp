@@ -68,7 +68,7 @@ TEST(SceneLoader, ReadsEveryKey) {
     EXPECT_EQ(scene.settings.seed, 42u);
     EXPECT_FALSE(scene.settings.watertight);
     EXPECT_FALSE(scene.settings.canonicalHits);
-    EXPECT_EQ(scene.background, Rgb(0.1f, 0.2f, 0.3f));
+    EXPECT_EQ(scene.environment.constantRadiance(), Rgb(0.1f, 0.2f, 0.3f));
 
     ASSERT_EQ(scene.materials.size(), 3u);  // in file order
     EXPECT_EQ(scene.materialNames[0], "white");
@@ -122,7 +122,7 @@ TEST(SceneLoader, EmptySceneIsValidAndUsesDefaults) {
     EXPECT_TRUE(scene.meshes.empty());
     EXPECT_TRUE(scene.spheres.empty());
     EXPECT_TRUE(scene.pointLights.empty());
-    EXPECT_TRUE(scene.background.isBlack());
+    EXPECT_TRUE(scene.environment.isBlack());
     EXPECT_EQ(scene.film.width, FilmSettings{}.width);
     EXPECT_EQ(scene.film.samplesPerPixel, FilmSettings{}.samplesPerPixel);
     EXPECT_EQ(scene.integrator.strategy, LightStrategy::Mis);
@@ -144,7 +144,7 @@ TEST(SceneLoader, CornellBox) {
     EXPECT_EQ(scene.film.filter, FilterKind::Tent);
     EXPECT_FLOAT_EQ(scene.film.filterRadius, 1.0f);
     EXPECT_EQ(scene.integrator.maxDepth, 65);  // pbrt-v4 file: "integer maxdepth" [ 65 ]
-    EXPECT_TRUE(scene.background.isBlack());
+    EXPECT_TRUE(scene.environment.isBlack());
     EXPECT_TRUE(scene.spheres.empty());
     EXPECT_TRUE(scene.pointLights.empty());
 

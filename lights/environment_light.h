@@ -1,0 +1,86 @@
+// Light arriving from infinitely far away in every direction that leaves the scene: a constant
+// radiance (the scene's "background") or an equirectangular (latitude-longitude) image, rotated
+// and scaled. Rays that escape see it; next-event estimation samples it, the image in proportion
+// to its luminance times sin(theta) (a piecewise-constant 2D distribution over the texels, as
+// pbrt-v4's ImageInfiniteLight and Mitsuba's envmap do), the constant case uniformly over the sphere.
+//
+// The image's parameterisation, in the light's own frame (before its rotation): +y is up. Column
+// coordinate s in [0, 1) is the azimuth phi = 2 pi s, row coordinate t in [0, 1) (top row first)
+// the polar angle theta = pi t from +y; the direction is
+//   (sin theta sin phi, cos theta, -sin theta cos phi),
+// so the image's left edge (and its right edge) looks along -z, its centre along +z (Mitsuba's
+// convention). Lookups take the nearest texel: the radiance is then exactly the piecewise-constant
+// function the sampling distribution is built from.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "core/piecewise_constant_2d.h"
+#include "core/rgb.h"
+#include "core/transform.h"
+#include "core/vec.h"
+
+namespace penumbra {
+
+// Linear RGB texels, rows top to bottom.
+struct EnvironmentImage {
+    int width = 0, height = 0;
+    std::vector<Rgb> texels;
+    Rgb at(int x, int y) const { return texels[size_t(y) * size_t(width) + size_t(x)]; }
+};
+
+struct EnvironmentSample {
+    Vec3f direction;  // unit, world space, towards the environment
+    Rgb radiance;     // arriving along -direction
+    float pdf;        // solid-angle density
+};
+
+class EnvironmentLight {
+public:
+    EnvironmentLight() = default;  // black: no environment
+    static EnvironmentLight constant(Rgb radiance);
+    // `image` scaled by `scale` (per channel), turned by `rotation` (a rotation: world = rotation *
+    // light frame). Negative and non-finite texels count as black.
+    static EnvironmentLight fromImage(EnvironmentImage image, Rgb scale, const Transform& rotation);
+
+    bool isBlack() const { return black_; }
+    bool hasImage() const { return image_ != nullptr; }
+    // The constant radiance (without an image), or the image's scale.
+    Rgb constantRadiance() const { return radiance_; }
+    const EnvironmentImage* image() const { return image_ ? &image_->image : nullptr; }
+
+    // Radiance arriving along -direction (`direction` need not be unit).
+    Rgb radiance(Vec3f direction) const {
+        if (!image_) return radiance_;
+        return lookup(direction);
+    }
+    // A direction for next-event estimation (u in [0, 1)^2); none where the density is zero.
+    std::optional<EnvironmentSample> sample(Vec2f u) const;
+    // The solid-angle density with which sample() produces the unit direction `direction`.
+    float pdf(Vec3f direction) const;
+    // The radiance averaged over the sphere of directions, (1 / 4 pi) * integral of L: the
+    // constant itself for a constant environment. Its luminance sets the light's power.
+    Rgb average() const;
+
+    // The image coordinates (s, t) in [0, 1)^2 of a unit direction in the light's own frame, and back.
+    static Vec2f directionToImage(Vec3f local);
+    static Vec3f imageToDirection(Vec2f st);
+
+private:
+    struct ImageData {
+        EnvironmentImage image;
+        PiecewiseConstant2D distribution;  // luminance * sin(theta) per texel
+        Rgb average;
+    };
+    Rgb lookup(Vec3f direction) const;
+
+    bool black_ = true;
+    Rgb radiance_{0.0f, 0.0f, 0.0f};
+    std::shared_ptr<const ImageData> image_;  // shared: scenes are copied, their images need not be
+    Transform rotation_;                      // light frame -> world
+};
+
+}  // namespace penumbra

@@ -1,0 +1,93 @@
+// A material parameter's value over a surface: a constant, a procedural checkerboard, or an image
+// looked up through OpenImageIO's TextureSystem (textures/texture_plugin.h). Colours are linear
+// RGB; a scalar parameter (roughness) reads the first channel.
+//
+// Coordinates: a texture is looked up at the surface's (u, v) (geometry/surface_interaction.h:
+// mesh uvs, a quad's corners, a sphere's (phi / 2 pi, theta / pi)), first mapped by
+// (u, v) * uvScale + uvOffset. Images put v = 0 at their bottom row (OBJ's and pbrt's convention),
+// so the image row coordinate is t = 1 - v.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <string>
+
+#include "core/rgb.h"
+#include "core/vec.h"
+#include "textures/texture_footprint.h"
+#include "textures/texture_plugin.h"
+
+namespace penumbra {
+
+enum class TextureKind : uint8_t { Constant, Checkerboard, Image };
+
+// How an image is sampled (texture_plugin.h's PenumbraTextureWrap and PenumbraTextureFilter).
+enum class TextureWrap : uint8_t { Repeat, Clamp, Black, Mirror };
+enum class TextureFilter : uint8_t { Closest, Bilinear, Trilinear, Anisotropic };
+
+struct ImageTextureSource {
+    const PenumbraTexturePlugin* plugin = nullptr;
+    void* handle = nullptr;  // the plugin's handle of the opened file
+    int channels = 3;        // of the file
+    TextureWrap wrapS = TextureWrap::Repeat, wrapT = TextureWrap::Repeat;
+    TextureFilter filter = TextureFilter::Trilinear;
+};
+
+class Texture {
+public:
+    Texture() = default;
+    static Texture constant(Rgb value) {
+        Texture t;
+        t.a_ = value;
+        return t;
+    }
+    // Squares of side 1 / frequency in (u, v): colour `a` where floor(u f) + floor(v f) is even, `b`
+    // where it is odd. Point-sampled: the pixel filter does the anti-aliasing.
+    static Texture checkerboard(Rgb a, Rgb b) {
+        Texture t;
+        t.kind_ = TextureKind::Checkerboard;
+        t.a_ = a;
+        t.b_ = b;
+        return t;
+    }
+    // `scale` multiplies the looked-up colour.
+    static Texture image(const ImageTextureSource& source, Rgb scale) {
+        Texture t;
+        t.kind_ = TextureKind::Image;
+        t.image_ = source;
+        t.a_ = scale;
+        return t;
+    }
+    Texture& mapUv(Vec2f scale, Vec2f offset) {
+        uvScale_ = scale;
+        uvOffset_ = offset;
+        return *this;
+    }
+
+    TextureKind kind() const { return kind_; }
+    // Whether a lookup needs a footprint (a filter that chooses a MIP level).
+    bool needsFootprint() const {
+        return kind_ == TextureKind::Image &&
+               (image_.filter == TextureFilter::Trilinear || image_.filter == TextureFilter::Anisotropic);
+    }
+
+    Rgb evaluate(const TextureQuery& query) const {
+        if (kind_ == TextureKind::Constant) return a_;
+        const Vec2f uv{query.uv.x * uvScale_.x + uvOffset_.x, query.uv.y * uvScale_.y + uvOffset_.y};
+        if (kind_ == TextureKind::Checkerboard) {
+            const int64_t parity = int64_t(std::floor(uv.x)) + int64_t(std::floor(uv.y));
+            return (parity & 1) == 0 ? a_ : b_;
+        }
+        return lookupImage(uv, query);
+    }
+
+private:
+    Rgb lookupImage(Vec2f uv, const TextureQuery& query) const;
+
+    TextureKind kind_ = TextureKind::Constant;
+    Rgb a_, b_;  // the constant or the image's scale; the checkerboard's two colours
+    Vec2f uvScale_{1.0f, 1.0f}, uvOffset_{0.0f, 0.0f};
+    ImageTextureSource image_;
+};
+
+}  // namespace penumbra
