@@ -102,7 +102,8 @@ std::string convertSceneToJson(const fs::path& file, const fs::path& output, std
     // Check that the scene builds before anything is written.
     (void)pbrt::buildPbrtScene(conversion, file);
     // Mesh files are named relative to the pbrt file; name them relative to the output.
-    const fs::path from = fs::absolute(file).parent_path(), to = fs::absolute(output).parent_path();
+    const fs::path from = fs::absolute(file).lexically_normal().parent_path(),
+                   to = fs::absolute(output).lexically_normal().parent_path();
     for (Json& shape : conversion.document["shapes"])
         if (shape.contains("file")) {
             const fs::path mesh = fs::path(shape["file"].get<std::string>());

@@ -1,6 +1,7 @@
 #include "scenes/pbrt/materials.h"
 
-#include <OpenImageIO/imagebuf.h>
+#include <OpenEXR/ImfRgbaFile.h>
+#include <OpenEXR/ImfArray.h>
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -16,10 +17,6 @@ namespace {
 
 double shortest(float v) { return std::stod(fmt::format("{}", v)); }  // as in scene_builder.cpp
 Json rgbJson(Rgb c) { return Json::array({shortest(c.r), shortest(c.g), shortest(c.b)}); }
-
-float srgbToLinear(float v) {
-    return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
-}
 
 Rgb clamp01(Rgb c, const Parameter* p, WarningLog& log, std::string_view what) {
     const Rgb clamped{std::clamp(c.r, 0.0f, 1.0f), std::clamp(c.g, 0.0f, 1.0f), std::clamp(c.b, 0.0f, 1.0f)};
@@ -126,33 +123,39 @@ double readScalar(const ParameterList& params, std::string_view name, double fal
 }
 
 std::optional<Rgb> imageMean(const fs::path& file, bool srgbEncoded8Bit, const SourceLocation& where, WarningLog& log) {
+    (void)srgbEncoded8Bit;  // for the 8-bit formats, once penumbra reads them (OpenEXR is linear)
     std::error_code error;
     if (!fs::is_regular_file(file, error)) {
         log.warn(where, fmt::format("image \"{}\" not found", file.string()));
         return std::nullopt;
     }
-    OIIO::ImageBuf image(file.string());
-    if (!image.read(0, 0, true, OIIO::TypeDesc::FLOAT)) {
-        log.warn(where, fmt::format("image \"{}\" could not be read: {}", file.string(), image.geterror()));
+    // OpenEXR only: the program links no other image library (OpenImageIO is loaded for the
+    // display image alone), and pbrt-v4's environment maps are EXR files.
+    if (file.extension() != ".exr") {
+        log.warn(where, fmt::format("image \"{}\" is not an EXR file, which is all penumbra reads here", file.string()));
         return std::nullopt;
     }
-    const OIIO::ImageSpec& spec = image.spec();
-    const bool decode = srgbEncoded8Bit && spec.format == OIIO::TypeDesc::UINT8;
-    const int channels = spec.nchannels;
-    double sum[3] = {0, 0, 0};
-    std::vector<float> pixel(size_t(std::max(channels, 1)));
-    for (int y = spec.y; y < spec.y + spec.height; ++y)
-        for (int x = spec.x; x < spec.x + spec.width; ++x) {
-            image.getpixel(x, y, pixel.data());
-            for (int c = 0; c < 3; ++c) {
-                float v = pixel[size_t(std::min(c, channels - 1))];
-                if (decode) v = srgbToLinear(v);
-                sum[c] += std::isfinite(v) ? v : 0.0;
+    try {
+        Imf::RgbaInputFile input(file.string().c_str());
+        const Imath::Box2i window = input.dataWindow();
+        const int width = window.max.x - window.min.x + 1, height = window.max.y - window.min.y + 1;
+        if (width <= 0 || height <= 0 || uint64_t(width) * uint64_t(height) > (uint64_t(1) << 28)) return std::nullopt;
+        std::vector<Imf::Rgba> row(static_cast<size_t>(width));
+        double sum[3] = {0, 0, 0};
+        for (int y = window.min.y; y <= window.max.y; ++y) {
+            input.setFrameBuffer(row.data() - window.min.x - ptrdiff_t(y) * width, 1, size_t(width));
+            input.readPixels(y, y);
+            for (const Imf::Rgba& p : row) {
+                const float c[3] = {float(p.r), float(p.g), float(p.b)};
+                for (int i = 0; i < 3; ++i) sum[i] += std::isfinite(c[i]) ? c[i] : 0.0;
             }
         }
-    const double n = double(spec.width) * double(spec.height);
-    if (!(n > 0)) return std::nullopt;
-    return Rgb(float(sum[0] / n), float(sum[1] / n), float(sum[2] / n));
+        const double n = double(width) * double(height);
+        return Rgb(float(sum[0] / n), float(sum[1] / n), float(sum[2] / n));
+    } catch (const std::exception& e) {
+        log.warn(where, fmt::format("image \"{}\" could not be read: {}", file.string(), e.what()));
+        return std::nullopt;
+    }
 }
 
 void TextureTable::define(const std::string& name, const std::string& kind, const std::string& textureClass,

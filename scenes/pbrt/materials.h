@@ -41,9 +41,9 @@ Rgb readColor(const ParameterList& params, std::string_view name, Rgb fallback, 
 // A float parameter given as a float or a float texture's name.
 double readScalar(const ParameterList& params, std::string_view name, double fallback, const TextureTable& textures);
 
-// The average of an image file's pixels (linear; 8-bit images in the sRGB encoding are decoded
-// first), for image textures and image environment lights until penumbra reads images itself.
-// Empty, with a warning, when the image cannot be read.
+// The average of an OpenEXR image's pixels, for image textures and image environment lights until
+// penumbra reads images itself. Empty, with a warning, when the image cannot be read or is not
+// an EXR file.
 std::optional<Rgb> imageMean(const std::filesystem::path& file, bool srgbEncoded8Bit, const SourceLocation& where,
                              WarningLog& log);
 
