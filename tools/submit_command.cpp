@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -41,8 +42,8 @@ PartManifest plan(const SubmitCommand& cmd, const fs::path& output) {
     Scene scene = loadScene(m.scene);  // the scene is read (and checked) here, not first on a node
     m.width = scene.film.width;
     m.height = scene.film.height;
-    m.samplesPerPixel = uint32_t(cmd.spp ? *cmd.spp : scene.film.samplesPerPixel);
     if (cmd.spp && *cmd.spp <= 0) throw InputError(fmt::format("--spp: expected a positive integer, got {}", *cmd.spp));
+    m.samplesPerPixel = uint32_t(cmd.spp ? *cmd.spp : scene.film.samplesPerPixel);
     if (!cmd.resolution.empty()) {
         const auto wh = splitText(cmd.resolution, 'x');
         if (wh.size() != 2) throw InputError(fmt::format("--res: expected WIDTHxHEIGHT, got '{}'", cmd.resolution));
