@@ -5,7 +5,13 @@
 // read a part, add it) and writes the result. In the same run, the peer: reading the same files'
 // bytes and nothing else. Prints bytes per pixel on disk, and parts x pixels per second.
 //
-//   penumbra_merge_throughput SCENE [--parts 64] [--res 1920x1080] [--dir /tmp/penumbra-merge-bench]
+//   penumbra_merge_throughput SCENE [--parts 64] [--res 1920x1080] [--dir /tmp/penumbra-merge-bench] [--keep 1]
+//
+// Each phase is timed on the wall clock and in CPU seconds of the process (on a busy shared
+// machine the CPU seconds are the figure to trust). With --keep 1 the part files stay in DIR and
+// a later run reuses them (their writing is then not timed).
+#include <sys/resource.h>
+
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -27,6 +33,13 @@ namespace {
 
 double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
+// User and system CPU seconds of the process so far (every thread).
+double cpuSeconds() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return double(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) + 1e-6 * double(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -40,11 +53,13 @@ int main(int argc, char** argv) {
         scene.film.width = 1920;
         scene.film.height = 1080;
         fs::path dir = "/tmp/penumbra-merge-bench";
+        bool keep = false;
         for (int i = 2; i + 1 < argc; i += 2) {
             const std::string option = argv[i], value = argv[i + 1];
             if (option == "--parts") parts = std::stoi(value);
             else if (option == "--res") std::sscanf(value.c_str(), "%dx%d", &scene.film.width, &scene.film.height);
             else if (option == "--dir") dir = value;
+            else if (option == "--keep") keep = value == "1";
             else throw InputError("unknown option " + option);
         }
         fs::create_directories(dir);
@@ -58,36 +73,45 @@ int main(int argc, char** argv) {
 
         std::vector<fs::path> files;
         auto start = Clock::now();
+        double cpu = cpuSeconds();
+        int written = 0;
         for (int i = 0; i < parts; ++i) {
             RenderMetadata m = job.metadata();
             m.firstSample = uint32_t(i);
             m.endSample = uint32_t(i + 1);
             files.push_back(dir / ("part-" + std::to_string(i) + ".exr"));
+            if (keep && fs::exists(files.back())) continue;
             writeExr(job.film(), m, files.back());
+            ++written;
         }
-        const double writeSeconds = secondsSince(start);
+        const double writeSeconds = secondsSince(start), writeCpu = cpuSeconds() - cpu;
         uint64_t bytes = 0;
         for (const fs::path& f : files) bytes += fs::file_size(f);
 
         // The peer: the files' bytes read, nothing done with them (mostly from the page cache).
         start = Clock::now();
+        cpu = cpuSeconds();
         std::vector<char> buffer(size_t(1) << 24);
         for (const fs::path& f : files) {
             std::ifstream in(f, std::ios::binary);
             while (in.read(buffer.data(), std::streamsize(buffer.size())) || in.gcount() > 0) {
             }
         }
-        const double readBytesSeconds = secondsSince(start);
+        const double readBytesSeconds = secondsSince(start), readBytesCpu = cpuSeconds() - cpu;
 
-        double readSeconds = 0, addSeconds = 0;
+        double readSeconds = 0, addSeconds = 0, readCpu = 0, addCpu = 0;
         FilmMerger merger;
         for (const fs::path& f : files) {
             start = Clock::now();
+            cpu = cpuSeconds();
             FilmFile part = readFilmExr(f);
             readSeconds += secondsSince(start);
+            readCpu += cpuSeconds() - cpu;
             start = Clock::now();
+            cpu = cpuSeconds();
             merger.add(std::move(part), f.string());
             addSeconds += secondsSince(start);
+            addCpu += cpuSeconds() - cpu;
         }
         start = Clock::now();
         MergeResult merged = merger.finish();
@@ -98,25 +122,31 @@ int main(int argc, char** argv) {
         const uint64_t mergedBytes = fs::file_size(dir / "merged.exr");
         if (merged.merged.film.at(0, 0).sampleCount != uint32_t(parts) || merged.merged.metadata.endSample != uint32_t(parts))
             throw InputError("the merged film does not hold every part's sample");
-        for (const fs::path& f : files) fs::remove(f);
+        if (!keep)
+            for (const fs::path& f : files) fs::remove(f);
         fs::remove(dir / "merged.exr");
 
-        const double mergeSeconds = readSeconds + addSeconds + finishSeconds + mergedWriteSeconds;
+        const double mergeSeconds = readSeconds + addSeconds;
+        const double partPixels = parts * pixels;
         std::printf("%s at %dx%d, %d parts of one sample each\n", argv[1], scene.film.width, scene.film.height, parts);
         std::printf("render of one part: %.2f s (%.2f M samples/s)\n", stats.renderSeconds,
                     pixels / stats.renderSeconds * 1e-6);
-        std::printf("part on disk: %.1f MB, %.1f bytes/pixel (merged film: %.1f bytes/pixel); write %.2f s a part\n",
-                    double(bytes) / parts * 1e-6, double(bytes) / parts / pixels, double(mergedBytes) / pixels,
-                    writeSeconds / parts);
-        std::printf("peer, read the bytes:  %6.2f s  %7.1f MB/s  %7.1f M parts x pixels/s\n", readBytesSeconds,
-                    double(bytes) / readBytesSeconds * 1e-6, parts * pixels / readBytesSeconds * 1e-6);
-        std::printf("merge (read + add):    %6.2f s  %7.1f MB/s  %7.1f M parts x pixels/s  (%.2f s a part: read %.2f, add %.2f)\n",
-                    readSeconds + addSeconds, double(bytes) / (readSeconds + addSeconds) * 1e-6,
-                    parts * pixels / (readSeconds + addSeconds) * 1e-6, (readSeconds + addSeconds) / parts,
-                    readSeconds / parts, addSeconds / parts);
-        std::printf("merge, all of it:      %6.2f s  (checks %.2f s, writing the merged film %.2f s)\n", mergeSeconds,
-                    finishSeconds, mergedWriteSeconds);
-        std::printf("merge / peer time: %.1f\n", (readSeconds + addSeconds) / readBytesSeconds);
+        std::printf("part on disk: %.1f MB, %.1f bytes/pixel (merged film: %.1f bytes/pixel)\n",
+                    double(bytes) / parts * 1e-6, double(bytes) / parts / pixels, double(mergedBytes) / pixels);
+        if (written > 0)
+            std::printf("writing a part: %.2f s wall, %.2f s CPU\n", writeSeconds / written, writeCpu / written);
+        std::printf("| phase | wall s | CPU s | M parts x pixels / wall s | M parts x pixels / CPU s | MB / wall s |\n|---|---|---|---|---|---|\n");
+        auto row = [&](const char* what, double wall, double cpuTime) {
+            std::printf("| %s | %.2f | %.2f | %.1f | %.1f | %.0f |\n", what, wall, cpuTime, partPixels / wall * 1e-6,
+                        partPixels / std::max(cpuTime, 1e-9) * 1e-6, double(bytes) / wall * 1e-6);
+        };
+        row("peer: read the bytes", readBytesSeconds, readBytesCpu);
+        row("merge: read films", readSeconds, readCpu);
+        row("merge: add films", addSeconds, addCpu);
+        row("merge: read + add", mergeSeconds, readCpu + addCpu);
+        std::printf("checks after the last part: %.2f s; writing the merged film: %.2f s\n", finishSeconds,
+                    mergedWriteSeconds);
+        std::printf("merge / peer, wall time: %.1f\n", mergeSeconds / readBytesSeconds);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "penumbra_merge_throughput: error: %s\n", e.what());
         return 1;

@@ -87,6 +87,10 @@ void writeManifest(const PartManifest& m, const fs::path& path) {
     j["scene"] = m.scene.string();
     j["output"] = m.output.string();
     j["penumbra"] = m.penumbra.string();
+    j["scene_hash"] = m.sceneHash;
+    j["seed"] = std::to_string(m.seed);  // a string: JSON readers lose integers beyond 2^53
+    j["sampler"] = m.sampler;
+    j["accel"] = m.accelerator;
     j["resolution"] = {m.width, m.height};
     j["spp"] = m.samplesPerPixel;
     j["split"] = splitName(m.split);
@@ -117,8 +121,9 @@ PartManifest readManifest(const fs::path& path) {
     const std::string text = InputFile(path, "manifest", kMaxManifestBytes).readAll();
     const Json json = parseJsonText(text, path.string());
     const JsonValue root(json, path.string(), "");
-    const JsonObject top(root, {"manifest", "version", "scene", "output", "penumbra", "resolution", "spp", "split",
-                                "render_arguments", "parts", "merge_groups", "jobs"});
+    const JsonObject top(root, {"manifest", "version", "scene", "output", "penumbra", "scene_hash", "seed", "sampler",
+                                "accel", "resolution", "spp", "split", "render_arguments", "parts", "merge_groups",
+                                "jobs"});
     if (top.require("manifest").string() != kKind)
         top.require("manifest").fail(fmt::format("expected \"{}\": this is not a manifest written by penumbra submit", kKind));
     top.require("version").integer(kVersion, kVersion);
@@ -127,6 +132,18 @@ PartManifest readManifest(const fs::path& path) {
     m.scene = top.require("scene").string();
     m.output = top.require("output").string();
     m.penumbra = top.require("penumbra").string();
+    m.sceneHash = top.require("scene_hash").string();
+    const JsonValue seed = top.require("seed");
+    const std::string seedText = seed.string();
+    if (seedText.empty() || seedText.size() > 20 || seedText.find_first_not_of("0123456789") != std::string::npos)
+        seed.failExpected("a seed as a string of decimal digits");
+    try {
+        m.seed = std::stoull(seedText);
+    } catch (const std::exception&) {
+        seed.failExpected("a seed below 2^64");
+    }
+    m.sampler = top.require("sampler").string();
+    m.accelerator = top.require("accel").string();
     const JsonValue resolution = top.require("resolution");
     if (resolution.arraySize() != 2) resolution.failExpected("[width, height]");
     m.width = int(resolution.element(0).integer(1, limits::kMaxImageSide));

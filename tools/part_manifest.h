@@ -34,6 +34,11 @@ struct PartManifest {
     std::filesystem::path scene;    // absolute
     std::filesystem::path output;   // the merged EXR, absolute
     std::filesystem::path penumbra; // the program the jobs run, absolute
+    // What decides every sample, which each part's film must record: hashSceneFiles() of the
+    // scene and its meshes, the seed, the sampler and the traversal backend.
+    std::string sceneHash;
+    uint64_t seed = 0;
+    std::string sampler, accelerator;
     int width = 0, height = 0;
     uint32_t samplesPerPixel = 0;
     SplitKind split = SplitKind::Samples;

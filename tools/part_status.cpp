@@ -54,6 +54,14 @@ PartStatus partStatus(const PartManifest& manifest, const RenderPart& part) {
     if (header.width != manifest.width || header.height != manifest.height)
         status.problem = fmt::format("it is {}x{}, the render {}x{}", header.width, header.height, manifest.width,
                                      manifest.height);
+    else if (m.sceneHash != manifest.sceneHash)
+        status.problem = fmt::format("it was rendered from another scene ('{}' hashing to {}, the render's {})",
+                                     m.sceneFile, m.sceneHash, manifest.sceneHash);
+    else if (m.seed != manifest.seed || m.sampler != manifest.sampler || m.accelerator != manifest.accelerator)
+        status.problem = fmt::format("it was rendered with seed {}, the {} sampler and --accel {}, the render with "
+                                     "seed {}, {} and {}",
+                                     m.seed, m.sampler, m.accelerator, manifest.seed, manifest.sampler,
+                                     manifest.accelerator);
     else if (window != expected)
         status.problem = fmt::format("it covers the pixels {}, the part {}", describeWindow(window), describeWindow(expected));
     else if (m.firstSample != part.firstSample || m.endSample > part.endSample)

@@ -46,9 +46,9 @@ std::string trimmed(std::string text) {
 // The #SBATCH lines every job of the render shares.
 std::string commonDirectives(const SlurmRequest& request) {
     std::string lines;
-    if (!request.partition.empty()) lines += "#SBATCH --partition=" + request.partition + "\n";
-    if (!request.time.empty()) lines += "#SBATCH --time=" + request.time + "\n";
-    for (const std::string& argument : request.sbatchArguments) lines += "#SBATCH " + argument + "\n";
+    if (!request.partition.empty()) lines += fmt::format("#SBATCH --partition={}\n", request.partition);
+    if (!request.time.empty()) lines += fmt::format("#SBATCH --time={}\n", request.time);
+    for (const std::string& argument : request.sbatchArguments) lines += fmt::format("#SBATCH {}\n", argument);
     return lines;
 }
 
@@ -78,8 +78,8 @@ std::string renderScript(const PartManifest& m, const fs::path& manifestPath, co
     s += fmt::format("# penumbra submit: the parts of {} ({} in all, listed in {}), one array task each.\n",
                      m.output.string(), m.parts.size(), manifestPath.string());
     s += "#SBATCH --job-name=penumbra-parts\n";
-    s += "#SBATCH --array=" + arraySpec(indices) + "\n";
-    s += "#SBATCH --output=" + (partLogPath(m.parts.front()).parent_path() / "part-%4a.log").string() + "\n";
+    s += fmt::format("#SBATCH --array={}\n", arraySpec(indices));
+    s += fmt::format("#SBATCH --output={}\n", (partLogPath(m.parts.front()).parent_path() / "part-%4a.log").string());
     s += "#SBATCH --open-mode=append\n";
     // Preemption and node failures put the task back in the queue; it resumes its checkpoint.
     s += "#SBATCH --requeue\n";
@@ -104,7 +104,7 @@ std::string renderScript(const PartManifest& m, const fs::path& manifestPath, co
     s += "echo \"penumbra: part ${SLURM_ARRAY_TASK_ID} (job ${SLURM_JOB_ID}) on $(hostname) at $(date -u +%FT%TZ), "
          "restart ${SLURM_RESTART_COUNT:-0}${resume[*]:+, continuing $part}\"\n";
     std::string arguments;
-    for (const std::string& a : m.renderArguments) arguments += " " + shellQuote(a);
+    for (const std::string& a : m.renderArguments) arguments += fmt::format(" {}", shellQuote(a));
     s += fmt::format("exec {} render {} --spp {} \"${{range[@]}}\" -o \"$part\" --no-display --checkpoint {} "
                      "--threads \"${{SLURM_CPUS_PER_TASK:-0}}\"{} \"${{resume[@]}}\"\n",
                      shellQuote(m.penumbra.string()), shellQuote(m.scene.string()), m.samplesPerPixel,
@@ -118,7 +118,7 @@ std::string groupMergeScript(const PartManifest& m, const fs::path& manifestPath
                      m.output.string());
     s += "#SBATCH --job-name=penumbra-merge-groups\n";
     s += fmt::format("#SBATCH --array=0-{}\n", m.groups.size() - 1);
-    s += "#SBATCH --output=" + (partLogPath(m.parts.front()).parent_path() / "group-%3a.log").string() + "\n";
+    s += fmt::format("#SBATCH --output={}\n", (partLogPath(m.parts.front()).parent_path() / "group-%3a.log").string());
     s += "#SBATCH --open-mode=append\n";
     s += commonDirectives(request);
     s += fmt::format("exec {} merge --manifest {} --group \"${{SLURM_ARRAY_TASK_ID}}\"\n",
@@ -130,7 +130,7 @@ std::string finalMergeScript(const PartManifest& m, const fs::path& manifestPath
     std::string s = "#!/bin/bash\n";
     s += fmt::format("# penumbra submit: merges the parts of {} (checked done) into it.\n", m.output.string());
     s += "#SBATCH --job-name=penumbra-merge\n";
-    s += "#SBATCH --output=" + (partLogPath(m.parts.front()).parent_path() / "merge.log").string() + "\n";
+    s += fmt::format("#SBATCH --output={}\n", (partLogPath(m.parts.front()).parent_path() / "merge.log").string());
     s += "#SBATCH --open-mode=append\n";
     s += commonDirectives(request);
     s += fmt::format("exec {} merge --manifest {}\n", shellQuote(m.penumbra.string()), shellQuote(manifestPath.string()));
@@ -139,8 +139,8 @@ std::string finalMergeScript(const PartManifest& m, const fs::path& manifestPath
 
 std::string submitBatch(const fs::path& script, const std::string& afterJob) {
     std::string line = "sbatch --parsable";
-    if (!afterJob.empty()) line += " --dependency=afterok:" + afterJob;
-    line += " " + shellQuote(script.string());
+    if (!afterJob.empty()) line += fmt::format(" --dependency=afterok:{}", afterJob);
+    line += fmt::format(" {}", shellQuote(script.string()));
     const CommandResult r = runCommandLine(line);
     const std::string out = trimmed(r.output);
     // --parsable prints "JOBID" or "JOBID;CLUSTER".
@@ -175,7 +175,7 @@ std::vector<QueuedTask> queuedTasks(const std::vector<std::string>& jobIds) {
 }
 
 void cancelJob(const std::string& jobId) {
-    const CommandResult r = runCommandLine("scancel " + shellQuote(jobId));
+    const CommandResult r = runCommandLine(fmt::format("scancel {}", shellQuote(jobId)));
     if (r.status != 0) throw InputError(fmt::format("scancel {} failed: {}", jobId, trimmed(r.output)));
 }
 

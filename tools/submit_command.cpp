@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -10,6 +11,7 @@
 
 #include "core/error.h"
 #include "core/input_limits.h"
+#include "film/image_output.h"
 #include "scenes/scene_loader.h"
 #include "tools/cli_numbers.h"
 #include "tools/part_status.h"
@@ -39,10 +41,14 @@ PartManifest plan(const SubmitCommand& cmd, const fs::path& output) {
         throw InputError(fmt::format("the penumbra program {} is not executable", m.penumbra.string()));
 
     Scene scene = loadScene(m.scene);  // the scene is read (and checked) here, not first on a node
+    m.sceneHash = hashSceneFiles(m.scene, scene.meshFiles);
+    m.seed = cmd.seed ? std::stoull(*cmd.seed) : scene.settings.seed;  // --seed was checked as digits
+    m.sampler = cmd.sampler.empty() ? std::string(samplerKindName(scene.settings.sampler)) : cmd.sampler;
+    m.accelerator = cmd.accel.empty() ? "embree" : cmd.accel;
     m.width = scene.film.width;
     m.height = scene.film.height;
-    m.samplesPerPixel = uint32_t(cmd.spp ? *cmd.spp : scene.film.samplesPerPixel);
     if (cmd.spp && *cmd.spp <= 0) throw InputError(fmt::format("--spp: expected a positive integer, got {}", *cmd.spp));
+    m.samplesPerPixel = uint32_t(cmd.spp ? *cmd.spp : scene.film.samplesPerPixel);
     if (!cmd.resolution.empty()) {
         const auto wh = splitText(cmd.resolution, 'x');
         if (wh.size() != 2) throw InputError(fmt::format("--res: expected WIDTHxHEIGHT, got '{}'", cmd.resolution));
@@ -76,6 +82,12 @@ void checkSameRender(const PartManifest& planned, const PartManifest& stored, co
                                                  what, now, then));
     };
     if (planned.scene != stored.scene) differ("the scene", planned.scene.string(), stored.scene.string());
+    if (planned.sceneHash != stored.sceneHash)
+        throwFileError(manifestPath,
+                       fmt::format("--resume: the scene {} (or a mesh it names) has changed since the first submit "
+                                   "(it hashes to {}, then to {}); its parts cannot be merged with new ones: submit "
+                                   "it again to another output",
+                                   planned.scene.string(), planned.sceneHash, stored.sceneHash));
     if (planned.width != stored.width || planned.height != stored.height)
         differ("the resolution", fmt::format("{}x{}", planned.width, planned.height),
                fmt::format("{}x{}", stored.width, stored.height));
@@ -88,7 +100,7 @@ void checkSameRender(const PartManifest& planned, const PartManifest& stored, co
         std::string now, then;
         for (const auto& a : planned.renderArguments) now += " " + a;
         for (const auto& a : stored.renderArguments) then += " " + a;
-        differ("the render options", "'" + now + " '", "'" + then + " '");
+        differ("the render options", fmt::format("'{}'", now), fmt::format("'{}'", then));
     }
 }
 

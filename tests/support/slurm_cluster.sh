@@ -30,11 +30,12 @@ stop_cluster() {
             sleep 0.5
         done
     fi
-    # The daemons and the watchdog (unless it is the one stopping the cluster), by their pids.
+    # The daemons and the watchdog (unless it is the one stopping the cluster: bash -c may exec
+    # this script in its own process), by their pids.
     pids=()
     for name in slurmd slurmctld munge/munged watchdog; do
         pid=$(cat "$dir/$name.pid" 2>/dev/null)
-        [ -n "$pid" ] && [ "$pid" != "$PPID" ] && pids+=("$pid")
+        [ -n "$pid" ] && [ "$pid" != "$$" ] && [ "$pid" != "$PPID" ] && pids+=("$pid")
     done
     [ ${#pids[@]} -gt 0 ] && kill "${pids[@]}" 2>/dev/null
     for pid in "${pids[@]}"; do

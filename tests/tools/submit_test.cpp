@@ -47,6 +47,10 @@ protected:
         m.scene = kScene;
         m.output = path("out.exr");
         m.penumbra = PENUMBRA_BINARY;
+        m.sceneHash = hashSceneFiles(kScene, {});
+        m.seed = 0;
+        m.sampler = "stratified";
+        m.accelerator = "embree";
         m.width = 32;
         m.height = 24;
         m.samplesPerPixel = 4;
@@ -160,7 +164,10 @@ TEST_F(SplitRender, MergeOfAManifestNamesMissingAndPartialPartsAndWritesNothing)
     // Part 1 continues its own checkpoint; then the merge is one render's film, bit for bit.
     renderPart("2:4", "--resume " + m.parts[1].file.string() + " -o " + m.parts[1].file.string());
     const RunResult foreign = runPenumbra("merge --manifest " + path("out.parts.json"));
-    EXPECT_NE(foreign.exitCode, 0);
+    EXPECT_EQ(foreign.exitCode, 1);
+    EXPECT_TRUE(contains(foreign, "part 0 (samples [0, 2), " + m.parts[0].file.string() +
+                                      "): not this part's film: it was rendered with seed 9"))
+        << foreign.output;
     EXPECT_FALSE(fs::exists(path("out.exr")));
     fs::copy_file(path("part0.exr"), m.parts[0].file, fs::copy_options::overwrite_existing);
     const RunResult merged = runPenumbra("merge --manifest " + path("out.parts.json") + " --no-display");
