@@ -354,10 +354,17 @@ bool BvhAccelerator::intersectSpecial(const Ray& ray, const WatertightRay& trian
         return true;
     }
     const Instance& instance = instances_[special.source];
+    if (instance.motion.moves()) return intersectInstance<AnyHit>(special, instance.motion.at(ray.time), ray, tFar, t, b1, b2, instanceHit);
+    return intersectInstance<AnyHit>(special, instance.placement, ray, tFar, t, b1, b2, instanceHit);
+}
+
+template <bool AnyHit>
+bool BvhAccelerator::intersectInstance(const Special& special, const Transform& toWorld, const Ray& ray, float tFar,
+                                       float& t, float& b1, float& b2, Hit& instanceHit) const {
+    const Instance& instance = instances_[special.source];
     // The same transform the shading code places the hit with, and the same object-space ray that
     // hits are recomputed with (geometry/surface_interaction.h); the direction is not normalized,
     // so t is the same in both spaces.
-    const Transform toWorld = instance.motion.moves() ? instance.motion.at(ray.time) : instance.placement;
     const Transform toObject = toWorld.inverse();
     Ray objectRay = ray;
     objectRay.origin = toObject.applyPoint(ray.origin);

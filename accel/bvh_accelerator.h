@@ -110,7 +110,13 @@ private:
         const BvhAccelerator* child;  // object space, never moving; one of children_
     };
     // Intersects special primitive `index` within [ray.tnear, tFar]; on a hit sets t and, for a
-    // deforming triangle, the barycentrics, or for an instance, `instanceHit`.
+    // deforming triangle, the barycentrics, or for an instance, `instanceHit`. Out of line: still
+    // scenes never call it, and inlined its transforms cost the leaf loop registers.
+    // Intersects instance special `special`, placed by `toWorld` at the ray's time. Out of line:
+    // still scenes never call it, and inlined it costs their leaf loop registers.
+    template <bool AnyHit>
+    [[gnu::noinline]] bool intersectInstance(const Special& special, const Transform& toWorld, const Ray& ray, float tFar,
+                                             float& t, float& b1, float& b2, Hit& instanceHit) const;
     template <bool AnyHit>
     bool intersectSpecial(const Ray& ray, const WatertightRay& triangleRay, uint32_t index, float tFar, float& t, float& b1, float& b2,
                           Hit& instanceHit) const;

@@ -12,6 +12,7 @@ struct Hit {
     float t = 0.0f;
     float u = 0.0f, v = 0.0f;  // triangle barycentrics of vertices 1 and 2
     Vec3f geometricNormal;     // as the backend reports it: not normalized, orientation unspecified
+                               // (for an instance, Embree reports it in the prototype's space)
     uint32_t geomId = 0;
     uint32_t primId = 0;
 };

@@ -39,7 +39,7 @@ struct SceneGeometry {
     bool isMeshHit(const Hit& hit) const { return hit.geomId < meshes.size(); }
 
     ShapeRef shapeOf(const Hit& hit) const {
-        if (isMeshHit(hit)) [[likely]] return {ShapeKind::Mesh, hit.geomId, hit.primId};
+        if (isMeshHit(hit)) return {ShapeKind::Mesh, hit.geomId, hit.primId};
         if (hit.geomId == sphereGeomId()) return {ShapeKind::Sphere, hit.primId, 0};
         return {ShapeKind::Instance, hit.geomId - sphereGeomId() - 1, hit.primId};
     }

@@ -141,9 +141,33 @@ inline void canonicalizeHit(const SceneGeometry& scene, const Ray& ray, Hit& hit
 
 namespace detail {
 
+// A bound, in world space, on how far taking world point `p` into an instance's space (as a ray
+// leaving `p` is taken, toObjectSpace) moves it: the inverse transform's rounding (pbrt-v4,
+// section 6.8.5) mapped back by the forward one. Added to the error bound of a point on an
+// instance, the ray offset (core/ray_offset.h) then keeps a ray leaving it on the right side of
+// the surface in the instance's space too. pbrt-v4 instead moves the transformed origin along the
+// direction by this error, which would make t differ between the two spaces.
+inline Vec3f objectSpaceRoundTripError(const Transform& toWorld, Vec3f p) {
+    const auto& toObject = toWorld.inverseMatrix().m;
+    const Vec3f a = abs(p);
+    Vec3f objectError;
+    for (int row = 0; row < 3; ++row) {
+        const auto& m = toObject[row];
+        objectError[row] = gamma(3) * (std::abs(m[0]) * a.x + std::abs(m[1]) * a.y + std::abs(m[2]) * a.z + std::abs(m[3]));
+    }
+    Vec3f worldError;
+    for (int row = 0; row < 3; ++row) {
+        const auto& m = toWorld.matrix().m[row];
+        worldError[row] = (1.0f + gamma(3)) *
+                          (std::abs(m[0]) * objectError.x + std::abs(m[1]) * objectError.y + std::abs(m[2]) * objectError.z);
+    }
+    return worldError;
+}
+
 // The shading point on triangle `shape.primitive` of an instance's prototype, placed in the world;
 // `faceFrames`, when given, supplies the prototype triangle's normal (the same bits as computing it).
-inline SurfaceInteraction instanceInteraction(const SceneGeometry& scene, ShapeRef shape, const Ray& ray,
+// Out of line: inlined into the integrator, it costs scenes without instances registers.
+[[gnu::noinline]] inline SurfaceInteraction instanceInteraction(const SceneGeometry& scene, ShapeRef shape, const Ray& ray,
                                               const Hit& hit, const FaceFrames* faceFrames) {
     const MeshInstance& instance = scene.instances[shape.index];
     const TriangleMesh& mesh = scene.prototypes[instance.prototype];
@@ -153,7 +177,9 @@ inline SurfaceInteraction instanceInteraction(const SceneGeometry& scene, ShapeR
     const Frame* faceFrame = faceFrames ? faceFrames->findPrototype(instance.prototype, shape.primitive) : nullptr;
     const bool hasNormal = triangleInteraction(mesh, index, mesh.positions[index[0]], mesh.positions[index[1]],
                                                mesh.positions[index[2]], hit, si, faceFrame);
-    placeInWorld(instance.toWorld(ray.time), si);
+    const Transform toWorld = instance.toWorld(ray.time);
+    placeInWorld(toWorld, si);
+    si.positionError += objectSpaceRoundTripError(toWorld, si.position);
     si.material = instance.material;
     if (!hasNormal) si.geometricNormal = si.shadingNormal = normalize(-ray.direction);
     return si;
@@ -161,11 +187,13 @@ inline SurfaceInteraction instanceInteraction(const SceneGeometry& scene, ShapeR
 
 }  // namespace detail
 
-inline SurfaceInteraction makeSurfaceInteraction(const SceneGeometry& scene, const Ray& ray, const Hit& hit) {
+// `faceFrames`, when given, supplies the normals of instanced triangles.
+inline SurfaceInteraction makeSurfaceInteraction(const SceneGeometry& scene, const Ray& ray, const Hit& hit,
+                                                 const FaceFrames* faceFrames = nullptr) {
     SurfaceInteraction si;
     const ShapeRef shape = scene.shapeOf(hit);
     si.shape = shape;
-    if (shape.kind == ShapeKind::Instance) return detail::instanceInteraction(scene, shape, ray, hit, nullptr);
+    if (shape.kind == ShapeKind::Instance) return detail::instanceInteraction(scene, shape, ray, hit, faceFrames);
     if (shape.kind == ShapeKind::Mesh) {
         const TriangleMesh& mesh = scene.meshes[shape.index];
         const uint32_t* index = &mesh.indices[3 * size_t(shape.primitive)];
@@ -223,8 +251,7 @@ template <bool kHitIsCanonical>
         }
     }
     if constexpr (!kHitIsCanonical) canonicalizeHit(scene, ray, hit);
-    if (shape.kind == ShapeKind::Instance) return detail::instanceInteraction(scene, shape, ray, hit, faceFrames);
-    return makeSurfaceInteraction(scene, ray, hit);
+    return makeSurfaceInteraction(scene, ray, hit, faceFrames);
 }
 
 }  // namespace penumbra

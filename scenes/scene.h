@@ -59,7 +59,8 @@ struct RenderSettings {
     bool canonicalHits = true;
 };
 
-// Geometry is in world space (moving shapes: in object space, placed by their motion). Every
+// Geometry is in world space (moving shapes: in object space, placed by their motion; prototypes:
+// in their own space, placed by their instances). Every
 // member holds the runtime value the renderer uses; the loaders build them directly.
 struct Scene : SceneGeometry {
     std::filesystem::path sourcePath;  // the scene file, for messages and metadata

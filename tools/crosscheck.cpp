@@ -156,7 +156,9 @@ private:
         si.positionError = (abs(p0 * (1.0f - b.x - b.y)) + abs(p1 * b.x) + abs(p2 * b.y)) * gamma(7);
         const Vec3f n = triangleNormal(p0, p1, p2);
         si.geometricNormal = si.shadingNormal = n != Vec3f{0.0f, 0.0f, 0.0f} ? n : Vec3f{0.0f, 0.0f, 1.0f};
-        detail::placeInWorld(scene_.instances[k].toWorld(0.0f), si);
+        const Transform toWorld = scene_.instances[k].toWorld(0.0f);
+        detail::placeInWorld(toWorld, si);
+        si.positionError += detail::objectSpaceRoundTripError(toWorld, si.position);
         Point point;
         point.position = si.position;
         point.positionError = si.positionError;

@@ -1,9 +1,9 @@
 // Instancing (SceneGeometry::prototypes and instances) in both backends: they find the same
 // primitives and, after canonicalisation, the same shading points bit for bit; the crosscheck
 // explains every disagreement; instances render the image of the same meshes copied into the
-// scene; a moving instance renders bit for bit what the same mesh given as a moving shape does
-// (both are traced and shaded in object space through the same transform); and a thousand
-// instances of a large mesh cost next to nothing in memory.
+// scene; a moving instance is traced bit for bit as the same mesh given as a moving shape (both in
+// object space through the same transform); and a thousand instances of a large mesh cost next
+// to nothing in memory.
 #include <gtest/gtest.h>
 
 #include <sys/resource.h>
@@ -208,15 +208,7 @@ TEST(InstancingBackends, MovingInstancesSameHitsAndShadingPointsBitForBit) {
 }
 
 TEST(InstancingBackends, CrosscheckExplainsEveryMismatch) {
-    Scene scene = makeInstancedScene();
-    // A moving instance that translates (a rotating one leaves Embree's interpolated transform a few
-    // ulps from ours, which shows as self-intersections of rays leaving it, as for any moving shape).
-    MeshInstance moving;
-    TransformKey a, b;
-    a.translation = {-1.0f, 0.8f, 1.5f};
-    b.translation = {1.0f, 0.9f, 1.5f};
-    moving.motion.keys = {a, b};
-    scene.instances.push_back(moving);
+    Scene scene = makeMovingScene();
     scene.sourcePath = "instanced";
     const EmbreeAccelerator embree(scene);
     const BvhAccelerator bvh(scene);
@@ -226,6 +218,8 @@ TEST(InstancingBackends, CrosscheckExplainsEveryMismatch) {
     const std::vector<CrosscheckRay> rays = generateCrosscheckRays(scene, embree, options);
     const CrosscheckReport report = compareBackends(scene, bvh, embree, rays, options);
     EXPECT_EQ(report.unexplained(), 0u);
+    // Rays leaving an instance start far enough from it in its own space too
+    // (objectSpaceRoundTripError), whichever backend transforms them.
     EXPECT_EQ(report.selfIntersections(), 0u);
     EXPECT_GT(report.agreementRatio(), 0.9999);
 }
@@ -265,9 +259,11 @@ TEST(InstancingRender, BothBackendsRenderTheSameImage) {
     }
 }
 
-// A moving instance is traced and shaded exactly as the same mesh given as a moving shape (both
-// in object space through motion.at(time)), so the images are the same bits with either backend.
-TEST(InstancingRender, MovingInstanceRendersLikeTheMovingMeshBitForBit) {
+// A moving instance is traced exactly as the same mesh given as a moving shape (both in object
+// space through motion.at(time)): each backend finds the same triangle at the same t and
+// barycentrics, bit for bit. Shading differs only in the instance's wider error bound
+// (objectSpaceRoundTripError), so the images agree within noise.
+TEST(InstancingRender, MovingInstanceTracesLikeTheMovingMesh) {
     Scene instanced = makeBase();
     instanced.prototypes.push_back(makeLumpyBall(24, 48));
     MeshInstance moving;
@@ -275,6 +271,7 @@ TEST(InstancingRender, MovingInstanceRendersLikeTheMovingMeshBitForBit) {
     a.translation = {-1.0f, 1.0f, 0.0f};
     b.translation = {1.0f, 1.2f, 0.0f};
     b.rotation = Quaternion::fromAxisAngle({0, 1, 0}, 90.0f);
+    b.scale = {0.8f, 1.1f, 0.8f};
     moving.motion.keys = {a, b};
     moving.material = 1;
     instanced.instances.push_back(moving);
@@ -283,10 +280,40 @@ TEST(InstancingRender, MovingInstanceRendersLikeTheMovingMeshBitForBit) {
     mesh.motion = moving.motion;
     mesh.material = 1;
     shape.meshes.push_back(mesh);
+
+    const BvhAccelerator bvhA(instanced), bvhB(shape);
+    const EmbreeAccelerator embreeA(instanced), embreeB(shape);
+    int onTheMesh = 0;
+    for (int i = 0; i < 50000; ++i) {
+        const Ray ray = randomRay(uint64_t(i));
+        Hit x, y, u, v;
+        const bool fx = bvhA.intersect(ray, x), fy = bvhB.intersect(ray, y);
+        const bool fu = embreeA.intersect(ray, u), fv = embreeB.intersect(ray, v);
+        ASSERT_EQ(fx, fy) << "ray " << i;
+        ASSERT_EQ(fu, fv) << "ray " << i;
+        if (fx) {
+            const bool onInstance = instanced.shapeOf(x).kind == ShapeKind::Instance;
+            ASSERT_EQ(onInstance, y.geomId == 2u) << "ray " << i;  // the moving mesh follows floor and light
+            if (onInstance) {
+                ++onTheMesh;
+                EXPECT_EQ(x.primId, y.primId) << "ray " << i;
+                EXPECT_TRUE(sameBits(&x.t, &y.t, 4) && sameBits(&x.u, &y.u, 4) && sameBits(&x.v, &y.v, 4)) << "ray " << i;
+            }
+        }
+        if (fu && instanced.shapeOf(u).kind == ShapeKind::Instance) {
+            Hit cu = u, cv = v;
+            canonicalizeHit(instanced, ray, cu);
+            canonicalizeHit(shape, ray, cv);
+            EXPECT_EQ(u.primId, v.primId) << "ray " << i;
+            EXPECT_TRUE(sameBits(&cu.t, &cv.t, 4) && sameBits(&cu.u, &cv.u, 4) && sameBits(&cu.v, &cv.v, 4)) << "ray " << i;
+        }
+    }
+    EXPECT_GT(onTheMesh, 1000);
     for (AcceleratorKind accelerator : {AcceleratorKind::Embree, AcceleratorKind::Bvh}) {
         const Film x = renderScene(instanced, accelerator), y = renderScene(shape, accelerator);
         const testing::FilmComparison c = testing::compareWithinNoise(x, y);
-        EXPECT_EQ(c.identicalPixels, 64 * 48) << acceleratorKindName(accelerator);
+        EXPECT_EQ(c.outlierChannels, 0) << acceleratorKindName(accelerator);
+        EXPECT_NEAR(c.meanA, c.meanB, 0.01 * c.meanB) << acceleratorKindName(accelerator);
         EXPECT_GT(c.meanA, 0.01);
     }
 }
