@@ -50,6 +50,8 @@ constexpr int kFirstLayoutWithChecksum = 3;
 const char* const kChecksumAttribute = "penumbra:checksum";
 const char* const kSumsPart = "sums";
 const char* const kNoisePart = "sums.noise";
+// Present (as "beauty") only in files written with FilmContents::Beauty.
+const char* const kContentsAttribute = "penumbra:contents";
 
 const std::vector<std::string>& beautyChannels() {
     static const std::vector<std::string> names = {"R", "G", "B", "A", "albedo.R", "albedo.G", "albedo.B",
@@ -194,6 +196,10 @@ FilmHeader readHeader(const std::filesystem::path& path, Imf::MultiPartInputFile
     if (layout < 1 || layout > kFilmLayoutVersion)
         throwFileError(path, fmt::format("film layout version {} is not supported (this penumbra reads versions 1 to {})",
                                          layout, kFilmLayoutVersion));
+
+    if (beauty.find(kContentsAttribute) != beauty.end())
+        throwFileError(path, "it holds the image and its AOVs only (written with --film beauty), not the film's sums: "
+                             "it cannot be resumed or merged (write films with --film full, the default)");
 
     const Imath::Box2i display = beauty.displayWindow();
     const int fullWidth = display.max.x - display.min.x + 1, fullHeight = display.max.y - display.min.y + 1;
@@ -394,7 +400,8 @@ int exrThreads() {
 
 }  // namespace
 
-void writeExr(const Film& film, const RenderMetadata& metadata, const std::filesystem::path& path) {
+void writeExr(const Film& film, const RenderMetadata& metadata, const std::filesystem::path& path,
+              FilmContents contents) {
     const PixelWindow full{0, film.width(), 0, film.height()};
     const PixelWindow window = metadata.crop.value_or(full);
     if (window.x0 < 0 || window.y0 < 0 || window.x1 > film.width() || window.y1 > film.height() ||
@@ -421,6 +428,9 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
                   Imf::StringAttribute(fmt::format("{}:{}", metadata.firstSample, metadata.endSample)));
     beauty.insert("penumbra:crop", Imf::StringAttribute(formatWindow(window)));
     beauty.setType(Imf::SCANLINEIMAGE);
+    // The beauty and AOVs alone: marked, so that a resume or merge says why it cannot use the file
+    // (the checksum and the sums parts below are left out).
+    if (contents == FilmContents::Beauty) beauty.insert(kContentsAttribute, Imf::StringAttribute("beauty"));
 
     // Parts "sums" and "sums.noise": the film itself, losslessly, with the same windows and metadata.
     Imf::Header sums = beauty, noise = beauty;
@@ -529,7 +539,7 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
     writeFileAtomically(path, "EXR image", [&](const std::string& tmp, std::string& error) {
         try {
             const Imf::Header headers[3] = {beauty, sums, noise};
-            const int parts = rleChannels.empty() ? 2 : 3;
+            const int parts = contents == FilmContents::Beauty ? 1 : rleChannels.empty() ? 2 : 3;
             CheckedFile out(tmp);
             CheckedExrStream stream(out, tmp);
             {
@@ -539,9 +549,11 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
                 Imf::OutputPart beautyPart(file, 0);
                 beautyPart.setFrameBuffer(interleaved(Imf::FLOAT, beautyPixels.get(), beautyNames, data));
                 beautyPart.writePixels(height);
-                Imf::OutputPart sumsPart(file, 1);
-                sumsPart.setFrameBuffer(filmWords(zipChannels));
-                sumsPart.writePixels(height);
+                if (parts >= 2) {
+                    Imf::OutputPart sumsPart(file, 1);
+                    sumsPart.setFrameBuffer(filmWords(zipChannels));
+                    sumsPart.writePixels(height);
+                }
                 if (parts == 3) {
                     Imf::OutputPart noisePart(file, 2);
                     noisePart.setFrameBuffer(filmWords(rleChannels));
@@ -577,7 +589,8 @@ bool isPenumbraFilm(const std::filesystem::path& path) {
         if (!std::filesystem::is_regular_file(path, ec)) return false;  // opening a FIFO would block
         if (!Imf::isOpenExrFile(path.c_str())) return false;
         Imf::MultiPartInputFile file(path.c_str(), exrThreads());
-        return file.header(0).find("penumbra:film") != file.header(0).end();
+        const Imf::Header& header = file.header(0);
+        return header.find("penumbra:film") != header.end() && header.find(kContentsAttribute) == header.end();
     } catch (const std::exception&) {
         return false;
     }

@@ -17,6 +17,7 @@
 
 #include "core/error.h"
 #include "core/input_file.h"
+#include "core/resource_paths.h"
 #include "film/atomic_file.h"
 #include "film/image_plugin_loader.h"
 
@@ -38,7 +39,7 @@ SourceLocation fileLocation(const std::string& file) {
 OCIO::ConstConfigRcPtr loadOcioConfig() {
     const char* env = std::getenv("OCIO");
     const bool fromEnv = env != nullptr && *env != '\0';
-    const std::string configPath = fromEnv ? env : PENUMBRA_OCIO_CONFIG;
+    const std::string configPath = fromEnv ? std::string(env) : sharedDataPath("ocio/config.ocio").string();
     try {
         return fromEnv ? OCIO::Config::CreateFromEnv() : OCIO::Config::CreateFromFile(configPath.c_str());
     } catch (const OCIO::Exception& e) {
@@ -99,8 +100,9 @@ std::string penumbraVersion() { return PENUMBRA_VERSION; }
 
 std::string penumbraSoftwareName() { return "penumbra " + penumbraVersion(); }
 
-void writeDisplayImage(const Film& film, const std::filesystem::path& path, const std::string& display,
-                       const std::string& view) {
+void writeDisplayImage(const Film& film, const std::filesystem::path& path, const DisplayOptions& options) {
+    const std::string& display = options.display;
+    const std::string& view = options.view;
     std::string extension = path.extension().string();
     std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
     if (extension != ".png" && extension != ".jpg" && extension != ".jpeg")
@@ -125,6 +127,10 @@ void writeDisplayImage(const Film& film, const std::filesystem::path& path, cons
                                      joinQuoted(numViews, [&](int i) { return config->getView(displayName.c_str(), i); })));
 
     std::vector<float> rgb = film.meanRgb();
+    if (options.exposure != 0.0f) {
+        const float scale = std::exp2(options.exposure);
+        for (float& v : rgb) v *= scale;
+    }
     try {
         const auto processor = config->getProcessor(OCIO::ROLE_SCENE_LINEAR, displayName.c_str(), viewName.c_str(),
                                                     OCIO::TRANSFORM_DIR_FORWARD);
@@ -143,9 +149,15 @@ void writeDisplayImage(const Film& film, const std::filesystem::path& path, cons
     // Encoding PNG/JPEG needs OpenImageIO, which lives in the plugin (film/image_plugin.h).
     const PenumbraImagePlugin& plugin = imagePlugin();
     const std::string software = penumbraSoftwareName();
+    const std::string exposure = fmt::format("{:+g}", options.exposure);
+    const std::string description =
+        fmt::format("scene-linear to display '{}', view '{}', exposure {} stops (OpenColorIO)", displayName, viewName, exposure);
+    const char* const attributes[] = {"Software",          software.c_str(),    "ImageDescription", description.c_str(),
+                                      "penumbra:display",  displayName.c_str(), "penumbra:view",    viewName.c_str(),
+                                      "penumbra:exposure", exposure.c_str(),    nullptr};
     writeFileAtomically(path, "display image", [&](const std::string& tmp, std::string& error) {
         char message[1024];
-        if (plugin.writeRgb8(tmp.c_str(), film.width(), film.height(), pixels.data(), software.c_str(),
+        if (plugin.writeRgb8(tmp.c_str(), film.width(), film.height(), pixels.data(), attributes,
                              extension == ".png" ? 0 : 95, message, sizeof message))
             return true;
         error = message;

@@ -38,7 +38,12 @@ struct RenderMetadata {
 // "penumbra:samples" ("FIRST:END") and "penumbra:crop" ("x0,x1,y0,y1"); parts "sums" and
 // "sums.noise" hold the exact sums as UINT channels. With a crop the data window is the crop (the
 // display window is the whole image). Throws InputError naming the path when it cannot be written.
-void writeExr(const Film& film, const RenderMetadata& metadata, const std::filesystem::path& path);
+//
+// With FilmContents::Beauty only part "beauty" is written, marked with "penumbra:contents" =
+// "beauty": about half the size, but it cannot be resumed or merged (readFilmExr refuses it).
+enum class FilmContents { Full, Beauty };
+void writeExr(const Film& film, const RenderMetadata& metadata, const std::filesystem::path& path,
+              FilmContents contents = FilmContents::Full);
 
 struct FilmFile {
     Film film;
@@ -58,7 +63,8 @@ struct FilmHeader {
 };
 FilmHeader readFilmHeader(const std::filesystem::path& path);
 
-// Whether `path` is an EXR written by writeExr (its first part has "penumbra:film"); never throws.
+// Whether `path` is a full film written by writeExr (its first part has "penumbra:film" and no
+// "penumbra:contents"); never throws.
 bool isPenumbraFilm(const std::filesystem::path& path);
 
 // "fnv1a64:<16 hex digits>" of a file's bytes. Throws InputError naming the path when it cannot
@@ -75,11 +81,20 @@ std::string penumbraVersion();
 // The "Software" attribute of the images penumbra writes: "penumbra VERSION".
 std::string penumbraSoftwareName();
 
+// How the display image is made: the OpenColorIO display and view (empty: the config's defaults)
+// and an exposure in stops, applied to the scene-linear values before the view.
+struct DisplayOptions {
+    std::string display;
+    std::string view;
+    float exposure = 0.0f;
+};
+
 // 8-bit display image (format from the extension: .png, .jpg) through OpenColorIO: the config is
-// $OCIO when set, otherwise penumbra's shipped config; scene_linear to the config's default
-// display and view (sRGB) unless `display` / `view` name others. Loads the image plugin, which
-// encodes the file; throws InputError naming the plugin's file when it cannot be loaded.
-void writeDisplayImage(const Film& film, const std::filesystem::path& path, const std::string& display = "",
-                       const std::string& view = "");
+// $OCIO when set, otherwise penumbra's shipped config (film/ocio/config.ocio: views "Standard",
+// "Filmic", "False Color", "Raw"); scene_linear to the options' display and view. The image
+// records them in its "ImageDescription" and "penumbra:display", "penumbra:view" and
+// "penumbra:exposure" attributes. Loads the image plugin, which encodes the file; throws
+// InputError naming the plugin's file when it cannot be loaded.
+void writeDisplayImage(const Film& film, const std::filesystem::path& path, const DisplayOptions& options = {});
 
 }  // namespace penumbra

@@ -39,7 +39,7 @@ std::string writeWholeFile(const char* path, const std::vector<unsigned char>& b
     return failure;
 }
 
-int writeRgb8(const char* path, int width, int height, const unsigned char* rgb, const char* software, int quality,
+int writeRgb8(const char* path, int width, int height, const unsigned char* rgb, const char* const* attributes, int quality,
               char* error, size_t errorSize) {
     try {
         // Encoded in memory, then written with every call checked: OpenImageIO's PNG writer ignores
@@ -50,7 +50,7 @@ int writeRgb8(const char* path, int width, int height, const unsigned char* rgb,
         OIIO::Filesystem::IOVecOutput memory(encoded);
         if (!out->set_ioproxy(&memory)) return failWith("the image writer cannot encode into memory", error, errorSize);
         OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
-        spec.attribute("Software", software);
+        for (const char* const* a = attributes; a && a[0] && a[1]; a += 2) spec.attribute(a[0], a[1]);
         if (quality > 0) spec.attribute("Compression", "jpeg:" + std::to_string(quality));
         if (!out->open(path, spec) || !out->write_image(OIIO::TypeDesc::UINT8, rgb) || !out->close())
             return failWith(out->geterror(), error, errorSize);

@@ -23,8 +23,9 @@ struct PenumbraImageInfo {
 struct PenumbraImagePlugin {
     int version;  // kPenumbraImagePluginVersion
     // Writes 8-bit RGB pixels (width x height x 3, rows top to bottom) to `path`, in the format its
-    // extension names; `quality` is the JPEG quality (0 for PNG).
-    int (*writeRgb8)(const char* path, int width, int height, const unsigned char* rgb, const char* software,
+    // extension names, with the string attributes `attributes` (name, value, name, value, ...,
+    // then NULL; e.g. "Software"); `quality` is the JPEG quality (0 for PNG).
+    int (*writeRgb8)(const char* path, int width, int height, const unsigned char* rgb, const char* const* attributes,
                      int quality, char* error, size_t errorSize);
     // Describes the image at `path`.
     int (*readInfo)(const char* path, PenumbraImageInfo* info, char* error, size_t errorSize);
@@ -37,4 +38,4 @@ typedef const PenumbraImagePlugin* (*PenumbraImagePluginEntry)(void);
 
 }  // extern "C"
 
-constexpr int kPenumbraImagePluginVersion = 1;
+constexpr int kPenumbraImagePluginVersion = 2;

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "core/error.h"
+#include "core/resource_paths.h"
 
 namespace penumbra {
 
@@ -34,14 +35,7 @@ const PenumbraImagePlugin& load() {
 
 }  // namespace
 
-std::filesystem::path imagePluginPath() {
-    const std::filesystem::path built = PENUMBRA_IMAGE_PLUGIN;
-    std::error_code ec;
-    if (std::filesystem::is_regular_file(built, ec)) return built;
-    // Installed or moved: the plugin lies beside the executable.
-    const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-    return ec ? built : exe.parent_path() / built.filename();
-}
+std::filesystem::path imagePluginPath() { return pluginPath(PENUMBRA_IMAGE_PLUGIN_FILE); }
 
 const PenumbraImagePlugin& imagePlugin() {
     static const PenumbraImagePlugin& plugin = load();  // a failed load is retried on the next call

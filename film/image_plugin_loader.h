@@ -7,7 +7,7 @@
 
 namespace penumbra {
 
-// Where the plugin is looked for: where CMake built it, otherwise beside the running executable.
+// Where the plugin is: lib/penumbra/ of the resource prefix (core/resource_paths.h).
 std::filesystem::path imagePluginPath();
 
 // The plugin's functions, loaded once per process. Throws InputError naming the plugin's file

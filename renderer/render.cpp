@@ -144,7 +144,7 @@ RenderStats renderWith(const Accel& accel, const Scene& scene, const RenderOptio
     if (options.threads < 0 || options.threads > limits::kMaxThreads)
         throw InputError(fmt::format("threads: expected 0 (every core) to {}, got {}", limits::kMaxThreads,
                                      options.threads));
-    const int threads = options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
+    const int threads = renderThreads(options.threads);
     tbb::task_arena arena(threads);
     RenderStats stats;
     stats.endSample = firstSample;
@@ -176,6 +176,8 @@ RenderStats renderWith(const Accel& accel, const Scene& scene, const RenderOptio
 }
 
 }  // namespace
+
+int renderThreads(int requested) { return requested > 0 ? requested : tbb::this_task_arena::max_concurrency(); }
 
 uint32_t defaultPassSize(uint64_t windowPixels) {
     constexpr uint64_t kAlignment = EmbreeAccelerator::kPacketSize;

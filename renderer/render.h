@@ -71,6 +71,10 @@ struct RenderStats {
 // (bench/README.md, "Speed tricks").
 uint32_t defaultPassSize(uint64_t windowPixels);
 
+// The worker threads a render with RenderOptions::threads = `requested` uses (0: every core the
+// process may use).
+int renderThreads(int requested);
+
 // Renders `scene` into `film` (sized to the scene's resolution), adding to what it holds.
 RenderStats render(const Scene& scene, const RenderOptions& options, Film& film);
 

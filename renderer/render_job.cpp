@@ -83,6 +83,8 @@ RenderMetadata RenderJob::metadata() const {
     return metadataAt(stats_->endSample, previousSeconds_ + stats_->renderSeconds);
 }
 
-void RenderJob::writeFilm(const std::filesystem::path& path) const { writeExr(film_, metadata(), path); }
+void RenderJob::writeFilm(const std::filesystem::path& path, FilmContents contents) const {
+    writeExr(film_, metadata(), path, contents);
+}
 
 }  // namespace penumbra

@@ -52,13 +52,16 @@ public:
     RenderMetadata metadataAt(uint32_t end, double seconds) const;
     // The same after run().
     RenderMetadata metadata() const;
-    // Writes the film with metadata() (film/image_output.h: atomic, nothing half-written).
-    void writeFilm(const std::filesystem::path& path) const;
+    // Writes the film with metadata() (film/image_output.h: atomic, nothing half-written);
+    // checkpoints are always FilmContents::Full.
+    void writeFilm(const std::filesystem::path& path, FilmContents contents = FilmContents::Full) const;
 
     const Film& film() const { return film_; }
     Film& film() { return film_; }
     // The first sample index the film holds (earlier than this run's when resumed).
     uint32_t firstSample() const { return firstSample_; }
+    // The first sample index this run renders (the resumed film's end when resumed).
+    uint32_t runFirstSample() const { return options_.firstSample; }
     // The sample index the job renders up to.
     uint32_t endSample() const { return options_.endSample; }
     bool resumed() const { return resumed_; }

@@ -1,21 +1,41 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages penumbra builds and tests with, skipping those already present.
-# Works as root or through sudo.
+# Installs the Debian 12 packages penumbra needs, skipping those already present. Works as root or
+# through sudo.
+#
+#   scripts/install-deps.sh [GROUP...]   groups: build tools test bench (default: build tools)
+#
+# It says how much it will download before it starts; apt's own output goes to
+# build/install-deps.log.
 set -euo pipefail
+cd "$(dirname "$0")/.."
 
-packages=(
-    cmake ninja-build g++ pkg-config
-    libembree-dev libtbb-dev
-    libopenimageio-dev openimageio-tools libopenexr-dev libopencolorio-dev
-    libcli11-dev nlohmann-json3-dev libtinyobjloader-dev libassimp-dev zlib1g-dev libfmt-dev
-    libgtest-dev libgmock-dev libbenchmark-dev
-    python3 python3-numpy python3-openimageio python3-matplotlib
-    embree-tools time  # bench/compare_pathtracer.py: Embree's pathtracer and GNU time
-)
-# penumbra submit's tests and benchmarks start a real single-node Slurm cluster
-# (tests/support/slurm_cluster.sh): the scheduler's daemons and commands, and MUNGE for its auth.
-slurm_packages=(slurm-wlm munge)
-packages+=("${slurm_packages[@]}")
+# The packages, by what needs them. One group per line of work, so that a user who only renders
+# installs only the first two.
+declare -A groups
+# Compiling penumbra. openimageio-tools too: Debian's OpenImageIO CMake package names its
+# programs (/usr/bin/iconvert, ...) and stops the configure when they are missing.
+groups[build]="cmake ninja-build g++ pkg-config
+    libembree-dev libtbb-dev libopenimageio-dev openimageio-tools libopenexr-dev libopencolorio-dev
+    libcli11-dev nlohmann-json3-dev libtinyobjloader-dev libassimp-dev zlib1g-dev libfmt-dev"
+# `penumbra converge`'s plot (tools/plot_convergence.py). python3-munkres satisfies fonttools's
+# "python3-scipy | python3-munkres" with 41 KB rather than SciPy and its dependencies.
+groups[tools]="python3 python3-matplotlib python3-munkres"
+# The test suite (GoogleTest; Python for the layering check and the README snippet test).
+# penumbra submit's tests start a real single-node Slurm cluster (tests/support/slurm_cluster.sh):
+# the scheduler's daemons and commands, and MUNGE for its authentication.
+groups[test]="libgtest-dev libgmock-dev python3 slurm-wlm munge"
+# bench/ only: Google Benchmark, Embree's pathtracer, GNU time, and what
+# bench/compare_pathtracer.py reads images with.
+groups[bench]="libbenchmark-dev embree-tools time python3-numpy python3-openimageio"
+
+selected=("$@")
+[ ${#selected[@]} -eq 0 ] && selected=(build tools)
+packages=()
+for group in "${selected[@]}"; do
+    [ -n "${groups[$group]+set}" ] || { echo "penumbra: unknown package group '$group' (build, tools, test, bench)" >&2; exit 2; }
+    read -r -a list <<< "$(echo ${groups[$group]})"
+    packages+=("${list[@]}")
+done
 
 missing=()
 for p in "${packages[@]}"; do
@@ -24,13 +44,37 @@ done
 if [ ${#missing[@]} -eq 0 ]; then
     exit 0
 fi
+readarray -t missing < <(printf '%s\n' "${missing[@]}" | sort -u)
 
-echo "penumbra: installing ${missing[*]}" >&2
 sudo=""
 if [ "$(id -u)" -ne 0 ]; then
-    command -v sudo >/dev/null || { echo "penumbra: need root or sudo to install packages" >&2; exit 1; }
+    if ! command -v sudo >/dev/null; then
+        echo "penumbra: installing packages needs root, and sudo is not installed. As root, run:" >&2
+        echo "    apt-get update && apt-get install --no-install-recommends ${missing[*]}" >&2
+        echo "then run this command again." >&2
+        exit 1
+    fi
     sudo="sudo"
 fi
+
+mkdir -p build
+log=build/install-deps.log
+: > "$log"
 export DEBIAN_FRONTEND=noninteractive
-$sudo apt-get update -qq
-$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+echo "penumbra: installing ${missing[*]} (apt's output: $log)" >&2
+run_logged() {
+    if ! "$@" >> "$log" 2>&1; then
+        echo "penumbra: error: '$*' failed; the end of $log:" >&2
+        tail -n 20 "$log" >&2
+        exit 1
+    fi
+}
+run_logged $sudo apt-get update
+# What it will take: apt's own summary of a simulated install.
+plan=$($sudo apt-get install --assume-no --no-install-recommends "${missing[@]}" 2>&1 || true)
+count=$(printf '%s\n' "$plan" | sed -n 's/^\([0-9]*\) upgraded, \([0-9]*\) newly installed.*/\2/p')
+need=$(printf '%s\n' "$plan" | sed -n 's/^Need to get \([^ ]* [^ ]*\).*/\1/p')
+disk=$(printf '%s\n' "$plan" | sed -n 's/^After this operation, \([^ ]* [^ ]*\).*/\1/p')
+echo "penumbra: ${count:-?} packages, ${need:-nothing} to download, ${disk:-no more} disk space" >&2
+run_logged $sudo apt-get install -y --no-install-recommends "${missing[@]}"
+echo "penumbra: packages installed" >&2

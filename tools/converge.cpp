@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "core/resource_paths.h"
 #include "core/error.h"
 #include "core/input_file.h"
 #include "core/input_limits.h"
@@ -510,7 +511,7 @@ int runConvergeCommand(const ConvergeCommand& cmd) {
             for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
             return q + "'";
         };
-        const std::string command = fmt::format("{} {} {} {}", python, quote(PENUMBRA_PLOT_SCRIPT),
+        const std::string command = fmt::format("{} {} {} {}", python, quote(sharedDataPath("plot_convergence.py").string()),
                                                 quote((dir / "convergence.json").string()),
                                                 quote((dir / "convergence.png").string()));
         if (std::system(command.c_str()) != 0)

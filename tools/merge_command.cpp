@@ -29,7 +29,7 @@ int runMergeCommand(const std::vector<std::string>& partNames, const std::string
                      "per-pixel sample counts are right, but it cannot be resumed\n",
                      result.note.c_str());
     if (!quiet) {
-        std::printf("merged %zu films: %dx%d, samples [%u, %u), pixels %s\n", partNames.size(),
+        std::printf("merged %zu film%s: %dx%d, samples [%u, %u), pixels %s\n", partNames.size(), partNames.size() == 1 ? "" : "s",
                     result.merged.film.width(), result.merged.film.height(), m.firstSample, m.endSample,
                     describeWindow(m.crop.value_or(PixelWindow{0, result.merged.film.width(), 0,
                                                                result.merged.film.height()}))

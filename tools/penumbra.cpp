@@ -43,6 +43,8 @@
 #include "tools/status_command.h"
 #include "tools/submit_command.h"
 
+#include "tools/render_report.h"
+
 namespace fs = std::filesystem;
 using namespace penumbra;
 
@@ -64,6 +66,9 @@ struct RenderCommand {
     bool quiet = false;
     bool textureStats = false;
     std::string accel = "embree";
+    std::string film = "full";                // full: resumable and mergeable; beauty: image and AOVs only
+    std::string view;                         // OpenColorIO view of the display image
+    float exposure = 0.0f;                    // stops, applied before the view
     std::string resume;                       // a film to continue up to --spp
     std::optional<double> checkpointMinutes;  // write the film every so often (0: after every pass)
     std::optional<uint32_t> passSize;         // sample indices per pass
@@ -100,31 +105,19 @@ int parseNonNegative(const std::string& option, const std::string& text) {
     return int(parseIntegerOption(option, text, 0, int64_t(1) << 30));
 }
 
-// Prints a one-line progress bar with an ETA on a terminal, at most ten times a second.
-class ProgressLine {
-public:
-    explicit ProgressLine(bool enabled) : enabled_(enabled), start_(Clock::now()) {}
-    void update(size_t done, size_t total) {
-        if (!enabled_) return;
-        const auto now = Clock::now();
-        if (done != total && now - lastPrint_ < std::chrono::milliseconds(100)) return;
-        lastPrint_ = now;
-        const double elapsed = std::chrono::duration<double>(now - start_).count();
-        const double fraction = total ? double(done) / double(total) : 1.0;
-        const double eta = fraction > 0 ? elapsed * (1.0 - fraction) / fraction : 0.0;
-        constexpr int kWidth = 30;
-        const int filled = int(fraction * kWidth);
-        std::fprintf(stderr, "\r[%s%s] %5.1f%%  elapsed %.1f s  ETA %.1f s ", std::string(filled, '=').c_str(),
-                     std::string(kWidth - filled, ' ').c_str(), 100.0 * fraction, elapsed, eta);
-        if (done == total) std::fprintf(stderr, "\n");
-        std::fflush(stderr);
-    }
-
-private:
-    using Clock = std::chrono::steady_clock;
-    bool enabled_;
-    Clock::time_point start_, lastPrint_{};
-};
+// The options that decide which samples a film holds, as given: a continuation must repeat them.
+std::string filmDefiningOptions(const RenderCommand& cmd) {
+    std::string text;
+    auto add = [&](const char* option, const std::string& value) {
+        if (!value.empty()) text += fmt::format(" {} {}", option, shellWord(value));
+    };
+    if (cmd.seed) add("--seed", std::to_string(*cmd.seed));
+    add("--res", cmd.resolution);
+    add("--sampler", cmd.sampler);
+    add("--crop", cmd.crop);
+    if (cmd.accel != "embree") add("--accel", cmd.accel);
+    return text;
+}
 
 int runRender(const RenderCommand& cmd) {
     SceneFileOptions sceneOptions;
@@ -173,6 +166,21 @@ int runRender(const RenderCommand& cmd) {
         throw InputError(fmt::format("-o: expected a path ending in .exr, got '{}'", exrPath.string()));
     const fs::path displayPath = fs::path(exrPath).replace_extension(".png");
 
+    const FilmContents contents = cmd.film == "beauty" ? FilmContents::Beauty : FilmContents::Full;
+    if (contents == FilmContents::Beauty) {
+        const char* needsFull = !cmd.samples.empty()         ? "--samples (a part to merge)"
+                                : cmd.checkpointMinutes       ? "--checkpoint"
+                                : !cmd.resume.empty()         ? "--resume"
+                                                              : nullptr;
+        if (needsFull)
+            throw InputError(fmt::format("--film beauty: {} needs the film's sums, which only --film full (the default) "
+                                         "writes",
+                                         needsFull));
+    }
+    DisplayOptions display;
+    display.view = cmd.view;
+    display.exposure = cmd.exposure;
+
     const bool interactive = !cmd.quiet && isatty(STDERR_FILENO);
     ProgressLine progress(interactive);
     options.progress = [&](size_t done, size_t total) { progress.update(done, total); };
@@ -197,6 +205,22 @@ int runRender(const RenderCommand& cmd) {
         });
     installStopHandlers();
 
+    RenderDescription description{.scene = cmd.scenePath,
+                                  .width = scene.film.width,
+                                  .height = scene.film.height,
+                                  .crop = options.crop,
+                                  .firstSample = job.runFirstSample(),
+                                  .endSample = job.endSample(),
+                                  .filmFirstSample = {},
+                                  .resumedFrom = cmd.resume,
+                                  .sampler = std::string(samplerKindName(scene.settings.sampler)),
+                                  .seed = scene.settings.seed,
+                                  .threads = renderThreads(cmd.threads),
+                                  .accelerator = cmd.accel,
+                                  .film = cmd.film};
+    if (job.resumed()) description.filmFirstSample = job.firstSample();
+    if (!cmd.quiet) std::fprintf(stderr, "%s\n", describeRender(description).c_str());
+
     const RenderStats stats = job.run();
 
     const uint32_t rangeFirst = job.firstSample();
@@ -209,23 +233,21 @@ int runRender(const RenderCommand& cmd) {
             return 128 + signal;
         }
         job.writeFilm(exrPath);
-        if (!cmd.noDisplay) writeDisplayImage(job.film(), displayPath);
+        if (!cmd.noDisplay) writeDisplayImage(job.film(), displayPath, display);
+        const std::string exr = shellWord(exrPath.string());
         std::fprintf(stderr,
-                     "penumbra: stopped by signal %d; wrote samples [%u, %u) to %s; continue with: penumbra render %s "
-                     "--spp %u --resume %s -o %s (and the same --seed, --sampler, --res, --crop, --accel)\n",
-                     signal, rangeFirst, stats.endSample, exrPath.string().c_str(), cmd.scenePath.c_str(),
-                     job.endSample(), exrPath.string().c_str(), exrPath.string().c_str());
+                     "penumbra: stopped by signal %d; wrote samples [%u, %u) to %s; continue with: penumbra render %s%s "
+                     "--spp %u --resume %s -o %s\n",
+                     signal, rangeFirst, stats.endSample, exrPath.string().c_str(), shellWord(cmd.scenePath).c_str(),
+                     filmDefiningOptions(cmd).c_str(), job.endSample(), exr.c_str(), exr.c_str());
         return 128 + signal;
     }
-    job.writeFilm(exrPath);
-    if (!cmd.noDisplay) writeDisplayImage(job.film(), displayPath);
+    job.writeFilm(exrPath, contents);
+    if (!cmd.noDisplay) writeDisplayImage(job.film(), displayPath, display);
 
     if (!cmd.quiet) {
         const double seconds = std::max(stats.renderSeconds, 1e-9);
-        std::printf("rendered %dx%d, samples %u:%u (%s sampler, seed %llu) in %.2f s (scene build %.2f s)\n",
-                    scene.film.width, scene.film.height, rangeFirst, stats.endSample,
-                    std::string(samplerKindName(scene.settings.sampler)).c_str(), (unsigned long long)scene.settings.seed, stats.renderSeconds,
-                    stats.buildSeconds);
+        std::printf("%s\n", describeRendered(description, stats.endSample, stats.renderSeconds, stats.buildSeconds).c_str());
         std::printf("  %.2f M samples/s, %.2f M rays/s (%llu camera, %llu bounce, %llu shadow rays)\n",
                     stats.samples / seconds * 1e-6, stats.rays.total() / seconds * 1e-6,
                     (unsigned long long)stats.rays.primary, (unsigned long long)stats.rays.extension,
@@ -300,6 +322,16 @@ int main(int argc, char** argv) {
     renderApp->add_flag("--no-display", cmd.noDisplay, "Write only the EXR, no display PNG");
     renderApp->add_flag("--texture-stats", cmd.textureStats,
                         "Print OpenImageIO's texture cache statistics after the render (scenes with image textures)");
+
+    renderApp->add_option("--film", cmd.film,
+                          "What the EXR holds: full (default: image, AOVs and the exact sums; resumable and mergeable, "
+                          "about 100 bytes a pixel) or beauty (image and AOVs only, about 46 bytes a pixel)")
+        ->check(CLI::IsMember({"full", "beauty"}));
+    renderApp->add_option("--view", cmd.view,
+                          "OpenColorIO view of the display PNG: 'Standard' (default, sRGB), 'Filmic' (high dynamic "
+                          "range) or 'False Color' (exposure zones); see film/README.md");
+    renderApp->add_option("--exposure", cmd.exposure, "Exposure of the display PNG in stops (default 0)")
+        ->check(CLI::Range(-64.0f, 64.0f));
     renderApp->add_flag("-q,--quiet", cmd.quiet, "No progress line and no summary");
     renderApp->add_option("--accel", cmd.accel, "Traversal backend: embree (default) or bvh (our own)")
         ->check(CLI::IsMember({"embree", "bvh"}));

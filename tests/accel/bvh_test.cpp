@@ -27,6 +27,7 @@
 #include "tests/support/film_comparison.h"
 #include "tests/support/scene_builders.h"
 #include "tools/crosscheck.h"
+#include "tests/support/shared_data.h"
 
 namespace penumbra {
 namespace {
@@ -594,16 +595,14 @@ TEST(BvhAgainstEmbree, BoxSceneOnAMillionRays) {
 TEST(BvhAgainstEmbree, StanfordBunnyOnAMillionRays) {
     const auto scene = loadMeshScene("stanford-bunny.obj");
     if (!scene)
-        GTEST_SKIP() << "no " << PENUMBRA_DATA_DIR
-                     << "/meshes/stanford-bunny.obj (shared data folder absent)";
+        GTEST_SKIP() << testing::sharedDataMissing(std::string(PENUMBRA_DATA_DIR) + "/meshes/stanford-bunny.obj");
     expectAgreement(*scene, "stanford bunny");
 }
 
 TEST(BvhAgainstEmbree, StanfordDragonOnAMillionRays) {
     const auto scene = loadMeshScene("dragon_vrip_res2.ply.gz");
     if (!scene)
-        GTEST_SKIP() << "no " << PENUMBRA_DATA_DIR
-                     << "/meshes/dragon_vrip_res2.ply.gz (shared data folder absent)";
+        GTEST_SKIP() << testing::sharedDataMissing(std::string(PENUMBRA_DATA_DIR) + "/meshes/dragon_vrip_res2.ply.gz");
     // This mesh has overlapping triangles (about 1 ray in 5000 meets two at the same distance).
     expectAgreement(*scene, "stanford dragon (res2)", /*countTies=*/true);
 }

@@ -18,6 +18,7 @@
 #include "film/film.h"
 #include "renderer/render.h"
 #include "scenes/scene_loader.h"
+#include "tests/support/shared_data.h"
 
 namespace penumbra {
 namespace {
@@ -47,8 +48,7 @@ BlockStats blockStatsOf(const Film& film) {
 TEST(CornellReference, MatchesTungstenReference) {
     const std::filesystem::path data = PENUMBRA_DATA_DIR;
     const std::filesystem::path referencePath = data / "cornell-box-bitterli" / "reference-tungsten.exr";
-    if (!std::filesystem::exists(referencePath))
-        GTEST_SKIP() << "shared data not found at " << referencePath << " (set PENUMBRA_DATA_DIR)";
+    PENUMBRA_SKIP_WITHOUT_SHARED_DATA(referencePath);
 
     OIIO::ImageBuf reference(referencePath.string());
     ASSERT_TRUE(reference.read(0, 0, true, OIIO::TypeDesc::FLOAT)) << reference.geterror();

@@ -28,6 +28,7 @@
 #include "film/film.h"
 #include "renderer/render.h"
 #include "scenes/scene_loader.h"
+#include "tests/support/shared_data.h"
 
 namespace penumbra {
 namespace {
@@ -37,8 +38,7 @@ constexpr int kBlock = 16;
 TEST(VeachMisReference, MatchesTungstenReference) {
     const std::filesystem::path referencePath =
         std::filesystem::path(PENUMBRA_DATA_DIR) / "veach-mis" / "reference-tungsten.exr";
-    if (!std::filesystem::exists(referencePath))
-        GTEST_SKIP() << "shared data not found at " << referencePath << " (set PENUMBRA_DATA_DIR)";
+    PENUMBRA_SKIP_WITHOUT_SHARED_DATA(referencePath);
     OIIO::ImageBuf reference(referencePath.string());
     ASSERT_TRUE(reference.read(0, 0, true, OIIO::TypeDesc::FLOAT)) << reference.geterror();
     const int width = reference.spec().width, height = reference.spec().height;

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "tests/support/expect_input_error.h"
+#include "tests/support/shared_data.h"
 
 namespace penumbra {
 namespace {
@@ -108,7 +109,7 @@ TEST(MeshImport, GzipPly) {
 
 TEST(MeshImport, SharedBunnyObj) {
     const fs::path file = kSharedData / "meshes" / "bunny-lowres.obj";
-    if (!fs::exists(file)) GTEST_SKIP() << "shared test data not found: " << file;
+    PENUMBRA_SKIP_WITHOUT_SHARED_DATA(file);
     const TriangleMesh mesh = importMesh(file);
     EXPECT_EQ(mesh.triangleCount(), 3674u);
     EXPECT_EQ(mesh.positions.size(), 1839u);
@@ -118,7 +119,7 @@ TEST(MeshImport, SharedBunnyObj) {
 TEST(MeshImport, SharedCornellBoxObjWithMaterialsAndGroups) {
     // mtllib, usemtl and o lines are ignored: the scene file gives materials.
     const fs::path file = kSharedData / "cornell-box-embree" / "cornell_box.obj";
-    if (!fs::exists(file)) GTEST_SKIP() << "shared test data not found: " << file;
+    PENUMBRA_SKIP_WITHOUT_SHARED_DATA(file);
     const TriangleMesh mesh = importMesh(file);
     EXPECT_EQ(mesh.triangleCount(), 34u);  // 17 quads
     EXPECT_EQ(mesh.positions.size(), 76u);
@@ -127,7 +128,7 @@ TEST(MeshImport, SharedCornellBoxObjWithMaterialsAndGroups) {
 
 TEST(MeshImport, SharedDragonGzipPly) {
     const fs::path file = kSharedData / "meshes" / "dragon_vrip_res2.ply.gz";
-    if (!fs::exists(file)) GTEST_SKIP() << "shared test data not found: " << file;
+    PENUMBRA_SKIP_WITHOUT_SHARED_DATA(file);
     const TriangleMesh mesh = importMesh(file);
     EXPECT_EQ(mesh.triangleCount(), 202520u);
     EXPECT_EQ(mesh.positions.size(), 100250u);

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "tests/support/expect_input_error.h"
+#include "tests/support/shared_data.h"
 
 namespace penumbra {
 namespace {
@@ -198,7 +199,7 @@ std::vector<std::string> pbrtNames(const std::string& text, const std::string& k
 }
 
 TEST(SceneLoader, CornellBoxMatchesThePbrtOriginal) {
-    if (!fs::exists(kPbrtCornellBox)) GTEST_SKIP() << "shared test data not found: " << kPbrtCornellBox;
+    PENUMBRA_SKIP_WITHOUT_SHARED_DATA(kPbrtCornellBox);
     std::ifstream in(kPbrtCornellBox);
     std::stringstream buffer;
     buffer << in.rdbuf();

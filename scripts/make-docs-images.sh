@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# Regenerates every image in docs/ from the current code: the example scenes as the README shows
+# them (each at its own resolution and samples) and the two convergence studies of the README,
+# run with the README's commands. Work files go to out/docs/.
+#   scripts/make-docs-images.sh [PENUMBRA]   (default: builds and uses build/tools/penumbra)
+# It renders about 250 million samples: some ten minutes on two cores.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+penumbra=${1:-}
+if [ -z "$penumbra" ]; then
+    scripts/build.sh
+    penumbra=build/tools/penumbra
+fi
+out=out/docs
+mkdir -p "$out"
+
+for scene in cornell-box depth-of-field soft-shadows motion-blur distribution materials rough-materials; do
+    echo "docs/$scene.png"
+    "$penumbra" render "scenes/$scene.json" -o "$out/$scene.exr" --quiet
+    cp "$out/$scene.png" "docs/$scene.png"
+done
+
+echo "docs/convergence-soft-shadows.png, docs/convergence-soft-shadows-strip.png"
+"$penumbra" converge scenes/soft-shadows.json --spp 1,2,4,...,256 --seeds 3 --res 160x108 \
+    --reference-spp 4096 -o "$out/convergence-soft-shadows"
+cp "$out/convergence-soft-shadows/convergence.png" docs/convergence-soft-shadows.png
+cp "$out/convergence-soft-shadows/strip.png" docs/convergence-soft-shadows-strip.png
+
+echo "docs/veach-mis-convergence.png"
+"$penumbra" converge scenes/veach-mis.json --spp 1,2,4,...,32 --sampler stratified --res 320x180 \
+    --strategy mis,bsdf,light --reference-spp 1024 -o "$out/veach"
+cp "$out/veach/convergence.png" docs/veach-mis-convergence.png

@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# The installed program is relocatable: `cmake --install` into a scratch prefix, the whole tree
+# moved elsewhere, and the moved `penumbra` renders (EXR and PNG, so the image plugin and the
+# OpenColorIO config are found) and runs `converge` with its plot. No path of the source or build
+# tree may appear in any installed file.
+#   install_test.sh CMAKE BUILD_DIR SOURCE_DIR
+set -euo pipefail
+cmake=$1 build=$(cd "$2" && pwd) source=$(cd "$3" && pwd)
+scratch=$(mktemp -d)
+trap 'rm -rf "$scratch"' EXIT
+fail() { echo "FAILED: $*" >&2; exit 1; }
+
+"$cmake" --install "$build" --prefix "$scratch/prefix" > "$scratch/install.log"
+for f in bin/penumbra lib/penumbra/libpenumbra_image_plugin.so share/penumbra/ocio/config.ocio \
+         share/penumbra/plot_convergence.py share/penumbra/scenes/cornell-box.json; do
+    [ -f "$scratch/prefix/$f" ] || fail "the install has no $f"
+done
+if grep -rlF -e "$source" -e "$build" "$scratch/prefix"; then
+    fail "the files above name the source or build tree"
+fi
+
+mv "$scratch/prefix" "$scratch/moved"
+penumbra=$scratch/moved/bin/penumbra
+mkdir "$scratch/work"
+cd "$scratch/work"  # no scenes/ or build/ here
+"$penumbra" render "$scratch/moved/share/penumbra/scenes/cornell-box.json" --res 32x32 --spp 4 -o out/cb.exr --quiet
+[ -s out/cb.exr ] || fail "no EXR written"
+[ -s out/cb.png ] || fail "no PNG written"
+"$penumbra" converge "$scratch/moved/share/penumbra/scenes/soft-shadows.json" --spp 1,2,4 --res 24x16 \
+    --reference-spp 16 -o out/conv --quiet 2> converge.err || { cat converge.err >&2; fail "converge failed"; }
+[ -s out/conv/convergence.csv ] || fail "converge wrote no convergence.csv"
+if /usr/bin/python3 -c 'import matplotlib' 2>/dev/null; then
+    [ -s out/conv/convergence.png ] || { cat converge.err >&2; fail "converge made no plot"; }
+    grep -q warning converge.err && { cat converge.err >&2; fail "converge warned"; }
+else
+    echo "matplotlib is not installed (scripts/install-deps.sh tools): the plot was not checked"
+fi
+echo "installed, moved, rendered and ran converge from $scratch/moved"
