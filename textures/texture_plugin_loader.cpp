@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "core/error.h"
+#include "core/resource_paths.h"
 
 namespace penumbra {
 
@@ -34,14 +35,7 @@ const PenumbraTexturePlugin& load() {
 
 }  // namespace
 
-std::filesystem::path texturePluginPath() {
-    const std::filesystem::path built = PENUMBRA_TEXTURE_PLUGIN;
-    std::error_code ec;
-    if (std::filesystem::is_regular_file(built, ec)) return built;
-    // Installed or moved: the plugin lies beside the executable.
-    const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-    return ec ? built : exe.parent_path() / built.filename();
-}
+std::filesystem::path texturePluginPath() { return pluginPath(PENUMBRA_TEXTURE_PLUGIN_FILE); }
 
 const PenumbraTexturePlugin& texturePlugin() {
     static const PenumbraTexturePlugin& plugin = load();  // a failed load is retried on the next call
