@@ -23,7 +23,8 @@ struct MergeResult {
 };
 
 // Merges films read with readFilmExr; `names` (the files, for messages) parallel `parts`.
-// Throws InputError when they are not parts of one render or overlap.
+// Throws InputError when they are not parts of one render or overlap, or when one is an adaptive
+// render (whose pixels stop where the whole film decides: parts would not add up to one render).
 MergeResult mergeFilms(const std::vector<FilmFile>& parts, const std::vector<std::string>& names);
 
 // Reads and merges the files; nothing is written.
@@ -37,11 +38,13 @@ struct ResumeTarget {
     std::string sampler, accelerator;
     std::optional<PixelWindow> crop;
     uint32_t endSample = 0;  // the render is to end at this sample index
+    std::optional<AdaptiveSettings> adaptive{};  // the render's adaptive sampling, if any
 };
 
 // Throws InputError (naming `path`) unless `file` is a film that a render of `target` can
-// continue: same scene contents, resolution, seed, sampler, backend and crop, every pixel of the
-// window holding the same samples [first, end), and end <= target.endSample.
+// continue: same scene contents, resolution, seed, sampler, backend, crop and adaptive sampling,
+// every pixel of the window holding the same samples [first, end) (adaptive: [0, k) for a k that
+// the adaptive schedule allows, film/adaptive_film.h), and end <= target.endSample.
 void checkResumable(const FilmFile& file, const std::string& path, const ResumeTarget& target);
 
 // "x0,x1,y0,y1" and "[first, end)", as the command line writes them.

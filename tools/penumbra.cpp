@@ -1,6 +1,7 @@
 // penumbra: the command-line program.
 //
-//   penumbra render SCENE [--spp N] [--seed S] [--threads N] [--res WxH] [--accel embree|bvh] [-o PATH] ...
+//   penumbra render SCENE [--spp N] [--seed S] [--threads N] [--res WxH] [--accel embree|bvh]
+//                   [--adaptive T [--min-spp N]] [-o PATH] ...
 //   penumbra crosscheck SCENE [--rays N] [--seed S] [--json]
 //   penumbra merge PART.exr... -o OUT.exr
 //   penumbra converge SCENE --spp 1,2,4,...,1024 [--sampler ...] [--reference REF.exr] -o DIR
@@ -29,6 +30,7 @@
 #include "renderer/render.h"
 #include "renderer/render_job.h"
 #include "scenes/scene_loader.h"
+#include "tools/adaptive_options.h"
 #include "tools/cli_numbers.h"
 #include "tools/split_text.h"
 #include "tools/converge.h"
@@ -58,6 +60,8 @@ struct RenderCommand {
     std::string resume;                       // a film to continue up to --spp
     std::optional<double> checkpointMinutes;  // write the film every so often (0: after every pass)
     std::optional<uint32_t> passSize;         // sample indices per pass
+    std::optional<double> adaptiveThreshold;  // --adaptive
+    std::optional<int64_t> minSpp;            // --min-spp
 };
 
 // SIGINT / SIGTERM ask the render to stop at the end of the current pass; the film as of that
@@ -135,6 +139,7 @@ int runRender(const RenderCommand& cmd) {
         scene.film.width = int(parseIntegerOption("--res", parts[0], 1, limits::kMaxImageSide));
         scene.film.height = int(parseIntegerOption("--res", parts[1], 1, limits::kMaxImageSide));
     }
+    applyAdaptiveOptions(scene, cmd.adaptiveThreshold, cmd.minSpp);
 
     RenderOptions options;
     options.threads = cmd.threads;
@@ -147,6 +152,9 @@ int runRender(const RenderCommand& cmd) {
         options.endSample = uint32_t(parsePositive("--samples", parts[1]));
         if (options.firstSample >= options.endSample)
             throw InputError(fmt::format("--samples: FIRST must be below END, got '{}'", cmd.samples));
+        if (scene.film.adaptive && options.firstSample > 0)
+            throw InputError("--samples: an adaptive render (--adaptive, film.adaptive) starts at sample 0, where its "
+                             "pixels' decisions start; use --checkpoint and --resume to split it in time");
     }
     if (!cmd.crop.empty()) {
         const auto parts = splitText(cmd.crop, ',');
@@ -202,7 +210,7 @@ int runRender(const RenderCommand& cmd) {
         if (!cmd.noDisplay) writeDisplayImage(job.film(), displayPath);
         std::fprintf(stderr,
                      "penumbra: stopped by signal %d; wrote samples [%u, %u) to %s; continue with: penumbra render %s "
-                     "--spp %u --resume %s -o %s (and the same --seed, --sampler, --res, --crop, --accel)\n",
+                     "--spp %u --resume %s -o %s (and the same --seed, --sampler, --res, --crop, --accel, --adaptive, --min-spp)\n",
                      signal, rangeFirst, stats.endSample, exrPath.string().c_str(), cmd.scenePath.c_str(),
                      job.endSample(), exrPath.string().c_str(), exrPath.string().c_str());
         return 128 + signal;
@@ -220,6 +228,8 @@ int runRender(const RenderCommand& cmd) {
                     stats.samples / seconds * 1e-6, stats.rays.total() / seconds * 1e-6,
                     (unsigned long long)stats.rays.primary, (unsigned long long)stats.rays.extension,
                     (unsigned long long)stats.rays.shadow);
+        if (scene.film.adaptive)
+            std::printf("  %s\n", describeAdaptiveRender(job.film(), window, *scene.film.adaptive, stats.endSample).c_str());
         std::printf("wrote %s\n", exrPath.string().c_str());
         if (!cmd.noDisplay) std::printf("wrote %s\n", displayPath.string().c_str());
     }
@@ -270,6 +280,13 @@ int main(int argc, char** argv) {
                           "Sample indices per pass (default: about a million samples a pass); checkpoints and signals "
                           "take effect between passes")
         ->check(CLI::PositiveNumber);
+    renderApp->add_option("--adaptive", cmd.adaptiveThreshold,
+                          "Adaptive sampling: a pixel stops once the relative standard error of its mean (and its "
+                          "neighbours') is below THRESHOLD, e.g. 0.02; --spp is then the most a pixel gets "
+                          "(overrides film.adaptive.threshold)");
+    renderApp->add_option("--min-spp", cmd.minSpp,
+                          "Samples every pixel gets before adaptive sampling's first decision (default 16; overrides "
+                          "film.adaptive.min_spp)");
 
     std::vector<std::string> mergeParts;
     std::string mergeOutput;
@@ -310,6 +327,11 @@ int main(int argc, char** argv) {
     convergeApp->add_option("-o,--output", convergeCmd.output, "Output folder")->required();
     convergeApp->add_flag("--no-plot", convergeCmd.noPlot, "Do not run tools/plot_convergence.py");
     convergeApp->add_flag("-q,--quiet", convergeCmd.quiet, "No progress lines");
+    convergeApp->add_flag("--adaptive", convergeCmd.adaptive,
+                          "Also adaptive renders (up to 4x the top rung per pixel) at thresholds mapped to the rungs "
+                          "(the fixed render's median relative error at each), and the time and samples each needs to "
+                          "reach the fixed rungs' RMSE");
+    convergeApp->add_option("--min-spp", convergeCmd.minSpp, "Samples before the adaptive renders' first decision (default 16)");
 
     std::string crosscheckScene;
     CrosscheckOptions crosscheckOptions;
