@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages penumbra builds and tests with, skipping those already present.
-# Works as root or through sudo.
+# Works as root or through sudo. With --bench, also what only the benchmarks need.
 set -euo pipefail
 
 packages=(
@@ -12,6 +12,12 @@ packages=(
     python3 python3-numpy python3-openimageio python3-matplotlib
     embree-tools time  # bench/compare_pathtracer.py: Embree's pathtracer and GNU time
 )
+
+# Benchmarks only (--bench): Blender, whose Cycles bench/time_to_error.py renders against.
+bench_packages=(blender)
+if [ "${1:-}" = "--bench" ]; then
+    packages+=("${bench_packages[@]}")
+fi
 
 missing=()
 for p in "${packages[@]}"; do
