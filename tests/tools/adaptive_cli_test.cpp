@@ -79,6 +79,23 @@ TEST_F(AdaptiveCommandLine, RenderWritesAnAdaptiveFilm) {
     EXPECT_FALSE(fs::exists(dir_ / "m.exr"));
 }
 
+TEST_F(AdaptiveCommandLine, AResumedRenderEndsAsOneRender) {
+    const fs::path scene = write("scene.json", kScene);
+    const std::string common = " --adaptive 0.05 --no-display -q --threads 2 ";
+    ASSERT_EQ(runPenumbra("render " + scene.string() + common + "--spp 64 -o " + (dir_ / "once.exr").string()).exitCode, 0);
+    ASSERT_EQ(runPenumbra("render " + scene.string() + common + "--spp 36 -o " + (dir_ / "part.exr").string()).exitCode, 0);
+    const RunResult rest = runPenumbra("render " + scene.string() + common + "--spp 64 --resume " +
+                                       (dir_ / "part.exr").string() + " -o " + (dir_ / "part.exr").string());
+    ASSERT_EQ(rest.exitCode, 0) << rest.output;
+    EXPECT_TRUE(readFilmExr(dir_ / "part.exr").film.identicalTo(readFilmExr(dir_ / "once.exr").film));
+    // Another threshold is refused, naming the settings.
+    const RunResult other = runPenumbra("render " + scene.string() + " --adaptive 0.1 --no-display --spp 64 --resume " +
+                                        (dir_ / "once.exr").string() + " -o " + (dir_ / "other.exr").string());
+    EXPECT_NE(other.exitCode, 0);
+    EXPECT_TRUE(contains(other, "adaptive sampling 0.05:16")) << other.output;
+    EXPECT_FALSE(fs::exists(dir_ / "other.exr"));
+}
+
 TEST_F(AdaptiveCommandLine, BadSettingsAreRefused) {
     const fs::path scene = write("scene.json", kScene);
     const fs::path out = dir_ / "x.exr";
