@@ -31,7 +31,9 @@ struct AdaptiveSettings {
     // and a render of N samples takes O(log N) decisions. Steps are multiples of 8, the camera-ray
     // packet size, so that the passes between decisions keep the packets whole.
     static constexpr uint32_t kMinStep = 8;
-    static uint32_t stepAt(uint32_t count) { return std::max(kMinStep, std::bit_floor(std::max(count, 1u)) / 8); }
+    static uint32_t stepAt(uint32_t count) {
+        return std::max(kMinStep, std::bit_floor(std::max(count, 1u)) / 8);
+    }
 
     // The first decision point after `count` samples.
     uint32_t nextDecisionAfter(uint32_t count) const {

@@ -1,9 +1,9 @@
 #include "film/adaptive_film.h"
 
+#include <fmt/format.h>
+
 #include <charconv>
 #include <cmath>
-
-#include <fmt/format.h>
 
 namespace penumbra {
 

@@ -1,9 +1,9 @@
 #include "renderer/adaptive_sampling.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
-
-#include <tbb/parallel_for.h>
 
 namespace penumbra {
 

@@ -7,10 +7,10 @@
 //     error = sqrt((v_R + v_G + v_B) / 3) / ((m_R + m_G + m_B) / 3 + kAdaptiveErrorFloor).
 //
 // Relative, so that a threshold means the same in a bright sky and on a dim wall (0.02: the
-// noise left in the pixel is 2% of its value); the floor keeps near-black pixels, whose relative error means
-// nothing, from sampling forever. At 0.05 it makes the criterion about a constant noise level
+// noise left in the pixel is 2% of its value); the floor keeps near-black pixels, whose relative
+// error means nothing, from sampling forever. At 0.05 it makes the criterion about a constant noise level
 // after the sRGB transfer function for pixel values from 0.01 to 1, where a scene exposed for
-// display lives (the slope of sRGB at 0.01 is ~14x its slope at 0.5, and (0.01 + 0.05) / (0.5 +
+// display lives (the slope of sRGB at 0.01 is ~10x its slope at 0.5, and (0.01 + 0.05) / (0.5 +
 // 0.05) ~ 1/9). This is the per-pixel form of Dammertz et al.'s criterion ("A hierarchical
 // automatic stopping condition for Monte Carlo global illumination", WSCG 2010), which Cycles
 // uses (intern/cycles/kernel/film/adaptive_sampling.h) with the difference between the image and
@@ -50,7 +50,9 @@ public:
     // not stopped when the film reached that count.
     ActivePixels(const Film& film, const PixelWindow& window, uint32_t samples);
 
-    bool active(int x, int y) const { return mask_[size_t(y - window_.y0) * size_t(window_.width()) + size_t(x - window_.x0)] != 0; }
+    bool active(int x, int y) const {
+        return mask_[size_t(y - window_.y0) * size_t(window_.width()) + size_t(x - window_.x0)] != 0;
+    }
     size_t count() const { return count_; }
 
     // A decision: stops the active pixels whose 3x3 neighbourhood within the window is below

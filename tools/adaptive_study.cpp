@@ -1,10 +1,10 @@
 #include "tools/adaptive_study.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
-
-#include <fmt/format.h>
 
 #include "renderer/adaptive_sampling.h"
 #include "renderer/render_job.h"
@@ -42,15 +42,17 @@ float medianRelativeError(const Film& film) {
 }
 
 std::vector<AdaptiveRun> runAdaptiveRenders(const Scene& scene, const RenderOptions& base,
-                                            const std::vector<uint32_t>& rungs, const std::vector<float>& thresholds,
-                                            uint32_t minSamples, uint32_t maxSpp,
+                                            const std::vector<uint32_t>& rungs,
+                                            const std::vector<float>& thresholds, uint32_t minSamples,
+                                            uint32_t maxSpp,
                                             const std::function<RungMeasure(const Film&)>& measure,
                                             const std::function<void(const std::string&)>& log) {
     std::vector<AdaptiveRun> runs;
     for (size_t i = 0; i < rungs.size(); ++i) {
         if (rungs[i] < minSamples || !(thresholds[i] > 0.0f)) continue;
         Scene s = scene;
-        s.film.adaptive = AdaptiveSettings{std::min(thresholds[i], AdaptiveSettings::kMaxThreshold), minSamples};
+        s.film.adaptive =
+            AdaptiveSettings{std::min(thresholds[i], AdaptiveSettings::kMaxThreshold), minSamples};
         RenderOptions o = base;
         o.endSample = maxSpp;
         RenderJob job(s, SceneSource{}, o);
@@ -66,14 +68,15 @@ std::vector<AdaptiveRun> runAdaptiveRenders(const Scene& scene, const RenderOpti
         run.samples = stats.samples;
         run.meanSpp = double(stats.samples) / (double(scene.film.width) * scene.film.height);
         if (log)
-            log(fmt::format("  adaptive {:.4g} (rung {}): RMSE {:.5g}, {:.1f} spp on average, {:.2f} s", run.threshold,
-                            run.rung, run.rmse, run.meanSpp, run.seconds));
+            log(fmt::format("  adaptive {:.4g} (rung {}): RMSE {:.5g}, {:.1f} spp on average, {:.2f} s",
+                            run.threshold, run.rung, run.rmse, run.meanSpp, run.seconds));
         runs.push_back(run);
     }
     return runs;
 }
 
-std::vector<EqualErrorPoint> compareAtEqualError(const std::vector<uint32_t>& spp, const std::vector<double>& rmse,
+std::vector<EqualErrorPoint> compareAtEqualError(const std::vector<uint32_t>& spp,
+                                                 const std::vector<double>& rmse,
                                                  const std::vector<double>& seconds, double pixels,
                                                  const std::vector<AdaptiveRun>& runs) {
     std::vector<std::pair<double, double>> byTime, bySamples;  // (RMSE, y), sorted by RMSE

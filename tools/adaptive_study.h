@@ -22,12 +22,12 @@
 namespace penumbra {
 
 struct AdaptiveRun {
-    uint32_t rung = 0;        // the fixed rung the threshold was taken from
+    uint32_t rung = 0;  // the fixed rung the threshold was taken from
     float threshold = 0;
     uint32_t maxSpp = 0;
     double mse = 0, rmse = 0;
-    double seconds = 0;       // tracing, as the fixed rungs count it
-    uint64_t samples = 0;     // samples spent, in all
+    double seconds = 0;    // tracing, as the fixed rungs count it
+    uint64_t samples = 0;  // samples spent, in all
     double meanSpp = 0;
 };
 
@@ -56,13 +56,15 @@ struct RungMeasure {
     double mse = 0, rmse = 0;
 };
 std::vector<AdaptiveRun> runAdaptiveRenders(const Scene& scene, const RenderOptions& base,
-                                            const std::vector<uint32_t>& rungs, const std::vector<float>& thresholds,
-                                            uint32_t minSamples, uint32_t maxSpp,
+                                            const std::vector<uint32_t>& rungs,
+                                            const std::vector<float>& thresholds, uint32_t minSamples,
+                                            uint32_t maxSpp,
                                             const std::function<RungMeasure(const Film&)>& measure,
                                             const std::function<void(const std::string&)>& log);
 
 // The equal-error comparison of fixed rungs (spp, RMSE, seconds) with the adaptive runs.
-std::vector<EqualErrorPoint> compareAtEqualError(const std::vector<uint32_t>& spp, const std::vector<double>& rmse,
+std::vector<EqualErrorPoint> compareAtEqualError(const std::vector<uint32_t>& spp,
+                                                 const std::vector<double>& rmse,
                                                  const std::vector<double>& seconds, double pixels,
                                                  const std::vector<AdaptiveRun>& runs);
 

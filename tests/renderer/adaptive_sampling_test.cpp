@@ -1,22 +1,22 @@
 // Adaptive sampling (renderer/adaptive_sampling.h): the film does not depend on threads, passes
 // or checkpoints; films record the settings, resume exactly and refuse to merge; a flat region
 // stops early while an edge keeps sampling; stopped pixels meet the threshold.
-#include <gtest/gtest.h>
+#include "renderer/adaptive_sampling.h"
 
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <utility>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/sampling.h"
 #include "film/film_merge.h"
 #include "film/image_output.h"
-#include "renderer/adaptive_sampling.h"
 #include "renderer/render.h"
 #include "renderer/render_job.h"
 #include "tests/support/expect_input_error.h"
@@ -53,7 +53,8 @@ std::vector<uint32_t> sampleCounts(const Film& film) {
 TEST(AdaptiveSchedule, DecisionsAtMinSamplesThenAtGrowingSteps) {
     const AdaptiveSettings settings{0.02f, 16};
     std::vector<uint32_t> points;
-    for (uint32_t n = settings.nextDecisionAfter(0); n <= 320; n = settings.nextDecisionAfter(n)) points.push_back(n);
+    for (uint32_t n = settings.nextDecisionAfter(0); n <= 320; n = settings.nextDecisionAfter(n))
+        points.push_back(n);
     const std::vector<uint32_t> expected{16,  24,  32,  40,  48,  56,  64,  72,  80,  88,  96,  104, 112,
                                          120, 128, 144, 160, 176, 192, 208, 224, 240, 256, 288, 320};
     EXPECT_EQ(points, expected);
@@ -94,7 +95,8 @@ TEST(AdaptiveBox, TheFilmDoesNotDependOnThreadsTilesOrPasses) {
             options.threads = threads;
             options.passSize = passSize;
             options.tileSize = threads == 8 ? 5 : 16;
-            EXPECT_TRUE(renderFilm(scene, options).identicalTo(reference)) << threads << " threads, passes of " << passSize;
+            EXPECT_TRUE(renderFilm(scene, options).identicalTo(reference))
+                << threads << " threads, passes of " << passSize;
         }
 }
 
@@ -242,7 +244,9 @@ TEST_F(AdaptiveFiles, MergeRefusesAdaptiveFilms) {
     b.run();
     a.writeFilm(dir_ / "left.exr");
     b.writeFilm(dir_ / "right.exr");
-    const InputError e = testing::catchInputError([&] { mergeFilmFiles({dir_ / "left.exr", dir_ / "right.exr"}); });
+    const InputError e = testing::catchInputError([&] {
+        mergeFilmFiles({dir_ / "left.exr", dir_ / "right.exr"});
+    });
     EXPECT_CONTAINS(e.what(), "left.exr");
     EXPECT_CONTAINS(e.what(), "adaptive render");
 }
@@ -286,7 +290,8 @@ Scene shadowEdgeScene(int spp, float threshold) {
 std::pair<double, double> litSampleBounds(int x, int y) {
     const double pixel = 2.0 / kWallPixels;
     const double x0 = -1.0 + x * pixel, x1 = x0 + pixel, y1 = 1.0 - y * pixel, y0 = y1 - pixel;
-    const double dxMin = std::max({0.0, x0 - 0.25, -0.25 - x1}), dxMax = std::max(std::abs(x0), std::abs(x1)) + 0.25;
+    const double dxMin = std::max({0.0, x0 - 0.25, -0.25 - x1}),
+                 dxMax = std::max(std::abs(x0), std::abs(x1)) + 0.25;
     const double dyMin = 5.75 - y1, dyMax = 6.25 - y0;
     const double r2Min = 36.0 + dxMin * dxMin + dyMin * dyMin, r2Max = 36.0 + dxMax * dxMax + dyMax * dyMax;
     const double scale = kWallAlbedo / kPi * kLightRadiance * 0.25 * 36.0;
@@ -300,8 +305,8 @@ TEST(AdaptiveShadowEdge, AFlatRegionStopsEarlyAndTheEdgeKeepsSampling) {
     const AdaptiveSettings& adaptive = *scene.film.adaptive;
     const Film film = renderFilm(scene, RenderOptions{});
     constexpr int kEdgeRow = 11;
-    ASSERT_GT(film.at(16, kEdgeRow + 3).mean().r, 0.3f);   // lit below the edge
-    ASSERT_EQ(film.at(16, kEdgeRow - 3).mean().r, 0.0f);   // shadow (and the plate) above
+    ASSERT_GT(film.at(16, kEdgeRow + 3).mean().r, 0.3f);  // lit below the edge
+    ASSERT_EQ(film.at(16, kEdgeRow - 3).mean().r, 0.0f);  // shadow (and the plate) above
 
     // Flat, lit: a sample's radiance lies in [a, b] (litSampleBounds), so the variance of the mean
     // that the film estimates from n samples is at most ((b - a) / 2)^2 / (n - 1) (Popoviciu's
@@ -340,7 +345,8 @@ TEST(AdaptiveShadowEdge, AFlatRegionStopsEarlyAndTheEdgeKeepsSampling) {
     // every pixel of the row. So no pixel of the edge, nor any next to it, stops before 256.
     for (int x = 0; x < kWallPixels; ++x) {
         const double a = litSampleBounds(x, kEdgeRow).first, p = 0.33;
-        const double lowest = std::sqrt((1 - p) / p / double(kSpp - 1)) * p * a / (p * a + kAdaptiveErrorFloor);
+        const double lowest =
+            std::sqrt((1 - p) / p / double(kSpp - 1)) * p * a / (p * a + kAdaptiveErrorFloor);
         ASSERT_GT(lowest, kThreshold) << "the scene no longer makes the edge's error bound";
         for (int y = kEdgeRow - 1; y <= kEdgeRow + 1; ++y)
             EXPECT_EQ(film.at(x, y).sampleCount, uint32_t(kSpp)) << "edge pixel " << x << ", " << y;

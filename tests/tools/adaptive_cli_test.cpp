@@ -19,14 +19,15 @@ namespace fs = std::filesystem;
 namespace penumbra {
 namespace {
 
-using testing::RunResult;
 using testing::runPenumbra;
+using testing::RunResult;
 
 class AdaptiveCommandLine : public ::testing::Test {
 protected:
     void SetUp() override {
         dir_ = fs::temp_directory_path() /
-               ("penumbra-adaptive-cli-" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+               ("penumbra-adaptive-cli-" +
+                std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
         fs::remove_all(dir_);
         fs::create_directories(dir_);
     }
@@ -50,13 +51,15 @@ const char* kScene = R"({
              {"type": "sphere", "center": [0.3, 0.3, 0.2], "radius": 0.3, "material": "grey"}]
 })";
 
-bool contains(const RunResult& r, const std::string& text) { return r.output.find(text) != std::string::npos; }
+bool contains(const RunResult& r, const std::string& text) {
+    return r.output.find(text) != std::string::npos;
+}
 
 TEST_F(AdaptiveCommandLine, RenderWritesAnAdaptiveFilm) {
     const fs::path scene = write("scene.json", kScene);
     const fs::path out = dir_ / "a.exr";
-    const RunResult r =
-        runPenumbra("render " + scene.string() + " --adaptive 0.05 --min-spp 8 --no-display -o " + out.string());
+    const RunResult r = runPenumbra("render " + scene.string() +
+                                    " --adaptive 0.05 --min-spp 8 --no-display -o " + out.string());
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_TRUE(contains(r, "adaptive 0.05 (min 8 spp)")) << r.output;
     const FilmFile film = readFilmExr(out);
@@ -65,15 +68,20 @@ TEST_F(AdaptiveCommandLine, RenderWritesAnAdaptiveFilm) {
     EXPECT_EQ(film.metadata.endSample, 64u);
 
     // The scene file's settings, overridden by the command line.
-    const fs::path inScene = write("in-scene.json", std::string(kScene).replace(
-        std::string(kScene).find("\"spp\": 64}"), 10, "\"spp\": 64, \"adaptive\": {\"threshold\": 0.1, \"min_spp\": 24}}"));
+    const fs::path inScene = write(
+        "in-scene.json",
+        std::string(kScene).replace(std::string(kScene).find("\"spp\": 64}"), 10,
+                                    "\"spp\": 64, \"adaptive\": {\"threshold\": 0.1, \"min_spp\": 24}}"));
     ASSERT_EQ(runPenumbra("render " + inScene.string() + " -q --no-display -o " + out.string()).exitCode, 0);
     EXPECT_EQ(readFilmExr(out).metadata.adaptive, (AdaptiveSettings{0.1f, 24}));
-    ASSERT_EQ(runPenumbra("render " + inScene.string() + " -q --no-display --adaptive 0.2 -o " + out.string()).exitCode, 0);
+    ASSERT_EQ(runPenumbra("render " + inScene.string() + " -q --no-display --adaptive 0.2 -o " + out.string())
+                  .exitCode,
+              0);
     EXPECT_EQ(readFilmExr(out).metadata.adaptive, (AdaptiveSettings{0.2f, 24}));
 
     // Merging it is refused.
-    const RunResult merge = runPenumbra("merge " + out.string() + " --no-display -o " + (dir_ / "m.exr").string());
+    const RunResult merge =
+        runPenumbra("merge " + out.string() + " --no-display -o " + (dir_ / "m.exr").string());
     EXPECT_NE(merge.exitCode, 0);
     EXPECT_TRUE(contains(merge, "adaptive render")) << merge.output;
     EXPECT_FALSE(fs::exists(dir_ / "m.exr"));
@@ -82,15 +90,20 @@ TEST_F(AdaptiveCommandLine, RenderWritesAnAdaptiveFilm) {
 TEST_F(AdaptiveCommandLine, AResumedRenderEndsAsOneRender) {
     const fs::path scene = write("scene.json", kScene);
     const std::string common = " --adaptive 0.05 --no-display -q --threads 2 ";
-    ASSERT_EQ(runPenumbra("render " + scene.string() + common + "--spp 64 -o " + (dir_ / "once.exr").string()).exitCode, 0);
-    ASSERT_EQ(runPenumbra("render " + scene.string() + common + "--spp 36 -o " + (dir_ / "part.exr").string()).exitCode, 0);
+    ASSERT_EQ(runPenumbra("render " + scene.string() + common + "--spp 64 -o " + (dir_ / "once.exr").string())
+                  .exitCode,
+              0);
+    ASSERT_EQ(runPenumbra("render " + scene.string() + common + "--spp 36 -o " + (dir_ / "part.exr").string())
+                  .exitCode,
+              0);
     const RunResult rest = runPenumbra("render " + scene.string() + common + "--spp 64 --resume " +
                                        (dir_ / "part.exr").string() + " -o " + (dir_ / "part.exr").string());
     ASSERT_EQ(rest.exitCode, 0) << rest.output;
     EXPECT_TRUE(readFilmExr(dir_ / "part.exr").film.identicalTo(readFilmExr(dir_ / "once.exr").film));
     // Another threshold is refused, naming the settings.
-    const RunResult other = runPenumbra("render " + scene.string() + " --adaptive 0.1 --no-display --spp 64 --resume " +
-                                        (dir_ / "once.exr").string() + " -o " + (dir_ / "other.exr").string());
+    const RunResult other =
+        runPenumbra("render " + scene.string() + " --adaptive 0.1 --no-display --spp 64 --resume " +
+                    (dir_ / "once.exr").string() + " -o " + (dir_ / "other.exr").string());
     EXPECT_NE(other.exitCode, 0);
     EXPECT_TRUE(contains(other, "adaptive sampling 0.05:16")) << other.output;
     EXPECT_FALSE(fs::exists(dir_ / "other.exr"));
@@ -108,7 +121,8 @@ TEST_F(AdaptiveCommandLine, BadSettingsAreRefused) {
         {"--adaptive 0.1 --samples 8:16", "an adaptive render"},
     };
     for (const auto& [arguments, message] : cases) {
-        const RunResult r = runPenumbra("render " + scene.string() + " --no-display -o " + out.string() + " " + arguments);
+        const RunResult r =
+            runPenumbra("render " + scene.string() + " --no-display -o " + out.string() + " " + arguments);
         EXPECT_NE(r.exitCode, 0) << arguments;
         EXPECT_TRUE(contains(r, "penumbra: error: ")) << arguments << ": " << r.output;
         EXPECT_TRUE(contains(r, message)) << arguments << ": " << r.output;
