@@ -32,6 +32,7 @@
 #include "core/input_limits.h"
 #include "core/system_memory.h"
 #include "core/huge_page_allocator.h"
+#include "film/adaptive_film.h"
 #include "film/atomic_file.h"
 #include "film/checked_file.h"
 #include "film/film_checksum.h"
@@ -44,9 +45,13 @@ namespace {
 // The EXR layout (docs/exr-layout.md). Version 1: every sum as four words in part "sums".
 // Version 2: high words that only repeat the sign are left out, and the words are
 // spread over part "sums" (ZIP) and part "sums.noise" (RLE) by how they compress. Version 3
-// (written): version 2 with the checksum penumbra:checksum in part "sums".
-constexpr int kFilmLayoutVersion = 3;
+// (written): version 2 with the checksum penumbra:checksum in part "sums". Version 4 (written for
+// adaptive renders): version 3 with penumbra:adaptive, whose pixels hold sample counts of their own.
+constexpr int kFilmLayoutVersion = 4;
 constexpr int kFirstLayoutWithChecksum = 3;
+constexpr int kNonAdaptiveLayoutVersion = 3;
+constexpr int kFirstAdaptiveLayout = 4;
+const char* const kAdaptiveAttribute = "penumbra:adaptive";
 const char* const kChecksumAttribute = "penumbra:checksum";
 const char* const kSumsPart = "sums";
 const char* const kNoisePart = "sums.noise";
@@ -168,13 +173,16 @@ void checkFileHoldsItsRows(const std::filesystem::path& path, Imf::MultiPartInpu
 }
 
 // The attributes of the beauty part that say which samples the film holds, as the checksum covers
-// them (docs/exr-layout.md).
+// them (docs/exr-layout.md); an adaptive film's penumbra:adaptive last.
 std::string checksummedMetadata(const Imf::Header& beauty) {
-    return fmt::format("{}|{}|{}|{}|{}|{}|{}|{}", stringAttribute(beauty, "penumbra:resolution"),
-                       stringAttribute(beauty, "penumbra:crop"), stringAttribute(beauty, "penumbra:samples"),
-                       intAttribute(beauty, "penumbra:spp"), stringAttribute(beauty, "penumbra:seed"),
-                       stringAttribute(beauty, "penumbra:sampler"), stringAttribute(beauty, "penumbra:accel"),
-                       stringAttribute(beauty, "penumbra:sceneHash"));
+    std::string text = fmt::format("{}|{}|{}|{}|{}|{}|{}|{}", stringAttribute(beauty, "penumbra:resolution"),
+                                   stringAttribute(beauty, "penumbra:crop"), stringAttribute(beauty, "penumbra:samples"),
+                                   intAttribute(beauty, "penumbra:spp"), stringAttribute(beauty, "penumbra:seed"),
+                                   stringAttribute(beauty, "penumbra:sampler"), stringAttribute(beauty, "penumbra:accel"),
+                                   stringAttribute(beauty, "penumbra:sceneHash"));
+    if (intAttribute(beauty, "penumbra:film") >= kFirstAdaptiveLayout)
+        text += "|" + stringAttribute(beauty, kAdaptiveAttribute);
+    return text;
 }
 
 // A sum at or beyond 2^126 units in magnitude is more than 2^32 samples can add (each adds less
@@ -245,6 +253,15 @@ FilmHeader readHeader(const std::filesystem::path& path, Imf::MultiPartInputFile
         stringAttribute(beauty, "penumbra:crop") != formatWindow(window))
         throwFileError(path, "the data window does not match penumbra:crop");
     if (window != PixelWindow{0, fullWidth, 0, fullHeight}) m.crop = window;
+    if (layout >= kFirstAdaptiveLayout) {
+        const std::string adaptive = stringAttribute(beauty, kAdaptiveAttribute);
+        m.adaptive = parseAdaptiveAttribute(adaptive);
+        if (!m.adaptive)
+            throwFileError(path, fmt::format("malformed {} '{}' (expected THRESHOLD:MIN_SPP, 0 < THRESHOLD <= {:g}, "
+                                             "MIN_SPP >= {})",
+                                             kAdaptiveAttribute, adaptive, AdaptiveSettings::kMaxThreshold,
+                                             AdaptiveSettings::kMinMinSamples));
+    }
     return FilmHeader{m, fullWidth, fullHeight};
 }
 
@@ -413,7 +430,10 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
     // Part 0, "beauty": what viewers and compositors read; it carries the metadata.
     Imf::Header beauty(boxOf(full), data);
     beauty.insert("Software", Imf::StringAttribute(penumbraSoftwareName()));
-    beauty.insert("penumbra:film", Imf::IntAttribute(kFilmLayoutVersion));
+    beauty.insert("penumbra:film",
+                  Imf::IntAttribute(metadata.adaptive ? kFirstAdaptiveLayout : kNonAdaptiveLayoutVersion));
+    if (metadata.adaptive)
+        beauty.insert(kAdaptiveAttribute, Imf::StringAttribute(formatAdaptiveAttribute(*metadata.adaptive)));
     beauty.insert("penumbra:spp", Imf::IntAttribute(metadata.samplesPerPixel));
     // EXR has no 64-bit integer attribute; a decimal string keeps every seed exact.
     beauty.insert("penumbra:seed", Imf::StringAttribute(std::to_string(metadata.seed)));

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "core/error.h"
+#include "film/adaptive_film.h"
 
 namespace penumbra {
 
@@ -42,6 +43,13 @@ std::string describeRange(const RenderMetadata& m) { return fmt::format("[{}, {}
 
 void FilmMerger::add(FilmFile part, const std::string& name) {
     if (merged_) checkSameRender(merged_->film.width(), merged_->film.height(), first_, part, name);
+    // An adaptive render's pixels stop where the whole film (all its samples, all its pixels'
+    // neighbours) says so: parts of one would not add up to the film of one render.
+    if (part.metadata.adaptive)
+        throw InputError(fmt::format(
+            "cannot merge {}: it is an adaptive render (penumbra:adaptive {}), whose pixels stop where the whole "
+            "film decides; render it as one job instead (checkpoints and --resume continue it exactly)",
+            name, formatAdaptiveAttribute(*part.metadata.adaptive)));
     // Two parts overlap when they share pixels and sample indices: those samples would count twice.
     const PixelWindow window = windowOf(part);
     for (const Seen& earlier : seen_) {
@@ -172,8 +180,28 @@ void checkResumable(const FilmFile& file, const std::string& path, const ResumeT
     if (fileWindow != targetWindow)
         fail(fmt::format("it covers the pixels {}, the render {} (pass --crop {})", describeWindow(fileWindow),
                          describeWindow(targetWindow), describeWindow(fileWindow)));
+    auto describeAdaptive = [](const std::optional<AdaptiveSettings>& a) {
+        return a ? fmt::format("adaptive sampling {} (THRESHOLD:MIN_SPP)", formatAdaptiveAttribute(*a))
+                 : std::string("no adaptive sampling");
+    };
+    if (m.adaptive != target.adaptive)
+        fail(fmt::format("it was rendered with {}, the render asks for {} (pass the same --adaptive and --min-spp)",
+                         describeAdaptive(m.adaptive), describeAdaptive(target.adaptive)));
     const uint32_t count = m.endSample - m.firstSample;
-    for (int y = 0; y < target.height; ++y)
+    if (m.adaptive) {
+        // Each pixel of the window stopped at a decision point or holds every sample.
+        if (m.firstSample != 0) fail(fmt::format("an adaptive film starts at sample 0, not {}", m.firstSample));
+        for (int y = 0; y < target.height; ++y)
+            for (int x = 0; x < target.width; ++x) {
+                const uint32_t held = file.film.at(x, y).sampleCount;
+                const bool possible = fileWindow.contains(x, y) ? adaptiveCountPossible(*m.adaptive, held, count) : held == 0;
+                if (!possible)
+                    fail(fmt::format("pixel ({}, {}) holds {} samples, which an adaptive render ({}) of samples {} "
+                                     "does not leave",
+                                     x, y, held, describeAdaptive(m.adaptive), describeRange(m)));
+            }
+    }
+    for (int y = 0; y < target.height && !m.adaptive; ++y)
         for (int x = 0; x < target.width; ++x) {
             const uint32_t expected = fileWindow.contains(x, y) ? count : 0;
             if (file.film.at(x, y).sampleCount != expected)

@@ -46,7 +46,8 @@ private:
 };
 
 // Merges films read with readFilmExr; `names` (the files, for messages) parallel `parts`.
-// Throws InputError when they are not parts of one render or overlap.
+// Throws InputError when they are not parts of one render or overlap, or when one is an adaptive
+// render (whose pixels stop where the whole film decides: parts would not add up to one render).
 MergeResult mergeFilms(const std::vector<FilmFile>& parts, const std::vector<std::string>& names);
 
 // Reads and merges the files, one at a time (FilmMerger); nothing is written.
@@ -63,12 +64,14 @@ struct ResumeTarget {
     // The render's first sample index (render --samples FIRST:END), when it names one: the film
     // must start there.
     std::optional<uint32_t> firstSample;
+    std::optional<AdaptiveSettings> adaptive{};  // the render's adaptive sampling, if any
 };
 
 // Throws InputError (naming `path`) unless `file` is a film that a render of `target` can
-// continue: same scene contents, resolution, seed, sampler, backend and crop, every pixel of the
-// window holding the same samples [first, end), end <= target.endSample and, when the target
-// names one, first == target.firstSample.
+// continue: same scene contents, resolution, seed, sampler, backend, crop and adaptive sampling,
+// every pixel of the window holding the same samples [first, end) (adaptive: [0, k) for a k that
+// the adaptive schedule allows, film/adaptive_film.h), end <= target.endSample and, when the
+// target names one, first == target.firstSample.
 void checkResumable(const FilmFile& file, const std::string& path, const ResumeTarget& target);
 
 // "x0,x1,y0,y1" and "[first, end)", as the command line writes them.

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "core/adaptive_schedule.h"
 #include "film/film.h"
 
 namespace penumbra {
@@ -29,6 +30,10 @@ struct RenderMetadata {
     std::string version;      // penumbra version string
     uint32_t firstSample = 0, endSample = 0;  // every pixel of the window holds samples [first, end)
     std::optional<PixelWindow> crop;          // the pixels rendered; none: the whole image
+    // An adaptive render's settings: each pixel of the window then holds samples [first, first + k)
+    // for its own k <= end - first (its "spp" channel), k being a decision point of the settings'
+    // schedule or end - first.
+    std::optional<AdaptiveSettings> adaptive;
 };
 
 // Writes the film as a multi-part EXR (docs/exr-layout.md): part "beauty" holds FLOAT channels

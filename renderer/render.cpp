@@ -14,6 +14,7 @@
 #include "cameras/camera.h"
 #include "core/error.h"
 #include "core/input_limits.h"
+#include "renderer/adaptive_sampling.h"
 #include "renderer/camera_samples.h"
 #include "film/pixel_accumulator.h"
 #include "renderer/prepared_scene.h"
@@ -38,7 +39,8 @@ struct TileResult {
 template <TraversalBackend Accel>
 TileResult renderTile(const Accel& accel, const Scene& scene, const ThinLensCamera& camera,
                       const IntegratorContext& ctx, const PixelWindow& tile, uint32_t firstSample,
-                      uint32_t endSample, uint32_t frozenDims, bool sceneMoves, Film& film) {
+                      uint32_t endSample, uint32_t frozenDims, bool sceneMoves, const ActivePixels* active,
+                      Film& film) {
     constexpr int kPacket = Accel::kPacketSize;
     TileResult result;
     // A group's samples, camera rays and what they hit, declared once per tile: every entry used
@@ -50,6 +52,7 @@ TileResult renderTile(const Accel& accel, const Scene& scene, const ThinLensCame
     bool found[kPacket];
     for (int y = tile.y0; y < tile.y1; ++y)
         for (int x = tile.x0; x < tile.x1; ++x) {
+            if (active && !active->active(x, y)) continue;  // stopped by adaptive sampling
             PixelAccumulator pixel(film.at(x, y));  // adds the samples to the film when the pixel is done
             const uint64_t pixelIndex = uint64_t(y) * uint64_t(scene.film.width) + uint64_t(x);
             const PixelKey pixelKey = PixelKey::of(scene.settings.seed, pixelIndex);
@@ -106,8 +109,20 @@ RenderStats renderWith(const Accel& accel, const Scene& scene, const RenderOptio
     // the next multiple of the pass size, like the packets' groups of sample indices, so that a
     // resume from any index keeps the packets of later passes whole, or at options.passEnds.
     const uint32_t firstSample = std::min(options.firstSample, endSample);
+    // Adaptive sampling: a pass also ends at each of its decision points, where pixels stop. The
+    // pixels active at firstSample are those that hold all its samples (a resumed film's stopped
+    // pixels hold fewer); if firstSample is a decision point, it is taken again here, from the
+    // same film, as the render that wrote the film took it.
+    const std::optional<AdaptiveSettings>& adaptive = scene.film.adaptive;
+    std::optional<ActivePixels> active;
+    if (adaptive) {
+        active.emplace(film, window, firstSample);
+        if (adaptive->isDecisionPoint(firstSample) && firstSample < endSample)
+            active->stopConverged(film, adaptive->threshold);
+    }
     auto passEndAfter = [&](uint32_t begin) {
         uint64_t end = endSample;
+        if (adaptive) end = std::min<uint64_t>(end, adaptive->nextDecisionAfter(begin));
         if (options.passSize > 0)
             end = std::min<uint64_t>(end, (uint64_t(begin) / options.passSize + 1) * options.passSize);
         for (const uint32_t boundary : options.passEnds)
@@ -127,7 +142,7 @@ RenderStats renderWith(const Accel& accel, const Scene& scene, const RenderOptio
     auto renderRange = [&](const tbb::blocked_range<size_t>& range) {
         for (size_t i = range.begin(); i != range.end(); ++i) {
             TileResult r = renderTile(accel, scene, camera, ctx, tiles[i], passBegin, passEnd, options.frozenDims,
-                                      sceneMoves, film);
+                                      sceneMoves, active ? &*active : nullptr, film);
             TileResult& total = results[i];
             total.rays += r.rays;
             total.samples += r.samples;
@@ -153,9 +168,16 @@ RenderStats renderWith(const Accel& accel, const Scene& scene, const RenderOptio
             stats.cancelled = true;
             break;
         }
+        if (active && active->count() == 0) {
+            // Every pixel has stopped: the film is the one a render to endSample ends with.
+            stats.endSample = endSample;
+            break;
+        }
         passEnd = passEndAfter(passBegin);
         arena.execute([&] { tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), renderRange); });
         stats.endSample = passEnd;
+        if (active && adaptive->isDecisionPoint(passEnd) && passEnd < endSample)
+            active->stopConverged(film, adaptive->threshold);
         if (options.passDone) {
             const auto callbackStart = Clock::now();
             options.passDone(passEnd);

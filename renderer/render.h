@@ -59,7 +59,10 @@ struct RenderStats {
     double renderSeconds = 0.0;  // tracing and shading
     uint64_t samples = 0;
     RayCounters rays;
-    uint32_t endSample = 0;  // every pixel of the window holds samples [firstSample, endSample)
+    // Every pixel of the window holds samples [firstSample, endSample); with adaptive sampling
+    // (the scene's film.adaptive) each holds [0, k) for its own k <= endSample, and endSample
+    // is reached early when every pixel has stopped.
+    uint32_t endSample = 0;
     bool cancelled = false;  // stopped early through RenderOptions::cancel (endSample tells where)
     uint64_t nonFiniteCount = 0;
     std::vector<NonFiniteSample> nonFiniteExamples;  // the first few, in pixel order
@@ -75,7 +78,10 @@ uint32_t defaultPassSize(uint64_t windowPixels);
 // process may use).
 int renderThreads(int requested);
 
-// Renders `scene` into `film` (sized to the scene's resolution), adding to what it holds.
+// Renders `scene` into `film` (sized to the scene's resolution), adding to what it holds. With
+// adaptive sampling (scene.film.adaptive, renderer/adaptive_sampling.h) the film must hold what an
+// adaptive render of samples [0, options.firstSample) left in it (nothing when firstSample is 0):
+// the pixels holding firstSample samples go on, the others have stopped.
 RenderStats render(const Scene& scene, const RenderOptions& options, Film& film);
 
 }  // namespace penumbra

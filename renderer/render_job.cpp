@@ -3,6 +3,8 @@
 #include <chrono>
 #include <utility>
 
+#include <fmt/format.h>
+
 #include "core/check.h"
 #include "core/error.h"
 #include "film/film_merge.h"
@@ -18,6 +20,12 @@ SceneSource SceneSource::of(const std::filesystem::path& sceneFile, const Scene&
 RenderJob::RenderJob(const Scene& scene, SceneSource source, RenderOptions options)
     : scene_(scene), source_(std::move(source)), options_(std::move(options)), film_(scene.film.width, scene.film.height) {
     if (options_.endSample == 0) options_.endSample = uint32_t(scene.film.samplesPerPixel);
+    // Adaptive decisions weigh all of a pixel's samples: a render of a later range alone would
+    // decide from part of them.
+    if (scene.film.adaptive && options_.firstSample != 0)
+        throw InputError(fmt::format("adaptive sampling renders from sample 0 (its pixels stop where all their samples "
+                                     "say so); it cannot render samples from {} alone (--samples)",
+                                     options_.firstSample));
     firstSample_ = options_.firstSample;
 }
 
@@ -27,7 +35,7 @@ void RenderJob::resumeFrom(const std::filesystem::path& path, std::optional<uint
                    ResumeTarget{source_.hash, scene_.film.width, scene_.film.height, scene_.settings.seed,
                                 std::string(samplerKindName(scene_.settings.sampler)),
                                 std::string(acceleratorKindName(options_.accelerator)), options_.crop,
-                                options_.endSample, startingAt});
+                                 options_.endSample, startingAt, scene_.film.adaptive});
     firstSample_ = loaded.metadata.firstSample;
     options_.firstSample = loaded.metadata.endSample;
     previousSeconds_ = loaded.metadata.renderSeconds;
@@ -75,6 +83,7 @@ RenderMetadata RenderJob::metadataAt(uint32_t end, double seconds) const {
     m.firstSample = firstSample_;
     m.endSample = end;
     m.crop = options_.crop;
+    m.adaptive = scene_.film.adaptive;
     return m;
 }
 

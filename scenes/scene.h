@@ -5,11 +5,13 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "cameras/camera.h"
+#include "core/adaptive_schedule.h"
 #include "core/rgb.h"
 #include "core/sampler.h"
 #include "geometry/scene_geometry.h"
@@ -27,6 +29,9 @@ struct FilmSettings {
     int samplesPerPixel = 16;
     FilterKind filter = FilterKind::Tent;
     float filterRadius = 1.0f;  // in pixels: box covers [-r, r]^2, tent falls to 0 at r
+    // Adaptive sampling (film.adaptive, --adaptive): pixels stop before samplesPerPixel once
+    // converged. None: every pixel gets samplesPerPixel samples.
+    std::optional<AdaptiveSettings> adaptive{};
 };
 
 // How the integrator finds light at each vertex: both strategies weighted by multiple importance

@@ -116,7 +116,7 @@ ThinLensCameraParams readCamera(const JsonValue& value) {
 }
 
 FilmSettings readFilm(const JsonValue& value) {
-    const JsonObject object(value, {"resolution", "spp", "filter"});
+    const JsonObject object(value, {"resolution", "spp", "filter", "adaptive"});
     FilmSettings film;
     if (auto v = object.get("resolution")) {
         if (!v->json().is_array() || v->json().size() != 2)
@@ -134,6 +134,18 @@ FilmSettings readFilm(const JsonValue& value) {
             if (film.filterRadius > limits::kMaxFilterRadius)
                 radius->failExpected(fmt::format("a radius > 0 and <= {:g} pixels", limits::kMaxFilterRadius));
         }
+    }
+    if (auto v = object.get("adaptive")) {
+        const JsonObject adaptive(*v, {"threshold", "min_spp"});
+        AdaptiveSettings settings;
+        const auto threshold = adaptive.get("threshold");
+        if (!threshold) v->fail("adaptive sampling needs a \"threshold\" (a relative standard error, e.g. 0.02)");
+        settings.threshold = threshold->numberAbove(0.0f);
+        if (settings.threshold > AdaptiveSettings::kMaxThreshold)
+            threshold->failExpected(fmt::format("a relative standard error > 0 and <= {:g}", AdaptiveSettings::kMaxThreshold));
+        if (auto minSpp = adaptive.get("min_spp"))
+            settings.minSamples = uint32_t(minSpp->integer(AdaptiveSettings::kMinMinSamples, kMaxInt));
+        film.adaptive = settings;
     }
     return film;
 }

@@ -25,8 +25,9 @@ groups[tools]="python3 python3-matplotlib python3-munkres"
 # the scheduler's daemons and commands, and MUNGE for its authentication.
 groups[test]="libgtest-dev libgmock-dev python3 slurm-wlm munge"
 # bench/ only: Google Benchmark, Embree's pathtracer, GNU time, and what
-# bench/compare_pathtracer.py reads images with.
-groups[bench]="libbenchmark-dev embree-tools time python3-numpy python3-openimageio"
+# bench/compare_pathtracer.py reads images with; Blender, whose Cycles bench/time_to_error.py
+# renders against.
+groups[bench]="libbenchmark-dev embree-tools time python3-numpy python3-openimageio blender"
 
 selected=("$@")
 [ ${#selected[@]} -eq 0 ] && selected=(build tools)

@@ -227,6 +227,7 @@ ConvergenceReport runConvergence(const Scene& scene, const ConvergenceOptions& o
         log(fmt::format("reference: {}", options.referencePath->string()));
     } else {
         Scene refScene = scene;
+        refScene.film.adaptive.reset();  // the reference and the ladder sample every pixel alike
         refScene.settings.sampler = SamplerKind::Stratified;
         refScene.integrator.strategy = LightStrategy::Mis;
         refScene.settings.seed = mix64(scene.settings.seed ^ 0x7265666572656e63ull);  // not a study seed
@@ -270,6 +271,7 @@ ConvergenceReport runConvergence(const Scene& scene, const ConvergenceOptions& o
         if (!options.strategies.empty()) study.name += " " + std::string(lightStrategyName(strategy));
         for (int k = 0; k < options.seeds; ++k) {
             Scene s = scene;
+            s.film.adaptive.reset();
             s.settings.sampler = sampler;
             s.settings.seed = scene.settings.seed + uint64_t(k);
             s.integrator.strategy = strategy;
@@ -299,6 +301,7 @@ ConvergenceReport runConvergence(const Scene& scene, const ConvergenceOptions& o
                             crop.insert(crop.end(), {m.r, m.g, m.b});
                         }
                     study.strip.push_back(std::move(crop));
+                    if (options.adaptive) study.adaptiveThresholds.push_back(medianRelativeError(film));
                 }
                 ++next;
                 snapshots += Clock::now() - t0;
@@ -340,6 +343,31 @@ ConvergenceReport runConvergence(const Scene& scene, const ConvergenceOptions& o
         }
         study.slope = logLogSlope(spp, meanMse);
         study.slopeStd = stdOf(slopes);
+        if (options.adaptive) {
+            Scene s = scene;
+            s.settings.sampler = sampler;
+            s.integrator.strategy = strategy;
+            log(fmt::format("{} adaptive, seed {}, up to {} spp:", study.name, s.settings.seed,
+                            top * kAdaptiveMaxSppFactor));
+            AdaptiveStudy adaptive;
+            adaptive.minSamples = options.adaptiveMinSamples;
+            adaptive.runs = runAdaptiveRenders(
+                s, base, options.rungs, study.adaptiveThresholds, options.adaptiveMinSamples,
+                top * kAdaptiveMaxSppFactor,
+                [&](const Film& film) {
+                    const RungError e = measure(film, report.reference);
+                    return RungMeasure{e.mse, e.rmse};
+                },
+                log);
+            std::vector<double> rmse, seconds;
+            for (const RungError& e : study.runs.front().rungs) {
+                rmse.push_back(e.rmse);
+                seconds.push_back(e.seconds);
+            }
+            adaptive.equalError =
+                compareAtEqualError(options.rungs, rmse, seconds, double(width) * height, adaptive.runs);
+            study.adaptive = std::move(adaptive);
+        }
         report.studies.push_back(std::move(study));
     }
     return report;
@@ -392,6 +420,33 @@ void writeConvergenceReport(const ConvergenceReport& report, const std::string& 
                                   {"rel_mse_std", study.relMseStd[r]},
                                   {"rmse", e.rmse},
                                   {"seconds", e.seconds}});
+        }
+        if (study.adaptive) {
+            json a;
+            a["min_spp"] = study.adaptive->minSamples;
+            a["runs"] = json::array();
+            for (const AdaptiveRun& run : study.adaptive->runs)
+                a["runs"].push_back({{"rung", run.rung},
+                                     {"threshold", run.threshold},
+                                     {"max_spp", run.maxSpp},
+                                     {"mse", run.mse},
+                                     {"rmse", run.rmse},
+                                     {"seconds", run.seconds},
+                                     {"samples", run.samples},
+                                     {"mean_spp", run.meanSpp}});
+            // NaN (no adaptive run at that error) is written as null.
+            auto number = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
+            a["equal_error"] = json::array();
+            for (const EqualErrorPoint& p : study.adaptive->equalError)
+                a["equal_error"].push_back({{"spp", p.spp},
+                                            {"rmse", p.rmse},
+                                            {"fixed_seconds", p.fixedSeconds},
+                                            {"adaptive_seconds", number(p.adaptiveSeconds)},
+                                            {"time_ratio", number(p.adaptiveSeconds / p.fixedSeconds)},
+                                            {"fixed_samples", p.fixedSamples},
+                                            {"adaptive_samples", number(p.adaptiveSamples)},
+                                            {"sample_ratio", number(p.adaptiveSamples / p.fixedSamples)}});
+            s["adaptive"] = a;
         }
         s["runs"] = json::array();
         for (const SeedRun& run : study.runs) {
@@ -497,6 +552,14 @@ int runConvergeCommand(const ConvergeCommand& cmd) {
         std::fflush(stdout);
     };
     options.source = SceneSource::of(cmd.scenePath, scene);
+    if (cmd.minSpp && !cmd.adaptive) throw InputError("--min-spp: only with --adaptive");
+    options.adaptive = cmd.adaptive;
+    if (cmd.minSpp) {
+        if (*cmd.minSpp < AdaptiveSettings::kMinMinSamples || *cmd.minSpp > (1 << 24))
+            throw InputError(fmt::format("--min-spp: expected an integer in [{}, {}], got {}",
+                                         AdaptiveSettings::kMinMinSamples, 1 << 24, *cmd.minSpp));
+        options.adaptiveMinSamples = uint32_t(*cmd.minSpp);
+    }
 
     const ConvergenceReport report = runConvergence(scene, options);
     const std::filesystem::path dir(cmd.output);
@@ -523,6 +586,23 @@ int runConvergeCommand(const ConvergeCommand& cmd) {
         for (const SamplerStudy& s : report.studies)
             std::printf("%-18s %8.3f %10u %12.5g %10.2f\n", s.name.c_str(), s.slope,
                         s.mean.back().spp, s.mean.back().rmse, s.mean.back().seconds);
+        for (const SamplerStudy& s : report.studies) {
+            if (!s.adaptive) continue;
+            std::printf("%s: adaptive against fixed at equal RMSE (seed %s)\n", s.name.c_str(),
+                        std::to_string(s.runs.front().seed).c_str());
+            std::printf("%8s %12s %10s %10s %8s %14s %14s %8s\n", "spp", "RMSE", "fixed s", "adapt. s", "time",
+                        "fixed samples", "adapt. samples", "samples");
+            for (const EqualErrorPoint& p : s.adaptive->equalError) {
+                if (!std::isfinite(p.adaptiveSeconds)) {
+                    std::printf("%8u %12.5g %10.2f %10s %8s %14.0f %14s %8s\n", p.spp, p.rmse, p.fixedSeconds, "-", "-",
+                                p.fixedSamples, "-", "-");
+                    continue;
+                }
+                std::printf("%8u %12.5g %10.2f %10.2f %7.2fx %14.0f %14.0f %7.2fx\n", p.spp, p.rmse, p.fixedSeconds,
+                            p.adaptiveSeconds, p.adaptiveSeconds / p.fixedSeconds, p.fixedSamples, p.adaptiveSamples,
+                            p.adaptiveSamples / p.fixedSamples);
+            }
+        }
         std::printf("wrote %s\n", dir.string().c_str());
     }
     return 0;

@@ -20,6 +20,7 @@
 #include "accel/traversal.h"
 #include "renderer/render_job.h"
 #include "scenes/scene.h"
+#include "tools/adaptive_study.h"
 
 namespace penumbra {
 
@@ -38,6 +39,10 @@ struct ConvergenceOptions {
     std::optional<PixelWindow> stripWindow;  // the crop shown in strip.png; default: a centred square
     std::function<void(const std::string&)> log;  // progress lines; may be empty
     SceneSource source;  // recorded in the rendered reference's film
+    // --adaptive: adaptive renders at thresholds mapped to the rungs (tools/adaptive_study.h),
+    // for each sampler and strategy with the first seed.
+    bool adaptive = false;
+    uint32_t adaptiveMinSamples = 16;
 
     static constexpr uint32_t kMaxReferenceSpp = 8192;
 };
@@ -64,6 +69,8 @@ struct SamplerStudy {
     double slope = 0;                  // least squares of log(mean MSE) against log(spp)
     double slopeStd = 0;               // standard deviation of the per-seed slopes (0 for one seed)
     std::vector<std::vector<float>> strip;  // seed 0's mean RGB in the strip window at each rung
+    std::vector<float> adaptiveThresholds;  // --adaptive: seed 0's median relative error at each rung
+    std::optional<AdaptiveStudy> adaptive;  // --adaptive: the adaptive runs and the equal-error table
 };
 
 struct ConvergenceReport {
@@ -121,6 +128,8 @@ struct ConvergeCommand {
     std::string accel = "embree";
     bool noPlot = false;
     bool quiet = false;
+    bool adaptive = false;         // --adaptive
+    std::optional<int64_t> minSpp;  // --min-spp
 };
 int runConvergeCommand(const ConvergeCommand& cmd);
 

@@ -1,6 +1,7 @@
 // penumbra: the command-line program.
 //
-//   penumbra render SCENE [--spp N] [--seed S] [--threads N] [--res WxH] [--accel embree|bvh] [-o PATH] ...
+//   penumbra render SCENE [--spp N] [--seed S] [--threads N] [--res WxH] [--accel embree|bvh]
+//                   [--adaptive T [--min-spp N]] [-o PATH] ...
 //   penumbra crosscheck SCENE [--rays N] [--seed S] [--json]
 //   penumbra merge PART.exr... -o OUT.exr    (or --manifest OUT.parts.json)
 //   penumbra submit SCENE --parts N --spp S -o OUT.exr [--by samples|rows] [--dry-run] [--resume] ...
@@ -35,6 +36,7 @@
 #include "renderer/render_job.h"
 #include "scenes/scene_file.h"
 #include "textures/texture_plugin_loader.h"
+#include "tools/adaptive_options.h"
 #include "tools/cli_numbers.h"
 #include "tools/split_text.h"
 #include "tools/converge.h"
@@ -73,6 +75,8 @@ struct RenderCommand {
     std::optional<double> checkpointMinutes;  // write the film every so often (0: after every pass)
     std::optional<uint32_t> passSize;         // sample indices per pass
     std::string patch;                        // a JSON merge patch applied to the scene
+    std::optional<double> adaptiveThreshold;  // --adaptive
+    std::optional<int64_t> minSpp;            // --min-spp
 };
 
 // SIGINT / SIGTERM ask the render to stop at the end of the current pass; the film as of that
@@ -116,6 +120,8 @@ std::string filmDefiningOptions(const RenderCommand& cmd) {
     add("--sampler", cmd.sampler);
     add("--crop", cmd.crop);
     if (cmd.accel != "embree") add("--accel", cmd.accel);
+    if (cmd.adaptiveThreshold) add("--adaptive", fmt::format("{}", *cmd.adaptiveThreshold));
+    if (cmd.minSpp) add("--min-spp", std::to_string(*cmd.minSpp));
     return text;
 }
 
@@ -140,6 +146,7 @@ int runRender(const RenderCommand& cmd) {
         scene.film.width = int(parseIntegerOption("--res", parts[0], 1, limits::kMaxImageSide));
         scene.film.height = int(parseIntegerOption("--res", parts[1], 1, limits::kMaxImageSide));
     }
+    applyAdaptiveOptions(scene, cmd.adaptiveThreshold, cmd.minSpp);
 
     RenderOptions options;
     options.threads = cmd.threads;
@@ -152,6 +159,9 @@ int runRender(const RenderCommand& cmd) {
         options.endSample = uint32_t(parsePositive("--samples", parts[1]));
         if (options.firstSample >= options.endSample)
             throw InputError(fmt::format("--samples: FIRST must be below END, got '{}'", cmd.samples));
+        if (scene.film.adaptive && options.firstSample > 0)
+            throw InputError("--samples: an adaptive render (--adaptive, film.adaptive) starts at sample 0, where its "
+                             "pixels' decisions start; use --checkpoint and --resume to split it in time");
     }
     if (!cmd.crop.empty()) {
         const auto parts = splitText(cmd.crop, ',');
@@ -259,6 +269,8 @@ int runRender(const RenderCommand& cmd) {
             std::printf("  textures: %llu lookups, %llu files, %.1f MB read, %.1f MB in the tile cache\n", lookups, files,
                         bytesRead * 1e-6, cacheBytes * 1e-6);
         }
+        if (scene.film.adaptive)
+            std::printf("  %s\n", describeAdaptiveRender(job.film(), window, *scene.film.adaptive, stats.endSample).c_str());
         std::printf("wrote %s\n", exrPath.string().c_str());
         if (!cmd.noDisplay) std::printf("wrote %s\n", displayPath.string().c_str());
     }
@@ -349,6 +361,14 @@ int main(int argc, char** argv) {
     renderApp->add_option("--patch", cmd.patch,
                           "A JSON merge patch (RFC 7386) applied to the scene in penumbra's format before it is built, "
                           "e.g. to change a converted pbrt scene (docs/pbrt-import.md)");
+
+    renderApp->add_option("--adaptive", cmd.adaptiveThreshold,
+                          "Adaptive sampling: a pixel stops once the relative standard error of its mean (and its "
+                          "neighbours') is below THRESHOLD, e.g. 0.02; --spp is then the most a pixel gets "
+                          "(overrides film.adaptive.threshold)");
+    renderApp->add_option("--min-spp", cmd.minSpp,
+                          "Samples every pixel gets before adaptive sampling's first decision (default 16; overrides "
+                          "film.adaptive.min_spp)");
 
     std::string convertScene, convertOutput;
     CLI::App* convertApp = app.add_subcommand(
@@ -441,6 +461,11 @@ int main(int argc, char** argv) {
     convergeApp->add_option("-o,--output", convergeCmd.output, "Output folder")->required();
     convergeApp->add_flag("--no-plot", convergeCmd.noPlot, "Do not run tools/plot_convergence.py");
     convergeApp->add_flag("-q,--quiet", convergeCmd.quiet, "No progress lines");
+    convergeApp->add_flag("--adaptive", convergeCmd.adaptive,
+                          "Also adaptive renders (up to 4x the top rung per pixel) at thresholds mapped to the rungs "
+                          "(the fixed render's median relative error at each), and the time and samples each needs to "
+                          "reach the fixed rungs' RMSE");
+    convergeApp->add_option("--min-spp", convergeCmd.minSpp, "Samples before the adaptive renders' first decision (default 16)");
 
     std::string crosscheckScene;
     CrosscheckOptions crosscheckOptions;

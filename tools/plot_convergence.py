@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Plots a `penumbra converge` report: MSE against samples per pixel and against render time,
 log-log, every sampler on the same axes, with the fitted slope in the legend and error bars of
-one standard deviation over the seeds.
+one standard deviation over the seeds; with --adaptive, the adaptive runs too (dash-dotted,
+against their mean samples per pixel).
 
 Usage: /usr/bin/python3 tools/plot_convergence.py DIR/convergence.json DIR/convergence.png
 (needs matplotlib: Debian's python3-matplotlib)."""
@@ -48,6 +49,14 @@ def main(argv):
             by_spp.plot(xs, [math.exp(cy + slope * (math.log(x) - cx)) for x in xs], color=colour, ls="--", lw=1)
         by_time.errorbar(seconds, mse, yerr=err if seeds > 1 else None, color=colour, marker="o", ms=4, capsize=2,
                          label=sampler["name"])
+        # --adaptive: the adaptive runs, at their mean samples per pixel and their time.
+        adaptive = sorted(sampler.get("adaptive", {}).get("runs", []), key=lambda r: r["mean_spp"])
+        if adaptive:
+            label = f"{sampler['name']} adaptive"
+            by_spp.plot([r["mean_spp"] for r in adaptive], [r["mse"] for r in adaptive], color=colour, marker="s",
+                        ms=4, ls="-.", label=label + " (mean spp)")
+            by_time.plot([max(r["seconds"], 1e-4) for r in adaptive], [r["mse"] for r in adaptive], color=colour,
+                         marker="s", ms=4, ls="-.", label=label)
 
     floor = report["reference"].get("mse_floor", 0)
     for ax in (by_spp, by_time):

@@ -587,8 +587,10 @@ TEST_F(FilmFiles, TamperedFilmsAreRefusedNamingWhatIsWrong) {
     expectRefusal("no channel 'spp'");
     writeLayout1(path, zeros, true, "-3", "");
     expectRefusal("malformed penumbra:seed '-3'");
-    writeLayout1(path, zeros, true, "7", "", 4);
-    expectRefusal("film layout version 4");
+    writeLayout1(path, zeros, true, "7", "", 5);
+    expectRefusal("film layout version 5");
+    writeLayout1(path, zeros, true, "7", "", 4);  // layout 4 is an adaptive render's: it names its settings
+    expectRefusal("malformed penumbra:adaptive ''");
     writeLayout1(path, zeros, true, "7", "", 3);  // layout 3 must carry its checksum
     expectRefusal("no penumbra:checksum attribute");
 }

@@ -1,0 +1,49 @@
+// Adaptive sampling's settings and its schedule: the sample counts at which the renderer decides
+// which pixels stop (renderer/adaptive_sampling.h decides how, from the film). The schedule
+// depends on the settings alone, never on the pass size, threads or checkpoints, so that every
+// way of running a render takes the same decisions at the same counts, and a film's per-pixel
+// sample counts can be checked against it (a pixel stops only at a decision point).
+#pragma once
+
+#include <algorithm>
+#include <bit>
+#include <cstdint>
+
+namespace penumbra {
+
+struct AdaptiveSettings {
+    // A pixel stops once its relative standard error (renderer/adaptive_sampling.h) and its
+    // neighbours' are below this.
+    float threshold = 0.0f;
+    // Samples every pixel gets before the first decision.
+    uint32_t minSamples = 16;
+
+    bool operator==(const AdaptiveSettings&) const = default;
+
+    // A relative error above 1 is noise as large as the pixel itself; below two samples there is
+    // no variance to estimate.
+    static constexpr float kMaxThreshold = 1.0f;
+    static constexpr uint32_t kMinMinSamples = 2;
+
+    // Decisions are taken at minSamples, then at the multiples of a step that grows with the
+    // count: 8 below 128 samples, an eighth of the power of two at or below the count above (16
+    // from 128, 32 from 256, ...). A pixel so gets at most an eighth more samples than it needed,
+    // and a render of N samples takes O(log N) decisions. Steps are multiples of 8, the camera-ray
+    // packet size, so that the passes between decisions keep the packets whole.
+    static constexpr uint32_t kMinStep = 8;
+    static uint32_t stepAt(uint32_t count) {
+        return std::max(kMinStep, std::bit_floor(std::max(count, 1u)) / 8);
+    }
+
+    // The first decision point after `count` samples.
+    uint32_t nextDecisionAfter(uint32_t count) const {
+        if (count < minSamples) return minSamples;
+        const uint64_t step = stepAt(count);
+        return uint32_t(std::min<uint64_t>((count / step + 1) * step, UINT32_MAX));
+    }
+    bool isDecisionPoint(uint32_t count) const {
+        return count == minSamples || (count > minSamples && count % stepAt(count) == 0);
+    }
+};
+
+}  // namespace penumbra
