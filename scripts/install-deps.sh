@@ -11,6 +11,8 @@ packages=(
     libgtest-dev libgmock-dev libbenchmark-dev
     python3 python3-numpy python3-openimageio python3-matplotlib
     embree-tools time  # bench/compare_pathtracer.py: Embree's pathtracer and GNU time
+    # Fuzzing (scripts/fuzz.sh): clang 14 with the libFuzzer and sanitizer runtimes.
+    clang libclang-rt-14-dev
 )
 
 missing=()
