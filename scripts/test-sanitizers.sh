@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
-# The sanitizer builds CI runs after the test suite (docs/fuzzing-and-sanitizers.md):
-#  - build-asan/: AddressSanitizer + UndefinedBehaviorSanitizer (g++, -O1, invariant checks on)
-#    over the test programs of the parsers, the film, the BVH and the render loop, and the
-#    command-line program end to end on hostile input;
-#  - build-tsan/: ThreadSanitizer over the render loop's tests (determinism across thread counts,
-#    resume and checkpoints), with TBB's internals suppressed (tests/tsan.supp).
-# Any report fails the run. Arguments: "asan" or "tsan" to run one of them (default: both).
+# The sanitizer builds (docs/fuzzing-and-sanitizers.md):
+#  - "asan", build-asan/: AddressSanitizer + UndefinedBehaviorSanitizer (g++, -O1, invariant checks
+#    on) over the test programs of the parsers, the film, the BVH and the render loop, and the
+#    command-line program end to end on hostile input. CI runs it after the test suites.
+#  - "tsan", build-tsan/: ThreadSanitizer over the render loop's tests (determinism across thread
+#    counts, resume and checkpoints), with tests/tsan.supp. Not clean with Debian's uninstrumented
+#    TBB (the document says why), so CI does not run it.
+# Any report fails the run. Argument: "asan" or "tsan" to run one of them (default: both).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
