@@ -51,19 +51,41 @@ inline ObjectSpaceRay toObjectSpace(const Transform& toWorld, const Ray& ray) {
 
 // Moves a point and its normals from object to world space for a moving shape or an instance:
 // the position as a point, the normals by the inverse transpose (renormalized; a mirroring
-// transform keeps them on the side they were on), and the error bound grown by the transform's
-// own rounding (pbrt-v4, section 6.8.5). A shading frame computed beforehand is in object space,
-// so it is dropped: the integrator builds the world one from the shading normal.
+// transform keeps them on the side they were on). A shading frame computed beforehand is in object
+// space, so it is dropped: the integrator builds the world one from the shading normal.
+// The error bound grows by the transform's own rounding (pbrt-v4, section 6.8.5), and by what
+// the backends' way back costs: they test a ray leaving the point in object space, its origin
+// taken there by the stored inverse, which rounds (gamma(3) of its terms) and is not the exact
+// inverse (inverse * matrix differs from the identity by a few ulps, times the ratio of the
+// scales for an uneven scale). Both are bounded in object space and mapped to the world by
+// |matrix|, so that the offset origin lies on its side of the surface the backend tests.
 inline void placeInWorld(const Transform& toWorld, SurfaceInteraction& si) {
     si.shadingFrame = nullptr;
-    const Vec3f p = abs(si.position), e = si.positionError;
+    const auto& m = toWorld.matrix().m;
+    const auto& inv = toWorld.inverseMatrix().m;
+    const Vec3f q = abs(si.position), e = si.positionError;
+    const Vec3f world = toWorld.applyPoint(si.position), p = abs(world);
+    float wayBack[3];  // object space
     for (int row = 0; row < 3; ++row) {
-        const auto& m = toWorld.matrix().m[row];
-        const float absSum = std::abs(m[0]) * p.x + std::abs(m[1]) * p.y + std::abs(m[2]) * p.z + std::abs(m[3]);
-        const float propagated = std::abs(m[0]) * e.x + std::abs(m[1]) * e.y + std::abs(m[2]) * e.z;
-        si.positionError[row] = gamma(3) * absSum + (1.0f + gamma(3)) * propagated;
+        // inverse * matrix - identity, exactly enough in double (products of floats are exact).
+        double drift = 0.0;
+        for (int column = 0; column < 4; ++column) {
+            double f = column == 3 ? double(inv[row][3]) : row == column ? -1.0 : 0.0;
+            for (int k = 0; k < 3; ++k) f += double(inv[row][k]) * double(m[k][column]);
+            drift += std::abs(f) * (column == 3 ? 1.0 : double(q[column]));
+        }
+        const float rounding = std::abs(inv[row][0]) * p.x + std::abs(inv[row][1]) * p.y + std::abs(inv[row][2]) * p.z +
+                               std::abs(inv[row][3]);
+        wayBack[row] = float(drift) * (1.0f + gamma(2)) + gamma(3) * rounding;
     }
-    si.position = toWorld.applyPoint(si.position);
+    for (int row = 0; row < 3; ++row) {
+        const auto& r = m[row];
+        const float absSum = std::abs(r[0]) * q.x + std::abs(r[1]) * q.y + std::abs(r[2]) * q.z + std::abs(r[3]);
+        const float propagated = std::abs(r[0]) * e.x + std::abs(r[1]) * e.y + std::abs(r[2]) * e.z;
+        const float back = std::abs(r[0]) * wayBack[0] + std::abs(r[1]) * wayBack[1] + std::abs(r[2]) * wayBack[2];
+        si.positionError[row] = (gamma(3) * absSum + propagated + back) * (1.0f + gamma(3));
+    }
+    si.position = world;
     si.geometricNormal = normalize(toWorld.applyNormal(si.geometricNormal));
     si.shadingNormal = faceForward(normalize(toWorld.applyNormal(si.shadingNormal)), si.geometricNormal);
 }
@@ -141,29 +163,6 @@ inline void canonicalizeHit(const SceneGeometry& scene, const Ray& ray, Hit& hit
 
 namespace detail {
 
-// A bound, in world space, on how far taking world point `p` into an instance's space (as a ray
-// leaving `p` is taken, toObjectSpace) moves it: the inverse transform's rounding (pbrt-v4,
-// section 6.8.5) mapped back by the forward one. Added to the error bound of a point on an
-// instance, the ray offset (core/ray_offset.h) then keeps a ray leaving it on the right side of
-// the surface in the instance's space too. pbrt-v4 instead moves the transformed origin along the
-// direction by this error, which would make t differ between the two spaces.
-inline Vec3f objectSpaceRoundTripError(const Transform& toWorld, Vec3f p) {
-    const auto& toObject = toWorld.inverseMatrix().m;
-    const Vec3f a = abs(p);
-    Vec3f objectError;
-    for (int row = 0; row < 3; ++row) {
-        const auto& m = toObject[row];
-        objectError[row] = gamma(3) * (std::abs(m[0]) * a.x + std::abs(m[1]) * a.y + std::abs(m[2]) * a.z + std::abs(m[3]));
-    }
-    Vec3f worldError;
-    for (int row = 0; row < 3; ++row) {
-        const auto& m = toWorld.matrix().m[row];
-        worldError[row] = (1.0f + gamma(3)) *
-                          (std::abs(m[0]) * objectError.x + std::abs(m[1]) * objectError.y + std::abs(m[2]) * objectError.z);
-    }
-    return worldError;
-}
-
 // The shading point on triangle `shape.primitive` of an instance's prototype, placed in the world;
 // `faceFrames`, when given, supplies the prototype triangle's normal (the same bits as computing it).
 // Out of line: inlined into the integrator, it costs scenes without instances registers.
@@ -178,8 +177,7 @@ inline Vec3f objectSpaceRoundTripError(const Transform& toWorld, Vec3f p) {
     const bool hasNormal = triangleInteraction(mesh, index, mesh.positions[index[0]], mesh.positions[index[1]],
                                                mesh.positions[index[2]], hit, si, faceFrame);
     const Transform toWorld = instance.toWorld(ray.time);
-    placeInWorld(toWorld, si);
-    si.positionError += objectSpaceRoundTripError(toWorld, si.position);
+    placeInWorld(toWorld, si);  // its error bound covers the way back into the instance's space
     si.material = instance.material;
     if (!hasNormal) si.geometricNormal = si.shadingNormal = normalize(-ray.direction);
     return si;

@@ -447,6 +447,13 @@ PlyHeader parsePlyHeader(std::string_view bytes, const std::string& file) {
             if (tokens.size() != 3 || !parseInteger(tokens[2].text, count) || count < 0 ||
                 count > int64_t(UINT32_MAX))
                 failHere("expected 'element NAME COUNT' with a COUNT from 0 to 4294967295");
+            // assimp 5.2 stores a second 'vertex' element's values into the first one's arrays,
+            // past their end (a heap overflow): each element may be declared once.
+            for (const PlyElement& e : header.elements)
+                if (e.name == tokens[1].text)
+                    failHere(fmt::format("the element '{}' is declared a second time (a PLY header declares each "
+                                         "element once)",
+                                         e.name));
             header.elements.push_back({std::string(tokens[1].text), uint64_t(count), {}});
         } else if (keyword == "property") {
             if (header.elements.empty()) failHere("a property must follow an 'element' line");

@@ -2,7 +2,7 @@
 # Installs the Debian 12 packages penumbra needs, skipping those already present. Works as root or
 # through sudo.
 #
-#   scripts/install-deps.sh [GROUP...]   groups: build tools test bench (default: build tools)
+#   scripts/install-deps.sh [GROUP...]   groups: build tools test bench fuzz (default: build tools)
 #
 # It says how much it will download before it starts; apt's own output goes to
 # build/install-deps.log.
@@ -28,12 +28,14 @@ groups[test]="libgtest-dev libgmock-dev python3 slurm-wlm munge"
 # bench/compare_pathtracer.py reads images with; Blender, whose Cycles bench/time_to_error.py
 # renders against.
 groups[bench]="libbenchmark-dev embree-tools time python3-numpy python3-openimageio blender"
+# Fuzzing (scripts/fuzz.sh): clang 14 with the libFuzzer and sanitizer runtimes.
+groups[fuzz]="clang libclang-rt-14-dev"
 
 selected=("$@")
 [ ${#selected[@]} -eq 0 ] && selected=(build tools)
 packages=()
 for group in "${selected[@]}"; do
-    [ -n "${groups[$group]+set}" ] || { echo "penumbra: unknown package group '$group' (build, tools, test, bench)" >&2; exit 2; }
+    [ -n "${groups[$group]+set}" ] || { echo "penumbra: unknown package group '$group' (build, tools, test, bench, fuzz)" >&2; exit 2; }
     read -r -a list <<< "$(echo ${groups[$group]})"
     packages+=("${list[@]}")
 done

@@ -158,7 +158,6 @@ private:
         si.geometricNormal = si.shadingNormal = n != Vec3f{0.0f, 0.0f, 0.0f} ? n : Vec3f{0.0f, 0.0f, 1.0f};
         const Transform toWorld = scene_.instances[k].toWorld(0.0f);
         detail::placeInWorld(toWorld, si);
-        si.positionError += detail::objectSpaceRoundTripError(toWorld, si.position);
         Point point;
         point.position = si.position;
         point.positionError = si.positionError;

@@ -219,7 +219,7 @@ TEST(InstancingBackends, CrosscheckExplainsEveryMismatch) {
     const CrosscheckReport report = compareBackends(scene, bvh, embree, rays, options);
     EXPECT_EQ(report.unexplained(), 0u);
     // Rays leaving an instance start far enough from it in its own space too
-    // (objectSpaceRoundTripError), whichever backend transforms them.
+    // (placeInWorld's bound on the way back into object space), whichever backend transforms them.
     EXPECT_EQ(report.selfIntersections(), 0u);
     EXPECT_GT(report.agreementRatio(), 0.9999);
 }
@@ -262,7 +262,7 @@ TEST(InstancingRender, BothBackendsRenderTheSameImage) {
 // A moving instance is traced exactly as the same mesh given as a moving shape (both in object
 // space through motion.at(time)): each backend finds the same triangle at the same t and
 // barycentrics, bit for bit. Shading differs only in the instance's wider error bound
-// (objectSpaceRoundTripError), so the images agree within noise.
+// (placeInWorld's bound on the way back into object space), so the images agree within noise.
 TEST(InstancingRender, MovingInstanceTracesLikeTheMovingMesh) {
     Scene instanced = makeBase();
     instanced.prototypes.push_back(makeLumpyBall(24, 48));

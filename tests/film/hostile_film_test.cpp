@@ -106,6 +106,28 @@ TEST_F(HostileFilm, DeclaredSizeIsCheckedAgainstTheFileBeforeAllocating) {
                               "declare (at least 371260 bytes)");
 }
 
+// OpenEXR 3.1's C++ reader allocates (and clears) what a header attribute declares before reading
+// it, and reads a channel list by its contents whatever size it declares, then goes on from there.
+// Found by fuzz/film_fuzzer: attribute_declares_1_8_gib.exr (4 KB; an attribute of 1866474240
+// bytes) and channel_list_beyond_its_size.exr (a channel list that runs into the next attribute,
+// which then declares 1.8 GB); unknown_attribute_1_8_gib.exr is a film whose "penumbra:scene"
+// has an unknown type and 1.8 GB. Each took 1.8 GB and seconds to refuse; now OpenEXR's C core
+// parses the headers first, checking each size against the file, and nothing large is allocated.
+// isPenumbraFilm, which opens the header too, says no the same way.
+TEST_F(HostileFilm, HeadersAreCheckedBeforeOpenExrAllocatesWhatTheyDeclare) {
+    const std::pair<const char*, const char*> cases[] = {
+        {"attribute_declares_1_8_gib.exr", "Invalid empty string encountered parsing attribute type"},
+        {"channel_list_beyond_its_size.exr", "Invalid pixel type specified"},
+        {"unknown_attribute_1_8_gib.exr", "Attribute 'penumbra:scene', type 'strinX': Invalid size 1879048192"}};
+    for (const auto& [name, reason] : cases) {
+        const fs::path file = kHostile / name;
+        const InputError e = catchInputError([&] { readFilmExr(file); });
+        EXPECT_CONTAINS(e.what(), std::string(name) + ": cannot read the image: ");
+        EXPECT_CONTAINS(e.what(), reason);
+        EXPECT_FALSE(isPenumbraFilm(file)) << name;
+    }
+}
+
 // /dev/full fails every write with ENOSPC, as a full disk does.
 TEST(CheckedFile, AFailedWriteIsAnErrorNamingTheFile) {
     CheckedFile file("/dev/full");

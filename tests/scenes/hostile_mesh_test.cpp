@@ -67,6 +67,14 @@ TEST(HostileMesh, PlyHeaderWithCrLfLineEndingsStillLoads) {
     EXPECT_EQ(mesh.triangleCount(), 1u);
 }
 
+// Found by fuzz/ply_fuzzer: a second 'vertex' element with more vertices than the first. assimp
+// 5.2 writes its values past the end of the first one's arrays (valgrind: "Invalid write of size
+// 8"; under AddressSanitizer a bad free later), so the header must declare each element once.
+TEST(HostileMesh, PlyElementDeclaredTwiceIsRefused) {
+    const InputError e = catchInputError([] { importMesh(kHostile / "duplicate_vertex_element.ply"); });
+    EXPECT_CONTAINS(e.what(), "duplicate_vertex_element.ply:8:1: the element 'vertex' is declared a second time");
+}
+
 // tinyobjloader splits a polygon in time quadratic in its corners (10^5 corners: 45 s), so faces
 // have a documented limit of 1024 corners.
 TEST(HostileMesh, ObjFaceBeyondTheCornerLimitIsRefused) {

@@ -1,0 +1,8 @@
+// Wavefront OBJ import (importObj): our validator, then tinyobjloader, then the mesh checks.
+#include "fuzz/fuzz_input.h"
+#include "scenes/mesh_import.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+    return penumbra::fuzz::expectReadOrInputError(
+        [&] { penumbra::importObj(penumbra::fuzz::asText(data, size), "fuzz.obj"); });
+}
