@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <functional>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -81,7 +82,33 @@ void hashBytesOf(const std::filesystem::path& path, uint64_t& hash) {
 
 std::string formatHash(uint64_t hash) { return fmt::format("fnv1a64:{:016x}", hash); }
 
+// The display and view `options` name (the config's defaults where empty), checked against the
+// config. Throws InputError listing the available ones.
+std::pair<std::string, std::string> resolveView(const OCIO::Config& config, const DisplayOptions& options) {
+    const std::string& display = options.display;
+    const std::string& view = options.view;
+    const std::string displayName = display.empty() ? config.getDefaultDisplay() : display;
+    bool displayKnown = false;
+    for (int i = 0; i < config.getNumDisplays(); ++i) displayKnown |= displayName == config.getDisplay(i);
+    if (!displayKnown)
+        throw InputError(fmt::format("unknown OpenColorIO display '{}'; available displays: {}", displayName,
+                                     joinQuoted(config.getNumDisplays(), [&](int i) { return config.getDisplay(i); })));
+
+    const std::string viewName = view.empty() ? config.getDefaultView(displayName.c_str()) : view;
+    bool viewKnown = false;
+    const int numViews = config.getNumViews(displayName.c_str());
+    for (int i = 0; i < numViews; ++i) viewKnown |= viewName == config.getView(displayName.c_str(), i);
+    if (!viewKnown)
+        throw InputError(fmt::format("unknown OpenColorIO view '{}' of display '{}'; available views: {}", viewName,
+                                     displayName,
+                                     joinQuoted(numViews, [&](int i) { return config.getView(displayName.c_str(), i); })));
+
+    return {displayName, viewName};
+}
+
 }  // namespace
+
+void checkDisplayOptions(const DisplayOptions& options) { resolveView(*loadOcioConfig(), options); }
 
 std::string hashFileContents(const std::filesystem::path& path) {
     uint64_t hash = kFnvOffsetBasis;
@@ -101,8 +128,6 @@ std::string penumbraVersion() { return PENUMBRA_VERSION; }
 std::string penumbraSoftwareName() { return "penumbra " + penumbraVersion(); }
 
 void writeDisplayImage(const Film& film, const std::filesystem::path& path, const DisplayOptions& options) {
-    const std::string& display = options.display;
-    const std::string& view = options.view;
     std::string extension = path.extension().string();
     std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
     if (extension != ".png" && extension != ".jpg" && extension != ".jpeg")
@@ -110,21 +135,7 @@ void writeDisplayImage(const Film& film, const std::filesystem::path& path, cons
 
     const OCIO::ConstConfigRcPtr config = loadOcioConfig();
 
-    const std::string displayName = display.empty() ? config->getDefaultDisplay() : display;
-    bool displayKnown = false;
-    for (int i = 0; i < config->getNumDisplays(); ++i) displayKnown |= displayName == config->getDisplay(i);
-    if (!displayKnown)
-        throw InputError(fmt::format("unknown OpenColorIO display '{}'; available displays: {}", displayName,
-                                     joinQuoted(config->getNumDisplays(), [&](int i) { return config->getDisplay(i); })));
-
-    const std::string viewName = view.empty() ? config->getDefaultView(displayName.c_str()) : view;
-    bool viewKnown = false;
-    const int numViews = config->getNumViews(displayName.c_str());
-    for (int i = 0; i < numViews; ++i) viewKnown |= viewName == config->getView(displayName.c_str(), i);
-    if (!viewKnown)
-        throw InputError(fmt::format("unknown OpenColorIO view '{}' of display '{}'; available views: {}", viewName,
-                                     displayName,
-                                     joinQuoted(numViews, [&](int i) { return config->getView(displayName.c_str(), i); })));
+    const auto [displayName, viewName] = resolveView(*config, options);
 
     std::vector<float> rgb = film.meanRgb();
     if (options.exposure != 0.0f) {

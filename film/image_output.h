@@ -101,5 +101,8 @@ struct DisplayOptions {
 // "penumbra:exposure" attributes. Loads the image plugin, which encodes the file; throws
 // InputError naming the plugin's file when it cannot be loaded.
 void writeDisplayImage(const Film& film, const std::filesystem::path& path, const DisplayOptions& options = {});
+// Checks, before a render, that the config loads and has the options' display and view; throws
+// InputError as writeDisplayImage would.
+void checkDisplayOptions(const DisplayOptions& options);
 
 }  // namespace penumbra

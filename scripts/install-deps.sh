@@ -12,10 +12,9 @@ cd "$(dirname "$0")/.."
 # The packages, by what needs them. One group per line of work, so that a user who only renders
 # installs only the first two.
 declare -A groups
-# Compiling penumbra. openimageio-tools too: Debian's OpenImageIO CMake package names its
-# programs (/usr/bin/iconvert, ...) and stops the configure when they are missing.
+# Compiling penumbra (OpenImageIO is found through pkg-config: see CMakeLists.txt).
 groups[build]="cmake ninja-build g++ pkg-config
-    libembree-dev libtbb-dev libopenimageio-dev openimageio-tools libopenexr-dev libopencolorio-dev
+    libembree-dev libtbb-dev libopenimageio-dev libopenexr-dev libopencolorio-dev
     libcli11-dev nlohmann-json3-dev libtinyobjloader-dev libassimp-dev zlib1g-dev libfmt-dev"
 # `penumbra converge`'s plot (tools/plot_convergence.py). python3-munkres satisfies fonttools's
 # "python3-scipy | python3-munkres" with 41 KB rather than SciPy and its dependencies.
@@ -25,9 +24,9 @@ groups[tools]="python3 python3-matplotlib python3-munkres"
 # the scheduler's daemons and commands, and MUNGE for its authentication.
 groups[test]="libgtest-dev libgmock-dev python3 slurm-wlm munge"
 # bench/ only: Google Benchmark, Embree's pathtracer, GNU time, and what
-# bench/compare_pathtracer.py reads images with; Blender, whose Cycles bench/time_to_error.py
+# bench/compare_pathtracer.py reads images with (and oiiotool); Blender, whose Cycles bench/time_to_error.py
 # renders against.
-groups[bench]="libbenchmark-dev embree-tools time python3-numpy python3-openimageio blender"
+groups[bench]="libbenchmark-dev embree-tools time python3-numpy python3-openimageio openimageio-tools blender"
 # Fuzzing (scripts/fuzz.sh): clang 14 with the libFuzzer and sanitizer runtimes.
 groups[fuzz]="clang libclang-rt-14-dev"
 

@@ -190,6 +190,7 @@ int runRender(const RenderCommand& cmd) {
     DisplayOptions display;
     display.view = cmd.view;
     display.exposure = cmd.exposure;
+    if (!cmd.noDisplay) checkDisplayOptions(display);  // before the render, not after it
 
     const bool interactive = !cmd.quiet && isatty(STDERR_FILENO);
     ProgressLine progress(interactive);

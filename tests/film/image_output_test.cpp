@@ -398,8 +398,10 @@ TEST(ShippedOcioConfig, ValidatesAndEncodesSrgb) {
 
     EXPECT_STREQ(config->getDefaultDisplay(), "sRGB");
     EXPECT_STREQ(config->getDefaultView("sRGB"), "Standard");
-    ASSERT_EQ(config->getNumViews("sRGB"), 2);
-    EXPECT_STREQ(config->getView("sRGB", 1), "Raw");
+    ASSERT_EQ(config->getNumViews("sRGB"), 4);
+    EXPECT_STREQ(config->getView("sRGB", 1), "Filmic");
+    EXPECT_STREQ(config->getView("sRGB", 2), "False Color");
+    EXPECT_STREQ(config->getView("sRGB", 3), "Raw");
 
     for (const char* role : {OCIO::ROLE_SCENE_LINEAR, OCIO::ROLE_DEFAULT, OCIO::ROLE_REFERENCE}) {
         auto cs = config->getColorSpace(role);

@@ -142,5 +142,15 @@ TEST_F(RenderOutput, BeautyFilmRefusesWhatNeedsTheSums) {
     EXPECT_NE(render("-q --no-display --film half -o " + path("b.exr")).exitCode, 0);
 }
 
+// A view the config does not have is refused before the render, with the views it has.
+TEST_F(RenderOutput, UnknownViewIsRefusedBeforeRendering) {
+    const RunResult r = render("--spp 1000000 --view Filmc -o " + path("v.exr"));
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_TRUE(contains(r, "unknown OpenColorIO view 'Filmc'")) << r.output;
+    EXPECT_TRUE(contains(r, "'Filmic'")) << r.output;
+    EXPECT_FALSE(contains(r, "rendering ")) << r.output;
+    EXPECT_FALSE(fs::exists(path("v.exr")));
+}
+
 }  // namespace
 }  // namespace penumbra
