@@ -7,7 +7,7 @@ packages=(
     cmake ninja-build g++ pkg-config
     libembree-dev libtbb-dev
     libopenimageio-dev openimageio-tools libopenexr-dev libopencolorio-dev
-    libcli11-dev nlohmann-json3-dev libtinyobjloader-dev libassimp-dev zlib1g-dev libfmt-dev
+    libcli11-dev nlohmann-json3-dev libtinyobjloader-dev zlib1g-dev libfmt-dev
     libgtest-dev libgmock-dev libbenchmark-dev
     python3 python3-numpy python3-openimageio python3-matplotlib
     embree-tools time  # bench/compare_pathtracer.py: Embree's pathtracer and GNU time
