@@ -1,5 +1,5 @@
-// PLY import, ASCII and binary (importPly: our header and body validators, then assimp), and
-// gzip-compressed PLY: an input that starts with the gzip magic bytes is written to a .ply.gz
+// PLY import, ASCII and binary (importPly: the header validator, then our reader that checks the body
+// as it reads it), and gzip-compressed PLY: an input that starts with the gzip magic bytes is written to a .ply.gz
 // file and read through importMesh (zlib, the inflation limit, then the same PLY reader).
 #include "fuzz/fuzz_input.h"
 #include "scenes/mesh_import.h"

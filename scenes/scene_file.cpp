@@ -95,22 +95,40 @@ Scene loadSceneFile(const fs::path& file, const SceneFileOptions& options) {
     return scene;
 }
 
+namespace {
+
+// Every "file" key of the document (shapes, prototypes, the environment, image textures) names a
+// file relative to `from`: name it relative to `to`.
+void rebaseFileNames(Json& value, const fs::path& from, const fs::path& to) {
+    if (value.is_array()) {
+        for (Json& element : value) rebaseFileNames(element, from, to);
+    } else if (value.is_object()) {
+        for (auto it = value.begin(); it != value.end(); ++it) {
+            Json& member = it.value();
+            if (it.key() == "file" && member.is_string()) {
+                const fs::path named = fs::path(member.get<std::string>());
+                const fs::path absolute = named.is_absolute() ? named : (from / named).lexically_normal();
+                const fs::path relative = absolute.lexically_relative(to);
+                member = relative.empty() ? absolute.string() : relative.string();
+            } else {
+                rebaseFileNames(member, from, to);
+            }
+        }
+    }
+}
+
+}  // namespace
+
 std::string convertSceneToJson(const fs::path& file, const fs::path& output, std::vector<std::string>* warnings) {
     if (!isPbrtScene(file)) throwFileError(file, "convert reads pbrt-v4 scenes (.pbrt)");
     pbrt::PbrtConversion conversion = pbrt::convertPbrtFile(file);
     emitWarnings(conversion.warnings, warnings);
     // Check that the scene builds before anything is written.
     (void)pbrt::buildPbrtScene(conversion, file);
-    // Mesh files are named relative to the pbrt file; name them relative to the output.
+    // Files (meshes, images) are named relative to the pbrt file; name them relative to the output.
     const fs::path from = fs::absolute(file).lexically_normal().parent_path(),
                    to = fs::absolute(output).lexically_normal().parent_path();
-    for (Json& shape : conversion.document["shapes"])
-        if (shape.contains("file")) {
-            const fs::path mesh = fs::path(shape["file"].get<std::string>());
-            const fs::path absolute = mesh.is_absolute() ? mesh : (from / mesh).lexically_normal();
-            const fs::path relative = absolute.lexically_relative(to);
-            shape["file"] = relative.empty() ? absolute.string() : relative.string();
-        }
+    rebaseFileNames(conversion.document, from, to);
     return "// Converted from " + file.filename().string() + " by penumbra convert (docs/pbrt-import.md).\n" +
            [&] {
                std::string text;

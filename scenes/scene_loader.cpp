@@ -738,6 +738,9 @@ EnvironmentLight readImageEnvironment(const JsonValue& value, const fs::path& fo
         if (!(lengthSquared(axis) > 0.0f)) axisValue.failExpected("a non-zero axis");
         rotation = Transform::rotate(rotate.require("degrees").number(), axis);
     }
+    // A map made for the other handedness (pbrt's latitude-longitude maps): the image's columns
+    // run the other way round, a reflection of the light's own x before `rotate`.
+    if (auto v = value.member("mirror"); v && v->boolean()) rotation = rotation * Transform::scale({-1.0f, 1.0f, 1.0f});
     SourceLocation where;
     where.file = fileValue.file();
     where.jsonPointer = fileValue.pointer();
@@ -749,7 +752,7 @@ using EnvironmentReader = EnvironmentLight (*)(const JsonValue&, const fs::path&
 
 const std::array<TypeRow<EnvironmentReader>, 2> kEnvironmentTypes{{
     {"constant", {"type", "radiance"}, readConstantEnvironment},
-    {"image", {"type", "file", "scale", "rotate"}, readImageEnvironment},
+    {"image", {"type", "file", "scale", "rotate", "mirror"}, readImageEnvironment},
 }};
 
 EnvironmentLight readEnvironment(const JsonValue& value, const fs::path& folder) {

@@ -15,7 +15,7 @@ declare -A groups
 # Compiling penumbra (OpenImageIO is found through pkg-config: see CMakeLists.txt).
 groups[build]="cmake ninja-build g++ pkg-config
     libembree-dev libtbb-dev libopenimageio-dev libopenexr-dev libopencolorio-dev
-    libcli11-dev nlohmann-json3-dev libtinyobjloader-dev libassimp-dev zlib1g-dev libfmt-dev"
+    libcli11-dev nlohmann-json3-dev libtinyobjloader-dev zlib1g-dev libfmt-dev"
 # `penumbra converge`'s plot (tools/plot_convergence.py). python3-munkres satisfies fonttools's
 # "python3-scipy | python3-munkres" with 41 KB rather than SciPy and its dependencies.
 groups[tools]="python3 python3-matplotlib python3-munkres"

@@ -1,7 +1,5 @@
 #include "scenes/pbrt/materials.h"
 
-#include <OpenEXR/ImfRgbaFile.h>
-#include <OpenEXR/ImfArray.h>
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -28,10 +26,10 @@ Rgb clamp01(Rgb c, const Parameter* p, WarningLog& log, std::string_view what) {
 // pbrt-v4's roughness parameters: "roughness", or "uroughness" and "vroughness"; remapped to the
 // microfacet alpha with pbrt-v4's RoughnessToAlpha (sqrt) unless "remaproughness" is false.
 // Returns {alpha along u, alpha along v}.
-std::pair<double, double> readAlpha(const ParameterList& params, const TextureTable& textures) {
-    const double r = readScalar(params, "roughness", 0.0, textures);
-    double u = readScalar(params, "uroughness", r, textures);
-    double v = readScalar(params, "vroughness", r, textures);
+std::pair<double, double> readAlpha(const ParameterList& params, const TextureTable& textures, WarningLog& log) {
+    const double r = readScalar(params, "roughness", 0.0, textures, log);
+    double u = readScalar(params, "uroughness", r, textures, log);
+    double v = readScalar(params, "vroughness", r, textures, log);
     const bool remap = params.getBool("remaproughness").value_or(true);
     if (remap) {
         u = std::sqrt(std::max(u, 0.0));
@@ -101,16 +99,21 @@ Rgb readColor(const ParameterList& params, std::string_view name, Rgb fallback, 
         }
         case ParamType::Texture: {
             if (p->strings.size() != 1) failAt(p->where, fmt::format("parameter \"{}\" takes one texture name", p->declaration()));
-            if (auto t = textures.spectrum(p->strings[0])) return *t;
-            if (auto t = textures.scalar(p->strings[0])) return Rgb(*t);
-            failAt(p->where, fmt::format("parameter \"{}\": unknown texture \"{}\"", p->declaration(), p->strings[0]));
+            const TextureTable::Texture* t = textures.spectrum(p->strings[0]);
+            if (!t) t = textures.scalar(p->strings[0]);
+            if (!t) failAt(p->where, fmt::format("parameter \"{}\": unknown texture \"{}\"", p->declaration(), p->strings[0]));
+            if (t->object)
+                log.warn(p->where, fmt::format("a texture where penumbra takes none (parameter \"{}\"): {}", p->declaration(),
+                                               t->standIn));
+            return t->constant;
         }
         default: break;
     }
     return fallback;
 }
 
-double readScalar(const ParameterList& params, std::string_view name, double fallback, const TextureTable& textures) {
+double readScalar(const ParameterList& params, std::string_view name, double fallback, const TextureTable& textures,
+                  WarningLog& log) {
     const Parameter* p = params.find(name, {ParamType::Float, ParamType::Texture});
     if (!p) return fallback;
     if (p->type == ParamType::Float) {
@@ -118,100 +121,150 @@ double readScalar(const ParameterList& params, std::string_view name, double fal
         return p->numbers[0];
     }
     if (p->strings.size() != 1) failAt(p->where, fmt::format("parameter \"{}\" takes one texture name", p->declaration()));
-    if (auto t = textures.scalar(p->strings[0])) return *t;
-    failAt(p->where, fmt::format("parameter \"{}\": unknown float texture \"{}\"", p->declaration(), p->strings[0]));
+    const TextureTable::Texture* t = textures.scalar(p->strings[0]);
+    if (!t) failAt(p->where, fmt::format("parameter \"{}\": unknown float texture \"{}\"", p->declaration(), p->strings[0]));
+    if (t->object)
+        log.warn(p->where, fmt::format("a texture where penumbra takes none (parameter \"{}\"): {}", p->declaration(), t->standIn));
+    return t->constant.r;
 }
 
-std::optional<Rgb> imageMean(const fs::path& file, bool srgbEncoded8Bit, const SourceLocation& where, WarningLog& log) {
-    (void)srgbEncoded8Bit;  // for the 8-bit formats, once penumbra reads them (OpenEXR is linear)
-    std::error_code error;
-    if (!fs::is_regular_file(file, error)) {
-        log.warn(where, fmt::format("image \"{}\" not found", file.string()));
-        return std::nullopt;
-    }
-    // OpenEXR only: the program links no other image library (OpenImageIO is loaded for the
-    // display image alone), and pbrt-v4's environment maps are EXR files.
-    if (file.extension() != ".exr") {
-        log.warn(where, fmt::format("image \"{}\" is not an EXR file, which is all penumbra reads here", file.string()));
-        return std::nullopt;
-    }
-    try {
-        Imf::RgbaInputFile input(file.string().c_str());
-        const Imath::Box2i window = input.dataWindow();
-        const int width = window.max.x - window.min.x + 1, height = window.max.y - window.min.y + 1;
-        if (width <= 0 || height <= 0 || uint64_t(width) * uint64_t(height) > (uint64_t(1) << 28)) return std::nullopt;
-        std::vector<Imf::Rgba> row(static_cast<size_t>(width));
-        double sum[3] = {0, 0, 0};
-        for (int y = window.min.y; y <= window.max.y; ++y) {
-            input.setFrameBuffer(row.data() - window.min.x - ptrdiff_t(y) * width, 1, size_t(width));
-            input.readPixels(y, y);
-            for (const Imf::Rgba& p : row) {
-                const float c[3] = {float(p.r), float(p.g), float(p.b)};
-                for (int i = 0; i < 3; ++i) sum[i] += std::isfinite(c[i]) ? c[i] : 0.0;
-            }
-        }
-        const double n = double(width) * double(height);
-        return Rgb(float(sum[0] / n), float(sum[1] / n), float(sum[2] / n));
-    } catch (const std::exception& e) {
-        log.warn(where, fmt::format("image \"{}\" could not be read: {}", file.string(), e.what()));
-        return std::nullopt;
-    }
+namespace {
+
+// pbrt-v4's (u, v) mapping of image and checkerboard textures: st = (uscale u + udelta, vscale v + vdelta).
+void addUvMapping(Json& texture, const ParameterList& params, const SourceLocation& where, WarningLog& log) {
+    const std::string mapping = params.getString("mapping").value_or("uv");
+    if (mapping != "uv")
+        log.warn(where, fmt::format("texture mapping \"{}\" is not supported: the surface's (u, v) are used", mapping));
+    const double us = params.getFloat("uscale").value_or(1.0), vs = params.getFloat("vscale").value_or(1.0);
+    const double ud = params.getFloat("udelta").value_or(0.0), vd = params.getFloat("vdelta").value_or(0.0);
+    if (us != 1.0 || vs != 1.0) texture["uv_scale"] = Json::array({us, vs});
+    if (ud != 0.0 || vd != 0.0) texture["uv_offset"] = Json::array({ud, vd});
+    params.getFloat("v1"), params.getFloat("v2");  // planar mapping's, with the warning above
 }
+
+// A texture object scaled by a constant: an image's "scale", a checkerboard's colours.
+Json scaled(Json texture, Rgb s) {
+    if (texture["type"] == "image") {
+        Rgb old(1.0f);
+        if (const auto it = texture.find("scale"); it != texture.end())
+            old = it->is_array() ? Rgb((*it)[0].get<float>(), (*it)[1].get<float>(), (*it)[2].get<float>()) : Rgb(it->get<float>());
+        const Rgb product = old * s;
+        texture["scale"] = product.r == product.g && product.g == product.b ? Json(shortest(product.r)) : rgbJson(product);
+    } else {
+        for (Json& c : texture["colors"]) {
+            const Rgb v = c.is_array() ? Rgb(c[0].get<float>(), c[1].get<float>(), c[2].get<float>()) : Rgb(c.get<float>());
+            c = rgbJson(v * s);
+        }
+    }
+    return texture;
+}
+
+}  // namespace
 
 void TextureTable::define(const std::string& name, const std::string& kind, const std::string& textureClass,
-                          const ParameterList& params, const SourceLocation& where, const fs::path& folder,
-                          WarningLog& log) {
+                          const ParameterList& params, const SourceLocation& where, WarningLog& log) {
     const bool isFloat = kind == "float";
     if (!isFloat && kind != "spectrum")
         failAt(where, fmt::format("texture \"{}\": expected the type \"float\" or \"spectrum\", found \"{}\"", name, kind));
-    const SpectrumUse use = SpectrumUse::Reflectance;
-    // A texture parameter that is itself a constant or another texture's name.
-    auto color = [&](std::string_view param, Rgb fallback) {
-        if (isFloat) return Rgb(float(readScalar(params, param, fallback.r, *this)));
-        return readColor(params, param, fallback, use, *this, log);
+    // A texture parameter: a constant, or another texture of the same kind.
+    auto input = [&](std::string_view param, Rgb fallback) -> Texture {
+        const Parameter* p = params.find(param, isFloat ? std::initializer_list<ParamType>{ParamType::Float, ParamType::Texture}
+                                                        : std::initializer_list<ParamType>{ParamType::Rgb, ParamType::Spectrum,
+                                                                                           ParamType::Blackbody, ParamType::Texture,
+                                                                                           ParamType::Float});
+        if (p && p->type == ParamType::Texture && p->strings.size() == 1) {
+            const Texture* t = isFloat ? scalar(p->strings[0]) : spectrum(p->strings[0]);
+            if (!t) failAt(p->where, fmt::format("parameter \"{}\": unknown {} texture \"{}\"", p->declaration(), kind, p->strings[0]));
+            return *t;
+        }
+        if (isFloat) return {Rgb(float(readScalar(params, param, fallback.r, *this, log))), std::nullopt, {}};
+        return {readColor(params, param, fallback, SpectrumUse::Reflectance, *this, log), std::nullopt, {}};
     };
-    Rgb value(0.5f);
+    Texture texture{Rgb(0.5f), std::nullopt, {}};
     if (textureClass == "constant") {
-        value = color("value", Rgb(1.0f));
+        texture = input("value", Rgb(1.0f));
     } else if (textureClass == "scale") {
-        value = color("tex", Rgb(1.0f)) * float(readScalar(params, "scale", 1.0, *this));
+        const Texture tex = input("tex", Rgb(1.0f));
+        const Parameter* sp = params.find("scale", {ParamType::Float, ParamType::Texture});
+        if (sp && sp->type != ParamType::Texture) sp = nullptr;
+        Texture factor = sp ? Texture{} : Texture{Rgb(float(readScalar(params, "scale", 1.0, *this, log))), std::nullopt, {}};
+        if (sp) {
+            const Texture* t = sp->strings.size() == 1 ? scalar(sp->strings[0]) : nullptr;
+            if (!t) failAt(sp->where, fmt::format("parameter \"{}\": unknown float texture", sp->declaration()));
+            factor = *t;
+        }
+        texture.constant = tex.constant * factor.constant.r;
+        if (tex.object && !factor.object) {
+            texture.object = scaled(*tex.object, Rgb(factor.constant.r));
+            texture.standIn = tex.standIn;
+        } else if (tex.object || factor.object) {
+            log.warn(where, "a scale texture of two textures is not supported: the first one's stand-in constant instead");
+            texture.constant = tex.constant;
+        }
     } else if (textureClass == "mix") {
-        const float amount = float(readScalar(params, "amount", 0.5, *this));
-        value = color("tex1", Rgb(0.0f)) * (1.0f - amount) + color("tex2", Rgb(1.0f)) * amount;
+        const float amount = float(readScalar(params, "amount", 0.5, *this, log));
+        const Texture a = input("tex1", Rgb(0.0f)), b = input("tex2", Rgb(1.0f));
+        texture.constant = a.constant * (1.0f - amount) + b.constant * amount;
+        if (a.object || b.object) log.warn(where, "mix textures of textures are not supported: their stand-in constants are mixed");
     } else if (textureClass == "checkerboard") {
-        value = (color("tex1", Rgb(1.0f)) + color("tex2", Rgb(0.0f))) * 0.5f;
-        log.warn(where, "checkerboard textures are not supported yet: replaced by the mean of its two textures");
+        const Texture a = input("tex1", Rgb(1.0f)), b = input("tex2", Rgb(0.0f));
+        texture.constant = (a.constant + b.constant) * 0.5f;
+        texture.standIn = "the mean of the checkerboard's two values";
+        const int64_t dimension = params.getInt("dimension").value_or(2);
+        if (dimension != 2 || a.object || b.object) {
+            log.warn(where, dimension != 2 ? "3D checkerboards are not supported: the mean of their two values instead"
+                                           : "checkerboards of textures are not supported: the mean of their two stand-ins instead");
+        } else {
+            Json object{{"type", "checkerboard"}};
+            object["colors"] = isFloat ? Json::array({shortest(a.constant.r), shortest(b.constant.r)})
+                                       : Json::array({rgbJson(a.constant), rgbJson(b.constant)});
+            addUvMapping(object, params, where, log);
+            texture.object = std::move(object);
+        }
     } else if (textureClass == "imagemap") {
-        const std::string file = params.getString("filename").value_or("");
-        const std::string encoding = params.getString("encoding").value_or("sRGB");
-        const float scale = float(params.getFloat("scale").value_or(1.0));
-        const bool invert = params.getBool("invert").value_or(false);
-        const fs::path path = fs::path(file).is_absolute() ? fs::path(file) : folder / file;
-        const std::optional<Rgb> mean = imageMean(path, encoding == "sRGB", where, log);
-        value = mean.value_or(Rgb(0.5f)) * scale;
-        if (invert) value = Rgb(1.0f) - value;
-        if (isFloat) value = Rgb(value.average());
-        log.warn(where, mean ? "image textures are not supported yet: replaced by the image's mean colour"
-                             : "image textures are not supported yet: replaced by the constant 0.5");
+        const std::optional<std::string> file = params.getString("filename");
+        if (!file || file->empty()) failAt(where, "imagemap needs a \"string filename\"");
+        Json object{{"type", "image"}, {"file", *file}};
+        const std::string wrap = params.getString("wrap").value_or("repeat");
+        if (wrap == "black" || wrap == "clamp") object["wrap"] = wrap;
+        else if (wrap != "repeat")
+            log.warn(where, fmt::format("texture wrap mode \"{}\" is not supported: \"repeat\" instead", wrap));
+        const std::string filter = params.getString("filter").value_or("bilinear");
+        static const std::map<std::string, std::string> kFilters{
+            {"point", "closest"}, {"bilinear", "bilinear"}, {"trilinear", "trilinear"}, {"ewa", "anisotropic"}};
+        if (auto f = kFilters.find(filter); f != kFilters.end()) object["filter"] = f->second;
+        else {
+            log.warn(where, fmt::format("texture filter \"{}\" is not supported: bilinear instead", filter));
+            object["filter"] = "bilinear";
+        }
+        params.getFloat("maxanisotropy");
+        if (auto encoding = params.getString("encoding")) {
+            if (*encoding == "sRGB") object["color_space"] = "srgb";
+            else if (*encoding == "linear") object["color_space"] = "linear";
+            else log.warn(where, fmt::format("texture encoding \"{}\" is not supported: the file's own (sRGB for 8-bit images)", *encoding));
+        }
+        const double scale = params.getFloat("scale").value_or(1.0);
+        if (scale != 1.0) object["scale"] = scale;
+        if (params.getBool("invert").value_or(false)) log.warn(where, "imagemap \"invert\" is not supported: the image is used as it is");
+        addUvMapping(object, params, where, log);
+        texture = {Rgb(0.5f), std::move(object), "the constant 0.5 instead of the image"};
     } else {
         params.markAllUsed();
         log.warn(where, fmt::format("texture class \"{}\" is not supported: replaced by the constant 0.5", textureClass));
     }
     params.reportUnused(log, fmt::format("Texture \"{}\"", textureClass));
-    if (isFloat) float_[name] = value.r;
-    else spectrum_[name] = value;
+    if (isFloat) texture.constant = Rgb(texture.constant.r);
+    (isFloat ? float_ : spectrum_)[name] = std::move(texture);
 }
 
-std::optional<Rgb> TextureTable::spectrum(const std::string& name) const {
+const TextureTable::Texture* TextureTable::spectrum(const std::string& name) const {
     auto it = spectrum_.find(name);
-    if (it == spectrum_.end()) return std::nullopt;
-    return it->second;
+    return it == spectrum_.end() ? nullptr : &it->second;
 }
 
-std::optional<float> TextureTable::scalar(const std::string& name) const {
+const TextureTable::Texture* TextureTable::scalar(const std::string& name) const {
     auto it = float_.find(name);
-    if (it == float_.end()) return std::nullopt;
-    return it->second;
+    return it == float_.end() ? nullptr : &it->second;
 }
 
 Json mapMaterial(const std::string& type, const ParameterList& params, const TextureTable& textures,
@@ -222,19 +275,27 @@ Json mapMaterial(const std::string& type, const ParameterList& params, const Tex
                                              ParamType::Blackbody}),
                        log, "a reflectance");
     };
+    // A reflectance that penumbra may texture: the texture object itself when it is one.
+    auto texturable = [&](std::string_view name, Rgb fallback) -> Json {
+        const Parameter* p = params.find(name, {ParamType::Rgb, ParamType::Spectrum, ParamType::Texture, ParamType::Float,
+                                                ParamType::Blackbody});
+        if (p && p->type == ParamType::Texture && p->strings.size() == 1)
+            if (const TextureTable::Texture* t = textures.spectrum(p->strings[0]); t && t->object) return *t->object;
+        return rgbJson(reflectance(name, fallback));
+    };
     Json m = Json::object();
     if (type == "diffuse") {
         m["type"] = "lambert";
-        m["albedo"] = rgbJson(reflectance("reflectance", Rgb(0.5f)));
+        m["albedo"] = texturable("reflectance", Rgb(0.5f));
     } else if (type == "coateddiffuse") {
         m["type"] = "coated_diffuse";
-        m["albedo"] = rgbJson(reflectance("reflectance", Rgb(0.5f)));
+        m["albedo"] = texturable("reflectance", Rgb(0.5f));
         m["eta"] = readEta(params, textures, log);
-        addAlpha(m, readAlpha(params, textures));
+        addAlpha(m, readAlpha(params, textures, log));
     } else if (type == "dielectric") {
         m["type"] = "dielectric";
         m["eta"] = readEta(params, textures, log);
-        const auto alpha = readAlpha(params, textures);
+        const auto alpha = readAlpha(params, textures, log);
         if (alpha.first > 0.0 || alpha.second > 0.0) m["type"] = "rough_dielectric";
         addAlpha(m, alpha);
     } else if (type == "thindielectric") {
@@ -259,9 +320,9 @@ Json mapMaterial(const std::string& type, const ParameterList& params, const Tex
         m["eta"] = rgbJson({std::max(eta.r, 1e-4f), std::max(eta.g, 1e-4f), std::max(eta.b, 1e-4f)});
         m["k"] = rgbJson({std::max(k.r, 0.0f), std::max(k.g, 0.0f), std::max(k.b, 0.0f)});
         const auto alpha = type == "coatedconductor"
-                               ? std::pair{readScalar(params, "conductor.roughness", 0.0, textures),
-                                           readScalar(params, "conductor.roughness", 0.0, textures)}
-                               : readAlpha(params, textures);
+                               ? std::pair{readScalar(params, "conductor.roughness", 0.0, textures, log),
+                                           readScalar(params, "conductor.roughness", 0.0, textures, log)}
+                               : readAlpha(params, textures, log);
         m["type"] = alpha.first > 0.0 || alpha.second > 0.0 ? "rough_conductor" : "conductor";
         addAlpha(m, alpha);
         if (type == "coatedconductor")
@@ -274,7 +335,7 @@ Json mapMaterial(const std::string& type, const ParameterList& params, const Tex
         if (type == "interface") log.warn(where, "interface material: rendered as an invisible surface (participating media are not supported)");
     } else if (type == "diffusetransmission") {
         m["type"] = "lambert";
-        m["albedo"] = rgbJson(reflectance("reflectance", Rgb(0.25f)));
+        m["albedo"] = texturable("reflectance", Rgb(0.25f));
         log.warn(where, "diffusetransmission is rendered as its diffuse reflection alone (no transmission)");
     } else if (type == "measured" || type == "hair" || type == "subsurface") {
         params.markAllUsed();

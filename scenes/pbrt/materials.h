@@ -1,7 +1,6 @@
-// pbrt-v4's materials and textures mapped to penumbra's materials (scenes/README.md), as the JSON
-// material objects of penumbra's scene format. The mapping of each type is stated in
-// docs/pbrt-import.md. Textures are reduced to constants for now (penumbra's materials have no
-// textures yet): each texture becomes the constant closest to it, with a warning saying which.
+// pbrt-v4's materials and textures mapped to penumbra's materials and texture objects
+// (scenes/README.md), as the JSON of penumbra's scene format. The mapping of each type is stated
+// in docs/pbrt-import.md.
 #pragma once
 
 #include <map>
@@ -19,33 +18,34 @@ namespace penumbra::pbrt {
 // converted to RGB differently.
 enum class SpectrumUse : uint8_t { Reflectance, Emission, Unbounded };
 
-// The textures defined so far, each as the constant standing for it.
+// The textures defined so far: each as penumbra's texture object where it has one (image,
+// checkerboard), and as the constant standing for it where penumbra takes no texture.
 class TextureTable {
 public:
+    struct Texture {
+        Rgb constant;               // the value itself, or a stand-in for `object`
+        std::optional<Json> object;  // penumbra's texture object (scenes/README.md, "Textures")
+        std::string standIn;        // for `object`: what `constant` is, for warnings
+    };
     // Texture "name" "float"|"spectrum" "class" params.
     void define(const std::string& name, const std::string& kind, const std::string& textureClass,
-                const ParameterList& params, const SourceLocation& where, const std::filesystem::path& folder,
-                WarningLog& log);
-    std::optional<Rgb> spectrum(const std::string& name) const;
-    std::optional<float> scalar(const std::string& name) const;
+                const ParameterList& params, const SourceLocation& where, WarningLog& log);
+    const Texture* spectrum(const std::string& name) const;
+    const Texture* scalar(const std::string& name) const;
 
 private:
-    std::map<std::string, Rgb> spectrum_;
-    std::map<std::string, float> float_;
+    std::map<std::string, Texture> spectrum_;
+    std::map<std::string, Texture> float_;
 };
 
 // A colour parameter given as rgb, blackbody, spectrum, or a texture's name; `fallback` when
-// absent. Throws InputError at the parameter for an unknown texture or named spectrum.
+// absent. A texture penumbra cannot take here gives its stand-in constant, with a warning.
+// Throws InputError at the parameter for an unknown texture or named spectrum.
 Rgb readColor(const ParameterList& params, std::string_view name, Rgb fallback, SpectrumUse use,
               const TextureTable& textures, WarningLog& log);
 // A float parameter given as a float or a float texture's name.
-double readScalar(const ParameterList& params, std::string_view name, double fallback, const TextureTable& textures);
-
-// The average of an OpenEXR image's pixels, for image textures and image environment lights until
-// penumbra reads images itself. Empty, with a warning, when the image cannot be read or is not
-// an EXR file.
-std::optional<Rgb> imageMean(const std::filesystem::path& file, bool srgbEncoded8Bit, const SourceLocation& where,
-                             WarningLog& log);
+double readScalar(const ParameterList& params, std::string_view name, double fallback, const TextureTable& textures,
+                  WarningLog& log);
 
 // The penumbra material standing for a pbrt material of `type` with `params` (penumbra's JSON
 // material object). "mix" is not handled here: the builder resolves it to one of its materials.

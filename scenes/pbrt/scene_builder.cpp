@@ -6,6 +6,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "textures/image_file.h"
+
 namespace penumbra::pbrt {
 
 namespace fs = std::filesystem;
@@ -443,8 +445,8 @@ void SceneBuilder::finishCamera(Json& scene) {
     if (!filterGiven_) scene_["film"]["filter"] = Json{{"type", "tent"}, {"radius", 0.5 * std::sqrt(6.0)}};
 }
 
-std::string SceneBuilder::currentMaterialName(const SourceLocation&) {
-    if (!state_.material.empty()) return state_.material;
+std::string SceneBuilder::materialOf(const ShapeRecord& shape) {
+    if (!shape.state.material.empty()) return shape.state.material;
     if (defaultMaterial_.empty()) {
         defaultMaterial_ = "pbrt default (diffuse 0.5)";
         scene_["materials"][defaultMaterial_] = Json{{"type", "lambert"}, {"albedo", 0.5}};
@@ -457,7 +459,7 @@ void SceneBuilder::materialDirective(const Directive& d) {
     const std::string& n = d.name;
     const ParameterList& p = d.parameters;
     if (n == "Texture") {
-        textures_.define(d.strings[0], d.strings[1], d.strings[2], p, d.where, folder_, log_);
+        textures_.define(d.strings[0], d.strings[1], d.strings[2], p, d.where, log_);
         return;
     }
     if (n == "NamedMaterial") {
@@ -482,7 +484,7 @@ void SceneBuilder::materialDirective(const Directive& d) {
         // No mixed materials yet: the one of the two with the larger weight.
         const Parameter* materials = p.find("materials", {ParamType::String});
         if (!materials || materials->strings.size() != 2) failAt(d.where, "mix needs \"string materials\" with two names");
-        const double amount = readScalar(p, "amount", 0.5, textures_);
+        const double amount = readScalar(p, "amount", 0.5, textures_, log_);
         const std::string& chosen = materials->strings[amount <= 0.5 ? 0 : 1];
         auto it = namedMaterials_.find(chosen);
         if (it == namedMaterials_.end()) failAt(materials->where, fmt::format("mix: no material named \"{}\"", chosen));
@@ -544,24 +546,16 @@ void SceneBuilder::lightSource(const Directive& d) {
         if (!(length(direction) > 0.0)) failAt(d.where, "distant light: from and to must differ");
         light = Json{{"type", "directional"}, {"direction", vec3Json(normalize(direction))}, {"irradiance", rgbJson(irradiance)}};
     } else if (type == "infinite") {
-        Rgb radiance = readColor(p, "L", Rgb(1.0f), SpectrumUse::Emission, textures_, log_) * scale;
-        if (auto file = p.getString("filename")) {
-            const fs::path path = fs::path(*file).is_absolute() ? fs::path(*file) : folder_ / *file;
-            const std::optional<Rgb> mean = imageMean(path, true, d.where, log_);
-            radiance = mean.value_or(Rgb(1.0f)) * scale;
-            log_.warn(d.where, mean ? "image environment lights are not supported yet: rendered as a constant background "
-                                      "of the image's mean radiance (the same total power)"
-                                    : "image environment lights are not supported yet: rendered as a constant background of "
-                                      "radiance 1 (times scale)");
-        } else if (auto e = p.getFloat("illuminance"); e && *e > 0.0) {
-            radiance *= float(*e / kPi);  // a uniform sky of radiance L gives the illuminance pi L
+        if (const Parameter* f = p.find("filename", {ParamType::String})) {
+            if (const Parameter* l = p.find("L", {ParamType::Rgb, ParamType::Spectrum, ParamType::Blackbody}))
+                failAt(l->where, "LightSource \"infinite\": give either \"L\" or \"filename\", not both (as pbrt-v4)");
+            imageEnvironment(*f, scale, d.where);
+        } else {
+            Rgb radiance = readColor(p, "L", Rgb(1.0f), SpectrumUse::Emission, textures_, log_) * scale;
+            if (auto e = p.getFloat("illuminance"); e && *e > 0.0)
+                radiance *= float(*e / kPi);  // a uniform sky of radiance L gives the illuminance pi L
+            addBackground(radiance, d.where);
         }
-        Rgb background = radiance;
-        if (scene_.contains("background")) {
-            const Json& b = scene_["background"];
-            background += Rgb(b[0].get<float>(), b[1].get<float>(), b[2].get<float>());
-        }
-        scene_["background"] = rgbJson(background);
         p.reportUnused(log_, "LightSource \"infinite\"");
         return;
     } else {
@@ -572,6 +566,83 @@ void SceneBuilder::lightSource(const Directive& d) {
     origins_.push_back({fmt::format("/lights/{}", scene_["lights"].size()), d.where});
     scene_["lights"].push_back(light);
     p.reportUnused(log_, fmt::format("LightSource \"{}\"", type));
+}
+
+void SceneBuilder::addBackground(Rgb radiance, const SourceLocation& where) {
+    if (scene_.contains("environment")) {
+        log_.warn(where, "a constant infinite light besides an image one is left out (penumbra has one environment)");
+        return;
+    }
+    Rgb background = radiance;
+    if (scene_.contains("background")) {
+        const Json& b = scene_["background"];
+        background += Rgb(b[0].get<float>(), b[1].get<float>(), b[2].get<float>());
+    }
+    scene_["background"] = rgbJson(background);
+}
+
+void SceneBuilder::imageEnvironment(const Parameter& filename, float scale, const SourceLocation& where) {
+    if (filename.strings.size() != 1) failAt(filename.where, "parameter \"string filename\" takes one file name");
+    const std::string& file = filename.strings[0];
+    const fs::path path = fs::path(file).is_absolute() ? fs::path(file) : folder_ / file;
+    std::error_code error;
+    if (!fs::is_regular_file(path, error))
+        failAt(filename.where, fmt::format("LightSource \"infinite\": image \"{}\" not found (looked for {})", file, path.string()));
+    const LinearRgbImage image = readLinearRgbImage(path, filename.where);
+    if (image.width == image.height) {
+        // pbrt-v4's own maps (it refuses others): equal-area octahedral, which penumbra's
+        // latitude-longitude environment cannot show. Equal areas make the texels' plain mean the
+        // mean over directions: a constant of the same power.
+        double sum[3] = {0, 0, 0};
+        for (const Rgb& t : image.texels) sum[0] += t.r, sum[1] += t.g, sum[2] += t.b;
+        const double n = double(std::max<size_t>(image.texels.size(), 1));
+        log_.warn(filename.where, "a square environment image is pbrt-v4's equal-area octahedral map, which penumbra does "
+                                  "not render: a constant background of its mean radiance instead (the same power); "
+                                  "give a latitude-longitude image for the map itself");
+        addBackground(Rgb(float(sum[0] / n), float(sum[1] / n), float(sum[2] / n)) * scale, where);
+        return;
+    }
+    if (scene_.contains("environment")) {
+        log_.warn(where, "a second image infinite light is left out (penumbra has one environment)");
+        return;
+    }
+    if (scene_.contains("background")) {
+        log_.warn(where, "constant infinite lights besides an image one are left out (penumbra has one environment)");
+        scene_.erase("background");
+    }
+    // pbrt's latitude-longitude convention (pbrt-v3's, and pbrt-v4 imgtool makeequiarea's): column
+    // u = phi / 2 pi with phi = atan2(y, x), row v = theta / pi from +z (top row), in the light's
+    // space. penumbra's is (sin theta sin phi, cos theta, -sin theta cos phi) with +y up, so
+    // pbrt's direction is R times penumbra's, R: x -> y, y -> z, z -> -x (a reflection). The
+    // light's transform (and the world's mirror) follow; what is left is a rotation, and a
+    // reflection of the image when the whole has a negative determinant.
+    Matrix4d r = Matrix4d::identity();
+    r.m[0][0] = 0, r.m[0][2] = -1, r.m[1][0] = 1, r.m[1][1] = 0, r.m[2][1] = 1, r.m[2][2] = 0;
+    Matrix4d m = toWorld(state_.ctm[0]) * r;
+    for (int i = 0; i < 3; ++i) m.m[i][3] = 0.0;  // directions: no translation
+    Vec3d c[3];
+    double lengths[3];
+    for (int j = 0; j < 3; ++j) {
+        c[j] = Vec3d{m.m[0][j], m.m[1][j], m.m[2][j]};
+        lengths[j] = length(c[j]);
+        c[j] = normalize(c[j]);
+    }
+    const bool uniform = std::abs(lengths[0] - lengths[1]) <= 1e-4 * lengths[0] && std::abs(lengths[0] - lengths[2]) <= 1e-4 * lengths[0];
+    if (!uniform || std::abs(dot(c[0], c[1])) > 1e-4 || std::abs(dot(c[0], c[2])) > 1e-4 || std::abs(dot(c[1], c[2])) > 1e-4)
+        failAt(where, "LightSource \"infinite\": the transform of an image light must rotate (and may mirror and scale "
+                      "uniformly), not shear or scale unevenly");
+    const bool mirrored = m.determinant3() < 0.0;
+    if (mirrored) c[0] = c[0] * -1.0;  // penumbra's "mirror" reflects the light's x before the rotation
+    Matrix4d rotation = Matrix4d::identity();
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) rotation.m[i][j] = c[j][i];
+    bool sheared = false;
+    const Json key = motionKey(rotation, sheared);
+    Json environment{{"type", "image"}, {"file", file}, {"scale", shortest(scale)}};
+    if (key["rotate"]["degrees"].get<double>() != 0.0) environment["rotate"] = key["rotate"];
+    if (mirrored) environment["mirror"] = true;
+    origins_.push_back({"/environment", where});
+    scene_["environment"] = std::move(environment);
 }
 
 void SceneBuilder::objectDirective(const Directive& d) {
@@ -596,16 +667,49 @@ void SceneBuilder::objectDirective(const Directive& d) {
         if (currentObject_) failAt(d.where, "ObjectInstance inside an object definition");
         auto it = objects_.find(d.strings[0]);
         if (it == objects_.end()) failAt(d.where, fmt::format("ObjectInstance: no object named \"{}\"", d.strings[0]));
-        if (!(state_.ctm[0] == state_.ctm[1]))
-            log_.warn(d.where, "moving object instances are not supported: placed at the start time");
-        flattenInstance(it->second, state_.ctm[0], d.where);
+        instantiate(it->first, state_.ctm, d.where);
     }
 }
 
-void SceneBuilder::flattenInstance(const std::vector<ShapeRecord>& shapes, const Matrix4d& worldFromInstance,
-                                   const SourceLocation& where) {
-    log_.warn(where, "object instances are expanded into copies of their shapes (penumbra has no instancing yet)");
-    for (const ShapeRecord& shape : shapes) addShape(shape, &worldFromInstance);
+std::string SceneBuilder::copyReason(const ShapeRecord& shape) const {
+    if (shape.type == "sphere") return "spheres (penumbra's prototypes are meshes)";
+    if (shape.state.areaLight && !shape.state.areaLight->radiance.isBlack()) return "area lights (instances do not emit)";
+    if (!(shape.state.ctm[0] == shape.state.ctm[1])) return "shapes that move inside the object definition";
+    return {};
+}
+
+void SceneBuilder::instantiate(const std::string& object, const std::array<Matrix4d, 2>& worldFromInstance,
+                               const SourceLocation& where) {
+    const std::vector<ShapeRecord>& shapes = objects_.at(object);
+    auto [names, first] = prototypes_.try_emplace(object);
+    for (size_t i = 0; i < shapes.size(); ++i) {
+        const ShapeRecord& shape = shapes[i];
+        if (first) {
+            // The prototype: the shape in the object's space (its own transform baked in).
+            std::string name;
+            if (copyReason(shape).empty()) {
+                if (std::optional<Json> geometry = shapeGeometry(shape, shape.state.ctm[0].determinant3() < 0.0)) {
+                    name = shapes.size() == 1 ? object : fmt::format("{}/{}", object, i);
+                    if (!(shape.state.ctm[0] == Matrix4d::identity()))
+                        (*geometry)["transform"] = Json::array({Json{{"matrix", matrixJson(shape.state.ctm[0])}}});
+                    origins_.push_back({"/prototypes/" + escapeJsonPointerToken(name), shape.where});
+                    scene_["prototypes"][name] = std::move(*geometry);
+                }
+            }
+            names->second.push_back(name);
+        }
+        const std::string& prototype = names->second[i];
+        if (prototype.empty()) {
+            if (const std::string reason = copyReason(shape); !reason.empty())
+                log_.warn(where, fmt::format("object instances of {} are placed as copies", reason));
+            addShape(shape, &worldFromInstance);
+            continue;
+        }
+        Json instance{{"type", "instance"}, {"prototype", prototype}, {"material", materialOf(shape)}};
+        addPlacement(instance, worldFromInstance, where);
+        origins_.push_back({fmt::format("/shapes/{}", scene_["shapes"].size()), where});
+        scene_["shapes"].push_back(std::move(instance));
+    }
 }
 
 void SceneBuilder::addPlacement(Json& shape, const std::array<Matrix4d, 2>& ctm, const SourceLocation& where) {
@@ -622,15 +726,26 @@ void SceneBuilder::addPlacement(Json& shape, const std::array<Matrix4d, 2>& ctm,
         log_.warn(where, "TransformTimes differ from the camera's shutter: penumbra spreads motion keys over the shutter");
 }
 
-void SceneBuilder::addShape(const ShapeRecord& record, const Matrix4d* instance) {
+void SceneBuilder::addShape(const ShapeRecord& record, const std::array<Matrix4d, 2>* worldFromInstance) {
+    std::array<Matrix4d, 2> ctm = record.state.ctm;
+    if (worldFromInstance)
+        for (size_t i = 0; i < 2; ++i) ctm[i] = (*worldFromInstance)[i] * ctm[i];
+    std::optional<Json> geometry = shapeGeometry(record, ctm[0].determinant3() < 0.0);
+    if (!geometry) return;
+    Json& shape = *geometry;
+    shape["material"] = materialOf(record);
+    if (const auto& light = record.state.areaLight; light && !light->radiance.isBlack())
+        shape["emission"] = Json{{"radiance", rgbJson(light->radiance)}, {"two_sided", light->twoSided}};
+    addPlacement(shape, ctm, record.where);
+    origins_.push_back({fmt::format("/shapes/{}", scene_["shapes"].size()), record.where});
+    scene_["shapes"].push_back(std::move(shape));
+}
+
+std::optional<Json> SceneBuilder::shapeGeometry(const ShapeRecord& record, bool swaps) {
     const ParameterList& p = record.params;
     const SourceLocation& where = record.where;
     const std::string& type = record.type;
-    std::array<Matrix4d, 2> ctm = record.state.ctm;
-    if (instance)
-        for (Matrix4d& m : ctm) m = *instance * m;
     const bool reverse = record.state.reverseOrientation;
-    const bool swaps = ctm[0].determinant3() < 0.0;
     Json shape = Json::object();
 
     if (type == "trianglemesh" || type == "bilinearmesh") {
@@ -749,18 +864,12 @@ void SceneBuilder::addShape(const ShapeRecord& record, const Matrix4d* instance)
     } else {
         p.markAllUsed();
         log_.warn(where, fmt::format("Shape \"{}\" is not supported and was left out", type));
-        return;
+        return std::nullopt;
     }
     if (const Parameter* alpha = p.find("alpha", {ParamType::Float, ParamType::Texture}))
         log_.warn(alpha->where, "shape \"alpha\" (cut-outs) is not supported: the shape is opaque");
     p.reportUnused(log_, fmt::format("Shape \"{}\"", type));
-
-    shape["material"] = record.state.material.empty() ? currentMaterialName(where) : record.state.material;
-    if (const auto& light = record.state.areaLight; light && !light->radiance.isBlack())
-        shape["emission"] = Json{{"radiance", rgbJson(light->radiance)}, {"two_sided", light->twoSided}};
-    addPlacement(shape, ctm, where);
-    origins_.push_back({fmt::format("/shapes/{}", scene_["shapes"].size()), where});
-    scene_["shapes"].push_back(std::move(shape));
+    return shape;
 }
 
 Json SceneBuilder::finish() {

@@ -77,19 +77,35 @@ private:
     void materialDirective(const Directive& d);
     void lightSource(const Directive& d);
     void areaLightSource(const Directive& d);
+    // Constant infinite lights add up into "background".
+    void addBackground(Rgb radiance, const SourceLocation& where);
+    // LightSource "infinite" with "filename": penumbra's image environment for a latitude-longitude
+    // image (in pbrt's orientation convention), a constant of its mean for pbrt-v4's square
+    // equal-area maps.
+    void imageEnvironment(const Parameter& filename, float scale, const SourceLocation& where);
     void objectDirective(const Directive& d);
 
     // Applies `t` to the active transforms: ctm = ctm * t (pbrt's order).
     void concat(const Matrix4d& t);
     void requireWorld(const Directive& d, bool inWorld) const;
 
-    // Shapes.
-    void addShape(const ShapeRecord& shape, const Matrix4d* instance);
-    // ObjectInstance: each shape of the definition is added as a copy placed by the instance's
-    // transform. The one place to change when penumbra gains instances.
-    void flattenInstance(const std::vector<ShapeRecord>& shapes, const Matrix4d& worldFromInstance,
-                         const SourceLocation& where);
-    std::string currentMaterialName(const SourceLocation& where);
+    // Shapes. `worldFromInstance`: the ObjectInstance's transform at both times, for a shape of an
+    // object placed as a copy.
+    void addShape(const ShapeRecord& shape, const std::array<Matrix4d, 2>* worldFromInstance);
+    // The shape's geometry as penumbra's shape (or prototype) object, without material, emission
+    // or placement; empty, with a warning, for the shapes penumbra does not have. `swaps`: the
+    // placement mirrors (pbrt-v4 then turns a disk's normal).
+    std::optional<Json> shapeGeometry(const ShapeRecord& shape, bool swaps);
+    // ObjectInstance: each mesh of the object becomes a prototype (once, at its first instance) and
+    // an "instance" shape; what penumbra's instances cannot hold (spheres, emitters, shapes that
+    // move inside the object) is placed as a copy instead.
+    void instantiate(const std::string& object, const std::array<Matrix4d, 2>& worldFromInstance,
+                     const SourceLocation& where);
+    // Why `shape` of an object cannot be a prototype, or empty when it can.
+    std::string copyReason(const ShapeRecord& shape) const;
+    // The material a shape was given (pbrt-v4: the one current where the Shape directive is, also
+    // inside an object definition), or pbrt's default diffuse material.
+    std::string materialOf(const ShapeRecord& shape);
     void addPlacement(Json& shape, const std::array<Matrix4d, 2>& ctm, const SourceLocation& where);
 
     void finishCamera(Json& scene);
@@ -126,6 +142,9 @@ private:
     bool filterGiven_ = false;
 
     std::map<std::string, std::vector<ShapeRecord>> objects_;
+    // Per object, the prototype name of each of its shapes once it has been instanced ("" for a
+    // shape placed as copies or left out).
+    std::map<std::string, std::vector<std::string>> prototypes_;
     std::optional<std::pair<std::string, SourceLocation>> currentObject_;
 };
 

@@ -106,12 +106,15 @@ void expectRoundTrip(const fs::path& pbrt) {
     }
     EXPECT_EQ(direct.meshes.size(), converted.meshes.size());
     EXPECT_EQ(direct.meshFiles.size(), converted.meshFiles.size());
+    EXPECT_EQ(direct.instances.size(), converted.instances.size());
+    EXPECT_EQ(direct.environment.hasImage(), converted.environment.hasImage());
     expectBitIdentical(renderScene(direct), renderScene(converted));
     fs::remove_all(dir.parent_path());
 }
 
 TEST(PbrtScenes, ConvertThenRenderIsTheSameImage) {
     expectRoundTrip(kTestData / "scenes" / "mesh-and-lights.pbrt");
+    expectRoundTrip(kTestData / "scenes" / "instances-textures-sky.pbrt");
     for (const char* scene : {"cornell-box-bitterli/scene-v4.pbrt", "veach-mis/scene-v4.pbrt"})
         if (fs::exists(kData / scene)) expectRoundTrip(kData / scene);
 }

@@ -4,6 +4,7 @@
 // hand in the comments.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -14,6 +15,7 @@
 #include "scenes/pbrt/pbrt_reader.h"
 #include "scenes/pbrt/spectrum.h"
 #include "scenes/scene_file.h"
+#include "scenes/scene_loader.h"
 
 namespace penumbra::pbrt {
 namespace {
@@ -115,15 +117,55 @@ TEST(PbrtMapping, ReverseOrientationAndNormalsChooseTheFrontFace) {
     EXPECT_EQ(disk.document["shapes"][0]["center"], Json::array({0.0, 0.0, 2.0}));
 }
 
-TEST(PbrtMapping, ObjectInstancesAreFlattenedIntoCopies) {
-    auto c = convert(kCamera + "WorldBegin\nObjectBegin \"ball\"\nTranslate 0 1 0\nShape \"sphere\" \"float radius\" 0.5\nObjectEnd\n"
-                               "Translate 3 0 0\nObjectInstance \"ball\"\nTranslate 3 0 0\nObjectInstance \"ball\"\n");
+TEST(PbrtMapping, ObjectInstancesArePrototypesAndInstances) {
+    // Two meshes with their own materials (pbrt-v4: the material current inside the definition),
+    // the object placed twice, the second time moving (ActiveTransform EndTime).
+    const std::string tri = "Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0] \"integer indices\" [0 1 2]\n";
+    auto c = convert(kCamera + "WorldBegin\nMakeNamedMaterial \"red\" \"string type\" \"diffuse\" \"rgb reflectance\" [0.8 0 0]\n"
+                               "ObjectBegin \"pair\"\nNamedMaterial \"red\"\n" + tri +
+                     "AttributeBegin\nMaterial \"diffuse\"\nTranslate 0 0 2\n" + tri + "AttributeEnd\nObjectEnd\n"
+                     "Material \"conductor\"\nTranslate 3 0 0\nObjectInstance \"pair\"\n"
+                     "ActiveTransform EndTime\nTranslate 1 0 0\nActiveTransform All\nObjectInstance \"pair\"\n");
+    const Json& prototypes = c.document["prototypes"];
+    ASSERT_EQ(prototypes.size(), 2u);
+    EXPECT_FALSE(prototypes["pair/0"].contains("transform"));
+    EXPECT_DOUBLE_EQ(matrixOf(prototypes["pair/1"])[11].get<double>(), 2.0);  // the shape's own Translate, baked in
     const Json& shapes = c.document["shapes"];
-    ASSERT_EQ(shapes.size(), 2u);
+    ASSERT_EQ(shapes.size(), 4u);
+    EXPECT_EQ(shapes[0]["type"], "instance");
+    EXPECT_EQ(shapes[0]["prototype"], "pair/0");
+    EXPECT_EQ(shapes[0]["material"], "red");
+    EXPECT_EQ(shapes[1]["prototype"], "pair/1");
+    EXPECT_NE(shapes[1]["material"], "red");
+    // The diffuse material of the definition, not the conductor current at ObjectInstance.
+    EXPECT_EQ(c.document["materials"][shapes[1]["material"].get<std::string>()]["type"], "lambert");
+    EXPECT_DOUBLE_EQ(matrixOf(shapes[0])[3].get<double>(), 3.0);
+    const Json& keys = shapes[2]["motion"]["transforms"];
+    ASSERT_EQ(keys.size(), 2u);
+    EXPECT_DOUBLE_EQ(keys[0]["translate"][0].get<double>(), 3.0);
+    EXPECT_DOUBLE_EQ(keys[1]["translate"][0].get<double>(), 4.0);
+    EXPECT_FALSE(hasWarning(c, "copies"));
+    const Scene scene = buildPbrtScene(c, "test.pbrt");
+    EXPECT_EQ(scene.prototypes.size(), 2u);
+    ASSERT_EQ(scene.instances.size(), 4u);
+    EXPECT_TRUE(scene.instances[3].moves());
+    EXPECT_NEAR(scene.instances[1].placement.applyPoint(scene.prototypes[1].positions[0]).z, 2.0, 1e-6);
+}
+
+TEST(PbrtMapping, ObjectSpheresAndEmittersArePlacedAsCopies) {
+    auto c = convert(kCamera + "WorldBegin\nObjectBegin \"ball\"\nTranslate 0 1 0\nShape \"sphere\" \"float radius\" 0.5\n"
+                               "AreaLightSource \"diffuse\" \"rgb L\" [1 1 1]\nShape \"disk\"\nObjectEnd\n"
+                               "Translate 3 0 0\nObjectInstance \"ball\"\nTranslate 3 0 0\nObjectInstance \"ball\"\n");
+    EXPECT_FALSE(c.document.contains("prototypes"));
+    const Json& shapes = c.document["shapes"];
+    ASSERT_EQ(shapes.size(), 4u);
+    EXPECT_EQ(shapes[0]["type"], "sphere");
     EXPECT_DOUBLE_EQ(matrixOf(shapes[0])[3].get<double>(), 3.0);
     EXPECT_DOUBLE_EQ(matrixOf(shapes[0])[7].get<double>(), 1.0);
-    EXPECT_DOUBLE_EQ(matrixOf(shapes[1])[3].get<double>(), 6.0);
-    EXPECT_TRUE(hasWarning(c, "expanded into copies of their shapes (penumbra has no instancing yet) (2 times)"));
+    EXPECT_TRUE(shapes[1].contains("emission"));
+    EXPECT_DOUBLE_EQ(matrixOf(shapes[2])[3].get<double>(), 6.0);
+    EXPECT_TRUE(hasWarning(c, "object instances of spheres (penumbra's prototypes are meshes) are placed as copies (2 times)"));
+    EXPECT_TRUE(hasWarning(c, "object instances of area lights (instances do not emit) are placed as copies (2 times)"));
 }
 
 TEST(PbrtMapping, ActiveTransformGivesMotionKeys) {
@@ -203,6 +245,73 @@ TEST(PbrtMapping, LightsAndEmission) {
     const Rgb blackbody = blackbodyRgb(3000.0);
     EXPECT_NEAR(shapes[2]["emission"]["radiance"][0].get<double>(), blackbody.r, 1e-5);
     EXPECT_FALSE(shapes[2]["emission"]["two_sided"].get<bool>());
+}
+
+TEST(PbrtMapping, ImageInfiniteLightsKeepPbrtsLatitudeLongitudeOrientation) {
+    // pbrt's convention (pbrt-v3, and pbrt-v4's imgtool makeequiarea): column u = phi / 2 pi with
+    // phi = atan2(y, x), row v = theta / pi from +z, in the light's space. Checked against the
+    // same image read in penumbra's own convention, with the light turned so that its +z is world
+    // +y, under a camera that needs no mirroring and under one that does (world x -> -x).
+    const std::string sky = (fs::path(PENUMBRA_SOURCE_DIR) / "scenes" / "textures" / "sky.exr").string();  // 512 x 256
+    const Scene plain = parseScene(R"({"environment": {"type": "image", "file": ")" + sky + R"("}})", "test.json");
+    const std::string mirroredCamera = "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\"\n";
+    for (const std::string& camera : {kCamera, mirroredCamera}) {
+        const bool mirrored = camera == mirroredCamera;
+        auto c = convert(camera + "WorldBegin\nAttributeBegin\nRotate -90 1 0 0\nLightSource \"infinite\" \"string filename\" \"" +
+                         sky + "\" \"float scale\" 2\nAttributeEnd\n");
+        const Json& environment = c.document["environment"];
+        EXPECT_EQ(environment["type"], "image");
+        EXPECT_EQ(environment["scale"], 2.0);
+        EXPECT_EQ(environment.value("mirror", false), !mirrored);  // pbrt's map is mirrored in a right-handed world
+        EXPECT_FALSE(c.document.contains("background"));
+        const Scene scene = buildPbrtScene(c, "test.pbrt");
+        for (int i = 0; i < 40; ++i) {
+            const double s = (double((i * 97) % 512) + 0.5) / 512.0, t = (double((i * 37) % 256) + 0.5) / 256.0;
+            const double phi = 2.0 * std::numbers::pi * s, theta = std::numbers::pi * t;
+            const Vec3f light{float(std::sin(theta) * std::cos(phi)), float(std::sin(theta) * std::sin(phi)), float(std::cos(theta))};
+            Vec3f world{light.x, light.z, -light.y};  // Rotate -90 about x
+            if (mirrored) world.x = -world.x;
+            const Vec3f own{float(std::sin(theta) * std::sin(phi)), float(std::cos(theta)), float(-std::sin(theta) * std::cos(phi))};
+            const Rgb expected = plain.environment.radiance(own) * 2.0f, found = scene.environment.radiance(world);
+            EXPECT_NEAR(found.r, expected.r, 1e-5f * (1.0f + expected.r)) << s << " " << t;
+            EXPECT_NEAR(found.b, expected.b, 1e-5f * (1.0f + expected.b)) << s << " " << t;
+        }
+    }
+    // A square image is pbrt-v4's equal-area map: a constant of its mean, with a warning.
+    const std::string square = (fs::path(PENUMBRA_SOURCE_DIR) / "scenes" / "textures" / "floor.png").string();
+    auto c = convert(kCamera + "WorldBegin\nLightSource \"infinite\" \"string filename\" \"" + square + "\"\n");
+    EXPECT_FALSE(c.document.contains("environment"));
+    EXPECT_GT(c.document["background"][0].get<double>(), 0.0);
+    EXPECT_TRUE(hasWarning(c, "equal-area octahedral map"));
+    EXPECT_THROW(convert(kCamera + "WorldBegin\nLightSource \"infinite\" \"string filename\" \"" + sky + "\" \"rgb L\" [1 1 1]\n"),
+                 InputError);
+}
+
+TEST(PbrtMapping, TexturesBecomeTextureObjects) {
+    const std::string floor = (fs::path(PENUMBRA_SOURCE_DIR) / "scenes" / "textures" / "floor.png").string();
+    auto c = convert(kCamera + "WorldBegin\n"
+                     "Texture \"img\" \"spectrum\" \"imagemap\" \"string filename\" \"" + floor + "\" \"string wrap\" \"clamp\" "
+                     "\"float uscale\" 4 \"float vscale\" 2 \"float udelta\" 0.5 \"string encoding\" \"linear\" \"string filter\" \"point\"\n"
+                     "Texture \"bright\" \"spectrum\" \"scale\" \"texture tex\" \"img\" \"float scale\" 2\n"
+                     "Texture \"check\" \"spectrum\" \"checkerboard\" \"rgb tex1\" [1 0 0] \"rgb tex2\" [0 0 1] \"float uscale\" 8 \"float vscale\" 8\n"
+                     "Texture \"k\" \"float\" \"constant\" \"float value\" 0.36\n"
+                     "MakeNamedMaterial \"a\" \"string type\" \"diffuse\" \"texture reflectance\" \"bright\"\n"
+                     "MakeNamedMaterial \"b\" \"string type\" \"coateddiffuse\" \"texture reflectance\" \"check\" \"texture roughness\" \"k\"\n"
+                     "MakeNamedMaterial \"c\" \"string type\" \"conductor\" \"texture reflectance\" \"img\"\n");
+    const Json& m = c.document["materials"];
+    // pbrt's st = (uscale u + udelta, vscale v + vdelta) is penumbra's (u, v) * uv_scale + uv_offset.
+    Json image{{"type", "image"}, {"file", floor}, {"wrap", "clamp"}, {"filter", "closest"}, {"color_space", "linear"},
+               {"uv_scale", {4.0, 2.0}}, {"uv_offset", {0.5, 0.0}}, {"scale", 2.0}};
+    EXPECT_EQ(m["a"]["albedo"], image);
+    EXPECT_EQ(m["b"]["albedo"], Json::parse(R"({"type": "checkerboard", "colors": [[1, 0, 0], [0, 0, 1]], "uv_scale": [8, 8]})"));
+    EXPECT_NEAR(m["b"]["alpha"].get<double>(), 0.6, 1e-7);  // a constant float texture: sqrt(0.36)
+    // Where penumbra takes no texture (a conductor's reflectance): the stand-in 0.5, with a warning.
+    EXPECT_NEAR(m["c"]["k"][0].get<double>(), 2.0, 1e-6);
+    EXPECT_TRUE(hasWarning(c, "a texture where penumbra takes none (parameter \"texture reflectance\"): the constant 0.5"));
+    const Scene scene = buildPbrtScene(c, "test.pbrt");
+    const auto named = std::find(scene.materialNames.begin(), scene.materialNames.end(), "a");
+    ASSERT_NE(named, scene.materialNames.end());
+    EXPECT_TRUE(scene.materials[size_t(named - scene.materialNames.begin())].isTextured());
 }
 
 TEST(PbrtSpectrum, BlackbodiesHaveUnitLuminanceAndTheirColour) {

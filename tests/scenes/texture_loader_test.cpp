@@ -5,6 +5,7 @@
 
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -36,6 +37,20 @@ TEST(TextureLoader, UntexturedScenesDoNotLoadThePlugin) {
     EXPECT_TRUE(scene.environment.hasImage());
     EXPECT_TRUE(scene.materials[0].isTextured());
     EXPECT_FALSE(texturePluginLoaded());
+}
+
+TEST(TextureLoader, MirroredEnvironmentRunsItsColumnsTheOtherWay) {
+    const Scene plain = parseWith(R"({"m": {"type": "lambert"}})", R"(, "environment": {"type": "image", "file": "textures/sky.exr"})");
+    const Scene mirrored = parseWith(R"({"m": {"type": "lambert"}})",
+                                     R"(, "environment": {"type": "image", "file": "textures/sky.exr", "mirror": true})");
+    int differing = 0;
+    for (int i = 0; i < 64; ++i) {
+        const float phi = 0.1f * float(i), theta = 0.3f + 0.04f * float(i);
+        const Vec3f d{std::sin(theta) * std::sin(phi), std::cos(theta), -std::sin(theta) * std::cos(phi)};
+        EXPECT_EQ(mirrored.environment.radiance(d), plain.environment.radiance({-d.x, d.y, d.z}));
+        if (!(mirrored.environment.radiance(d) == plain.environment.radiance(d))) ++differing;
+    }
+    EXPECT_GT(differing, 0);  // the sky is not symmetric: the test can see the reflection
 }
 
 TEST(TextureLoader, ImageTextureLoadsThePlugin) {
