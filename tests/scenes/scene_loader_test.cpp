@@ -307,7 +307,7 @@ TEST(SceneErrors, UnknownKeys) {
     InputError e = catchInputError([] { parseScene(R"({"cameras": {}})", "scene.json"); });
     EXPECT_EQ(std::string(e.what()),
               "scene.json: /cameras: unknown key (expected one of: camera, film, integrator, "
-              "render, background, materials, shapes, lights)");
+              "render, background, environment, materials, prototypes, shapes, lights)");
 
     e = catchInputError([] {
         parseScene(R"({"materials": {"m": {"type": "lambert"}}, "shapes": [
