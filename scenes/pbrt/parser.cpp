@@ -5,6 +5,7 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <string_view>
 
 #include "core/input_file.h"
@@ -243,6 +244,11 @@ private:
                 p.numbers.push_back(number(tokens, t));
                 if (p.type == ParamType::Integer && p.numbers.back() != std::floor(p.numbers.back()))
                     tokens.fail(t, fmt::format("parameter \"{}\" expects integers, found '{}'", p.declaration(), t.text));
+                // pbrt-v4 stores integer parameters as int: beyond its range a value has no meaning
+                // (and would not convert to an integer type exactly).
+                if (p.type == ParamType::Integer && std::abs(p.numbers.back()) > double(INT32_MAX))
+                    tokens.fail(t, fmt::format("parameter \"{}\" expects integers within +-{}, found '{}'",
+                                               p.declaration(), INT32_MAX, t.text));
                 (void)declaration;
         }
     }
