@@ -10,8 +10,9 @@ What a block's info string (the word after the opening fence) says is done with 
                     what an earlier one wrote. It must exit 0.
   jsonc, json       a complete scene: written to a file and rendered (8x8 pixels, 1 spp);
                     relative mesh paths are resolved against scenes/, as for the example scenes.
-  jsonc fragment    part of a scene (e.g. one "materials" object): wrapped in braces with an empty
-                    camera and rendered the same way, so every key in it must load.
+  jsonc fragment    part of a scene (e.g. one "materials" object): wrapped in braces with a
+                    camera (unless it gives its own) and rendered the same way, so every key in it
+                    must load.
   text              output, a synopsis or any other text: not run.
   sh not-run REASON a command that cannot run inside the test suite (it installs packages,
                     builds the project or runs a benchmark); the reason is required.
@@ -72,7 +73,10 @@ def run(cmd, cwd, env, where, failures):
 
 def render_scene(text, workdir, env, where, failures, wrap):
     if wrap:
-        text = "{\n" + text + ',\n"camera": {"look_from": [0, 0, 5], "look_at": [0, 0, 0], "fov": 40}\n}\n'
+        # A fragment that gives its own camera (e.g. a shutter for motion) keeps it.
+        camera = "" if re.search(r'^\s*"camera"\s*:', text, re.M) else \
+            ',\n"camera": {"look_from": [0, 0, 5], "look_at": [0, 0, 0], "fov": 40}'
+        text = "{\n" + text + camera + "\n}\n"
     scene = os.path.join(workdir, "scenes", "snippet.json")
     with open(scene, "w", encoding="utf-8") as f:
         f.write(text)
