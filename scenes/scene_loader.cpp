@@ -516,6 +516,23 @@ void readSphere(const JsonValue& value, ShapeContext& context) {
     scene.spheres.push_back(sphere);
 }
 
+// `transform` (a JSON value) moved `vertices` beyond the range of a float: an error at it.
+void checkTransformedVertices(const JsonValue& transform, const std::vector<Vec3f>& vertices) {
+    for (size_t i = 0; i < vertices.size(); ++i)
+        if (!isFinite(vertices[i]))
+            transform.fail(fmt::format("the transform moves vertex {} (counting from 0) beyond the range of a 32-bit float", i));
+}
+
+// Derived geometry too (corner + edge, a transform, a mesh file's vertices): a vertex at
+// infinity or near 3e38 would make its triangles vanish silently.
+void checkVerticesWithinLimit(const JsonValue& shape, const std::vector<Vec3f>& vertices) {
+    for (size_t i = 0; i < vertices.size(); ++i)
+        if (!withinCoordinateLimit(vertices[i]))
+            shape.fail(fmt::format("vertex {} (counting from 0) lies at ({}, {}, {}), beyond the coordinate limit of "
+                                   "{:g} (docs/limits.md)",
+                                   i, vertices[i].x, vertices[i].y, vertices[i].z, limits::kMaxCoordinate));
+}
+
 // What all triangle-mesh shapes share, once their own reader has made the mesh: the material,
 // emission, motion and transform keys.
 void addMeshShape(TriangleMesh mesh, const JsonValue& value, bool allowPositionKeys, Scene& scene, const fs::path& folder) {
@@ -533,23 +550,10 @@ void addMeshShape(TriangleMesh mesh, const JsonValue& value, bool allowPositionK
         transformMesh(mesh, transform);
         for (auto& key : mesh.positionKeys)
             for (Vec3f& p : key) p = transform.applyPoint(p);
-        for (const auto& key : mesh.positionKeys)
-            for (size_t i = 0; i < key.size(); ++i)
-                if (!isFinite(key[i]))
-                    v->fail(fmt::format("the transform moves vertex {} (counting from 0) beyond the range of a 32-bit float", i));
-        for (size_t i = 0; i < mesh.positions.size(); ++i)
-            if (!isFinite(mesh.positions[i]))
-                v->fail(fmt::format(
-                    "the transform moves vertex {} (counting from 0) beyond the range of a 32-bit float", i));
+        for (const auto& key : mesh.positionKeys) checkTransformedVertices(*v, key);
+        checkTransformedVertices(*v, mesh.positions);
     }
-    // Derived geometry too (corner + edge, a transform, a mesh file's vertices): a vertex at
-    // infinity or near 3e38 would make its triangles vanish silently.
-    for (size_t i = 0; i < mesh.positions.size(); ++i)
-        if (!withinCoordinateLimit(mesh.positions[i]))
-            value.fail(fmt::format("vertex {} (counting from 0) lies at ({}, {}, {}), beyond the coordinate limit of "
-                                   "{:g} (docs/limits.md)",
-                                   i, mesh.positions[i].x, mesh.positions[i].y, mesh.positions[i].z,
-                                   limits::kMaxCoordinate));
+    checkVerticesWithinLimit(value, mesh.positions);
     for (const auto& key : mesh.positionKeys)
         for (size_t i = 0; i < key.size(); ++i)
             if (!withinCoordinateLimit(key[i]))
@@ -684,17 +688,9 @@ void readPrototypes(const JsonValue& section, ShapeContext& context) {
         if (mesh.name.empty()) mesh.name = value.pointer();
         if (auto v = value.member("transform")) {
             transformMesh(mesh, readTransform(*v));
-            for (size_t i = 0; i < mesh.positions.size(); ++i)
-                if (!isFinite(mesh.positions[i]))
-                    v->fail(fmt::format(
-                        "the transform moves vertex {} (counting from 0) beyond the range of a 32-bit float", i));
+            checkTransformedVertices(*v, mesh.positions);
         }
-        for (size_t i = 0; i < mesh.positions.size(); ++i)
-            if (!withinCoordinateLimit(mesh.positions[i]))
-                value.fail(fmt::format("vertex {} (counting from 0) lies at ({}, {}, {}), beyond the coordinate limit "
-                                       "of {:g} (docs/limits.md)",
-                                       i, mesh.positions[i].x, mesh.positions[i].y, mesh.positions[i].z,
-                                       limits::kMaxCoordinate));
+        checkVerticesWithinLimit(value, mesh.positions);
         context.scene.prototypes.push_back(std::move(mesh));
         context.prototypeNames.push_back(name);
     }
