@@ -67,8 +67,10 @@ public:
         system_->attribute("max_memory_MB", 2048.0f);
         system_->attribute("deduplicate", 1);
     }
+    // The TextureSystem is not destroyed: this runs at process exit, which frees it anyway, and
+    // OpenImageIO 2.4's TextureSystem::destroy deletes it through a type of another size (a
+    // new-delete mismatch that AddressSanitizer reports inside the library).
     ~Textures() {
-        OIIO::TextureSystem::destroy(system_);
         if (!folder_.empty()) {
             std::error_code ec;
             std::filesystem::remove_all(folder_, ec);
