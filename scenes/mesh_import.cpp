@@ -565,7 +565,7 @@ public:
             if (!(v >= 0.0 && v < double(vertexCount_)))
                 fail(file, fmt::format("face {} (counting from 0) uses vertex {}, but the file has only {} vertices "
                                        "(indices count from 0)",
-                                       row, int64_t(v), vertexCount_));
+                                       row, v, vertexCount_));  // v as read: it may not fit an integer
         for (size_t k = 1; k + 1 < items.size(); ++k)
             for (size_t corner : {size_t(0), k, k + 1}) mesh_.indices.push_back(uint32_t(items[corner]));
     }
@@ -707,7 +707,7 @@ void readPlyBinaryBody(const PlyHeader& header, std::string_view bytes, const st
                     fail(file, fmt::format("{} {} has a negative list length for property '{}'", element.name,
                                            i, p.name));
                 pos += uint64_t(p.countSize);
-                if (n * uint64_t(p.size) > bytes.size() - pos) truncated(i);
+                if (n > (bytes.size() - pos) / uint64_t(p.size)) truncated(i);  // n * size may not fit 64 bits
                 if (sink.wantsList(e, q)) {
                     items.clear();
                     for (uint64_t k = 0; k < n; ++k) items.push_back(readPlyBinaryValue(data + pos + k * uint64_t(p.size), p, bigEndian));

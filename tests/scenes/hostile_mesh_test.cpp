@@ -75,6 +75,13 @@ TEST(HostileMesh, PlyElementDeclaredTwiceIsRefused) {
     EXPECT_CONTAINS(e.what(), "duplicate_vertex_element.ply:8:1: the element 'vertex' is declared a second time");
 }
 
+// Found by fuzz/ply_fuzzer: an ASCII face index beyond every integer type was converted to one for
+// the error message (undefined behaviour); the message now quotes the value as read.
+TEST(HostileMesh, PlyFaceIndexBeyondIntegersIsRefused) {
+    const InputError e = catchInputError([] { importMesh(kHostile / "face_index_beyond_integers.ply"); });
+    EXPECT_CONTAINS(e.what(), "face 0 (counting from 0) uses vertex 3.3333333333333334e+36, but the file has only 3 vertices");
+}
+
 // tinyobjloader splits a polygon in time quadratic in its corners (10^5 corners: 45 s), so faces
 // have a documented limit of 1024 corners.
 TEST(HostileMesh, ObjFaceBeyondTheCornerLimitIsRefused) {
