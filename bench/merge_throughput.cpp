@@ -5,7 +5,7 @@
 // read a part, add it) and writes the result. In the same run, the peer: reading the same files'
 // bytes and nothing else. Prints bytes per pixel on disk, and parts x pixels per second.
 //
-//   penumbra_merge_throughput SCENE [--parts 64] [--res 1920x1080] [--dir /tmp/penumbra-merge-bench] [--keep 1]
+//   penumbra_merge_throughput SCENE [--parts 64] [--res 1920x1080] [--dir DIR (default $TMPDIR/penumbra-merge-bench)] [--keep 1]
 //
 // Each phase is timed on the wall clock and in CPU seconds of the process (on a busy shared
 // machine the CPU seconds are the figure to trust). With --keep 1 the part files stay in DIR and
@@ -52,7 +52,7 @@ int main(int argc, char** argv) {
         int parts = 64;
         scene.film.width = 1920;
         scene.film.height = 1080;
-        fs::path dir = "/tmp/penumbra-merge-bench";
+        fs::path dir = fs::temp_directory_path() / "penumbra-merge-bench";  // $TMPDIR, else /tmp
         bool keep = false;
         for (int i = 2; i + 1 < argc; i += 2) {
             const std::string option = argv[i], value = argv[i + 1];
