@@ -32,13 +32,31 @@ build_and_test() {
     local tests=() labels
     for t in "$@"; do [[ $t == *_test ]] && tests+=("$t"); done
     labels="^($(IFS='|'; echo "${tests[*]}"))\$"
-    ctest --test-dir "$dir" -L "$labels" --output-on-failure --parallel "$(nproc)"
+    local log="$dir/ctest-output.log"
+    if ctest --test-dir "$dir" -L "$labels" --output-on-failure --parallel "$(nproc)" 2>&1 | tee "$log"; then
+        return 0
+    fi
+    rerun_if_only_the_leak_tracer_crashed "$dir" "$log"
+}
+
+# LeakSanitizer's stop-the-world tracer itself segfaults now and then at a process's exit, after the
+# test has passed ("Tracer caught signal 11", google/sanitizers#1353; about 1 in 300 exits, more on
+# a loaded machine). Only when that is all the log shows (no sanitizer report, no failed assertion)
+# are the failed tests run once more; anything else fails the run.
+rerun_if_only_the_leak_tracer_crashed() {
+    local dir=$1 log=$2
+    if grep -q "Tracer caught signal" "$log" &&
+        ! grep -qE "ERROR: (Address|Leak|Thread)Sanitizer|runtime error:|SUMMARY: |\[  FAILED  \]" "$log"; then
+        echo "LeakSanitizer's tracer crashed at exit (not a finding); running the failed tests once more"
+        ctest --test-dir "$dir" --rerun-failed --output-on-failure
+    else
+        return 1
+    fi
 }
 
 supp="$PWD/tests"
 if [ "${1:-asan}" = asan ]; then
     export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:detect_stack_use_after_return=1"
-    export LSAN_OPTIONS="suppressions=$supp/lsan.supp:print_suppressions=0"
     export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
     build_and_test build-asan address,undefined "${asan_targets[@]}"
 fi
