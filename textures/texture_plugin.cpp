@@ -7,9 +7,13 @@
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
 #include <OpenImageIO/texture.h>
+#include <signal.h>
 #include <stdlib.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <chrono>
 #include <cstring>
 #include <filesystem>
 #include <map>
@@ -57,8 +61,31 @@ bool readLinear(const char* path, bool srgb, OIIO::ImageBuf& result, std::string
     return true;
 }
 
+// Removes the "penumbra-textures-<pid>-XXXXXX" folders in `temporary` that a killed process left
+// (its destructor never ran): those whose process is gone and that were not modified in the last
+// minute (the temporary folder may be shared with another machine, whose process numbers mean
+// nothing here).
+void removeFoldersOfKilledProcesses(const std::filesystem::path& temporary) {
+    const std::string prefix = "penumbra-textures-";
+    std::error_code ec;
+    for (const auto& entry : std::filesystem::directory_iterator(temporary, ec)) {
+        const std::string name = entry.path().filename().string();
+        if (!name.starts_with(prefix) || !entry.is_directory(ec)) continue;
+        const size_t end = name.find('-', prefix.size());
+        const std::string digits = name.substr(prefix.size(), end == std::string::npos ? 0 : end - prefix.size());
+        if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) continue;
+        const pid_t pid = pid_t(std::stol(digits));
+        if (pid == ::getpid() || ::kill(pid, 0) == 0 || errno == EPERM) continue;
+        std::error_code ignored;
+        const auto modified = std::filesystem::last_write_time(entry.path(), ignored);
+        if (ignored || std::filesystem::file_time_type::clock::now() - modified < std::chrono::minutes(1)) continue;
+        std::filesystem::remove_all(entry.path(), ignored);
+    }
+}
+
 // The one TextureSystem of the process, the sRGB images it has converted, and the temporary
-// folder that holds those conversions (removed at exit).
+// folder that holds those conversions (removed at exit; after a kill, by the next process that
+// converts one).
 class Textures {
 public:
     Textures() {
@@ -93,7 +120,9 @@ public:
         OIIO::ImageBuf linear;
         if (!readLinear(path, true, linear, failure)) return false;
         if (folder_.empty()) {
-            std::string pattern = (std::filesystem::temp_directory_path() / "penumbra-textures-XXXXXX").string();
+            const std::filesystem::path temporary = std::filesystem::temp_directory_path();
+            removeFoldersOfKilledProcesses(temporary);
+            std::string pattern = (temporary / ("penumbra-textures-" + std::to_string(::getpid()) + "-XXXXXX")).string();
             if (!::mkdtemp(pattern.data())) {
                 failure = std::string("cannot create a temporary folder for converted textures: ") + std::strerror(errno);
                 return false;

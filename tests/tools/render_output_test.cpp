@@ -7,6 +7,7 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -150,6 +151,39 @@ TEST_F(RenderOutput, UnknownViewIsRefusedBeforeRendering) {
     EXPECT_TRUE(contains(r, "'Filmic'")) << r.output;
     EXPECT_FALSE(contains(r, "rendering ")) << r.output;
     EXPECT_FALSE(fs::exists(path("v.exr")));
+}
+
+// The folder of linearised sRGB textures is removed at exit; one that a killed render left
+// ("penumbra-textures-<pid>-...", its process gone, untouched for a minute) is removed by the next
+// render that converts a texture, and a folder of a live process is kept.
+TEST_F(RenderOutput, TextureFolderOfAKilledRenderIsRemovedByTheNext) {
+    const fs::path temporary = dir_ / "tmp";
+    const RunResult exited = runShell("sh -c 'echo $$'");
+    ASSERT_EQ(exited.exitCode, 0);
+    const std::string deadPid = exited.output.substr(0, exited.output.find('\n'));
+    const fs::path stale = temporary / ("penumbra-textures-" + deadPid + "-a1b2c3");
+    const fs::path live = temporary / ("penumbra-textures-" + std::to_string(::getpid()) + "-d4e5f6");
+    for (const fs::path& folder : {stale, live}) {
+        fs::create_directories(folder);
+        std::ofstream(folder / "0.exr") << "left behind";
+        fs::last_write_time(folder, fs::file_time_type::clock::now() - std::chrono::minutes(5));
+    }
+    std::ofstream(path("textured.json")) << R"({
+      "camera": {"look_from": [0, 1.5, 3], "look_at": [0, 0, 0], "fov": 45},
+      "film": {"resolution": [8, 8], "spp": 1},
+      "materials": {"floor": {"type": "lambert", "albedo": {"type": "image", "file": ")"
+                                         << PENUMBRA_SOURCE_DIR << R"(/scenes/textures/floor.png"}}},
+      "shapes": [{"type": "quad", "corner": [-2, 0, 2], "edge1": [4, 0, 0], "edge2": [0, 0, -4], "material": "floor"}],
+      "environment": {"type": "constant", "radiance": [1, 1, 1]}
+    })";
+    const RunResult r = runShell("TMPDIR=" + temporary.string() + " " PENUMBRA_BINARY " render " + path("textured.json") +
+                                 " -q --no-display -o " + path("t.exr"));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_FALSE(fs::exists(stale));
+    EXPECT_TRUE(fs::exists(live / "0.exr"));
+    std::vector<std::string> left;
+    for (const auto& entry : fs::directory_iterator(temporary)) left.push_back(entry.path().filename().string());
+    EXPECT_EQ(left, std::vector<std::string>{live.filename().string()});
 }
 
 }  // namespace
