@@ -494,6 +494,9 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
 
     const std::vector<std::string>& beautyNames = beautyChannels();
     for (const std::string& name : beautyNames) beauty.channels().insert(name, Imf::Channel(Imf::FLOAT));
+    // An adaptive film's per-pixel sample counts also in the beauty part, where viewers look and
+    // where `--film beauty` keeps them.
+    if (metadata.adaptive) beauty.channels().insert(sumChannels()[kSppChannel], Imf::Channel(Imf::UINT));
 
     const int width = window.width(), height = window.height();
     const size_t pixelCount = size_t(width) * height;
@@ -568,17 +571,18 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
 
     // The stored words are read by OpenEXR in place, from the film's own memory: copying them out
     // first took a second pass over the film and buffers as large as half of it.
-    auto filmWords = [&](const std::vector<int>& channels) {
-        Imf::FrameBuffer buffer;
+    auto filmWord = [&](int c) {
         const size_t xStride = sizeof(PixelSums), yStride = xStride * size_t(film.width());
         const PixelSums& origin = film.at(0, 0);  // the slices address pixels by absolute (x, y)
-        for (int c : channels) {
-            const char* word =
-                c == kSppChannel ? reinterpret_cast<const char*>(&origin.sampleCount)
-                                 : reinterpret_cast<const char*>(&origin.sum(c / 4)) + ExactSum::wordOffset(c % 4);
-            // OpenEXR takes a char* for reading and writing alike; writing a file only reads it.
-            buffer.insert(sumChannels()[c], Imf::Slice(Imf::UINT, const_cast<char*>(word), xStride, yStride));
-        }
+        const char* word = c == kSppChannel
+                               ? reinterpret_cast<const char*>(&origin.sampleCount)
+                               : reinterpret_cast<const char*>(&origin.sum(c / 4)) + ExactSum::wordOffset(c % 4);
+        // OpenEXR takes a char* for reading and writing alike; writing a file only reads it.
+        return Imf::Slice(Imf::UINT, const_cast<char*>(word), xStride, yStride);
+    };
+    auto filmWords = [&](const std::vector<int>& channels) {
+        Imf::FrameBuffer buffer;
+        for (int c : channels) buffer.insert(sumChannels()[c], filmWord(c));
         return buffer;
     };
 
@@ -593,7 +597,9 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
                 // each block of lines is compressed on its own.
                 Imf::MultiPartOutputFile file(stream, headers, parts, false, exrThreads());
                 Imf::OutputPart beautyPart(file, 0);
-                beautyPart.setFrameBuffer(interleaved(Imf::FLOAT, beautyPixels.get(), beautyNames, data));
+                Imf::FrameBuffer beautyBuffer = interleaved(Imf::FLOAT, beautyPixels.get(), beautyNames, data);
+                if (metadata.adaptive) beautyBuffer.insert(sumChannels()[kSppChannel], filmWord(kSppChannel));
+                beautyPart.setFrameBuffer(beautyBuffer);
                 beautyPart.writePixels(height);
                 if (parts >= 2) {
                     Imf::OutputPart sumsPart(file, 1);

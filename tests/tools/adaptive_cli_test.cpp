@@ -3,10 +3,15 @@
 // `merge` refuses adaptive films; `converge --adaptive` compares adaptive with fixed at equal error.
 #include <gtest/gtest.h>
 
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "film/image_output.h"
 #include "scenes/scene_loader.h"
@@ -107,6 +112,40 @@ TEST_F(AdaptiveCommandLine, AResumedRenderEndsAsOneRender) {
     EXPECT_NE(other.exitCode, 0);
     EXPECT_TRUE(contains(other, "adaptive sampling 0.05:16")) << other.output;
     EXPECT_FALSE(fs::exists(dir_ / "other.exr"));
+}
+
+// Where the samples went is in the beauty part too (a UINT `spp` channel), also in a beauty-only
+// film, and equals the film's own counts.
+TEST_F(AdaptiveCommandLine, BeautyPartHoldsEachPixelsSampleCount) {
+    const fs::path scene = write("scene.json", kScene);
+    const std::string common = "render " + scene.string() + " --adaptive 0.05 --min-spp 8 -q --no-display ";
+    ASSERT_EQ(runPenumbra(common + "-o " + (dir_ / "full.exr").string()).exitCode, 0);
+    ASSERT_EQ(runPenumbra(common + "--film beauty -o " + (dir_ / "beauty.exr").string()).exitCode, 0);
+    const Film film = readFilmExr(dir_ / "full.exr").film;
+    uint32_t fewest = UINT32_MAX, most = 0;
+    for (const char* file : {"full.exr", "beauty.exr"}) {
+        auto in = OIIO::ImageInput::open((dir_ / file).string());
+        ASSERT_TRUE(in) << file;
+        const OIIO::ImageSpec& spec = in->spec();
+        const int spp = spec.channelindex("spp");
+        ASSERT_GE(spp, 0) << file;
+        EXPECT_EQ(spec.channelformat(spp), OIIO::TypeDesc::UINT) << file;
+        std::vector<uint32_t> counts(size_t(spec.width) * spec.height);
+        ASSERT_TRUE(in->read_image(0, 0, spp, spp + 1, OIIO::TypeDesc::UINT, counts.data())) << in->geterror();
+        for (int y = 0; y < spec.height; ++y)
+            for (int x = 0; x < spec.width; ++x) {
+                const uint32_t count = counts[size_t(y) * spec.width + x];
+                EXPECT_EQ(count, film.at(x, y).sampleCount) << file << " pixel " << x << ", " << y;
+                fewest = std::min(fewest, count);
+                most = std::max(most, count);
+            }
+    }
+    EXPECT_LT(fewest, most);  // some pixels stopped early, others kept sampling
+    // A fixed-count render has no such channel: its count is the same everywhere.
+    ASSERT_EQ(runPenumbra("render " + scene.string() + " -q --no-display --spp 4 -o " + (dir_ / "fixed.exr").string())
+                  .exitCode,
+              0);
+    EXPECT_LT(OIIO::ImageInput::open((dir_ / "fixed.exr").string())->spec().channelindex("spp"), 0);
 }
 
 TEST_F(AdaptiveCommandLine, BadSettingsAreRefused) {
