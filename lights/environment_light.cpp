@@ -9,9 +9,42 @@ namespace penumbra {
 
 namespace {
 
-// The sine of the polar angle at the centre of row y: the solid angle a texel covers is
-// (2 pi / width) (pi / height) sin(theta), to first order.
-double rowSine(int y, int height) { return std::sin(kPi * (double(y) + 0.5) / double(height)); }
+// The solid angle a texel of row y covers, up to a factor common to all texels: sin(theta) at the
+// row's centre for the equirectangular map (to first order), 1 for the equal-area one.
+double rowSolidAngle(int y, int height, EnvironmentMapping mapping) {
+    if (mapping == EnvironmentMapping::EqualArea) return 1.0;
+    return std::sin(kPi * (double(y) + 0.5) / double(height));
+}
+
+// Clarberg's equal-area map of the square [0, 1]^2 onto the unit sphere, with c towards the pole
+// of the square's centre, and its inverse (with atan2 where pbrt-v4 uses a polynomial fit).
+// Directions given to the inverse are unit vectors.
+Vec3f equalAreaSquareToSphere(Vec2f st) {
+    const float u = 2.0f * st.x - 1.0f, v = 2.0f * st.y - 1.0f;
+    const float up = std::abs(u), vp = std::abs(v);
+    const float signedDistance = 1.0f - (up + vp);  // from the diagonal |u| + |v| = 1
+    const float r = 1.0f - std::abs(signedDistance);
+    const float phi = (r == 0.0f ? 1.0f : (vp - up) / r + 1.0f) * (0.25f * kPi);
+    const float c = std::copysign(1.0f - r * r, signedDistance);
+    const float ring = r * std::sqrt(std::max(0.0f, 2.0f - r * r));
+    return {std::copysign(std::cos(phi), u) * ring, std::copysign(std::sin(phi), v) * ring, c};
+}
+
+Vec2f equalAreaSphereToSquare(Vec3f d) {
+    const float x = std::abs(d.x), y = std::abs(d.y), z = std::abs(d.z);
+    // r = sqrt(1 - |z|), with 1 - |z| from the other components: no cancellation near the poles.
+    const float r = std::sqrt((x * x + y * y) / (1.0f + z));
+    const float phi = std::atan2(y, x) * (2.0f * kInvPi);  // in [0, 1]
+    float v = phi * r, u = r - v;
+    if (d.z < 0.0f) {
+        std::swap(u, v);
+        u = 1.0f - u;
+        v = 1.0f - v;
+    }
+    u = std::copysign(u, d.x);
+    v = std::copysign(v, d.y);
+    return {0.5f * (u + 1.0f), 0.5f * (v + 1.0f)};
+}
 
 }  // namespace
 
@@ -35,7 +68,7 @@ EnvironmentLight EnvironmentLight::fromImage(EnvironmentImage image, Rgb scale, 
     std::vector<float> weights(image.texels.size());
     double sum[3] = {0.0, 0.0, 0.0}, solidAngle = 0.0;
     for (int y = 0; y < image.height; ++y) {
-        const double sine = rowSine(y, image.height);
+        const double sine = rowSolidAngle(y, image.height, image.mapping);
         for (int x = 0; x < image.width; ++x) {
             const Rgb texel = image.at(x, y);
             weights[size_t(y) * size_t(image.width) + size_t(x)] = float(double(texel.luminance()) * sine);
@@ -52,16 +85,25 @@ EnvironmentLight EnvironmentLight::fromImage(EnvironmentImage image, Rgb scale, 
     return light;
 }
 
-Vec2f EnvironmentLight::directionToImage(Vec3f local) {
+Vec2f EnvironmentLight::directionToImage(Vec3f local, EnvironmentMapping mapping) {
+    constexpr float kBelowOne = 1.0f - 0x1p-24f;
+    if (mapping == EnvironmentMapping::EqualArea) {
+        const Vec2f st = equalAreaSphereToSquare({local.x, -local.z, local.y});
+        return {std::clamp(st.x, 0.0f, kBelowOne), std::clamp(st.y, 0.0f, kBelowOne)};
+    }
     const float theta = std::acos(std::clamp(local.y, -1.0f, 1.0f));
     float phi = std::atan2(local.x, -local.z);
     if (phi < 0.0f) phi += 2.0f * kPi;
-    const float s = std::min(phi * (0.5f * kInvPi), 1.0f - 0x1p-24f);
-    const float t = std::min(theta * kInvPi, 1.0f - 0x1p-24f);
+    const float s = std::min(phi * (0.5f * kInvPi), kBelowOne);
+    const float t = std::min(theta * kInvPi, kBelowOne);
     return {s, t};
 }
 
-Vec3f EnvironmentLight::imageToDirection(Vec2f st) {
+Vec3f EnvironmentLight::imageToDirection(Vec2f st, EnvironmentMapping mapping) {
+    if (mapping == EnvironmentMapping::EqualArea) {
+        const Vec3f abc = equalAreaSquareToSphere(st);
+        return {abc.x, abc.z, -abc.y};
+    }
     const float phi = 2.0f * kPi * st.x, theta = kPi * st.y;
     const float sinTheta = std::sin(theta);
     return {sinTheta * std::sin(phi), std::cos(theta), -sinTheta * std::cos(phi)};
@@ -69,7 +111,7 @@ Vec3f EnvironmentLight::imageToDirection(Vec2f st) {
 
 Rgb EnvironmentLight::lookup(Vec3f direction) const {
     const EnvironmentImage& image = image_->image;
-    const Vec2f st = directionToImage(normalize(rotation_.inverse().applyVector(direction)));
+    const Vec2f st = directionToImage(normalize(rotation_.inverse().applyVector(direction)), image.mapping);
     const int x = std::min(int(st.x * float(image.width)), image.width - 1);
     const int y = std::min(int(st.y * float(image.height)), image.height - 1);
     return image.at(x, y);
@@ -79,24 +121,28 @@ std::optional<EnvironmentSample> EnvironmentLight::sample(Vec2f u) const {
     if (!image_) return EnvironmentSample{sampleUniformSphere(u), radiance_, uniformSpherePdf()};
     float imagePdf = 0.0f;
     const Vec2f st = image_->distribution.sample(u, &imagePdf);
-    const float sinTheta = std::sin(kPi * st.y);
-    if (!(imagePdf > 0.0f) || !(sinTheta > 0.0f)) return std::nullopt;
     const EnvironmentImage& image = image_->image;
+    // d omega / ds dt; for the equirectangular map 2 pi^2 sin(theta), with theta from t.
+    const float jacobian = image.mapping == EnvironmentMapping::EqualArea ? 4.0f * kPi
+                                                                          : 2.0f * kPi * kPi * std::sin(kPi * st.y);
+    if (!(imagePdf > 0.0f) || !(jacobian > 0.0f)) return std::nullopt;
+    const Vec3f local = imageToDirection(st, image.mapping);
     const int x = std::min(int(st.x * float(image.width)), image.width - 1);
     const int y = std::min(int(st.y * float(image.height)), image.height - 1);
-    // d(omega) = sin(theta) d(theta) d(phi) = 2 pi^2 sin(theta) ds dt.
-    return EnvironmentSample{normalize(rotation_.applyVector(imageToDirection(st))), image.at(x, y),
-                             imagePdf / (2.0f * kPi * kPi * sinTheta)};
+    return EnvironmentSample{normalize(rotation_.applyVector(local)), image.at(x, y), imagePdf / jacobian};
 }
 
 float EnvironmentLight::pdf(Vec3f direction) const {
     if (!image_) return uniformSpherePdf();
+    const EnvironmentMapping mapping = image_->image.mapping;
     const Vec3f local = normalize(rotation_.inverse().applyVector(direction));
-    const Vec2f st = directionToImage(local);
-    // From the horizontal components: accurate near the poles, where 1 - y^2 cancels.
-    const float sinTheta = std::sqrt(local.x * local.x + local.z * local.z);
-    if (!(sinTheta > 0.0f)) return 0.0f;
-    return image_->distribution.pdf(st) / (2.0f * kPi * kPi * sinTheta);
+    // d omega / ds dt; for the equirectangular map 2 pi^2 sin(theta), sin(theta) from the
+    // horizontal components: accurate near the poles, where 1 - y^2 cancels.
+    const float jacobian = mapping == EnvironmentMapping::EqualArea
+                               ? 4.0f * kPi
+                               : 2.0f * kPi * kPi * std::sqrt(local.x * local.x + local.z * local.z);
+    if (!(jacobian > 0.0f)) return 0.0f;
+    return image_->distribution.pdf(directionToImage(local, mapping)) / jacobian;
 }
 
 Rgb EnvironmentLight::average() const { return image_ ? image_->average : radiance_; }

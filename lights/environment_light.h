@@ -1,16 +1,21 @@
 // Light arriving from infinitely far away in every direction that leaves the scene: a constant
-// radiance (the scene's "background") or an equirectangular (latitude-longitude) image, rotated
-// and scaled. Rays that escape see it; next-event estimation samples it, the image in proportion
-// to its luminance times sin(theta) (a piecewise-constant 2D distribution over the texels, as
-// pbrt-v4's ImageInfiniteLight and Mitsuba's envmap do), the constant case uniformly over the sphere.
+// radiance (the scene's "background") or an image, rotated and scaled. Rays that escape see it;
+// next-event estimation samples it, the image in proportion to its luminance times the solid
+// angle of each texel (a piecewise-constant 2D distribution over the texels, as pbrt-v4's
+// ImageInfiniteLight and Mitsuba's envmap do), the constant case uniformly over the sphere.
 //
-// The image's parameterisation, in the light's own frame (before its rotation): +y is up. Column
-// coordinate s in [0, 1) is the azimuth phi = 2 pi s, row coordinate t in [0, 1) (top row first)
-// the polar angle theta = pi t from +y; the direction is
-//   (sin theta sin phi, cos theta, -sin theta cos phi),
-// so the image's left edge (and its right edge) looks along -z, its centre along +z (Mitsuba's
-// convention). Lookups take the nearest texel: the radiance is then exactly the piecewise-constant
-// function the sampling distribution is built from.
+// The image's parameterisations, in the light's own frame (before its rotation), +y up; image
+// coordinates (s, t) in [0, 1)^2, s along a row, t down the rows (top row first):
+// - Equirectangular (latitude-longitude): s is the azimuth phi = 2 pi s, t the polar angle
+//   theta = pi t from +y; the direction is (sin theta sin phi, cos theta, -sin theta cos phi), so
+//   the image's left edge (and its right edge) looks along -z, its centre along +z (Mitsuba's
+//   convention). A texel covers (2 pi / width) (pi / height) sin(theta) of solid angle.
+// - Equal-area octahedral (Clarberg 2008, "Fast equal-area mapping of the (hemi)sphere using
+//   SIMD"; pbrt-v4's environment maps): a square whose centre looks up (+y) and whose edges and
+//   corners look down; Clarberg's (a, b, c) for (s, t), c towards the pole, is the direction
+//   (a, c, -b). Every texel covers the same solid angle, 4 pi / (width height).
+// Lookups take the nearest texel: the radiance is then exactly the piecewise-constant function
+// the sampling distribution is built from.
 #pragma once
 
 #include <cstdint>
@@ -25,10 +30,13 @@
 
 namespace penumbra {
 
-// Linear RGB texels, rows top to bottom.
+enum class EnvironmentMapping { Equirectangular, EqualArea };
+
+// Linear RGB texels, rows top to bottom, and how they cover the sphere.
 struct EnvironmentImage {
     int width = 0, height = 0;
     std::vector<Rgb> texels;
+    EnvironmentMapping mapping = EnvironmentMapping::Equirectangular;
     Rgb at(int x, int y) const { return texels[size_t(y) * size_t(width) + size_t(x)]; }
 };
 
@@ -66,8 +74,8 @@ public:
     Rgb average() const;
 
     // The image coordinates (s, t) in [0, 1)^2 of a unit direction in the light's own frame, and back.
-    static Vec2f directionToImage(Vec3f local);
-    static Vec3f imageToDirection(Vec2f st);
+    static Vec2f directionToImage(Vec3f local, EnvironmentMapping mapping = EnvironmentMapping::Equirectangular);
+    static Vec3f imageToDirection(Vec2f st, EnvironmentMapping mapping = EnvironmentMapping::Equirectangular);
 
 private:
     struct ImageData {

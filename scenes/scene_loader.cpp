@@ -741,14 +741,21 @@ EnvironmentLight readImageEnvironment(const JsonValue& value, const fs::path& fo
     where.file = fileValue.file();
     where.jsonPointer = fileValue.pointer();
     LinearRgbImage image = readLinearRgbImage(path, where);
-    return EnvironmentLight::fromImage(EnvironmentImage{image.width, image.height, std::move(image.texels)}, scale, rotation);
+    EnvironmentMapping mapping = EnvironmentMapping::Equirectangular;
+    if (auto v = value.member("mapping")) {
+        if (v->choice({"equirectangular", "equal_area"}) == 1) mapping = EnvironmentMapping::EqualArea;
+        if (mapping == EnvironmentMapping::EqualArea && image.width != image.height)
+            v->fail(fmt::format("an equal-area map is a square image; {} is {}x{}", path.string(), image.width, image.height));
+    }
+    return EnvironmentLight::fromImage(EnvironmentImage{image.width, image.height, std::move(image.texels), mapping}, scale,
+                                       rotation);
 }
 
 using EnvironmentReader = EnvironmentLight (*)(const JsonValue&, const fs::path&);
 
 const std::array<TypeRow<EnvironmentReader>, 2> kEnvironmentTypes{{
     {"constant", {"type", "radiance"}, readConstantEnvironment},
-    {"image", {"type", "file", "scale", "rotate", "mirror"}, readImageEnvironment},
+    {"image", {"type", "file", "mapping", "scale", "rotate", "mirror"}, readImageEnvironment},
 }};
 
 EnvironmentLight readEnvironment(const JsonValue& value, const fs::path& folder) {

@@ -589,19 +589,9 @@ void SceneBuilder::imageEnvironment(const Parameter& filename, float scale, cons
     if (!fs::is_regular_file(path, error))
         failAt(filename.where, fmt::format("LightSource \"infinite\": image \"{}\" not found (looked for {})", file, path.string()));
     const LinearRgbImage image = readLinearRgbImage(path, filename.where);
-    if (image.width == image.height) {
-        // pbrt-v4's own maps (it refuses others): equal-area octahedral, which penumbra's
-        // latitude-longitude environment cannot show. Equal areas make the texels' plain mean the
-        // mean over directions: a constant of the same power.
-        double sum[3] = {0, 0, 0};
-        for (const Rgb& t : image.texels) sum[0] += t.r, sum[1] += t.g, sum[2] += t.b;
-        const double n = double(std::max<size_t>(image.texels.size(), 1));
-        log_.warn(filename.where, "a square environment image is pbrt-v4's equal-area octahedral map, which penumbra does "
-                                  "not render: a constant background of its mean radiance instead (the same power); "
-                                  "give a latitude-longitude image for the map itself");
-        addBackground(Rgb(float(sum[0] / n), float(sum[1] / n), float(sum[2] / n)) * scale, where);
-        return;
-    }
+    // Square: pbrt-v4's own maps (the only ones it takes), equal-area octahedral; otherwise
+    // latitude-longitude (pbrt-v3's maps).
+    const bool equalArea = image.width == image.height;
     if (scene_.contains("environment")) {
         log_.warn(where, "a second image infinite light is left out (penumbra has one environment)");
         return;
@@ -610,14 +600,20 @@ void SceneBuilder::imageEnvironment(const Parameter& filename, float scale, cons
         log_.warn(where, "constant infinite lights besides an image one are left out (penumbra has one environment)");
         scene_.erase("background");
     }
-    // pbrt's latitude-longitude convention (pbrt-v3's, and pbrt-v4 imgtool makeequiarea's): column
-    // u = phi / 2 pi with phi = atan2(y, x), row v = theta / pi from +z (top row), in the light's
-    // space. penumbra's is (sin theta sin phi, cos theta, -sin theta cos phi) with +y up, so
-    // pbrt's direction is R times penumbra's, R: x -> y, y -> z, z -> -x (a reflection). The
-    // light's transform (and the world's mirror) follow; what is left is a rotation, and a
+    // pbrt's direction in the light's space is R times penumbra's in its light frame:
+    // - latitude-longitude (pbrt-v3's, and pbrt-v4 imgtool makeequiarea's input): column
+    //   u = phi / 2 pi with phi = atan2(y, x), row v = theta / pi from +z (top row). penumbra's is
+    //   (sin theta sin phi, cos theta, -sin theta cos phi) with +y up, so R: x -> y, y -> z, z -> -x
+    //   (a reflection);
+    // - equal-area: pbrt-v4's EqualAreaSquareToSphere gives (a, b, c) with c the pole; penumbra's
+    //   map is the same square with (a, c, -b), so R: x -> x, y -> z, z -> -y (a rotation).
+    // The light's transform (and the world's mirror) follow; what is left is a rotation, and a
     // reflection of the image when the whole has a negative determinant.
     Matrix4d r = Matrix4d::identity();
-    r.m[0][0] = 0, r.m[0][2] = -1, r.m[1][0] = 1, r.m[1][1] = 0, r.m[2][1] = 1, r.m[2][2] = 0;
+    if (equalArea)
+        r.m[1][1] = 0, r.m[1][2] = -1, r.m[2][1] = 1, r.m[2][2] = 0;
+    else
+        r.m[0][0] = 0, r.m[0][2] = -1, r.m[1][0] = 1, r.m[1][1] = 0, r.m[2][1] = 1, r.m[2][2] = 0;
     Matrix4d m = toWorld(state_.ctm[0]) * r;
     for (int i = 0; i < 3; ++i) m.m[i][3] = 0.0;  // directions: no translation
     Vec3d c[3];
@@ -639,6 +635,7 @@ void SceneBuilder::imageEnvironment(const Parameter& filename, float scale, cons
     bool sheared = false;
     const Json key = motionKey(rotation, sheared);
     Json environment{{"type", "image"}, {"file", file}, {"scale", shortest(scale)}};
+    if (equalArea) environment["mapping"] = "equal_area";
     if (key["rotate"]["degrees"].get<double>() != 0.0) environment["rotate"] = key["rotate"];
     if (mirrored) environment["mirror"] = true;
     origins_.push_back({"/environment", where});

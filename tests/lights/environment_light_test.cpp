@@ -1,7 +1,8 @@
 // The environment light's importance sampling: directions are drawn with a density proportional
-// to the map's luminance times sin(theta) (chi-square over the texels), pdf() agrees with the
-// density sample() reports and integrates to 1 over the sphere, and the map's orientation is the
-// documented one.
+// to the map's luminance times each texel's solid angle (sin(theta) for the equirectangular map, 1
+// for the equal-area one; chi-square over the texels), pdf() agrees with the density sample()
+// reports and integrates to 1 over the sphere, the equal-area map covers equal solid angles, and
+// each map's orientation is the documented one.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -15,8 +16,8 @@ namespace penumbra {
 namespace {
 
 // A small map of varied luminance, some texels black, one bright "sun" texel.
-EnvironmentImage variedImage(int width, int height) {
-    EnvironmentImage image{width, height, {}};
+EnvironmentImage variedImage(int width, int height, EnvironmentMapping mapping = EnvironmentMapping::Equirectangular) {
+    EnvironmentImage image{width, height, {}, mapping};
     test::UniformRng rng(11);
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
@@ -29,22 +30,26 @@ EnvironmentImage variedImage(int width, int height) {
 }
 
 // The texel a world direction falls in, for a light with the given rotation.
-int texelOf(Vec3f direction, const Transform& rotation, int width, int height) {
-    const Vec2f st = EnvironmentLight::directionToImage(normalize(rotation.inverse().applyVector(direction)));
+int texelOf(Vec3f direction, const Transform& rotation, int width, int height,
+            EnvironmentMapping mapping = EnvironmentMapping::Equirectangular) {
+    const Vec2f st = EnvironmentLight::directionToImage(normalize(rotation.inverse().applyVector(direction)), mapping);
     const int x = std::min(int(st.x * float(width)), width - 1), y = std::min(int(st.y * float(height)), height - 1);
     return y * width + x;
 }
 
-void expectSamplingMatchesLuminanceTimesSine(const Transform& rotation) {
-    const int width = 16, height = 8;
-    const EnvironmentImage image = variedImage(width, height);
+void expectSamplingMatchesLuminanceTimesSolidAngle(const Transform& rotation,
+                                                   EnvironmentMapping mapping = EnvironmentMapping::Equirectangular) {
+    const bool equalArea = mapping == EnvironmentMapping::EqualArea;
+    const int width = 16, height = equalArea ? 16 : 8;
+    const EnvironmentImage image = variedImage(width, height, mapping);
     const EnvironmentLight light = EnvironmentLight::fromImage(image, Rgb(1.0f), rotation);
-    // Expected: each texel's probability is luminance * sin(theta at its row centre) over the sum.
+    // Expected: each texel's probability is luminance * its solid angle over the sum: sin(theta at
+    // its row centre) for the equirectangular map, the same for all texels of the equal-area one.
     std::vector<double> weight(size_t(width * height));
     double total = 0.0;
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
-            const double w = double(image.at(x, y).luminance()) * std::sin(kPi * (y + 0.5) / height);
+            const double w = double(image.at(x, y).luminance()) * (equalArea ? 1.0 : std::sin(kPi * (y + 0.5) / height));
             weight[size_t(y * width + x)] = w;
             total += w;
         }
@@ -56,7 +61,7 @@ void expectSamplingMatchesLuminanceTimesSine(const Transform& rotation) {
     for (int i = 0; i < n; ++i) {
         const auto s = light.sample(rng.next2D());
         ASSERT_TRUE(s.has_value());
-        observed[size_t(texelOf(s->direction, rotation, width, height))] += 1.0;
+        observed[size_t(texelOf(s->direction, rotation, width, height, mapping))] += 1.0;
         // The density sample() reports is the one pdf() gives for its direction.
         if (std::abs(light.pdf(s->direction) - s->pdf) > 1e-3f * s->pdf) ++pdfMismatches;
         // And the radiance is that of the direction's texel.
@@ -68,26 +73,54 @@ void expectSamplingMatchesLuminanceTimesSine(const Transform& rotation) {
     EXPECT_GT(chi.pValue, 1e-4) << chi.describe();
 }
 
-TEST(EnvironmentSampling, MatchesLuminanceTimesSineChiSquare) { expectSamplingMatchesLuminanceTimesSine(Transform()); }
+TEST(EnvironmentSampling, MatchesLuminanceTimesSineChiSquare) { expectSamplingMatchesLuminanceTimesSolidAngle(Transform()); }
 
 TEST(EnvironmentSampling, MatchesLuminanceTimesSineRotated) {
-    expectSamplingMatchesLuminanceTimesSine(Transform::rotate(70.0f, {0.3f, 1.0f, -0.2f}));
+    expectSamplingMatchesLuminanceTimesSolidAngle(Transform::rotate(70.0f, {0.3f, 1.0f, -0.2f}));
+}
+
+TEST(EnvironmentSampling, EqualAreaMatchesLuminanceChiSquare) {
+    expectSamplingMatchesLuminanceTimesSolidAngle(Transform(), EnvironmentMapping::EqualArea);
+    expectSamplingMatchesLuminanceTimesSolidAngle(Transform::rotate(70.0f, {0.3f, 1.0f, -0.2f}), EnvironmentMapping::EqualArea);
 }
 
 // The density integrates to 1 over the sphere: E[pdf(w) / p_uniform(w)] = 1 for uniform w. The
 // ratio is at most max(pdf) * 4 pi; its variance is bounded by E[ratio^2], estimated alongside.
 TEST(EnvironmentSampling, DensityIntegratesToOne) {
-    const EnvironmentLight light = EnvironmentLight::fromImage(variedImage(16, 8), Rgb(1.0f), Transform());
-    test::UniformRng rng(3);
-    const int n = 1 << 20;
-    double sum = 0.0, sumSquares = 0.0;
-    for (int i = 0; i < n; ++i) {
-        const double ratio = light.pdf(sampleUniformSphere(rng.next2D())) / uniformSpherePdf();
-        sum += ratio;
-        sumSquares += ratio * ratio;
+    for (const EnvironmentImage& image : {variedImage(16, 8), variedImage(16, 16, EnvironmentMapping::EqualArea)}) {
+        const EnvironmentLight light = EnvironmentLight::fromImage(image, Rgb(1.0f), Transform());
+        test::UniformRng rng(3);
+        const int n = 1 << 20;
+        double sum = 0.0, sumSquares = 0.0;
+        for (int i = 0; i < n; ++i) {
+            const double ratio = light.pdf(sampleUniformSphere(rng.next2D())) / uniformSpherePdf();
+            sum += ratio;
+            sumSquares += ratio * ratio;
+        }
+        const double mean = sum / n, variance = sumSquares / n - mean * mean;
+        EXPECT_TRUE(test::withinSigmas(mean, 1.0, std::sqrt(variance / n))) << int(image.mapping);
     }
-    const double mean = sum / n, variance = sumSquares / n - mean * mean;
-    EXPECT_TRUE(test::withinSigmas(mean, 1.0, std::sqrt(variance / n)));
+}
+
+// The equal-area map is what its name says, checked without the light's own densities: uniformly
+// distributed directions fall uniformly into the cells of the square (chi-square over 12 x 12
+// cells), and the map and its inverse undo each other.
+TEST(EnvironmentSampling, EqualAreaMapCoversEqualSolidAngles) {
+    const int cells = 12, n = 288000;
+    std::vector<double> observed(size_t(cells * cells), 0.0), expected(observed.size(), double(n) / (cells * cells));
+    test::UniformRng rng(17);
+    int roundTripMisses = 0;
+    for (int i = 0; i < n; ++i) {
+        const Vec3f direction = sampleUniformSphere(rng.next2D());
+        const Vec2f st = EnvironmentLight::directionToImage(direction, EnvironmentMapping::EqualArea);
+        ASSERT_TRUE(st.x >= 0.0f && st.x < 1.0f && st.y >= 0.0f && st.y < 1.0f) << st.x << " " << st.y;
+        observed[size_t(int(st.y * cells) * cells + int(st.x * cells))] += 1.0;
+        const Vec3f back = EnvironmentLight::imageToDirection(st, EnvironmentMapping::EqualArea);
+        if (!(length(back - direction) < 1e-5f)) ++roundTripMisses;
+    }
+    EXPECT_EQ(roundTripMisses, 0);
+    const test::ChiSquareResult chi = test::chiSquareTest(observed, expected);
+    EXPECT_GT(chi.pValue, 1e-4) << chi.describe();
 }
 
 // The documented orientation: +y up is the top row, the image centre looks along +z, a quarter
@@ -105,6 +138,23 @@ TEST(EnvironmentSampling, OrientationOfTheMap) {
     // Rotated 90 degrees about +y, what was along +x now arrives from -z.
     const EnvironmentLight turned = EnvironmentLight::fromImage(image, Rgb(2.0f), Transform::rotate(90.0f, {0, 1, 0}));
     EXPECT_EQ(turned.radiance({0.01f, 0.2f, -1.0f}), Rgb(0.0f, 0.0f, 2.0f));
+}
+
+// The documented equal-area orientation: the square's centre looks up, its corners down, the
+// middle of its left edge along -x and of its top edge along +z.
+TEST(EnvironmentSampling, OrientationOfTheEqualAreaMap) {
+    const int size = 9;
+    EnvironmentImage image{size, size, std::vector<Rgb>(size_t(size * size), Rgb(0.0f)), EnvironmentMapping::EqualArea};
+    image.texels[size_t(4 * size + 4)] = Rgb(1.0f, 0.0f, 0.0f);  // centre: up
+    image.texels[size_t(4 * size + 0)] = Rgb(0.0f, 1.0f, 0.0f);  // left edge: -x
+    image.texels[size_t(0 * size + 4)] = Rgb(0.0f, 0.0f, 1.0f);  // top edge: +z
+    for (int corner : {0, size - 1, size * (size - 1), size * size - 1}) image.texels[size_t(corner)] = Rgb(1.0f, 1.0f, 0.0f);  // down
+    const EnvironmentLight light = EnvironmentLight::fromImage(image, Rgb(1.0f), Transform());
+    EXPECT_EQ(light.radiance({0.01f, 1.0f, 0.02f}), Rgb(1.0f, 0.0f, 0.0f));
+    EXPECT_EQ(light.radiance({-1.0f, 0.01f, 0.02f}), Rgb(0.0f, 1.0f, 0.0f));
+    EXPECT_EQ(light.radiance({0.01f, 0.02f, 1.0f}), Rgb(0.0f, 0.0f, 1.0f));
+    EXPECT_EQ(light.radiance({0.0f, -1.0f, 0.0f}), Rgb(1.0f, 1.0f, 0.0f));
+    EXPECT_EQ(light.radiance({0.02f, -1.0f, -0.01f}), Rgb(1.0f, 1.0f, 0.0f));
 }
 
 // A constant environment is sampled uniformly, as the scene's "background" always was.

@@ -13,8 +13,9 @@ namespace penumbra {
 namespace {
 
 // A uniform map of radiance L, as an image (so that the image's distribution is what is sampled).
-EnvironmentLight uniformImage(float radiance) {
-    EnvironmentImage image{8, 4, std::vector<Rgb>(32, Rgb(radiance))};
+EnvironmentLight uniformImage(float radiance, EnvironmentMapping mapping = EnvironmentMapping::Equirectangular) {
+    const int height = mapping == EnvironmentMapping::EqualArea ? 8 : 4;
+    EnvironmentImage image{8, height, std::vector<Rgb>(size_t(8 * height), Rgb(radiance)), mapping};
     return EnvironmentLight::fromImage(image, Rgb(1.0f), Transform::rotate(30.0f, {1.0f, 0.2f, 0.0f}));
 }
 
@@ -69,6 +70,10 @@ TEST(EnvironmentFurnace, UniformImageLambertSphereIsInvisibleMis) {
 }
 TEST(EnvironmentFurnace, UniformImageLambertSphereIsInvisibleLightSampling) {
     expectWhiteFurnace(uniformImage(0.8f), 0.8f, LightStrategy::Light);
+}
+TEST(EnvironmentFurnace, UniformEqualAreaImageLambertSphereIsInvisible) {
+    expectWhiteFurnace(uniformImage(0.8f, EnvironmentMapping::EqualArea), 0.8f, LightStrategy::Mis);
+    expectWhiteFurnace(uniformImage(0.8f, EnvironmentMapping::EqualArea), 0.8f, LightStrategy::Light);
 }
 TEST(EnvironmentFurnace, ConstantLambertSphereIsInvisible) {
     expectWhiteFurnace(EnvironmentLight::constant(Rgb(1.5f)), 1.5f, LightStrategy::Mis);

@@ -3,6 +3,9 @@
 // values come from pbrt-v4's definitions (cameras.cpp, lights.cpp, materials.cpp), worked out by
 // hand in the comments.
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <OpenEXR/ImfRgbaFile.h>
 
 #include <algorithm>
 #include <cmath>
@@ -10,6 +13,7 @@
 #include <fstream>
 #include <numbers>
 #include <string>
+#include <vector>
 
 #include "core/error.h"
 #include "scenes/pbrt/pbrt_reader.h"
@@ -277,14 +281,58 @@ TEST(PbrtMapping, ImageInfiniteLightsKeepPbrtsLatitudeLongitudeOrientation) {
             EXPECT_NEAR(found.b, expected.b, 1e-5f * (1.0f + expected.b)) << s << " " << t;
         }
     }
-    // A square image is pbrt-v4's equal-area map: a constant of its mean, with a warning.
-    const std::string square = (fs::path(PENUMBRA_SOURCE_DIR) / "scenes" / "textures" / "floor.png").string();
-    auto c = convert(kCamera + "WorldBegin\nLightSource \"infinite\" \"string filename\" \"" + square + "\"\n");
-    EXPECT_FALSE(c.document.contains("environment"));
-    EXPECT_GT(c.document["background"][0].get<double>(), 0.0);
-    EXPECT_TRUE(hasWarning(c, "equal-area octahedral map"));
     EXPECT_THROW(convert(kCamera + "WorldBegin\nLightSource \"infinite\" \"string filename\" \"" + sky + "\" \"rgb L\" [1 1 1]\n"),
                  InputError);
+}
+
+// pbrt-v4's EqualAreaSquareToSphere (util/math.cpp; Clarberg 2008), written out from its
+// definition: the square [0, 1]^2 onto the sphere, the square's centre at +z.
+Vec3f pbrtEqualAreaSquareToSphere(double s, double t) {
+    const double u = 2.0 * s - 1.0, v = 2.0 * t - 1.0, up = std::abs(u), vp = std::abs(v);
+    const double signedDistance = 1.0 - (up + vp), r = 1.0 - std::abs(signedDistance);
+    const double phi = (r == 0.0 ? 1.0 : (vp - up) / r + 1.0) * std::numbers::pi / 4.0;
+    const double z = std::copysign(1.0 - r * r, signedDistance);
+    const double ring = r * std::sqrt(2.0 - r * r);
+    return {float(std::copysign(std::cos(phi), u) * ring), float(std::copysign(std::sin(phi), v) * ring), float(z)};
+}
+
+TEST(PbrtMapping, SquareInfiniteLightsArePbrtV4sEqualAreaMaps) {
+    // A square map whose every texel has its own colour; pbrt-v4 looks texel (s, t) up in the
+    // light's direction pbrtEqualAreaSquareToSphere(s, t) (ImageInfiniteLight::ImageLe, rows from
+    // the top). The light is turned so that its +z is world +y, under a camera that needs no
+    // mirroring and under one that does (world x -> -x).
+    const int size = 16;
+    const fs::path map = fs::temp_directory_path() / ("penumbra-equal-area-" + std::to_string(::getpid()) + ".exr");
+    {
+        std::vector<Imf::Rgba> pixels;
+        for (int y = 0; y < size; ++y)
+            for (int x = 0; x < size; ++x) pixels.emplace_back(float(x + 1), float(y + 1), 0.5f);
+        Imf::RgbaOutputFile out(map.c_str(), size, size, Imf::WRITE_RGB);
+        out.setFrameBuffer(pixels.data(), 1, size);
+        out.writePixels(size);
+    }
+    const std::string mirroredCamera = "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\"\n";
+    for (const std::string& camera : {kCamera, mirroredCamera}) {
+        const bool mirrored = camera == mirroredCamera;
+        auto c = convert(camera + "WorldBegin\nAttributeBegin\nRotate -90 1 0 0\nLightSource \"infinite\" \"string filename\" \"" +
+                         map.string() + "\" \"float scale\" 2\nAttributeEnd\n");
+        const Json& environment = c.document["environment"];
+        EXPECT_EQ(environment["mapping"], "equal_area");
+        EXPECT_EQ(environment.value("mirror", false), mirrored);
+        const Scene scene = buildPbrtScene(c, "test.pbrt");
+        int checked = 0;
+        for (int y = 0; y < size; ++y)
+            for (int x = 0; x < size; ++x) {
+                const Vec3f light = pbrtEqualAreaSquareToSphere((x + 0.5) / size, (y + 0.5) / size);
+                Vec3f world{light.x, light.z, -light.y};  // Rotate -90 about x
+                if (mirrored) world.x = -world.x;
+                const Rgb found = scene.environment.radiance(world);
+                EXPECT_EQ(found, Rgb(2.0f * float(x + 1), 2.0f * float(y + 1), 1.0f)) << x << " " << y;
+                ++checked;
+            }
+        EXPECT_EQ(checked, size * size);
+    }
+    fs::remove(map);
 }
 
 TEST(PbrtMapping, TexturesBecomeTextureObjects) {

@@ -96,6 +96,29 @@ TEST(EnvironmentLoader, MissingOrUnreadableMapNamesTheKey) {
     fs::remove(bad);
 }
 
+// "mapping": the equal-area map is read as such; it must be square, and other names are refused.
+TEST(EnvironmentLoader, MappingIsEquirectangularOrASquareEqualArea) {
+    const std::string textures = std::string(PENUMBRA_SOURCE_DIR) + "/scenes/textures/";
+    const Scene square = parseWith(R"({"m": {"type": "lambert"}})", R"(, "environment": {"type": "image", "file": ")" + textures +
+                                                                        R"(floor.png", "mapping": "equal_area"})");
+    ASSERT_TRUE(square.environment.hasImage());
+    EXPECT_EQ(square.environment.image()->mapping, EnvironmentMapping::EqualArea);
+    const Scene plain = parseWith(R"({"m": {"type": "lambert"}})", R"(, "environment": {"type": "image", "file": ")" + textures + R"(sky.exr"})");
+    EXPECT_EQ(plain.environment.image()->mapping, EnvironmentMapping::Equirectangular);
+    const InputError notSquare = catchInputError([&] {
+        parseWith(R"({"m": {"type": "lambert"}})", R"(, "environment": {"type": "image", "file": ")" + textures +
+                                                       R"(sky.exr", "mapping": "equal_area"})");
+    });
+    EXPECT_EQ(notSquare.where().jsonPointer, "/environment/mapping");
+    EXPECT_CONTAINS(notSquare.message(), "512x256");
+    const InputError unknown = catchInputError([&] {
+        parseWith(R"({"m": {"type": "lambert"}})", R"(, "environment": {"type": "image", "file": ")" + textures +
+                                                       R"(sky.exr", "mapping": "octahedral"})");
+    });
+    EXPECT_EQ(unknown.where().jsonPointer, "/environment/mapping");
+    EXPECT_CONTAINS(unknown.message(), "equal_area");
+}
+
 TEST(EnvironmentLoader, BackgroundIsTheConstantCase) {
     const Scene a = parseWith(R"({"m": {"type": "lambert"}})", R"(, "background": [0.1, 0.2, 0.3])");
     const Scene b = parseWith(R"({"m": {"type": "lambert"}})", R"(, "environment": {"type": "constant", "radiance": [0.1, 0.2, 0.3]})");
