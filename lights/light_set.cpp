@@ -46,7 +46,8 @@ Rgb emittedRadiance(const Texture& texture, Vec2f uv) {
 }  // namespace
 
 LightSet::LightSet(const SceneGeometry& scene, const std::vector<PointLight>& pointLights,
-                   const std::vector<DirectionalLight>& directionalLights, const EnvironmentLight& environment)
+                   const std::vector<SpotLight>& spotLights, const std::vector<DirectionalLight>& directionalLights,
+                   const EnvironmentLight& environment)
     : environment_(environment) {
     std::vector<double> power;
     meshFirstLight_.assign(scene.meshes.size(), -1);
@@ -100,6 +101,17 @@ LightSet::LightSet(const SceneGeometry& scene, const std::vector<PointLight>& po
         lights_.push_back(light);
         power.push_back(4.0 * kPi * double(point.intensity.luminance()));
     }
+    for (const SpotLight& spot : spotLights) {
+        Light light;
+        light.kind = LightKind::Spot;
+        light.radiance = spot.intensity;
+        light.center = spot.position;
+        light.normal = spot.direction;
+        light.cosFalloffStart = spot.cosFalloffStart;
+        light.cosFalloffEnd = spot.cosFalloffEnd;
+        lights_.push_back(light);
+        power.push_back(spot.solidAngle() * double(spot.intensity.luminance()));
+    }
     const double sceneRadius = sceneBoundingRadius(scene);
     for (const DirectionalLight& directional : directionalLights) {
         Light light;
@@ -131,6 +143,12 @@ std::optional<LightSample> LightSet::sampleOther(uint32_t index, Vec3f reference
     Vec2f uv{0.0f, 0.0f};  // the sampled point's surface coordinates, for textured emission
     switch (light.kind) {
         case LightKind::Point: return samplePoint(index, reference);
+        case LightKind::Spot: {
+            std::optional<LightSample> point = samplePoint(index, reference);
+            if (!point) return std::nullopt;
+            point->radiance *= spotFalloff(-dot(point->direction, light.normal), light.cosFalloffStart, light.cosFalloffEnd);
+            return point;
+        }
         case LightKind::Directional: {
             ls.direction = -light.normal;
             ls.distance = std::numeric_limits<float>::infinity();
@@ -233,6 +251,7 @@ float LightSet::solidAnglePdf(const Light& light, Vec3f reference, Vec3f point) 
             return 1.0f / (2.0f * kPi * oneMinusCos);
         }
         case LightKind::Point:
+        case LightKind::Spot:
         case LightKind::Directional:
         case LightKind::Environment: return 0.0f;  // not sampled by solid angle around a point
     }

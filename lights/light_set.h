@@ -1,4 +1,4 @@
-// The lights of a scene as one closed set: emitting triangles, emitting spheres, point and
+// The lights of a scene as one closed set: emitting triangles, emitting spheres, point, spot and
 // directional lights and the environment (lights/environment_light.h). Next-event estimation picks
 // one light with probability proportional to its power, then a point on it (triangles by area,
 // spheres by the solid angle they subtend) or a direction (the environment: uniformly for a
@@ -20,16 +20,17 @@
 
 namespace penumbra {
 
-enum class LightKind : uint8_t { Triangle, Sphere, Point, Directional, Environment };
+enum class LightKind : uint8_t { Triangle, Sphere, Point, Spot, Directional, Environment };
 
 struct Light {
     LightKind kind = LightKind::Point;
-    Rgb radiance;            // area lights: radiance; point: intensity; directional: irradiance
+    Rgb radiance;            // area lights: radiance; point, spot: intensity; directional: irradiance
     bool twoSided = false;   // area lights
     Vec3f p0, p1, p2;        // triangle vertices
-    Vec3f normal;            // triangle front normal (unit); directional: the direction light travels
+    Vec3f normal;            // triangle front normal (unit); directional: the direction light travels; spot: its axis
     float area = 0;          // triangle area
-    Vec3f center;            // sphere centre or point-light position
+    float cosFalloffStart = 1, cosFalloffEnd = 1;  // spot lights (lights/light.h)
+    Vec3f center;            // sphere centre or point- or spot-light position
     float radius = 0;        // sphere radius
     const Texture* texture = nullptr;  // textured emission (geometry/emission.h); radiance then its average
     Vec2f uv0, uv1, uv2;     // textured triangles: the vertices' uvs
@@ -50,7 +51,8 @@ class LightSet {
 public:
     LightSet() = default;
     LightSet(const SceneGeometry& geometry, const std::vector<PointLight>& pointLights,
-             const std::vector<DirectionalLight>& directionalLights, const EnvironmentLight& environment);
+             const std::vector<SpotLight>& spotLights, const std::vector<DirectionalLight>& directionalLights,
+             const EnvironmentLight& environment);
 
     bool empty() const { return choice_.empty(); }
     // Whether a ray can find emission by hitting something (an area light or the environment);
@@ -59,11 +61,12 @@ public:
     size_t size() const { return lights_.size(); }
 
     // Next-event estimation in two steps, so that the point sample is only drawn when it is used:
-    // choose() picks a light by power, sample() a point on it. Point and directional lights
+    // choose() picks a light by power, sample() a point on it. Point, spot and directional lights
     // (isDelta) ignore uPoint; choose() with a single light ignores u.
     uint32_t choose(float u) const { return choice_.sample(u); }
     bool isDelta(uint32_t light) const {
-        return lights_[light].kind == LightKind::Point || lights_[light].kind == LightKind::Directional;
+        const LightKind kind = lights_[light].kind;
+        return kind == LightKind::Point || kind == LightKind::Spot || kind == LightKind::Directional;
     }
     std::optional<LightSample> sample(uint32_t light, Vec3f reference, Vec2f uPoint) const {
         // Point lights, the common case, inline; the other kinds in lights.cpp.

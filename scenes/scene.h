@@ -82,6 +82,7 @@ struct Scene : SceneGeometry {
     std::vector<Material> materials;
     std::vector<std::string> materialNames;  // materialNames[i] names materials[i]
     std::vector<PointLight> pointLights;
+    std::vector<SpotLight> spotLights;
     std::vector<DirectionalLight> directionalLights;
     // Light arriving along every direction that escapes the scene: black, a constant (the scene
     // file's "background") or an image (its "environment").

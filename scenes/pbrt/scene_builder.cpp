@@ -526,18 +526,33 @@ void SceneBuilder::lightSource(const Directive& d) {
     const Matrix4d world = toWorld(state_.ctm[0]);
     const float scale = float(p.getFloat("scale").value_or(1.0));
     Json light;
-    if (type == "point" || type == "spot") {
+    if (type == "point") {
         Rgb intensity = readColor(p, "I", Rgb(1.0f), SpectrumUse::Emission, textures_, log_) * scale;
         // pbrt-v4 scales by power / (4 pi) without dividing by the RGB's own luminance.
         if (auto power = p.getFloat("power"); power && *power > 0.0) intensity *= float(*power / (4.0 * kPi));
         const Vec3d from = p.getPoint3("from").value_or(Vec3d{0, 0, 0});
-        if (type == "spot") {
-            p.getPoint3("to");
-            p.getFloat("coneangle");
-            p.getFloat("conedelta");
-            log_.warn(d.where, "spot lights are not supported yet: rendered as a point light of the same intensity (no cone)");
-        }
         light = Json{{"type", "point"}, {"position", vec3Json(world.applyPoint(from))}, {"intensity", rgbJson(intensity)}};
+    } else if (type == "spot") {
+        Rgb intensity = readColor(p, "I", Rgb(1.0f), SpectrumUse::Emission, textures_, log_) * scale;
+        const Vec3d from = p.getPoint3("from").value_or(Vec3d{0, 0, 0}), to = p.getPoint3("to").value_or(Vec3d{0, 0, 1});
+        const double coneAngle = p.getFloat("coneangle").value_or(30.0), coneDelta = p.getFloat("conedelta").value_or(5.0);
+        if (!(coneAngle > 0.0 && coneAngle <= 180.0)) failAt(d.where, "spot light: \"coneangle\" must be in (0, 180] degrees");
+        if (!(coneDelta >= 0.0 && coneDelta <= coneAngle))
+            failAt(d.where, "spot light: \"conedelta\" must be from 0 to \"coneangle\" degrees");
+        // pbrt-v4's SpotLight::Create: power / (2 pi ((1 - cosStart) + (cosStart - cosEnd) / 2)),
+        // without dividing by the RGB's own luminance (as for point lights).
+        if (auto power = p.getFloat("power"); power && *power > 0.0) {
+            const double cosEnd = std::cos(coneAngle * kPi / 180.0), cosStart = std::cos((coneAngle - coneDelta) * kPi / 180.0);
+            intensity *= float(*power / (2.0 * kPi * ((1.0 - cosStart) + (cosStart - cosEnd) / 2.0)));
+        }
+        const Vec3d direction = world.applyVector(to - from);
+        if (!(length(direction) > 0.0)) failAt(d.where, "spot light: from and to must differ");
+        light = Json{{"type", "spot"},
+                     {"position", vec3Json(world.applyPoint(from))},
+                     {"direction", vec3Json(normalize(direction))},
+                     {"intensity", rgbJson(intensity)},
+                     {"cone_angle", shortest(float(coneAngle))},
+                     {"cone_delta", shortest(float(coneDelta))}};
     } else if (type == "distant") {
         Rgb irradiance = readColor(p, "L", Rgb(1.0f), SpectrumUse::Emission, textures_, log_) * scale;
         if (auto e = p.getFloat("illuminance"); e && *e > 0.0) irradiance *= float(*e);

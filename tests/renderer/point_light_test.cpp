@@ -6,7 +6,9 @@
 // equals the centre value to about 1e-5 relative.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "core/sampling.h"
 #include "film/film.h"
@@ -59,6 +61,51 @@ TEST(PointLight, NothingReachesThePlaneFromBelow) {
     scene.meshes.push_back(testing::makeQuad({-50, 0, -50}, {0, 0, 100}, {100, 0, 0}, 0));
     scene.pointLights.push_back({{0.0f, -2.0f, 0.0f}, Rgb(25.0f)});  // under the plane
     EXPECT_EQ(renderedMeanAt({0.0f, 0.0f, 0.0f}, scene), 0.0);
+}
+
+// A spot light of axis intensity I at height h pointing straight down, cone 30 degrees with a
+// 10-degree falloff band: L = (a / pi) I f(cos) cos / d^2 with f 1 inside 20 degrees, pbrt-v4's
+// smoothstep in cos between 20 and 30 (written out here), 0 beyond. The band's point is where the
+// smoothstep's second derivative vanishes (t = 1/2), so that the camera's footprint averages to
+// the centre value as for the point light.
+TEST(SpotLight, LambertPlaneMatchesClosedFormInsideTheBandAndOutside) {
+    const float albedo = 0.6f, intensity = 25.0f, height = 2.0f;
+    const double cosEnd = std::cos(30.0 * kPi / 180.0), cosStart = std::cos(20.0 * kPi / 180.0);
+    Scene scene;
+    scene.film = {8, 8, 16, FilterKind::Box, 0.5f};
+    scene.camera.verticalFovDegrees = 0.5f;
+    scene.materials = {testing::makeLambert(Rgb(albedo))};
+    scene.meshes.push_back(testing::makeQuad({-50, 0, -50}, {0, 0, 100}, {100, 0, 0}, 0));
+    scene.spotLights.push_back({{0.0f, height, 0.0f}, {0.0f, -1.0f, 0.0f}, Rgb(intensity), float(cosStart), float(cosEnd)});
+    scene.integrator.maxDepth = 1;
+    const double bandMiddle = std::tan(std::acos(0.5 * (cosStart + cosEnd))) * height;
+    for (double offset : {0.0, 0.5, bandMiddle, 1.5, 3.0}) {
+        const double distanceSquared = offset * offset + double(height) * height;
+        const double cosine = height / std::sqrt(distanceSquared);
+        const double t = std::clamp((cosine - cosEnd) / (cosStart - cosEnd), 0.0, 1.0);
+        const double expected = albedo / kPi * intensity * (t * t * (3.0 - 2.0 * t)) * cosine / distanceSquared;
+        const double found = renderedMeanAt({float(offset), 0.0f, 0.0f}, scene);
+        if (offset == bandMiddle) EXPECT_NEAR(t, 0.5, 1e-9);
+        if (expected == 0.0)
+            EXPECT_EQ(found, 0.0) << "offset " << offset;
+        else
+            EXPECT_NEAR(found, expected, 2e-4 * expected) << "offset " << offset;
+    }
+}
+
+// The power that chooses between lights: the falloff integrated over the sphere, against a
+// midpoint quadrature in cos(theta).
+TEST(SpotLight, SolidAngleIsTheFalloffsIntegral) {
+    for (auto [angle, delta] : {std::pair{30.0, 5.0}, {30.0, 0.0}, {90.0, 45.0}, {180.0, 180.0}, {10.0, 10.0}}) {
+        SpotLight spot;
+        spot.cosFalloffEnd = float(std::cos(angle * kPi / 180.0));
+        spot.cosFalloffStart = float(std::cos((angle - delta) * kPi / 180.0));
+        const int steps = 200000;
+        double integral = 0.0;
+        for (int i = 0; i < steps; ++i) integral += spot.falloff(float(-1.0 + 2.0 * (i + 0.5) / steps));
+        integral *= 2.0 * kPi * 2.0 / steps;  // d omega = 2 pi d cos(theta)
+        EXPECT_NEAR(spot.solidAngle(), integral, 1e-4 * integral) << angle << " " << delta;
+    }
 }
 
 // A directional light of irradiance E arriving at angle theta from the normal gives a Lambert

@@ -226,6 +226,29 @@ TEST(PbrtMapping, Materials) {
     EXPECT_EQ(scene.materials.size(), m.size());
 }
 
+// pbrt-v4's spot light (lights.cpp SpotLight::Create): from, to, coneangle (30), conedelta (5);
+// "power" divides by 2 pi ((1 - cos(25)) + (cos(25) - cos(30)) / 2) = 0.715236 for the defaults.
+TEST(PbrtMapping, SpotLights) {
+    auto c = convert(kCamera + "WorldBegin\nTranslate 0 1 0\n"
+                               "LightSource \"spot\" \"rgb I\" [1 2 3] \"point3 from\" [0 2 0] \"point3 to\" [0 0 0] "
+                               "\"float coneangle\" 40 \"float conedelta\" 10\n"
+                               "LightSource \"spot\" \"float power\" 10\n");
+    const Json& lights = c.document["lights"];
+    EXPECT_EQ(lights[0]["type"], "spot");
+    EXPECT_EQ(lights[0]["position"], Json::array({0.0, 3.0, 0.0}));
+    EXPECT_EQ(lights[0]["direction"], Json::array({0.0, -1.0, 0.0}));
+    EXPECT_EQ(lights[0]["intensity"], Json::array({1.0, 2.0, 3.0}));
+    EXPECT_EQ(lights[0]["cone_angle"], 40.0);
+    EXPECT_EQ(lights[0]["cone_delta"], 10.0);
+    EXPECT_EQ(lights[1]["direction"], Json::array({0.0, 0.0, 1.0}));
+    EXPECT_NEAR(lights[1]["intensity"][0].get<double>(), 10.0 / 0.715236, 1e-4);
+    EXPECT_FALSE(hasWarning(c, "spot"));
+    const Scene scene = buildPbrtScene(c, "test.pbrt");
+    ASSERT_EQ(scene.spotLights.size(), 2u);
+    EXPECT_NEAR(scene.spotLights[0].cosFalloffEnd, std::cos(40.0 * std::numbers::pi / 180.0), 1e-6);
+    EXPECT_THROW(convert(kCamera + "WorldBegin\nLightSource \"spot\" \"float coneangle\" 10 \"float conedelta\" 20\n"), InputError);
+}
+
 TEST(PbrtMapping, LightsAndEmission) {
     auto c = convert(kCamera + "WorldBegin\nTranslate 0 1 0\n"
                                "LightSource \"point\" \"rgb I\" [1 2 3] \"float scale\" 2 \"point3 from\" [1 0 0]\n"

@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <string>
+#include <tuple>
 
 #include "tests/support/expect_input_error.h"
 #include "tests/support/shared_data.h"
@@ -287,6 +289,33 @@ TEST(SceneTransforms, InlineMeshNormalsAreTransformed) {
 }
 
 // ---- Bad input ----
+
+// Spot lights: the cone from the axis to its edge and the falloff band inside it, in degrees
+// (defaults pbrt-v4's 30 and 5); cos(30) and cos(25) worked out by hand.
+TEST(SceneLoader, SpotLights) {
+    const Scene scene = parseScene(R"({"lights": [
+        {"type": "spot", "position": [0, 3, 0], "direction": [0, -2, 0], "intensity": 10},
+        {"type": "spot", "position": [1, 1, 1], "direction": [1, 0, 0], "intensity": [1, 2, 3], "cone_angle": 60, "cone_delta": 60}]})",
+                                   "spots.json");
+    ASSERT_EQ(scene.spotLights.size(), 2u);
+    const SpotLight& a = scene.spotLights[0];
+    expectNear(a.position, {0, 3, 0});
+    expectNear(a.direction, {0, -1, 0});
+    EXPECT_EQ(a.intensity, Rgb(10.0f));
+    EXPECT_NEAR(a.cosFalloffEnd, 0.8660254f, 1e-6f);
+    EXPECT_NEAR(a.cosFalloffStart, 0.9063078f, 1e-6f);
+    EXPECT_NEAR(scene.spotLights[1].cosFalloffEnd, 0.5f, 1e-6f);
+    EXPECT_EQ(scene.spotLights[1].cosFalloffStart, 1.0f);
+    for (const auto& [light, pointer, expected] :
+         {std::tuple{R"({"type": "spot", "position": [0, 0, 0], "direction": [0, 0, 0], "intensity": 1})", "/lights/0/direction", "non-zero"},
+          {R"({"type": "spot", "position": [0, 0, 0], "direction": [0, 0, 1], "intensity": 1, "cone_angle": 0})", "/lights/0/cone_angle", "greater than 0"},
+          {R"({"type": "spot", "position": [0, 0, 0], "direction": [0, 0, 1], "intensity": 1, "cone_angle": 20, "cone_delta": 25})", "/lights/0/cone_delta", "cone_angle (20)"},
+          {R"({"type": "spot", "position": [0, 0, 0], "direction": [0, 0, 1], "intensity": 1, "angle": 20})", "/lights/0/angle", "cone_angle"}}) {
+        const InputError e = catchInputError([&] { parseScene(std::string(R"({"lights": [)") + light + "]}", "spots.json"); });
+        EXPECT_EQ(e.where().jsonPointer, pointer) << light;
+        EXPECT_NE(std::string(e.message()).find(expected), std::string::npos) << e.message();
+    }
+}
 
 TEST(SceneErrors, MissingSceneFile) {
     const fs::path file = kScenes / "no-such-scene.json";
