@@ -500,7 +500,9 @@ void writeConvergenceReport(const ConvergenceReport& report, const std::string& 
 }
 
 int runConvergeCommand(const ConvergeCommand& cmd) {
-    Scene scene = loadSceneFile(cmd.scenePath);
+    SceneFileOptions sceneOptions;
+    sceneOptions.patch = cmd.patch;
+    Scene scene = loadSceneFile(cmd.scenePath, sceneOptions);
     if (!cmd.resolution.empty()) {
         const auto parts = splitText(cmd.resolution, 'x');
         if (parts.size() != 2) throw InputError(fmt::format("--res: expected WIDTHxHEIGHT, got '{}'", cmd.resolution));

@@ -113,6 +113,7 @@ std::string frozenDimsName(uint32_t mask);
 // `penumbra converge ...`; returns the exit status.
 struct ConvergeCommand {
     std::string scenePath;
+    std::string patch;  // a JSON merge patch applied to the scene (SceneFileOptions::patch); empty: none
     std::string spp = "1,2,4,...,256";
     std::string samplers = "stratified,independent";
     std::string strategies;  // "mis,bsdf,light"; empty: the scene's own

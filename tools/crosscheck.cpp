@@ -661,8 +661,11 @@ std::string formatCrosscheckJson(const CrosscheckReport& report, size_t maxListe
     return j.dump(2) + "\n";
 }
 
-int runCrosscheckCommand(const std::string& scenePath, const CrosscheckOptions& options, bool json) {
-    const Scene scene = loadSceneFile(scenePath);
+int runCrosscheckCommand(const std::string& scenePath, const std::string& patch, const CrosscheckOptions& options,
+                         bool json) {
+    SceneFileOptions sceneOptions;
+    sceneOptions.patch = patch;
+    const Scene scene = loadSceneFile(scenePath, sceneOptions);
     const CrosscheckReport report = runCrosscheck(scene, options);
     const std::string text = json ? formatCrosscheckJson(report) : formatCrosscheckText(report);
     std::fwrite(text.data(), 1, text.size(), stdout);

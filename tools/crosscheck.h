@@ -165,10 +165,11 @@ CrosscheckReport runCrosscheck(const Scene& scene, const CrosscheckOptions& opti
 std::string formatCrosscheckText(const CrosscheckReport& report, size_t maxListed = 20);
 std::string formatCrosscheckJson(const CrosscheckReport& report, size_t maxListed = 100);
 
-// `penumbra crosscheck SCENE`: 0 when every mismatch is explained and none is a self-intersection,
-// kCrosscheckFailed otherwise.
+// `penumbra crosscheck SCENE [--patch PATCH]`: 0 when every mismatch is explained and none is a
+// self-intersection, kCrosscheckFailed otherwise. `patch` (empty: none) as SceneFileOptions::patch.
 // Throws InputError for a bad scene.
 inline constexpr int kCrosscheckFailed = 3;
-int runCrosscheckCommand(const std::string& scenePath, const CrosscheckOptions& options, bool json);
+int runCrosscheckCommand(const std::string& scenePath, const std::string& patch, const CrosscheckOptions& options,
+                         bool json);
 
 }  // namespace penumbra

@@ -359,9 +359,9 @@ int main(int argc, char** argv) {
                           "Sample indices per pass (default: about a million samples a pass); checkpoints and signals "
                           "take effect between passes")
         ->check(CLI::PositiveNumber);
-    renderApp->add_option("--patch", cmd.patch,
-                          "A JSON merge patch (RFC 7386) applied to the scene in penumbra's format before it is built, "
-                          "e.g. to change a converted pbrt scene (docs/pbrt-import.md)");
+    const char* const patchHelp = "A JSON merge patch (RFC 7386) applied to the scene in penumbra's format before it is "
+                                  "built, e.g. to change a converted pbrt scene (docs/pbrt-import.md)";
+    renderApp->add_option("--patch", cmd.patch, patchHelp);
 
     renderApp->add_option("--adaptive", cmd.adaptiveThreshold,
                           "Adaptive sampling: a pixel stops once the relative standard error of its mean (and its "
@@ -460,6 +460,7 @@ int main(int argc, char** argv) {
     convergeApp->add_option("--accel", convergeCmd.accel, "Traversal backend: embree (default) or bvh")
         ->check(CLI::IsMember({"embree", "bvh"}));
     convergeApp->add_option("-o,--output", convergeCmd.output, "Output folder")->required();
+    convergeApp->add_option("--patch", convergeCmd.patch, patchHelp);
     convergeApp->add_flag("--no-plot", convergeCmd.noPlot, "Do not run tools/plot_convergence.py");
     convergeApp->add_flag("-q,--quiet", convergeCmd.quiet, "No progress lines");
     convergeApp->add_flag("--adaptive", convergeCmd.adaptive,
@@ -468,7 +469,7 @@ int main(int argc, char** argv) {
                           "reach the fixed rungs' RMSE");
     convergeApp->add_option("--min-spp", convergeCmd.minSpp, "Samples before the adaptive renders' first decision (default 16)");
 
-    std::string crosscheckScene;
+    std::string crosscheckScene, crosscheckPatch;
     CrosscheckOptions crosscheckOptions;
     bool crosscheckJson = false;
     CLI::App* crosscheckApp = app.add_subcommand(
@@ -479,6 +480,7 @@ int main(int argc, char** argv) {
         ->check(CLI::PositiveNumber);
     crosscheckApp->add_option("--seed", crosscheckOptions.seed, "Seed of the ray set (default 0)")->check(kSeedText);
     crosscheckApp->add_flag("--json", crosscheckJson, "Machine-readable output");
+    crosscheckApp->add_option("--patch", crosscheckPatch, patchHelp);
 
     try {
         app.parse(argc, argv);
@@ -495,7 +497,7 @@ int main(int argc, char** argv) {
 
     try {
         if (renderApp->parsed()) return runRender(cmd);
-        if (crosscheckApp->parsed()) return runCrosscheckCommand(crosscheckScene, crosscheckOptions, crosscheckJson);
+        if (crosscheckApp->parsed()) return runCrosscheckCommand(crosscheckScene, crosscheckPatch, crosscheckOptions, crosscheckJson);
         if (mergeApp->parsed()) {
             if (!mergeManifest.empty())
                 return runManifestMerge(mergeManifest, mergeGroup, mergeOutput, mergeNoDisplay, mergeQuiet);

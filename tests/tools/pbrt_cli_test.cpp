@@ -58,6 +58,27 @@ TEST_F(PbrtCommandLine, RenderTakesAPbrtSceneWithOverrides) {
     EXPECT_TRUE(contains(r, "(2 times)")) << r.output;
 }
 
+// --patch changes the scene for render, converge and crosscheck alike: a film size they report,
+// and a radius the scene loader refuses at its place in the patched scene.
+TEST_F(PbrtCommandLine, PatchAppliesToRenderConvergeAndCrosscheck) {
+    const fs::path scene = write("scene.pbrt", kScene);
+    const std::string sphere = R"x({"type": "sphere", "center": [0, 0, 0], "material": "pbrt default (diffuse 0.5)", "radius": )x";
+    const fs::path good = write("good.json", R"({"film": {"resolution": [8, 6]}, "shapes": [)" + sphere + "1}]}");
+    const fs::path bad = write("bad.json", R"({"shapes": [)" + sphere + "-1}]}");
+    const std::string commands[] = {"render " + scene.string() + " --spp 1 --no-display -o " + (dir_ / "out.exr").string(),
+                                    "converge " + scene.string() + " --spp 1,2 --reference-spp 2 -o " + (dir_ / "study").string(),
+                                    "crosscheck " + scene.string() + " --rays 4000"};
+    const std::string reports[] = {"rendered 8x6", "reference: 8x6", "100.00000%"};
+    for (int i = 0; i < 3; ++i) {
+        const RunResult r = runPenumbra(commands[i] + " --patch " + good.string());
+        EXPECT_EQ(r.exitCode, 0) << commands[i] << "\n" << r.output;
+        EXPECT_TRUE(contains(r, reports[i])) << commands[i] << "\n" << r.output;
+        const RunResult refused = runPenumbra(commands[i] + " --patch " + bad.string());
+        EXPECT_EQ(refused.exitCode, 1) << commands[i];
+        EXPECT_TRUE(contains(refused, "/shapes/0/radius")) << commands[i] << "\n" << refused.output;
+    }
+}
+
 TEST_F(PbrtCommandLine, ConvertWritesJsonThatRenders) {
     const fs::path scene = write("scene.pbrt", kScene);
     fs::create_directories(dir_ / "json");
