@@ -19,9 +19,9 @@
 #include <fmt/format.h>
 
 #include "accel/embree_accelerator.h"
-#include "scenes/pbrt/parser.h"
-#include "scenes/pbrt/pbrt_reader.h"
-#include "scenes/scene_file.h"
+#include "formats/pbrt/parser.h"
+#include "formats/pbrt/pbrt_reader.h"
+#include "formats/scene_file.h"
 
 namespace fs = std::filesystem;
 using namespace penumbra;

@@ -2,7 +2,7 @@
 // penumbra's format and the native loader that builds the result. The scene "lives" in
 // tests/data/pbrt/scenes, so Include, Import and mesh names can reach the fixture files there.
 #include "fuzz/fuzz_input.h"
-#include "scenes/pbrt/pbrt_reader.h"
+#include "formats/pbrt/pbrt_reader.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     static const std::filesystem::path scene = std::filesystem::path(PENUMBRA_TEST_DATA_DIR) / "pbrt/scenes/fuzz.pbrt";

@@ -12,7 +12,7 @@ import re
 import sys
 
 # Lowest first; folders in one tuple share a layer.
-LAYERS = [("core",), ("textures",), ("geometry",), ("materials", "cameras", "lights"), ("scenes",), ("accel",), ("film",),
+LAYERS = [("core",), ("textures",), ("geometry",), ("materials", "cameras", "lights"), ("scenes",), ("formats",), ("accel",), ("film",),
           ("renderer",), ("tools",)]
 RANK = {folder: rank for rank, folders in enumerate(LAYERS) for folder in folders}
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"/]+)/[^"]+"', re.MULTILINE)

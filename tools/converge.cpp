@@ -21,7 +21,7 @@
 #include "renderer/render.h"
 #include "tools/cli_numbers.h"
 #include "tools/split_text.h"
-#include "scenes/scene_file.h"
+#include "formats/scene_file.h"
 
 namespace penumbra {
 

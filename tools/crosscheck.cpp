@@ -18,7 +18,7 @@
 #include "geometry/surface_interaction.h"
 #include "accel/bvh_accelerator.h"
 #include "accel/embree_accelerator.h"
-#include "scenes/scene_file.h"
+#include "formats/scene_file.h"
 
 namespace penumbra {
 

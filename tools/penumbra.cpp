@@ -34,7 +34,7 @@
 #include "film/image_output.h"
 #include "renderer/render.h"
 #include "renderer/render_job.h"
-#include "scenes/scene_file.h"
+#include "formats/scene_file.h"
 #include "textures/texture_plugin_loader.h"
 #include "tools/adaptive_options.h"
 #include "tools/cli_numbers.h"

@@ -1,4 +1,4 @@
-// pbrt-v4 scenes rendered directly (scenes/scene_file.h):
+// pbrt-v4 scenes rendered directly (formats/scene_file.h):
 //  - orientation: where pbrt-v4 puts an object at world -x, for its left-handed LookAt, for the
 //    Scale -1 1 1 idiom and for a camera looking down +z;
 //  - `penumbra convert` then rendering the JSON gives the same image, bit for bit, as rendering
@@ -25,7 +25,7 @@
 
 #include "film/film.h"
 #include "renderer/render.h"
-#include "scenes/scene_file.h"
+#include "formats/scene_file.h"
 
 namespace penumbra {
 namespace {

@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "scenes/json_reader.h"
-#include "scenes/pbrt/scene_builder.h"
 #include "scenes/scene.h"
+#include "formats/pbrt/scene_builder.h"
 
 namespace penumbra::pbrt {
 

@@ -1,4 +1,4 @@
-// The grammar of pbrt-v4 scenes (scenes/pbrt/tokenizer.h, parameter_list.h, parser.h): tokens and
+// The grammar of pbrt-v4 scenes (formats/pbrt/tokenizer.h, parameter_list.h, parser.h): tokens and
 // their places, every parameter type with and without brackets, each directive's arguments, and
 // Include / Import.
 #include <gtest/gtest.h>
@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "core/error.h"
-#include "scenes/pbrt/parser.h"
-#include "scenes/pbrt/tokenizer.h"
-#include "scenes/pbrt/warning_log.h"
+#include "formats/pbrt/parser.h"
+#include "formats/pbrt/tokenizer.h"
+#include "formats/pbrt/warning_log.h"
 
 namespace penumbra::pbrt {
 namespace {

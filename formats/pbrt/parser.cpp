@@ -1,4 +1,4 @@
-#include "scenes/pbrt/parser.h"
+#include "formats/pbrt/parser.h"
 
 #include <fmt/format.h>
 
@@ -10,7 +10,7 @@
 
 #include "core/input_file.h"
 #include "core/input_limits.h"
-#include "scenes/pbrt/tokenizer.h"
+#include "formats/pbrt/tokenizer.h"
 
 namespace penumbra::pbrt {
 

@@ -1,4 +1,4 @@
-#include "scenes/pbrt/warning_log.h"
+#include "formats/pbrt/warning_log.h"
 
 #include <fmt/format.h>
 

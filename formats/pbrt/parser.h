@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "core/error.h"
-#include "scenes/pbrt/parameter_list.h"
+#include "formats/pbrt/parameter_list.h"
 
 namespace penumbra::pbrt {
 

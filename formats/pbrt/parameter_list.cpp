@@ -1,11 +1,11 @@
-#include "scenes/pbrt/parameter_list.h"
+#include "formats/pbrt/parameter_list.h"
 
 #include <fmt/format.h>
 
 #include <array>
 #include <cmath>
 
-#include "scenes/pbrt/warning_log.h"
+#include "formats/pbrt/warning_log.h"
 
 namespace penumbra::pbrt {
 

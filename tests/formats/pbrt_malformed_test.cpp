@@ -8,7 +8,7 @@
 #include <string>
 
 #include "core/error.h"
-#include "scenes/scene_file.h"
+#include "formats/scene_file.h"
 
 namespace penumbra {
 namespace {

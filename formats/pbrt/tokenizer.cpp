@@ -1,4 +1,4 @@
-#include "scenes/pbrt/tokenizer.h"
+#include "formats/pbrt/tokenizer.h"
 
 #include <fmt/format.h>
 

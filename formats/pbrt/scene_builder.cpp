@@ -1,4 +1,4 @@
-#include "scenes/pbrt/scene_builder.h"
+#include "formats/pbrt/scene_builder.h"
 
 #include <fmt/format.h>
 

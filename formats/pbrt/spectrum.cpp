@@ -1,4 +1,4 @@
-#include "scenes/pbrt/spectrum.h"
+#include "formats/pbrt/spectrum.h"
 
 #include <array>
 #include <cmath>

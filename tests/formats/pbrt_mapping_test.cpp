@@ -1,4 +1,4 @@
-// What each pbrt-v4 directive becomes in penumbra's scene (scenes/pbrt/scene_builder.h,
+// What each pbrt-v4 directive becomes in penumbra's scene (formats/pbrt/scene_builder.h,
 // materials.h, spectrum.h), checked on the converted document and on the built Scene. Expected
 // values come from pbrt-v4's definitions (cameras.cpp, lights.cpp, materials.cpp), worked out by
 // hand in the comments.
@@ -16,10 +16,10 @@
 #include <vector>
 
 #include "core/error.h"
-#include "scenes/pbrt/pbrt_reader.h"
-#include "scenes/pbrt/spectrum.h"
-#include "scenes/scene_file.h"
 #include "scenes/scene_loader.h"
+#include "formats/pbrt/pbrt_reader.h"
+#include "formats/pbrt/spectrum.h"
+#include "formats/scene_file.h"
 
 namespace penumbra::pbrt {
 namespace {

@@ -1,11 +1,11 @@
-#include "scenes/pbrt/materials.h"
+#include "formats/pbrt/materials.h"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 
-#include "scenes/pbrt/spectrum.h"
+#include "formats/pbrt/spectrum.h"
 
 namespace penumbra::pbrt {
 

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "core/error.h"
-#include "scenes/pbrt/double_math.h"
+#include "formats/pbrt/double_math.h"
 
 namespace penumbra::pbrt {
 

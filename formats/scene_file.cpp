@@ -1,4 +1,4 @@
-#include "scenes/scene_file.h"
+#include "formats/scene_file.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -6,8 +6,8 @@
 #include "core/input_file.h"
 #include "core/input_limits.h"
 #include "scenes/json_reader.h"
-#include "scenes/pbrt/pbrt_reader.h"
 #include "scenes/scene_loader.h"
+#include "formats/pbrt/pbrt_reader.h"
 
 namespace penumbra {
 

@@ -1,4 +1,4 @@
-#include "scenes/pbrt/pbrt_reader.h"
+#include "formats/pbrt/pbrt_reader.h"
 
 #include <fmt/format.h>
 

@@ -9,12 +9,12 @@
 
 #include "core/rgb.h"
 #include "scenes/json_reader.h"
-#include "scenes/pbrt/parameter_list.h"
-#include "scenes/pbrt/warning_log.h"
+#include "formats/pbrt/parameter_list.h"
+#include "formats/pbrt/warning_log.h"
 
 namespace penumbra::pbrt {
 
-// What an emitter's or a reflector's spectrum means (scenes/pbrt/spectrum.h): the two are
+// What an emitter's or a reflector's spectrum means (formats/pbrt/spectrum.h): the two are
 // converted to RGB differently.
 enum class SpectrumUse : uint8_t { Reflectance, Emission, Unbounded };
 

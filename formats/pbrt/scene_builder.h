@@ -8,7 +8,7 @@
 // the image's right, +y up, +z forward, with the image as pbrt-v4 shows it), the fov is for the
 // shorter image axis, area lights are one-sided on the side of the surface normal pbrt-v4 computes
 // (ReverseOrientation, mirroring transforms and mesh normals included), and RGB values are taken
-// as pbrt-v4 uses them (scenes/pbrt/spectrum.h).
+// as pbrt-v4 uses them (formats/pbrt/spectrum.h).
 #pragma once
 
 #include <array>
@@ -19,10 +19,10 @@
 #include <vector>
 
 #include "scenes/json_reader.h"
-#include "scenes/pbrt/double_math.h"
-#include "scenes/pbrt/materials.h"
-#include "scenes/pbrt/parser.h"
-#include "scenes/pbrt/warning_log.h"
+#include "formats/pbrt/double_math.h"
+#include "formats/pbrt/materials.h"
+#include "formats/pbrt/parser.h"
+#include "formats/pbrt/warning_log.h"
 
 namespace penumbra::pbrt {
 
