@@ -68,12 +68,12 @@ EnvironmentLight EnvironmentLight::fromImage(EnvironmentImage image, Rgb scale, 
     std::vector<float> weights(image.texels.size());
     double sum[3] = {0.0, 0.0, 0.0}, solidAngle = 0.0;
     for (int y = 0; y < image.height; ++y) {
-        const double sine = rowSolidAngle(y, image.height, image.mapping);
+        const double texelSolidAngle = rowSolidAngle(y, image.height, image.mapping);
         for (int x = 0; x < image.width; ++x) {
             const Rgb texel = image.at(x, y);
-            weights[size_t(y) * size_t(image.width) + size_t(x)] = float(double(texel.luminance()) * sine);
-            for (int c = 0; c < 3; ++c) sum[c] += double(texel[c]) * sine;
-            solidAngle += sine;
+            weights[size_t(y) * size_t(image.width) + size_t(x)] = float(double(texel.luminance()) * texelSolidAngle);
+            for (int c = 0; c < 3; ++c) sum[c] += double(texel[c]) * texelSolidAngle;
+            solidAngle += texelSolidAngle;
         }
     }
     data->average = solidAngle > 0.0 ? Rgb(float(sum[0] / solidAngle), float(sum[1] / solidAngle), float(sum[2] / solidAngle))
