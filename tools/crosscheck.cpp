@@ -395,13 +395,42 @@ std::optional<MismatchKind> MismatchClassifier::explainHit(const Ray& ray, const
 }
 
 // A flat triangle cannot be hit again by a ray leaving it; a sphere can (from inside), but not
-// within twice the origin's offset.
+// within twice the origin's offset. A ray that does not leave its triangle, pointing back through
+// its plane at a glancing angle, is not a self-intersection but a grazing hit: a shadow ray towards
+// a light on the horizon (|cos| near 1e-7), whose side was chosen from the direction at the hit
+// point and whose direction is taken from the moved origin, can start above the plane and end
+// below it. A ray crossing its plane at a larger angle still is one (a wrong side is a bug).
 bool MismatchClassifier::isSelfIntersection(const CrosscheckRay& cray, const BackendAnswer& answer) const {
     if (!cray.leavesSurface || !answer.hasHit) return false;
     const Hit& hit = answer.hit;
     if (hit.geomId != cray.sourceGeomId || hit.primId != cray.sourcePrimId) return false;
-    return isTriangleHit(scene_, hit) ||
-           double(hit.t) * double(length(cray.ray.direction)) <= 2.0 * double(cray.sourceDistance);
+    if (isTriangleHit(scene_, hit)) return !crossesItsTriangleAtAGlance(cray.ray, hit);
+    return double(hit.t) * double(length(cray.ray.direction)) <= 2.0 * double(cray.sourceDistance);
+}
+
+// Whether the ray starts on one side of the plane of triangle `hit` and points to the other, at a
+// glancing angle (|cos| < kGrazingCosine). In double, in the triangle's own space: the offset puts
+// the origin at least a float ulp off the plane, far beyond double's rounding.
+bool MismatchClassifier::crossesItsTriangleAtAGlance(const Ray& ray, const Hit& hit) const {
+    const ShapeRef shape = scene_.shapeOf(hit);
+    const TriangleMesh& mesh = scene_.triangleMeshOf(shape);
+    if (mesh.moves()) return false;
+    detail::ObjectSpaceRay objectRay{ray.origin, ray.direction};
+    if (shape.kind == ShapeKind::Instance) objectRay = detail::toObjectSpace(scene_.toWorldOf(shape, ray.time), ray);
+    using V = std::array<double, 3>;
+    const auto point = [&](int k) {
+        const Vec3f p = mesh.positions[mesh.indices[3 * size_t(shape.primitive) + k]];
+        return V{p.x, p.y, p.z};
+    };
+    const auto minus = [](const V& a, const V& b) { return V{a[0] - b[0], a[1] - b[1], a[2] - b[2]}; };
+    const auto dotD = [](const V& a, const V& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
+    const V p0 = point(0), e1 = minus(point(1), p0), e2 = minus(point(2), p0);
+    const V n{e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    const V origin{objectRay.origin.x, objectRay.origin.y, objectRay.origin.z};
+    const V direction{objectRay.direction.x, objectRay.direction.y, objectRay.direction.z};
+    const double side = dotD(minus(origin, p0), n), along = dotD(direction, n);
+    const double cosine = std::abs(along) / std::sqrt(dotD(n, n) * dotD(direction, direction));
+    return side * along < 0.0 && cosine < double(kGrazingCosine);
 }
 
 // Our triangle test rejects hits within its error bound on t of the origin (geometry/
