@@ -222,6 +222,15 @@ double relativeDifference(double a, double b) {
 
 bool isTriangleHit(const Scene& scene, const Hit& hit) { return scene.shapeOf(hit).kind != ShapeKind::Sphere; }
 
+// The triangle `ray` leaves, if it leaves one.
+TriangleLeft triangleLeft(const Scene& scene, const CrosscheckRay& ray) {
+    if (!ray.leavesSurface) return {};
+    Hit source;
+    source.geomId = ray.sourceGeomId;
+    source.primId = ray.sourcePrimId;
+    return isTriangleHit(scene, source) ? TriangleLeft{source.geomId, source.primId} : TriangleLeft{};
+}
+
 bool isNearEdge(const Scene& scene, const Hit& hit) {
     if (!isTriangleHit(scene, hit)) return false;
     const float b0 = 1.0f - hit.u - hit.v;
@@ -483,18 +492,20 @@ CrosscheckReport compareBackends(const Scene& scene, const BvhAccelerator& ours,
     for (const CrosscheckRay& r : rays) {
         BackendAnswer a, b;
         bool agree;
+        // As the integrator traces it: a ray leaving a triangle names it.
+        const TriangleLeft left = triangleLeft(scene, r);
         if (r.isSegment()) {
-            a.hitSomething = ours.occluded(r.ray);
-            b.hitSomething = embree.occluded(r.ray);
+            a.hitSomething = ours.occluded(r.ray, left);
+            b.hitSomething = embree.occluded(r.ray, left);
             agree = a.hitSomething == b.hitSomething;
             if (!agree) {
                 // The closest blocker of the backend that saw one, to classify the disagreement.
-                if (a.hitSomething) a.hasHit = ours.intersect(r.ray, a.hit);
-                if (b.hitSomething) b.hasHit = embree.intersect(r.ray, b.hit);
+                if (a.hitSomething) a.hasHit = ours.intersect(r.ray, a.hit, left);
+                if (b.hitSomething) b.hasHit = embree.intersect(r.ray, b.hit, left);
             }
         } else {
-            a.hitSomething = a.hasHit = ours.intersect(r.ray, a.hit);
-            b.hitSomething = b.hasHit = embree.intersect(r.ray, b.hit);
+            a.hitSomething = a.hasHit = ours.intersect(r.ray, a.hit, left);
+            b.hitSomething = b.hasHit = embree.intersect(r.ray, b.hit, left);
             agree = a.hitSomething == b.hitSomething && (!a.hitSomething || samePrimitive(a.hit, b.hit));
             if (agree && a.hitSomething) {
                 const double relative = relativeDifference(a.hit.t, b.hit.t);
