@@ -53,6 +53,10 @@ public:
     static constexpr int kPacketSize = 1;  // no packet kernel
     bool intersect(const Ray& ray, Hit& hit) const;
     bool occluded(const Ray& ray) const;
+    // The triangle a ray leaves needs no skipping: the triangle test rejects hits within its own
+    // error bound on t of the origin (geometry/ray_triangle.h).
+    bool intersect(const Ray& ray, Hit& hit, TriangleLeft) const { return intersect(ray, hit); }
+    bool occluded(const Ray& ray, TriangleLeft) const { return occluded(ray); }
 
     struct Stats {
         size_t nodeCount = 0;  // 4-wide nodes

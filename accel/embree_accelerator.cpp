@@ -67,8 +67,10 @@ RTCGeometry newSphereGeometry(RTCDevice device, const std::vector<const Sphere*>
 RTCScene newScene(RTCDevice device, const EmbreeOptions& options) {
     RTCScene scene = rtcNewScene(device);
     // Robust mode avoids the optimizations that let rays slip through shared edges; high build
-    // quality because scenes are built once and traced billions of times.
-    if (options.robust) rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
+    // quality because scenes are built once and traced billions of times. Every scene, instanced
+    // ones too, calls the intersection context's filter (the triangle a ray leaves is skipped).
+    rtcSetSceneFlags(scene, RTCSceneFlags((options.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE) |
+                                          RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION));
     rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
     return scene;
 }
@@ -185,6 +187,18 @@ EmbreeAccelerator::~EmbreeAccelerator() {
     if (scene_) rtcReleaseScene(scene_);
     for (RTCScene child : instancedScenes_) rtcReleaseScene(child);
     if (device_) rtcReleaseDevice(device_);
+}
+
+// A candidate hit on the triangle the ray leaves is refused. Hits on a moving mesh or an instance
+// name it by instID[0] (its scene id, as setIds maps it); still meshes by geomID.
+void EmbreeAccelerator::skipTriangleLeft(const RTCFilterFunctionNArguments* args) {
+    const TriangleLeft left = reinterpret_cast<const LeavingContext*>(args->context)->left;
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] == 0) continue;
+        const unsigned instance = RTCHitN_instID(args->hit, args->N, i, 0);
+        const unsigned geomId = instance != RTC_INVALID_GEOMETRY_ID ? instance : RTCHitN_geomID(args->hit, args->N, i);
+        if (geomId == left.geomId && RTCHitN_primID(args->hit, args->N, i) == left.primId) args->valid[i] = 0;
+    }
 }
 
 void EmbreeAccelerator::intersectPacket(const Ray* rays, int count, Hit* hits, bool* found) const {

@@ -29,8 +29,18 @@ public:
     static constexpr std::string_view kName = "embree";
     // Embree's hits are its own (Plücker-form test): the integrator recomputes them.
     static constexpr bool kReportsCanonicalHits = false;
-    bool intersect(const Ray& ray, Hit& hit) const;
-    bool occluded(const Ray& ray) const;
+    bool intersect(const Ray& ray, Hit& hit) const { return intersect(ray, hit, TriangleLeft{}); }
+    bool occluded(const Ray& ray) const { return occluded(ray, TriangleLeft{}); }
+    // A ray leaving triangle `left` skips it. Embree's triangle test has no error bound on t: it
+    // measures the origin's distance from the plane with an error of a few ulps of the triangle's
+    // extent from the origin, while the origin's offset (core/ray_offset.h) covers the error of
+    // the hit point, a few ulps of its own coordinates. On the Cornell box, 1 in about 400,000
+    // rays leaving a surface met its triangle again at every scale (docs/limits.md). Skipping it
+    // is exact: a ray leaving a flat triangle cannot meet it again. Embree calls skipTriangleLeft
+    // on each candidate hit of such a ray (for intersect, only when its closest hit was that
+    // triangle).
+    bool intersect(const Ray& ray, Hit& hit, TriangleLeft left) const;
+    bool occluded(const Ray& ray, TriangleLeft left) const;
 
     // Up to kPacketSize coherent rays (a pixel's camera rays) traced together with Embree's packet
     // kernel, which traverses once for all of them; found[i] and hits[i] as intersect() gives them.
@@ -40,6 +50,19 @@ public:
     void intersectPacket(const Ray* rays, int count, Hit* hits, bool* found) const;
 
 private:
+    // The intersection context of a ray leaving a triangle: Embree's, then the triangle, for
+    // skipTriangleLeft (Embree passes the context it was given to the filter).
+    struct LeavingContext {
+        RTCIntersectContext context;
+        TriangleLeft left;
+    };
+    static void skipTriangleLeft(const RTCFilterFunctionNArguments* args);
+    static void initContext(LeavingContext& c, TriangleLeft left) {
+        rtcInitIntersectContext(&c.context);
+        c.left = left;
+        if (!left.isNone()) c.context.filter = skipTriangleLeft;
+    }
+
     // Embree's first two rows of a ray, (org, tnear) and (dir, time), when Embree may trace it:
     // Debian's Embree asserts on rays with NaN or infinite components (and would abort), so such
     // rays are answered without it (they hit nothing), and so are rays without a direction (all
@@ -95,30 +118,43 @@ inline bool EmbreeAccelerator::toTraceableEmbreeRay(const Ray& ray, RTCRay& out)
     return true;
 }
 
-inline bool EmbreeAccelerator::intersect(const Ray& ray, Hit& hit) const {
+inline bool EmbreeAccelerator::intersect(const Ray& ray, Hit& hit, TriangleLeft left) const {
     RTCRayHit rayHit;
     if (!toTraceableEmbreeRay(ray, rayHit.ray)) return false;
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
+    // Traced without the filter, which Embree would call on every closer candidate hit (7% of the
+    // throughput of incoherent rays, bench/README.md): only when the closest hit is the triangle
+    // left is the ray traced again, skipping it. The answer is the filtered one either way.
+    LeavingContext context;
+    initContext(context, TriangleLeft{});
     rayHit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rayHit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(scene_, &context, &rayHit);
+    rtcIntersect1(scene_, &context.context, &rayHit);
     if (rayHit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+    unsigned instance = rayHit.hit.instID[0];
+    if (!left.isNone() && rayHit.hit.primID == left.primId &&
+        (instance != RTC_INVALID_GEOMETRY_ID ? instance : rayHit.hit.geomID) == left.geomId) [[unlikely]] {
+        initContext(context, left);
+        rayHit.ray.tfar = ray.tfar;
+        rayHit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rayHit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(scene_, &context.context, &rayHit);
+        if (rayHit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+        instance = rayHit.hit.instID[0];
+    }
     hit.t = rayHit.ray.tfar;
     hit.u = rayHit.hit.u;
     hit.v = rayHit.hit.v;
     hit.geometricNormal = {rayHit.hit.Ng_x, rayHit.hit.Ng_y, rayHit.hit.Ng_z};
-    const unsigned instance = rayHit.hit.instID[0];
     setIds(instance != RTC_INVALID_GEOMETRY_ID ? instance : rayHit.hit.geomID, rayHit.hit.primID, hit);
     return true;
 }
 
-inline bool EmbreeAccelerator::occluded(const Ray& ray) const {
+inline bool EmbreeAccelerator::occluded(const Ray& ray, TriangleLeft left) const {
     RTCRay r;
     if (!toTraceableEmbreeRay(ray, r)) return false;
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    rtcOccluded1(scene_, &context, &r);
+    LeavingContext context;
+    initContext(context, left);
+    rtcOccluded1(scene_, &context.context, &r);
     // Embree marks an occluded ray by setting tfar to -infinity.
     return r.tfar < 0.0f;
 }

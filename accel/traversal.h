@@ -24,6 +24,9 @@ constexpr std::string_view acceleratorKindName(AcceleratorKind kind) {
 // Hit ids follow SceneGeometry's rule (geometry/scene_geometry.h).
 //   intersect(ray, hit): the closest hit with tnear <= t <= tfar; false when the ray escapes.
 //   occluded(ray): whether anything lies on the ray within [tnear, tfar].
+//   intersect(ray, hit, left), occluded(ray, left): the same for a ray leaving triangle `left`
+//     (geometry/hit.h), which may be skipped: a backend whose triangle test rejects hits within
+//     its own error bound on t (our BVH) needs no such help; Embree's test has no such bound.
 //   kName: as `--accel` spells it.
 //   kPacketSize: how many coherent rays intersectPacket(rays, count, hits, found) traces at once
 //     (1: the backend has no packet kernel and intersectPacket is not called).
@@ -33,6 +36,8 @@ template <typename T>
 concept TraversalBackend = requires(const T& backend, const Ray& ray, Hit& hit) {
     { backend.intersect(ray, hit) } -> std::same_as<bool>;
     { backend.occluded(ray) } -> std::same_as<bool>;
+    { backend.intersect(ray, hit, TriangleLeft{}) } -> std::same_as<bool>;
+    { backend.occluded(ray, TriangleLeft{}) } -> std::same_as<bool>;
     { T::kName } -> std::convertible_to<std::string_view>;
     { T::kPacketSize } -> std::convertible_to<int>;
     { T::kReportsCanonicalHits } -> std::convertible_to<bool>;

@@ -74,17 +74,21 @@ struct RecordingAccelerator {
     static constexpr int kPacketSize = 1;
     static constexpr bool kReportsCanonicalHits = EmbreeAccelerator::kReportsCanonicalHits;
 
-    bool intersect(const Ray& ray, Hit& hit) const {
+    // The paths are those of the render (the triangle a ray leaves skipped); the recording keeps
+    // the rays alone, replayed without it.
+    bool intersect(const Ray& ray, Hit& hit, TriangleLeft left) const {
         check(ray);
         out->push_back({ray.origin, ray.direction, ray.tfar, ray.time, first ? 0u : 1u});
         first = false;
-        return inner->intersect(ray, hit);
+        return inner->intersect(ray, hit, left);
     }
-    bool occluded(const Ray& ray) const {
+    bool occluded(const Ray& ray, TriangleLeft left) const {
         check(ray);
         out->push_back({ray.origin, ray.direction, ray.tfar, ray.time, 2u});
-        return inner->occluded(ray);
+        return inner->occluded(ray, left);
     }
+    bool occluded(const Ray& ray) const { return occluded(ray, TriangleLeft{}); }
+    bool intersect(const Ray& ray, Hit& hit) const { return intersect(ray, hit, TriangleLeft{}); }
     static void check(const Ray& ray) {
         if (ray.tnear != 0.0f) throw std::runtime_error("the recorder assumes tnear = 0");
     }

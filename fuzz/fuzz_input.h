@@ -18,6 +18,7 @@
 #include <string_view>
 
 #include "core/error.h"
+#include "textures/texture_plugin_loader.h"
 
 namespace penumbra::fuzz {
 
@@ -33,6 +34,18 @@ int expectReadOrInputError(Read read) {
     } catch (const InputError&) {
     }
     return 0;
+}
+
+// Loads the texture plugin (OpenImageIO and the libraries under it) before the first input, from
+// LLVMFuzzerInitialize, for the targets whose inputs can name an image texture. Its one-time
+// dlopen is not the reader's work, yet timed as part of the first input that needs it: on a loaded
+// machine it took over the 10 s a single input may take, a timeout on a seed that reads in 1 s.
+inline void loadTexturePluginBeforeFuzzing() {
+    try {
+        (void)texturePlugin();
+    } catch (const InputError&) {
+        // No plugin here: the inputs naming a texture get this error, as in penumbra.
+    }
 }
 
 // A file in a folder of this process's own (under $TMPDIR, else /tmp), rewritten for each input:

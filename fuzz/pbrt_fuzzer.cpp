@@ -4,6 +4,11 @@
 #include "fuzz/fuzz_input.h"
 #include "formats/pbrt/pbrt_reader.h"
 
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+    penumbra::fuzz::loadTexturePluginBeforeFuzzing();
+    return 0;
+}
+
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     static const std::filesystem::path scene = std::filesystem::path(PENUMBRA_TEST_DATA_DIR) / "pbrt/scenes/fuzz.pbrt";
     return penumbra::fuzz::expectReadOrInputError([&] {

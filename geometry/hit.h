@@ -17,4 +17,15 @@ struct Hit {
     uint32_t primId = 0;
 };
 
+// The triangle a ray leaves, by its hit ids. A ray leaving a flat triangle cannot meet it again,
+// so a hit on it is rounding: a backend whose triangle test has no error bound of its own
+// (Embree's) skips it. None for camera rays and rays leaving spheres, which can meet their sphere
+// again from inside.
+struct TriangleLeft {
+    static constexpr uint32_t kNone = ~0u;
+    uint32_t geomId = kNone;
+    uint32_t primId = 0;
+    bool isNone() const { return geomId == kNone; }
+};
+
 }  // namespace penumbra

@@ -159,6 +159,8 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
     Vec3f previousPosition = ray.origin;
     // A textured material's values at the current vertex (Material::at); untouched otherwise.
     std::optional<Material> textured;
+    // The triangle the current vertex lies on, which its bounce and shadow rays leave.
+    TriangleLeft left;
     ++rays.primary;
 
     for (uint32_t bounce = 0;; ++bounce) {
@@ -170,7 +172,7 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
             found = traced->found;
             hit = traced->hit;
         } else {
-            found = accel.intersect(ray, hit);
+            found = accel.intersect(ray, hit, left);
         }
         // --- Escape: the environment, weighted against its NEE.
         if (!found) {
@@ -188,6 +190,7 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
         const SurfaceInteraction si = Accel::kReportsCanonicalHits || !ctx.canonicalHits
                                           ? resolveHit<true>(*ctx.scene, ray, hit, ctx.faceFrames)
                                           : resolveHit<false>(*ctx.scene, ray, hit, ctx.faceFrames);
+        left = si.shape.kind == ShapeKind::Sphere ? TriangleLeft{} : TriangleLeft{hit.geomId, hit.primId};
         // Bounce rays leave in unit directions (the BSDF's, turned into the world); only the
         // caller's camera ray may not be.
         const Vec3f wo = bounce == 0 ? -normalize(ray.direction) : -ray.direction;
@@ -289,7 +292,7 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
         // --- The pending shadow ray.
         if (castsShadowRay) {
             ++rays.shadow;
-            if (!accel.occluded(shadowRay)) radiance += shadowContribution;
+            if (!accel.occluded(shadowRay, left)) radiance += shadowContribution;
         }
         if (!continues) break;
         ++rays.extension;

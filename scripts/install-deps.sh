@@ -2,7 +2,7 @@
 # Installs the Debian 12 packages penumbra needs, skipping those already present. Works as root or
 # through sudo.
 #
-#   scripts/install-deps.sh [GROUP...]   groups: build tools test bench fuzz (default: build tools)
+#   scripts/install-deps.sh [GROUP...]   groups: build tools test bench fuzz tsan (default: build tools)
 #
 # It says how much it will download before it starts; apt's own output goes to
 # build/install-deps.log.
@@ -29,12 +29,15 @@ groups[test]="libgtest-dev libgmock-dev python3 slurm-wlm munge"
 groups[bench]="libbenchmark-dev embree-tools time python3-numpy python3-openimageio openimageio-tools blender"
 # Fuzzing (scripts/fuzz.sh): clang 14 with the libFuzzer and sanitizer runtimes.
 groups[fuzz]="clang libclang-rt-14-dev"
+# The ThreadSanitizer build (scripts/build-tsan-tbb.sh): "apt-get source" unpacks Debian's oneTBB
+# source with dpkg-source, from a .tar.xz.
+groups[tsan]="dpkg-dev xz-utils"
 
 selected=("$@")
 [ ${#selected[@]} -eq 0 ] && selected=(build tools)
 packages=()
 for group in "${selected[@]}"; do
-    [ -n "${groups[$group]+set}" ] || { echo "penumbra: unknown package group '$group' (build, tools, test, bench, fuzz)" >&2; exit 2; }
+    [ -n "${groups[$group]+set}" ] || { echo "penumbra: unknown package group '$group' (build, tools, test, bench, fuzz, tsan)" >&2; exit 2; }
     read -r -a list <<< "$(echo ${groups[$group]})"
     packages+=("${list[@]}")
 done

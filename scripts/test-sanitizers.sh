@@ -4,12 +4,15 @@
 #    on) over the test programs of the parsers, the film, the BVH and the render loop, and the
 #    command-line program end to end on hostile input. CI runs it after the test suites.
 #  - "tsan", build-tsan/: ThreadSanitizer over the render loop's tests (determinism across thread
-#    counts, resume and checkpoints), with tests/tsan.supp. Not clean with Debian's uninstrumented
-#    TBB (the document says why), so CI does not run it.
+#    counts, resume and checkpoints), with tests/tsan.supp. Linked against Debian's oneTBB source
+#    built with ThreadSanitizer (scripts/build-tsan-tbb.sh, into build-tsan/onetbb/): Debian's
+#    libtbb.so is not instrumented, and TSan would see none of TBB's synchronisation. CI runs it
+#    after the ASan build.
 # Any report fails the run. Argument: "asan" or "tsan" to run one of them (default: both).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh build tools test
+[ "${1:-tsan}" = tsan ] && scripts/install-deps.sh tsan
 
 # The CLI (the end-to-end hostile input tests run it) and the test programs of each build.
 asan_targets=(penumbra penumbra_scenes_test materials_loader_test film_exr_test film_merge_test hostile_film_test
@@ -19,18 +22,32 @@ tsan_targets=(integrator_test render_job_test)
 
 generator=()
 command -v ninja >/dev/null && generator=(-G Ninja)
-# build_and_test DIR SANITIZERS TARGETS...: configures (once), builds the targets and runs the tests
-# of those that are test programs.
+# build_and_test DIR SANITIZERS TARGETS...: configures (once, and again when extra_cmake_args are
+# set), builds the targets and runs the tests of those that are test programs.
+extra_cmake_args=()
 build_and_test() {
     local dir=$1 sanitizers=$2
     shift 2
-    if [ ! -f "$dir/CMakeCache.txt" ]; then
+    if [ ! -f "$dir/CMakeCache.txt" ] || [ ${#extra_cmake_args[@]} -gt 0 ]; then
         cmake -S . -B "$dir" "${generator[@]}" -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" \
-            -DPENUMBRA_SANITIZE="$sanitizers"
+            -DPENUMBRA_SANITIZE="$sanitizers" "${extra_cmake_args[@]}"
     fi
     cmake --build "$dir" --parallel "$(nproc)" --target "$@"
     local tests=() labels
     for t in "$@"; do [[ $t == *_test ]] && tests+=("$t"); done
+    # A run against the wrong library would be a run of something else: each test program must
+    # load $required_library when it is set (the TSan build: the instrumented TBB).
+    if [ -n "${required_library:-}" ]; then
+        for t in "${tests[@]}"; do
+            local program
+            program=$(find "$dir/tests" -type f -name "$t" -perm -u+x | head -n 1)
+            if ! ldd "$program" | grep -F "$required_library" >/dev/null; then
+                echo "scripts/test-sanitizers.sh: $program does not load $required_library:" >&2
+                ldd "$program" | grep -F libtbb >&2 || true
+                return 1
+            fi
+        done
+    fi
     labels="^($(IFS='|'; echo "${tests[*]}"))\$"
     local log="$dir/ctest-output.log"
     if ctest --test-dir "$dir" -L "$labels" --output-on-failure --parallel "$(nproc)" 2>&1 | tee "$log"; then
@@ -61,6 +78,10 @@ if [ "${1:-asan}" = asan ]; then
     build_and_test build-asan address,undefined "${asan_targets[@]}"
 fi
 if [ "${1:-tsan}" = tsan ]; then
+    scripts/build-tsan-tbb.sh build-tsan/onetbb
+    tbb_lib="$PWD/build-tsan/onetbb/install/lib"
+    extra_cmake_args=(-DTBB_DIR="$tbb_lib/cmake/TBB")
+    required_library="libtbb.so.12 => $tbb_lib/"
     export TSAN_OPTIONS="suppressions=$supp/tsan.supp:halt_on_error=1:second_deadlock_stack=1"
     build_and_test build-tsan thread "${tsan_targets[@]}"
 fi

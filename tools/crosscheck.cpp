@@ -222,6 +222,15 @@ double relativeDifference(double a, double b) {
 
 bool isTriangleHit(const Scene& scene, const Hit& hit) { return scene.shapeOf(hit).kind != ShapeKind::Sphere; }
 
+// The triangle `ray` leaves, if it leaves one.
+TriangleLeft triangleLeft(const Scene& scene, const CrosscheckRay& ray) {
+    if (!ray.leavesSurface) return {};
+    Hit source;
+    source.geomId = ray.sourceGeomId;
+    source.primId = ray.sourcePrimId;
+    return isTriangleHit(scene, source) ? TriangleLeft{source.geomId, source.primId} : TriangleLeft{};
+}
+
 bool isNearEdge(const Scene& scene, const Hit& hit) {
     if (!isTriangleHit(scene, hit)) return false;
     const float b0 = 1.0f - hit.u - hit.v;
@@ -395,13 +404,42 @@ std::optional<MismatchKind> MismatchClassifier::explainHit(const Ray& ray, const
 }
 
 // A flat triangle cannot be hit again by a ray leaving it; a sphere can (from inside), but not
-// within twice the origin's offset.
+// within twice the origin's offset. A ray that does not leave its triangle, pointing back through
+// its plane at a glancing angle, is not a self-intersection but a grazing hit: a shadow ray towards
+// a light on the horizon (|cos| near 1e-7), whose side was chosen from the direction at the hit
+// point and whose direction is taken from the moved origin, can start above the plane and end
+// below it. A ray crossing its plane at a larger angle still is one (a wrong side is a bug).
 bool MismatchClassifier::isSelfIntersection(const CrosscheckRay& cray, const BackendAnswer& answer) const {
     if (!cray.leavesSurface || !answer.hasHit) return false;
     const Hit& hit = answer.hit;
     if (hit.geomId != cray.sourceGeomId || hit.primId != cray.sourcePrimId) return false;
-    return isTriangleHit(scene_, hit) ||
-           double(hit.t) * double(length(cray.ray.direction)) <= 2.0 * double(cray.sourceDistance);
+    if (isTriangleHit(scene_, hit)) return !crossesItsTriangleAtAGlance(cray.ray, hit);
+    return double(hit.t) * double(length(cray.ray.direction)) <= 2.0 * double(cray.sourceDistance);
+}
+
+// Whether the ray starts on one side of the plane of triangle `hit` and points to the other, at a
+// glancing angle (|cos| < kGrazingCosine). In double, in the triangle's own space: the offset puts
+// the origin at least a float ulp off the plane, far beyond double's rounding.
+bool MismatchClassifier::crossesItsTriangleAtAGlance(const Ray& ray, const Hit& hit) const {
+    const ShapeRef shape = scene_.shapeOf(hit);
+    const TriangleMesh& mesh = scene_.triangleMeshOf(shape);
+    if (mesh.moves()) return false;
+    detail::ObjectSpaceRay objectRay{ray.origin, ray.direction};
+    if (shape.kind == ShapeKind::Instance) objectRay = detail::toObjectSpace(scene_.toWorldOf(shape, ray.time), ray);
+    using V = std::array<double, 3>;
+    const auto point = [&](int k) {
+        const Vec3f p = mesh.positions[mesh.indices[3 * size_t(shape.primitive) + k]];
+        return V{p.x, p.y, p.z};
+    };
+    const auto minus = [](const V& a, const V& b) { return V{a[0] - b[0], a[1] - b[1], a[2] - b[2]}; };
+    const auto dotD = [](const V& a, const V& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
+    const V p0 = point(0), e1 = minus(point(1), p0), e2 = minus(point(2), p0);
+    const V n{e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    const V origin{objectRay.origin.x, objectRay.origin.y, objectRay.origin.z};
+    const V direction{objectRay.direction.x, objectRay.direction.y, objectRay.direction.z};
+    const double side = dotD(minus(origin, p0), n), along = dotD(direction, n);
+    const double cosine = std::abs(along) / std::sqrt(dotD(n, n) * dotD(direction, direction));
+    return side * along < 0.0 && cosine < double(kGrazingCosine);
 }
 
 // Our triangle test rejects hits within its error bound on t of the origin (geometry/
@@ -454,18 +492,20 @@ CrosscheckReport compareBackends(const Scene& scene, const BvhAccelerator& ours,
     for (const CrosscheckRay& r : rays) {
         BackendAnswer a, b;
         bool agree;
+        // As the integrator traces it: a ray leaving a triangle names it.
+        const TriangleLeft left = triangleLeft(scene, r);
         if (r.isSegment()) {
-            a.hitSomething = ours.occluded(r.ray);
-            b.hitSomething = embree.occluded(r.ray);
+            a.hitSomething = ours.occluded(r.ray, left);
+            b.hitSomething = embree.occluded(r.ray, left);
             agree = a.hitSomething == b.hitSomething;
             if (!agree) {
                 // The closest blocker of the backend that saw one, to classify the disagreement.
-                if (a.hitSomething) a.hasHit = ours.intersect(r.ray, a.hit);
-                if (b.hitSomething) b.hasHit = embree.intersect(r.ray, b.hit);
+                if (a.hitSomething) a.hasHit = ours.intersect(r.ray, a.hit, left);
+                if (b.hitSomething) b.hasHit = embree.intersect(r.ray, b.hit, left);
             }
         } else {
-            a.hitSomething = a.hasHit = ours.intersect(r.ray, a.hit);
-            b.hitSomething = b.hasHit = embree.intersect(r.ray, b.hit);
+            a.hitSomething = a.hasHit = ours.intersect(r.ray, a.hit, left);
+            b.hitSomething = b.hasHit = embree.intersect(r.ray, b.hit, left);
             agree = a.hitSomething == b.hitSomething && (!a.hitSomething || samePrimitive(a.hit, b.hit));
             if (agree && a.hitSomething) {
                 const double relative = relativeDifference(a.hit.t, b.hit.t);

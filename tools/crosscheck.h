@@ -19,7 +19,8 @@
 //    within our triangle test's error bound on t of tnear (which that test rejects).
 // Two are failures: a self-intersection (a ray leaving a surface, a bounce or shadow ray, hits the
 // triangle it leaves, or the sphere it leaves within twice its offset: an offset or an error bound
-// is too small) and anything else, which is unexplained: a bug in one of the backends.
+// is too small; but not a ray that points back through its triangle's plane at a glancing angle,
+// which is grazing) and anything else, which is unexplained: a bug in one of the backends.
 //
 // Two distances along a ray agree when the points they give are closer than kDistanceTolerance
 // times (the distance travelled + the magnitude of the scene's coordinates): a ray starting a hair
@@ -146,6 +147,7 @@ public:
 private:
     std::optional<MismatchKind> explainHit(const Ray& ray, const Hit& hit) const;
     bool isSelfIntersection(const CrosscheckRay& ray, const BackendAnswer& answer) const;
+    bool crossesItsTriangleAtAGlance(const Ray& ray, const Hit& hit) const;
     bool withinTriangleTestError(const Ray& ray, const Hit& hit) const;
 
     const Scene& scene_;

@@ -154,6 +154,29 @@ TEST_F(Classification, NamesSelfIntersections) {
     EXPECT_EQ(report.failures(), 1u);
 }
 
+// A shadow ray towards a light on the floor's horizon may start above the floor and point a hair
+// below it (the side is chosen from the direction at the hit point, the direction taken from the
+// moved origin): meeting the triangle it leaves is then a grazing hit (both answers are within
+// rounding), as Embree's hits on the Cornell box's boxes at cos ~ 1e-7 were. Crossing the plane
+// at a larger angle is a ray sent to the wrong side: still a self-intersection.
+TEST_F(Classification, ARayBackThroughItsTriangleAtAGlanceIsGrazing) {
+    const MismatchClassifier classifier(scene);
+    const BackendAnswer miss;
+    CrosscheckRay horizon = ray({0.5f, 0.5f, 1e-7f}, {1, 0, -2e-7f}, CrosscheckRayKind::Shadow);
+    horizon.leavesSurface = true;
+    horizon.sourceGeomId = 0;
+    horizon.sourcePrimId = 1;
+    horizon.sourceDistance = 2e-7f;
+    EXPECT_EQ(classifier.classify(horizon, miss, hit(0, 1, 0.5f)), MismatchKind::Grazing);
+    // Leaving at a glancing angle without crossing the plane: a hit on its triangle is impossible.
+    CrosscheckRay above = horizon;
+    above.ray.direction = {1, 0, 2e-7f};
+    EXPECT_EQ(classifier.classify(above, miss, hit(0, 1, 0.5f)), MismatchKind::SelfIntersection);
+    CrosscheckRay steep = horizon;
+    steep.ray.direction = {0.6f, 0, -0.8f};
+    EXPECT_EQ(classifier.classify(steep, miss, hit(0, 1, 1.25e-7f)), MismatchKind::SelfIntersection);
+}
+
 TEST(Crosscheck, BoxSceneAgreesAndReportsFigures) {
     CrosscheckOptions options;
     options.rays = 20000;
