@@ -1,4 +1,4 @@
-// Reading pbrt-v4 scenes (scenes/pbrt): parse speed in MB/s for a 1M-triangle ASCII
+// Reading pbrt-v4 scenes (formats/pbrt): parse speed in MB/s for a 1M-triangle ASCII
 // "trianglemesh" and for a 1M-triangle binary PLY named by a "plymesh", and the time to load the
 // 871k-triangle Stanford dragon from a .pbrt file against Embree's build of the same mesh, in the
 // same run (the peer: loading must not be the slower half of getting a scene ready).

@@ -1,4 +1,4 @@
-// The pbrt-v4 reader (scenes/pbrt): tokenizer, typed parameter lists, directives, the mapping to
+// The pbrt-v4 reader (formats/pbrt): tokenizer, typed parameter lists, directives, the mapping to
 // penumbra's format and the native loader that builds the result. The scene "lives" in
 // tests/data/pbrt/scenes, so Include, Import and mesh names can reach the fixture files there.
 #include "fuzz/fuzz_input.h"

@@ -123,8 +123,10 @@ public:
 
     // Reflectance for the albedo AOV (as denoisers expect it): a diffuse albedo (a coated base's
     // too), Phong's kd + ks, a mirror's tint, a conductor's reflectance at normal incidence, white
-    // for what transmits.
-    Rgb albedo() const {
+    // for what transmits. Out of line: asked once per camera ray, its visit of every model (complex
+    // Fresnel for conductors) inlined into the integrator's loop made that loop slower
+    // (bench/README.md, "Speed tricks").
+    [[gnu::noinline]] Rgb albedo() const {
         return std::visit([](const auto& m) { return m.reflectanceForAov(); }, model_);
     }
 

@@ -27,6 +27,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <new>
 #include <optional>
 
 #include "accel/traversal.h"
@@ -121,6 +122,33 @@ inline bool isUnit(Vec3f v) { return std::abs(length(v) - 1.0f) < 1e-3f; }
     return material.at(query);
 }
 
+// Room for a textured material's evaluated copy (Material::at), filled only at textured hits. A
+// std::optional<Material> in its place cost every path, textured or not: GCC zero-filled all its
+// 88 bytes (a `rep stos`) at the start of each path (bench/README.md, "Speed tricks").
+class TexturedMaterialSlot {
+public:
+    TexturedMaterialSlot() {}
+    TexturedMaterialSlot(const TexturedMaterialSlot&) = delete;
+    TexturedMaterialSlot& operator=(const TexturedMaterialSlot&) = delete;
+    ~TexturedMaterialSlot() {
+        if (full_) material().~Material();
+    }
+    const Material& fill(Material value) {
+        if (full_) {
+            material() = std::move(value);
+        } else {
+            ::new (static_cast<void*>(bytes_)) Material(std::move(value));
+            full_ = true;
+        }
+        return material();
+    }
+
+private:
+    Material& material() { return *std::launder(reinterpret_cast<Material*>(bytes_)); }
+    alignas(Material) unsigned char bytes_[sizeof(Material)];
+    bool full_ = false;
+};
+
 // A shadow ray from `si` to a point on a light; both ends are moved off their surfaces, so the
 // segment [0, 1) of the unnormalized direction may be tested in full. `cosGeometric` as for continueRay.
 [[gnu::always_inline]] inline Ray spawnShadowRay(const SurfaceInteraction& si, const LightSample& ls, float cosGeometric, float time) {
@@ -158,7 +186,7 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
     bool previousWasDelta = true;  // the camera vertex: emitters seen directly get full weight
     Vec3f previousPosition = ray.origin;
     // A textured material's values at the current vertex (Material::at); untouched otherwise.
-    std::optional<Material> textured;
+    detail::TexturedMaterialSlot textured;
     // The triangle the current vertex lies on, which its bounce and shadow rays leave.
     TriangleLeft left;
     ++rays.primary;
@@ -196,7 +224,7 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
         const Vec3f wo = bounce == 0 ? -normalize(ray.direction) : -ray.direction;
         const Material* shaded = &ctx.scene->materials[si.material];
         if (shaded->isTextured()) [[unlikely]]
-            shaded = &textured.emplace(detail::texturedMaterial(*shaded, ctx, si, ray.time));
+            shaded = &textured.fill(detail::texturedMaterial(*shaded, ctx, si, ray.time));
         const Material& material = *shaded;
         const bool woAbove = dot(wo, si.geometricNormal) > 0.0f;
         if (bounce == 0 && firstHit) *firstHit = {true, hit.t * length(ray.direction), si.shadingNormal, material.albedo()};
