@@ -43,7 +43,23 @@ public:
         return uint32_t(index);
     }
 
+    // The same item, and u replaced by its position within the item's interval, in [0, 1): a
+    // value that can be used again (Cycles and pbrt-v4 reuse the light choice's sample so). The
+    // values that choose an item then cover [0, 1) in the order they had, so stratified values
+    // stay stratified for each item.
+    uint32_t sampleAndRemap(float& u) const {
+        const uint32_t index = sample(u);
+        if (cdf_.size() == 1) return index;
+        const double start = index == 0 ? 0.0 : cdf_[index - 1];
+        const double width = cdf_[index] - start;
+        const double remapped = width > 0.0 ? (double(u) - start) / width : 0.5;
+        u = std::clamp(float(remapped), 0.0f, kOneMinusUlp);
+        return index;
+    }
+
 private:
+    static constexpr float kOneMinusUlp = 0x1.fffffep-1f;
+
     std::vector<double> cdf_;
     std::vector<float> probabilities_;
 };

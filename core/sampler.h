@@ -40,8 +40,7 @@ enum class Dim : uint32_t {
     Pixel,            // 2D: position within the pixel's filter footprint
     Lens,             // 2D: position on the lens aperture
     Time,             // 1D: instant within the shutter
-    LightChoice,      // 1D: which light next-event estimation samples
-    LightPosition,    // 2D: point on that light
+    LightPosition,    // 2D: which light next-event estimation samples (x, reused: LightSet::choose) and the point on it
     BsdfLobe,         // 1D: which lobe of the material is sampled
     BsdfDirection,    // 2D: direction within the lobe
     RussianRoulette,  // 1D: survival decision
@@ -166,6 +165,10 @@ public:
 
     Vec2f get2D(Dim dim, uint32_t bounce = 0) const {
         if (frozen_ & dimBit(dim)) [[unlikely]] return {0.5f, 0.5f};
+        return get2DUnfrozen(dim, bounce);
+    }
+    // The value get2D gives when `dim` is not frozen, whether it is or not.
+    Vec2f get2DUnfrozen(Dim dim, uint32_t bounce = 0) const {
         const uint64_t key = dimensionKey(dim, bounce);
         if (kind_ == SamplerKind::Independent) {
             const uint64_t bits = hashWords(key, sampleIndex_);
@@ -184,6 +187,7 @@ public:
     // effect (`penumbra converge --freeze lens|time|light|pixel`).
     static constexpr uint32_t dimBit(Dim dim) { return 1u << uint32_t(dim); }
     void freeze(uint32_t mask) { frozen_ = mask; }
+    bool isFrozen(Dim dim) const { return (frozen_ & dimBit(dim)) != 0; }
 
 private:
     uint64_t dimensionKey(Dim dim, uint32_t bounce) const {

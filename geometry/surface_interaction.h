@@ -233,23 +233,24 @@ inline SurfaceInteraction makeSurfaceInteraction(const SceneGeometry& scene, con
 template <bool kHitIsCanonical>
 [[gnu::always_inline]] inline SurfaceInteraction resolveHit(const SceneGeometry& scene, const Ray& ray, Hit& hit,
                                      const FaceFrames* faceFrames = nullptr) {
+    // One named result on every path, so that it is built in the caller's place (NRVO): a copy of
+    // it on return cost 4% of the render (bench/README.md, "Speed tricks").
+    SurfaceInteraction si;
     const ShapeRef shape = scene.shapeOf(hit);
-    if (shape.kind == ShapeKind::Mesh) {
+    if (shape.kind == ShapeKind::Mesh && !scene.meshes[shape.index].moves()) [[likely]] {
         const TriangleMesh& mesh = scene.meshes[shape.index];
-        if (!mesh.moves()) [[likely]] {
-            const uint32_t* index = &mesh.indices[3 * size_t(shape.primitive)];
-            const Vec3f p0 = mesh.positions[index[0]], p1 = mesh.positions[index[1]], p2 = mesh.positions[index[2]];
-            if constexpr (!kHitIsCanonical) detail::recomputeTriangleHit(ray.origin, ray.direction, p0, p1, p2, ray, hit);
-            SurfaceInteraction si;
-            si.shape = shape;
-            const Frame* faceFrame = faceFrames ? faceFrames->find(shape.index, shape.primitive) : nullptr;
-            if (!detail::triangleInteraction(mesh, index, p0, p1, p2, hit, si, faceFrame)) [[unlikely]]
-                si.geometricNormal = si.shadingNormal = normalize(-ray.direction);
-            return si;
-        }
+        const uint32_t* index = &mesh.indices[3 * size_t(shape.primitive)];
+        const Vec3f p0 = mesh.positions[index[0]], p1 = mesh.positions[index[1]], p2 = mesh.positions[index[2]];
+        if constexpr (!kHitIsCanonical) detail::recomputeTriangleHit(ray.origin, ray.direction, p0, p1, p2, ray, hit);
+        si.shape = shape;
+        const Frame* faceFrame = faceFrames ? faceFrames->find(shape.index, shape.primitive) : nullptr;
+        if (!detail::triangleInteraction(mesh, index, p0, p1, p2, hit, si, faceFrame)) [[unlikely]]
+            si.geometricNormal = si.shadingNormal = normalize(-ray.direction);
+        return si;
     }
     if constexpr (!kHitIsCanonical) canonicalizeHit(scene, ray, hit);
-    return makeSurfaceInteraction(scene, ray, hit, faceFrames);
+    si = makeSurfaceInteraction(scene, ray, hit, faceFrames);
+    return si;
 }
 
 }  // namespace penumbra

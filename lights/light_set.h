@@ -60,10 +60,13 @@ public:
     bool emitsAlongRays() const { return hasAreaLights_ || !environment_.isBlack(); }
     size_t size() const { return lights_.size(); }
 
-    // Next-event estimation in two steps, so that the point sample is only drawn when it is used:
-    // choose() picks a light by power, sample() a point on it. Point, spot and directional lights
-    // (isDelta) ignore uPoint; choose() with a single light ignores u.
-    uint32_t choose(float u) const { return choice_.sample(u); }
+    // Next-event estimation in two steps: choose() picks a light by power with uPoint.x and leaves
+    // in uPoint.x its position within the light's share, then sample() takes a point on the light
+    // with uPoint (one 2D sample for both, so each light's points stay stratified). Point, spot and
+    // directional lights (isDelta) ignore uPoint; with a single light choose() leaves it as it is.
+    uint32_t choose(Vec2f& uPoint) const { return choice_.sampleAndRemap(uPoint.x); }
+    // Whether next-event estimation uses sample values at all: not for one delta light.
+    bool drawsSampleValues() const { return size() > 1 || (size() == 1 && !isDelta(0)); }
     bool isDelta(uint32_t light) const {
         const LightKind kind = lights_[light].kind;
         return kind == LightKind::Point || kind == LightKind::Spot || kind == LightKind::Directional;

@@ -258,10 +258,17 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
         Rgb shadowContribution;
         if (!lights.empty() && !material.isPurelySpecular() && ctx.strategy != LightStrategy::Bsdf) {
             // Sample values that would not be used are not drawn (each dimension is keyed on its
-            // own, so skipping one leaves the others as they are).
-            const uint32_t light = lights.choose(lights.size() > 1 ? sample.get1D(Dim::LightChoice, bounce) : 0.5f);
-            const auto ls = lights.sample(light, si.position,
-                                          lights.isDelta(light) ? Vec2f{0.5f, 0.5f} : sample.get2D(Dim::LightPosition, bounce));
+            // own, so skipping one leaves the others as they are). One 2D value chooses the light
+            // and then the point on it (LightSet::choose); frozen, it fixes the point on each light
+            // but not the choice (README, `--freeze`).
+            Vec2f uLight{0.5f, 0.5f};
+            uint32_t light = 0;
+            if (lights.drawsSampleValues()) {
+                uLight = sample.get2DUnfrozen(Dim::LightPosition, bounce);
+                light = lights.choose(uLight);
+                if (sample.isFrozen(Dim::LightPosition)) [[unlikely]] uLight = {0.5f, 0.5f};
+            }
+            const auto ls = lights.sample(light, si.position, uLight);
             const Vec3f wiLocal = ls ? frame.toLocal(ls->direction) : Vec3f{};
             // Reflection needs the light on wo's side of the geometric surface, transmission on the other.
             const bool reflects = woLocal.z * wiLocal.z > 0.0f;

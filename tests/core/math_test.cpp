@@ -347,6 +347,24 @@ TEST(RayOffset, ClearsTheErrorBoxAlongTheNormal) {
     EXPECT_GT(checked, 99000);
 }
 
+// A point on a plane at coordinate 0 with exact vertices has no error along its normal: it still
+// moves by kMinimumRelativeOffset of its largest coordinate, to a normal float (not to 1.2e-38, on
+// which Embree runs slowly), and by no more than that and a float's step.
+TEST(RayOffset, AnExactPointMovesByTheMinimumRelativeOffset) {
+    for (const Vec3f p : {Vec3f{300.0f, 0.0f, 200.0f}, Vec3f{-1e-6f, 0.0f, 3e-6f}, Vec3f{0.0f, 0.0f, 5e7f}}) {
+        for (const float sign : {1.0f, -1.0f}) {
+            const Vec3f n{0.0f, sign, 0.0f};
+            const Vec3f q = offsetRayOrigin(p, Vec3f{0.0f, 0.0f, 0.0f}, n);
+            const float floor = maxComponent(abs(p)) * kMinimumRelativeOffset;
+            EXPECT_EQ(q.x, p.x);
+            EXPECT_EQ(q.z, p.z);
+            EXPECT_EQ(std::fpclassify(q.y), FP_NORMAL) << q.y;
+            EXPECT_GE(q.y * sign, floor) << "p " << p.x << " " << p.y << " " << p.z;
+            EXPECT_LE(q.y * sign, floor * (1.0f + 0x1p-20f)) << "p " << p.x << " " << p.y << " " << p.z;
+        }
+    }
+}
+
 TEST(FloatError, NextFloatStepsOneValue) {
     EXPECT_EQ(nextFloatUp(1.0f), std::nextafter(1.0f, 2.0f));
     EXPECT_EQ(nextFloatDown(1.0f), std::nextafter(1.0f, 0.0f));

@@ -20,7 +20,7 @@ using test::withinSigmas;
 const std::vector<uint64_t> kSeeds = {0, 42, 0xdeadbeefcafef00dull};
 const std::vector<uint64_t> kPixels = {0, 1, 7, 12345, (uint64_t(1) << 40) + 3};
 const std::vector<uint32_t> kBounces = {0, 1, 5};
-const std::vector<Dim> k1DDims = {Dim::Time, Dim::LightChoice, Dim::BsdfLobe, Dim::RussianRoulette};
+const std::vector<Dim> k1DDims = {Dim::Time, Dim::BsdfLobe, Dim::RussianRoulette};
 const std::vector<Dim> k2DDims = {Dim::Pixel, Dim::Lens, Dim::LightPosition, Dim::BsdfDirection};
 
 // Each of the n equal intervals of [0, 1) holds exactly `perInterval` of the values.
@@ -233,7 +233,7 @@ const std::vector<DimensionPair> kPairs = {
      [](const PixelSample& s) { return s.get1D(Dim::Time); }},
     {"BsdfDirection.x bounce 0 / 1", [](const PixelSample& s) { return s.get2D(Dim::BsdfDirection, 0).x; },
      [](const PixelSample& s) { return s.get2D(Dim::BsdfDirection, 1).x; }},
-    {"LightChoice / BsdfLobe", [](const PixelSample& s) { return s.get1D(Dim::LightChoice, 1); },
+    {"RussianRoulette / BsdfLobe", [](const PixelSample& s) { return s.get1D(Dim::RussianRoulette, 1); },
      [](const PixelSample& s) { return s.get1D(Dim::BsdfLobe, 1); }},
 };
 
@@ -315,7 +315,7 @@ TEST(Sampler, ChiSquareUniformityOverManyPixels) {
             for (uint64_t p = 0; p < pixels; ++p)
                 for (uint32_t i = 0; i < spp; ++i) {
                     const PixelSample s(kind, 2024, p, i);
-                    ++observed1D[std::min(bins1D - 1, int(s.get1D(Dim::LightChoice, 2) * bins1D))];
+                    ++observed1D[std::min(bins1D - 1, int(s.get1D(Dim::BsdfLobe, 2) * bins1D))];
                     const Vec2f v = s.get2D(Dim::LightPosition, 2);
                     ++observed2D[std::min(bins2D - 1, int(v.y * bins2D)) * bins2D + std::min(bins2D - 1, int(v.x * bins2D))];
                 }

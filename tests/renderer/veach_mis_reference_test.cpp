@@ -48,7 +48,10 @@ TEST(VeachMisReference, MatchesTungstenReference) {
     ASSERT_EQ(scene.film.height, height);
     ASSERT_EQ(width % kBlock, 0);
     ASSERT_EQ(height % kBlock, 0);
-    scene.film.samplesPerPixel = 24;
+    // 64 samples: the darkest blocks are lit by rare paths (a sphere light seen in a plate from the
+    // back wall), whose block means rest on a handful of samples; at 24 samples a block of two
+    // seeds that both missed them sat 5.9 of its own (under-estimated) deviations low.
+    scene.film.samplesPerPixel = 64;
     Film first(width, height), second(width, height);
     scene.settings.seed = 1;
     render(scene, RenderOptions{}, first);
