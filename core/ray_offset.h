@@ -24,16 +24,20 @@ namespace penumbra {
 // largest coordinate exceeds 2^-86 (about 1e-26).
 inline constexpr float kMinimumRelativeOffset = 0x1p-40f;
 
-// `normal`: the geometric normal, on the side the new ray leaves towards; `pointError`: a bound on
-// the absolute error of each coordinate of `point`. The three axes are done at once with SSE2.
-[[gnu::always_inline]] inline Vec3f offsetRayOrigin(Vec3f point, Vec3f pointError, Vec3f normal) {
+// How far offsetRayOrigin moves `point` along `normal` (either side: the distance is the same for
+// n and -n). `pointError`: a bound on the absolute error of each coordinate of `point`.
+[[gnu::always_inline]] inline float offsetDistance(Vec3f point, Vec3f pointError, Vec3f normal) {
     // 1 + gamma(8) covers the rounding of d and of n d, and |n| a few ulps short of 1. A point
     // without rounding error along n (on a plane through 0 whose vertices have that coordinate
     // exactly 0) would move by 0 and leave with a coordinate of the smallest normal float, on which
     // Embree's traversal runs markedly slower; the distance is therefore at least
     // kMinimumRelativeOffset of the point's largest coordinate (bench/README.md, "Speed tricks").
-    const float d = std::max(dot(abs(normal), pointError) * (1.0f + gamma(8)),
-                             maxComponent(abs(point)) * kMinimumRelativeOffset);
+    return std::max(dot(abs(normal), pointError) * (1.0f + gamma(8)), maxComponent(abs(point)) * kMinimumRelativeOffset);
+}
+
+// `point` moved by `d` (offsetDistance) along `normal` and one float further. The three axes are
+// done at once with SSE2.
+[[gnu::always_inline]] inline Vec3f offsetAlong(Vec3f point, Vec3f normal, float d) {
     const __m128 n = _mm_setr_ps(normal.x, normal.y, normal.z, 0.0f);
     const __m128 moved = _mm_add_ps(_mm_setr_ps(point.x, point.y, point.z, 0.0f), _mm_mul_ps(n, _mm_set1_ps(d)));
     // One float further along n: the bits grow by one where moved and n have the same sign (away
@@ -52,6 +56,12 @@ inline constexpr float kMinimumRelativeOffset = 0x1p-40f;
     alignas(16) float out[4];
     _mm_store_ps(out, result);
     return {out[0], out[1], out[2]};
+}
+
+// `normal`: the geometric normal, on the side the new ray leaves towards; `pointError`: a bound on
+// the absolute error of each coordinate of `point`.
+[[gnu::always_inline]] inline Vec3f offsetRayOrigin(Vec3f point, Vec3f pointError, Vec3f normal) {
+    return offsetAlong(point, normal, offsetDistance(point, pointError, normal));
 }
 
 }  // namespace penumbra

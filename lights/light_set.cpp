@@ -134,6 +134,7 @@ LightSet::LightSet(const SceneGeometry& scene, const std::vector<PointLight>& po
     for (const Light& light : lights_)
         hasAreaLights_ |= light.kind == LightKind::Triangle || light.kind == LightKind::Sphere;
     choice_ = DiscreteDistribution(power);
+    drawsSampleValues_ = lights_.size() > 1 || (lights_.size() == 1 && !isDelta(0));
 }
 
 std::optional<LightSample> LightSet::sampleOther(uint32_t index, Vec3f reference, Vec2f u) const {
@@ -221,7 +222,12 @@ std::optional<LightSample> LightSet::sampleOther(uint32_t index, Vec3f reference
     if (light.kind == LightKind::Sphere && light.texture) uv = sphereUv(ls.lightNormal);
     const Rgb radiance = light.texture ? emittedRadiance(*light.texture, uv) : light.radiance;
     ls.radiance = (cosAtLight > 0.0f || light.twoSided) ? radiance : Rgb(0.0f);
-    ls.pdf = choicePdf * solidAnglePdf(light, reference, ls.point);
+    // A triangle's density by area, per solid angle, from the distance and cosine at hand (the
+    // same formula as solidAnglePdf's, which pdfOfHit uses; they differ by rounding only).
+    const float pointPdf = light.kind == LightKind::Triangle
+                               ? (light.area > 0.0f && cosAtLight != 0.0f ? distanceSquared / (std::abs(cosAtLight) * light.area) : 0.0f)
+                               : solidAnglePdf(light, reference, ls.point);
+    ls.pdf = choicePdf * pointPdf;
     ls.isDelta = false;
     if (!(ls.pdf > 0.0f) || !std::isfinite(ls.pdf)) return std::nullopt;
     return ls;

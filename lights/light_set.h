@@ -66,7 +66,7 @@ public:
     // directional lights (isDelta) ignore uPoint; with a single light choose() leaves it as it is.
     uint32_t choose(Vec2f& uPoint) const { return choice_.sampleAndRemap(uPoint.x); }
     // Whether next-event estimation uses sample values at all: not for one delta light.
-    bool drawsSampleValues() const { return size() > 1 || (size() == 1 && !isDelta(0)); }
+    bool drawsSampleValues() const { return drawsSampleValues_; }
     bool isDelta(uint32_t light) const {
         const LightKind kind = lights_[light].kind;
         return kind == LightKind::Point || kind == LightKind::Spot || kind == LightKind::Directional;
@@ -117,6 +117,7 @@ private:
     std::vector<int32_t> sphereLight_;       // per sphere: its light index, or -1
     int32_t environmentLight_ = -1;
     bool hasAreaLights_ = false;
+    bool drawsSampleValues_ = false;  // more than one light, or one that is not a delta light
     EnvironmentLight environment_;
 };
 

@@ -90,11 +90,13 @@ namespace detail {
 inline bool isUnit(Vec3f v) { return std::abs(length(v) - 1.0f) < 1e-3f; }
 
 // Turns `ray` into the ray leaving `si` in direction `direction`, offset off the surface on that
-// side, at the same time (`cosGeometric`: dot(direction, si.geometricNormal), which the caller has
-// computed already). Written in place, field by field (bench/README.md, "Speed tricks").
-[[gnu::always_inline]] inline void continueRay(Ray& ray, const SurfaceInteraction& si, Vec3f direction, float cosGeometric) {
+// side by `leaveDistance` (offsetDistance at si, computed once for the vertex's rays), at the same
+// time (`cosGeometric`: dot(direction, si.geometricNormal), which the caller has computed already).
+// Written in place, field by field (bench/README.md, "Speed tricks").
+[[gnu::always_inline]] inline void continueRay(Ray& ray, const SurfaceInteraction& si, float leaveDistance, Vec3f direction,
+                                               float cosGeometric) {
     const Vec3f side = cosGeometric >= 0.0f ? si.geometricNormal : -si.geometricNormal;
-    ray.origin = offsetRayOrigin(si.position, si.positionError, side);
+    ray.origin = offsetAlong(si.position, side, leaveDistance);
     ray.direction = direction;
     ray.tnear = 0.0f;
     ray.tfar = std::numeric_limits<float>::infinity();
@@ -150,11 +152,13 @@ private:
 };
 
 // A shadow ray from `si` to a point on a light; both ends are moved off their surfaces, so the
-// segment [0, 1) of the unnormalized direction may be tested in full. `cosGeometric` as for continueRay.
-[[gnu::always_inline]] inline Ray spawnShadowRay(const SurfaceInteraction& si, const LightSample& ls, float cosGeometric, float time) {
+// segment [0, 1) of the unnormalized direction may be tested in full. `leaveDistance` and
+// `cosGeometric` as for continueRay.
+[[gnu::always_inline]] inline Ray spawnShadowRay(const SurfaceInteraction& si, float leaveDistance, const LightSample& ls,
+                                                 float cosGeometric, float time) {
     const Vec3f side = cosGeometric >= 0.0f ? si.geometricNormal : -si.geometricNormal;
     Ray ray;
-    ray.origin = offsetRayOrigin(si.position, si.positionError, side);
+    ray.origin = offsetAlong(si.position, side, leaveDistance);
     ray.time = time;
     if (std::isinf(ls.distance)) {
         ray.direction = ls.direction;
@@ -248,6 +252,8 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
         if (int(bounce) >= ctx.maxDepth) break;
 
         const Frame frame = si.shadingFrame ? *si.shadingFrame : Frame::fromNormal(si.shadingNormal);
+        // How far the vertex's shadow and bounce rays start off the surface (either side).
+        const float leaveDistance = offsetDistance(si.position, si.positionError, si.geometricNormal);
         const Vec3f woLocal = frame.toLocal(wo);
 
         // --- Direct light (next-event estimation): the shadow ray and what it adds when
@@ -278,7 +284,7 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
                 if (!f.isBlack()) {
                     PENUMBRA_CHECK(ls->pdf > 0.0f, "a light sample has a positive density");
                     castsShadowRay = true;
-                    shadowRay = detail::spawnShadowRay(si, *ls, cosLight, ray.time);
+                    shadowRay = detail::spawnShadowRay(si, leaveDistance, *ls, cosLight, ray.time);
                     const float weight = ls->isDelta || ctx.strategy == LightStrategy::Light
                                              ? 1.0f
                                              : powerHeuristic(ls->pdf, material.pdf(woLocal, wiLocal, woAbove));
@@ -320,7 +326,7 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
             // The ray past the last vertex only looks for emission; without emitters it could hit,
             // it is not traced (as Embree's pathtracer counts path length).
             if (int(bounce) + 1 >= ctx.maxDepth && !lights.emitsAlongRays()) return false;
-            detail::continueRay(ray, si, wi, cosWi);
+            detail::continueRay(ray, si, leaveDistance, wi, cosWi);
             return true;
         }();
 
