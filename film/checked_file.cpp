@@ -28,6 +28,26 @@ void CheckedFile::fail(const char* operation) {
 
 void CheckedFile::write(const void* data, size_t size) {
     const char* bytes = static_cast<const char*>(data);
+    if (buffer_.size() + size > kBufferSize) flush();
+    if (size >= kBufferSize) {
+        writeThrough(bytes, size);
+        return;
+    }
+    if (buffer_.capacity() < kBufferSize) buffer_.reserve(kBufferSize);
+    buffer_.insert(buffer_.end(), bytes, bytes + size);
+}
+
+void CheckedFile::flush() {
+    if (buffer_.empty()) return;
+    // Emptied first: after a failure the bytes are not written again by a later flush.
+    std::vector<char> pending;
+    pending.swap(buffer_);
+    writeThrough(pending.data(), pending.size());
+    pending.clear();
+    buffer_.swap(pending);  // keeps the capacity
+}
+
+void CheckedFile::writeThrough(const char* bytes, size_t size) {
     while (size > 0) {
         const ssize_t n = ::write(fd_, bytes, size);
         if (n < 0 && errno == EINTR) continue;
@@ -43,15 +63,17 @@ void CheckedFile::write(const void* data, size_t size) {
 uint64_t CheckedFile::tell() {
     const off_t position = ::lseek(fd_, 0, SEEK_CUR);
     if (position < 0) fail("seek");
-    return uint64_t(position);
+    return uint64_t(position) + buffer_.size();
 }
 
 void CheckedFile::seek(uint64_t position) {
+    flush();
     if (::lseek(fd_, off_t(position), SEEK_SET) < 0) fail("seek");
 }
 
 void CheckedFile::close() {
     if (!firstError_.empty()) throw std::runtime_error(firstError_);
+    flush();
     if (::fsync(fd_) != 0) fail("fsync");
     const int fd = fd_;
     fd_ = -1;

@@ -18,6 +18,9 @@ struct Sphere {
     uint32_t material = 0;
     Emission emission;
     MotionTransform motion;
+    // Whether hits need the sphere's (u, v): only for a textured material or emission. The loader
+    // clears it for the others, which then skip an arctangent and an arccosine per hit.
+    bool needsUv = true;
 };
 
 }  // namespace penumbra

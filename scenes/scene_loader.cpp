@@ -828,6 +828,8 @@ Scene buildScene(const Json& document, const fs::path& file) {
         for (const JsonValue& shape : v->elements()) findTypeRow<ShapeReader>(shape, kShapeTypes).read(shape, context);
     if (auto v = top.get("lights"))
         for (const JsonValue& light : v->elements()) findTypeRow<LightReader>(light, kLightTypes).read(light, scene);
+    for (Sphere& sphere : scene.spheres)
+        sphere.needsUv = scene.materials[sphere.material].isTextured() || sphere.emission.texture != nullptr;
     return scene;
 }
 

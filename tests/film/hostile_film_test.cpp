@@ -128,11 +128,23 @@ TEST_F(HostileFilm, HeadersAreCheckedBeforeOpenExrAllocatesWhatTheyDeclare) {
     }
 }
 
-// /dev/full fails every write with ENOSPC, as a full disk does.
+// /dev/full fails every write with ENOSPC, as a full disk does. A write larger than the buffer
+// goes to the system at once and fails there; a small one is buffered and fails at close().
 TEST(CheckedFile, AFailedWriteIsAnErrorNamingTheFile) {
-    CheckedFile file("/dev/full");
-    try {
+    {
+        CheckedFile file("/dev/full");
         file.write("x", 1);
+        try {
+            file.close();
+            ADD_FAILURE() << "close() after a buffered write to /dev/full succeeded";
+        } catch (const std::runtime_error& e) {
+            EXPECT_CONTAINS(e.what(), "write of '/dev/full' failed: No space left on device");
+        }
+    }
+    CheckedFile file("/dev/full");
+    const std::vector<char> large(CheckedFile::kBufferSize + 1, 'x');
+    try {
+        file.write(large.data(), large.size());
         ADD_FAILURE() << "a write to /dev/full succeeded";
     } catch (const std::runtime_error& e) {
         EXPECT_CONTAINS(e.what(), "write of '/dev/full' failed: No space left on device");
