@@ -7,7 +7,7 @@
 // so the estimator stays unbiased and paths carrying little energy end early. The square root (as
 // Cycles takes it) ends them later than q = throughput would: on a glass sphere's caustic, paths
 // through the glass were cut at their second interface with half their weight left, which cost
-// 13% more mean squared error at the same time per sample (bench/README.md). The throughput used for q
+// 15% more mean squared error at the same time per sample (bench/README.md). The throughput used for q
 // leaves out the radiance scale 1 / eta^2 of refractions (pbrt-v4's etaScale): inside glass the
 // throughput is 1 / eta^2 smaller without carrying less energy, and it gets the factor back on leaving.
 //
