@@ -14,6 +14,7 @@ namespace penumbra {
 CheckedFile::CheckedFile(const std::string& path) : path_(path) {
     fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
     if (fd_ < 0) fail("open");
+    buffer_.reserve(kBufferSize);
 }
 
 CheckedFile::~CheckedFile() {
@@ -33,18 +34,13 @@ void CheckedFile::write(const void* data, size_t size) {
         writeThrough(bytes, size);
         return;
     }
-    if (buffer_.capacity() < kBufferSize) buffer_.reserve(kBufferSize);
     buffer_.insert(buffer_.end(), bytes, bytes + size);
 }
 
 void CheckedFile::flush() {
-    if (buffer_.empty()) return;
-    // Emptied first: after a failure the bytes are not written again by a later flush.
-    std::vector<char> pending;
-    pending.swap(buffer_);
-    writeThrough(pending.data(), pending.size());
-    pending.clear();
-    buffer_.swap(pending);  // keeps the capacity
+    // After a failure the bytes stay in the buffer; close() throws the first failure regardless.
+    writeThrough(buffer_.data(), buffer_.size());
+    buffer_.clear();
 }
 
 void CheckedFile::writeThrough(const char* bytes, size_t size) {

@@ -222,10 +222,10 @@ std::optional<LightSample> LightSet::sampleOther(uint32_t index, Vec3f reference
     if (light.kind == LightKind::Sphere && light.texture) uv = sphereUv(ls.lightNormal);
     const Rgb radiance = light.texture ? emittedRadiance(*light.texture, uv) : light.radiance;
     ls.radiance = (cosAtLight > 0.0f || light.twoSided) ? radiance : Rgb(0.0f);
-    // A triangle's density by area, per solid angle, from the distance and cosine at hand (the
-    // same formula as solidAnglePdf's, which pdfOfHit uses; they differ by rounding only).
+    // A triangle's density from the distance and cosine at hand (solidAnglePdf, which pdfOfHit
+    // uses, computes them again; the two differ by rounding only).
     const float pointPdf = light.kind == LightKind::Triangle
-                               ? (light.area > 0.0f && cosAtLight != 0.0f ? distanceSquared / (std::abs(cosAtLight) * light.area) : 0.0f)
+                               ? areaToSolidAnglePdf(distanceSquared, std::abs(cosAtLight), light.area)
                                : solidAnglePdf(light, reference, ls.point);
     ls.pdf = choicePdf * pointPdf;
     ls.isDelta = false;
@@ -239,7 +239,7 @@ float LightSet::solidAnglePdf(const Light& light, Vec3f reference, Vec3f point) 
     switch (light.kind) {
         case LightKind::Triangle: {
             const float cosAtLight = std::abs(dot(light.normal, toPoint)) / std::sqrt(distanceSquared);
-            return (light.area > 0.0f && cosAtLight > 0.0f) ? distanceSquared / (cosAtLight * light.area) : 0.0f;
+            return areaToSolidAnglePdf(distanceSquared, cosAtLight, light.area);
         }
         case LightKind::Sphere: {
             const float centerDistanceSquared = lengthSquared(light.center - reference);
@@ -247,8 +247,7 @@ float LightSet::solidAnglePdf(const Light& light, Vec3f reference, Vec3f point) 
             if (centerDistanceSquared <= radiusSquared * 1.0001f) {
                 const Vec3f normal = normalize(point - light.center);
                 const float cosAtLight = std::abs(dot(normal, toPoint)) / std::sqrt(distanceSquared);
-                const float area = 4.0f * kPi * radiusSquared;
-                return cosAtLight > 0.0f ? distanceSquared / (cosAtLight * area) : 0.0f;
+                return areaToSolidAnglePdf(distanceSquared, cosAtLight, 4.0f * kPi * radiusSquared);
             }
             const float sin2ThetaMax = radiusSquared / centerDistanceSquared;
             const float cosThetaMax = std::sqrt(std::max(0.0f, 1.0f - sin2ThetaMax));

@@ -110,6 +110,11 @@ private:
     Rgb emittedByAreaLight(const SurfaceInteraction& si, Vec3f towardsViewer) const;
     int32_t lightIndexOf(ShapeRef shape) const;
     float solidAnglePdf(const Light& light, Vec3f reference, Vec3f point) const;
+    // A density of 1 / area over a surface, per solid angle at a point `distanceSquared` away
+    // whose direction makes the cosine `cosAtLight` (>= 0) with the surface; 0 where none is.
+    static float areaToSolidAnglePdf(float distanceSquared, float cosAtLight, float area) {
+        return (area > 0.0f && cosAtLight > 0.0f) ? distanceSquared / (cosAtLight * area) : 0.0f;
+    }
 
     std::vector<Light> lights_;
     DiscreteDistribution choice_;

@@ -349,7 +349,9 @@ TEST(RayOffset, ClearsTheErrorBoxAlongTheNormal) {
 
 // A point on a plane at coordinate 0 with exact vertices has no error along its normal: it still
 // moves by kMinimumRelativeOffset of its largest coordinate, to a normal float (not to 1.2e-38, on
-// which Embree runs slowly), and by no more than that and a float's step.
+// which Embree runs slowly), and by no more than that and a float's step: rounding the floor and
+// the sum costs at most half a float step (2^-24 relative), the extra step one (2^-23), so 2^-20
+// bounds both with room.
 TEST(RayOffset, AnExactPointMovesByTheMinimumRelativeOffset) {
     for (const Vec3f p : {Vec3f{300.0f, 0.0f, 200.0f}, Vec3f{-1e-6f, 0.0f, 3e-6f}, Vec3f{0.0f, 0.0f, 5e7f}}) {
         for (const float sign : {1.0f, -1.0f}) {
