@@ -39,8 +39,8 @@ inline float cosineHemispherePdf(float cosTheta) { return cosTheta > 0.0f ? cosT
 inline Vec3f sampleUniformSphere(Vec2f u) {
     const float z = 1.0f - 2.0f * u.x;
     const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
-    const float phi = 2.0f * kPi * u.y;
-    return {r * std::cos(phi), r * std::sin(phi), z};
+    const Vec2f azimuth = cosSinTurn(u.y);
+    return {r * azimuth.x, r * azimuth.y, z};
 }
 inline constexpr float uniformSpherePdf() { return 1.0f / (4.0f * kPi); }
 
@@ -48,8 +48,8 @@ inline constexpr float uniformSpherePdf() { return 1.0f / (4.0f * kPi); }
 inline Vec3f sampleUniformCone(Vec2f u, float cosThetaMax) {
     const float cosTheta = (1.0f - u.x) + u.x * cosThetaMax;
     const float sinTheta = std::sqrt(std::max(0.0f, 1.0f - cosTheta * cosTheta));
-    const float phi = 2.0f * kPi * u.y;
-    return {sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta};
+    const Vec2f azimuth = cosSinTurn(u.y);
+    return {sinTheta * azimuth.x, sinTheta * azimuth.y, cosTheta};
 }
 inline float uniformConePdf(float cosThetaMax) { return 1.0f / (2.0f * kPi * (1.0f - cosThetaMax)); }
 

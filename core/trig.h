@@ -3,6 +3,9 @@
 // only this range, and the same bits on every machine (libm picks its code by CPU features).
 #pragma once
 
+#include <cmath>
+#include <numbers>
+
 #include "core/vec.h"
 
 namespace penumbra {
@@ -13,6 +16,20 @@ namespace penumbra {
     const float sine = a + a * z * (-1.6666654611e-1f + z * (8.3321608736e-3f + z * -1.9515295891e-4f));
     const float cosine = 1.0f - 0.5f * z + z * z * (4.166664568298827e-2f + z * (-1.388731625493765e-3f + z * 2.443315711809948e-5f));
     return {cosine, sine};
+}
+
+// (cos, sin) of the angle 2 pi u, for u in [0, 1] (a uniform azimuth): the nearest quarter turn
+// exactly (4u minus its nearest integer is exact), and the rest, within pi / 4, by the polynomials.
+[[gnu::always_inline]] inline Vec2f cosSinTurn(float u) {
+    const float quarters = 4.0f * u;
+    const float nearest = std::nearbyint(quarters);
+    const Vec2f cs = cosSinQuarterPi((quarters - nearest) * (std::numbers::pi_v<float> / 2.0f));
+    switch (int(nearest) & 3) {
+        case 0: return cs;
+        case 1: return {-cs.y, cs.x};
+        case 2: return {-cs.x, -cs.y};
+        default: return {cs.y, -cs.x};
+    }
 }
 
 }  // namespace penumbra

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/check.h"
 #include "core/frame.h"
 #include "core/sampling.h"
 
@@ -43,6 +44,70 @@ Rgb emittedRadiance(const Texture& texture, Vec2f uv) {
     return texture.evaluate(query);
 }
 
+// The bounds by which a finite light is chosen at a vertex (lights/light_bounds.h).
+LightBounds lightBounds(const Light& light, float power) {
+    LightBounds b;
+    b.phi = power;
+    switch (light.kind) {
+        case LightKind::Triangle: {
+            b.center = (light.p0 + light.p1 + light.p2) / 3.0f;
+            b.radius = std::sqrt(std::max({lengthSquared(light.p0 - b.center), lengthSquared(light.p1 - b.center),
+                                           lengthSquared(light.p2 - b.center)}));
+            b.axis = light.normal;
+            b.cosThetaO = 1.0f;  // one normal
+            b.twoSided = light.twoSided;
+            break;
+        }
+        case LightKind::Sphere:
+            b.center = light.center;
+            b.radius = light.radius;
+            break;
+        case LightKind::Point: b.center = light.center; break;
+        case LightKind::Spot:
+            // The falloff's start bounds the full intensity; beyond it, to the cone's end, the
+            // emission angle.
+            b.center = light.center;
+            b.axis = light.normal;
+            b.cosThetaO = light.cosFalloffStart;
+            b.cosThetaE = std::cos(std::acos(std::clamp(light.cosFalloffEnd, -1.0f, 1.0f)) -
+                                   std::acos(std::clamp(light.cosFalloffStart, -1.0f, 1.0f)));
+            break;
+        case LightKind::Directional:
+        case LightKind::Environment: break;  // infinite: chosen by their power share
+    }
+    return b;
+}
+
+// The bounds of an emitting mesh's triangles together: a sphere about their box, and the cone
+// about their area-weighted mean normal that holds every triangle's normal.
+LightBounds meshBounds(const Light* triangles, uint32_t count, float power) {
+    Vec3f lo = triangles[0].p0, hi = triangles[0].p0, normalSum;
+    for (uint32_t i = 0; i < count; ++i) {
+        const Light& t = triangles[i];
+        lo = min(lo, min(t.p0, min(t.p1, t.p2)));
+        hi = max(hi, max(t.p0, max(t.p1, t.p2)));
+        normalSum += t.normal * t.area;
+    }
+    LightBounds b;
+    b.phi = power;
+    b.center = (lo + hi) * 0.5f;
+    float radiusSquared = 0.0f;
+    for (uint32_t i = 0; i < count; ++i)
+        for (const Vec3f& p : {triangles[i].p0, triangles[i].p1, triangles[i].p2})
+            radiusSquared = std::max(radiusSquared, lengthSquared(p - b.center));
+    // Widened by a little more than rounding, so that no vertex lies outside.
+    b.radius = std::sqrt(radiusSquared) * 1.0001f;
+    b.twoSided = triangles[0].twoSided;
+    const float sumLength = length(normalSum);
+    if (!(sumLength > 0.0f)) return b;  // normals cancel: every direction (cosThetaO = -1)
+    b.axis = normalSum / sumLength;
+    float cosSpread = 1.0f;
+    for (uint32_t i = 0; i < count; ++i)
+        if (triangles[i].area > 0.0f) cosSpread = std::min(cosSpread, dot(b.axis, triangles[i].normal));
+    b.cosThetaO = std::clamp(cosSpread - 1e-5f, -1.0f, 1.0f);
+    return b;
+}
+
 }  // namespace
 
 LightSet::LightSet(const SceneGeometry& scene, const std::vector<PointLight>& pointLights,
@@ -50,6 +115,7 @@ LightSet::LightSet(const SceneGeometry& scene, const std::vector<PointLight>& po
                    const EnvironmentLight& environment)
     : environment_(environment) {
     std::vector<double> power;
+    std::vector<uint32_t> emitterSizes;  // lights per emitter, in order: a mesh's triangles, or one light
     meshFirstLight_.assign(scene.meshes.size(), -1);
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
         const TriangleMesh& mesh = scene.meshes[m];
@@ -76,6 +142,7 @@ LightSet::LightSet(const SceneGeometry& scene, const std::vector<PointLight>& po
             // Degenerate triangles get zero power and so are never chosen.
             power.push_back(double(light.radiance.luminance()) * light.area * kPi * (light.twoSided ? 2 : 1));
         }
+        if (mesh.triangleCount() > 0) emitterSizes.push_back(uint32_t(mesh.triangleCount()));
     }
     sphereLight_.assign(scene.spheres.size(), -1);
     for (size_t s = 0; s < scene.spheres.size(); ++s) {
@@ -90,6 +157,7 @@ LightSet::LightSet(const SceneGeometry& scene, const std::vector<PointLight>& po
         light.radius = sphere.radius;
         light.texture = sphere.emission.texture.get();
         lights_.push_back(light);
+        emitterSizes.push_back(1);
         const double area = 4.0 * kPi * double(sphere.radius) * sphere.radius;
         power.push_back(double(light.radiance.luminance()) * area * kPi * (light.twoSided ? 2 : 1));
     }
@@ -99,6 +167,7 @@ LightSet::LightSet(const SceneGeometry& scene, const std::vector<PointLight>& po
         light.radiance = point.intensity;
         light.center = point.position;
         lights_.push_back(light);
+        emitterSizes.push_back(1);
         power.push_back(4.0 * kPi * double(point.intensity.luminance()));
     }
     for (const SpotLight& spot : spotLights) {
@@ -110,6 +179,7 @@ LightSet::LightSet(const SceneGeometry& scene, const std::vector<PointLight>& po
         light.cosFalloffStart = spot.cosFalloffStart;
         light.cosFalloffEnd = spot.cosFalloffEnd;
         lights_.push_back(light);
+        emitterSizes.push_back(1);
         power.push_back(spot.solidAngle() * double(spot.intensity.luminance()));
     }
     const double sceneRadius = sceneBoundingRadius(scene);
@@ -119,6 +189,7 @@ LightSet::LightSet(const SceneGeometry& scene, const std::vector<PointLight>& po
         light.radiance = directional.irradiance;
         light.normal = directional.direction;
         lights_.push_back(light);
+        emitterSizes.push_back(1);
         // The power crossing a disk the size of the scene (pbrt-v4's DistantLight::Phi).
         power.push_back(kPi * sceneRadius * sceneRadius * double(directional.irradiance.luminance()));
     }
@@ -127,6 +198,7 @@ LightSet::LightSet(const SceneGeometry& scene, const std::vector<PointLight>& po
         Light light;
         light.kind = LightKind::Environment;
         lights_.push_back(light);
+        emitterSizes.push_back(1);
         // Power through a disk the size of the scene, from every direction (pbrt-v4's estimate),
         // with the radiance averaged over the sphere.
         power.push_back(4.0 * kPi * kPi * sceneRadius * sceneRadius * double(environment_.average().luminance()));
@@ -135,17 +207,124 @@ LightSet::LightSet(const SceneGeometry& scene, const std::vector<PointLight>& po
         hasAreaLights_ |= light.kind == LightKind::Triangle || light.kind == LightKind::Sphere;
     choice_ = DiscreteDistribution(power);
     drawsSampleValues_ = lights_.size() > 1 || (lights_.size() == 1 && !isDelta(0));
+
+    groupEmitters(emitterSizes, power);
 }
 
-std::optional<LightSample> LightSet::sampleOther(uint32_t index, Vec3f reference, Vec2f u) const {
-    const float choicePdf = choice_.probability(index);
+void LightSet::groupEmitters(std::vector<uint32_t> emitterSizes, const std::vector<double>& power) {
+    // Choosing at a vertex pays where there are two emitters or more (a quad light alone gains
+    // nothing by weighing its two triangles). Where all lights fit the batch, each is weighed on
+    // its own: its bounds are tighter than its mesh's.
+    size_t finiteEmitterCount = 0;
+    for (uint32_t first = 0; const uint32_t size : emitterSizes) {
+        finiteEmitterCount += isInfinite(first) ? 0 : 1;
+        first += size;
+    }
+    if (finiteEmitterCount < 2) return;
+    if (lights_.size() <= kMaxLocallyChosenEmitters) emitterSizes.assign(lights_.size(), 1);
+    emitterOfLight_.resize(lights_.size());
+    probabilityWithinEmitter_.resize(lights_.size());
+    for (uint32_t first = 0; const uint32_t size : emitterSizes) {
+        Emitter emitter;
+        emitter.firstLight = first;
+        emitter.lightCount = size;
+        emitter.infinite = isInfinite(first);
+        std::vector<double> shares(power.begin() + first, power.begin() + first + size);
+        emitter.withinEmitter = DiscreteDistribution(shares);
+        for (uint32_t i = first; i < first + size; ++i) {
+            emitterOfLight_[i] = uint32_t(emitters_.size());
+            probabilityWithinEmitter_[i] = emitter.withinEmitter.empty() ? 0.0f : emitter.withinEmitter.probability(i - first);
+            if (emitter.infinite) {
+                hasInfiniteLights_ = true;
+                if (!choice_.empty()) finiteShare_ -= choice_.probability(i);
+            }
+        }
+        emitters_.push_back(std::move(emitter));
+        first += size;
+    }
+    finiteShare_ = std::max(finiteShare_, 0.0f);
+    choosesLocally_ = !choice_.empty() && emitters_.size() <= kMaxLocallyChosenEmitters;
+    if (!choosesLocally_) return;
+    for (size_t e = 0; e < emitters_.size(); ++e) {
+        if (emitters_[e].infinite) continue;
+        const uint32_t first = emitters_[e].firstLight, size = emitters_[e].lightCount;
+        double emitterPower = 0.0;
+        for (uint32_t i = first; i < first + size; ++i) emitterPower += power[i];
+        bounds_.set(e, size == 1 ? lightBounds(lights_[first], float(emitterPower))
+                                 : meshBounds(&lights_[first], size, float(emitterPower)));
+    }
+}
+
+float LightSet::localChoiceWeights(Vec3f p, Vec3f n, float* weights) const {
+    // The infinite lights' slots were never set: their importance is 0.
+    bounds_.importances(p, n, weights);
+    float finiteTotal = 0.0f;
+    for (size_t e = 0; e < emitters_.size(); ++e) finiteTotal += weights[e];
+    if (!(finiteTotal > 0.0f)) {
+        // No finite light can light the point: any choice among them adds nothing; by power, then.
+        for (size_t e = 0; e < emitters_.size(); ++e) weights[e] = emitterPowerShare(e);
+        return 1.0f;
+    }
+    if (!hasInfiniteLights_) return finiteTotal;
+    // The infinite lights' power shares, scaled to the finite lights' importances.
+    const float scale = finiteTotal / finiteShare_;
+    float total = finiteTotal;
+    for (size_t e = 0; e < emitters_.size(); ++e)
+        if (emitters_[e].infinite) {
+            weights[e] = emitterPowerShare(e) * scale;
+            total += weights[e];
+        }
+    return total;
+}
+
+float LightSet::emitterPowerShare(size_t e) const {
+    const Emitter& emitter = emitters_[e];
+    float share = 0.0f;
+    for (uint32_t i = 0; i < emitter.lightCount; ++i) share += choice_.probability(emitter.firstLight + i);
+    return share;
+}
+
+LightSet::Choice LightSet::chooseLocally(Vec2f& uPoint, Vec3f p, Vec3f n) const {
+    float weights[kMaxLocallyChosenEmitters];
+    const float total = localChoiceWeights(p, n, weights);
+    // The emitter whose interval of [0, total) holds uPoint.x * total; uPoint.x then becomes the
+    // position within it (DiscreteDistribution::sampleAndRemap), which chooses among its lights.
+    const float target = uPoint.x * total;
+    size_t chosen = emitters_.size();
+    float chosenStart = 0.0f, start = 0.0f;
+    for (size_t e = 0; e < emitters_.size(); ++e) {
+        if (weights[e] > 0.0f) {  // an emitter of weight 0 is never chosen, even through rounding
+            chosen = e;
+            chosenStart = start;
+            if (target < start + weights[e]) break;
+        }
+        start += weights[e];
+    }
+    PENUMBRA_CHECK(chosen < emitters_.size(), "some emitter has a positive weight");
+    if (chosen >= emitters_.size()) chosen = 0;
+    const float weight = weights[chosen];
+    uPoint.x = std::clamp((target - chosenStart) / weight, 0.0f, 0x1.fffffep-1f);
+    const Emitter& emitter = emitters_[chosen];
+    const uint32_t light = emitter.firstLight + emitter.withinEmitter.sampleAndRemap(uPoint.x);
+    return {light, weight / total * probabilityWithinEmitter_[light]};
+}
+
+float LightSet::localChoiceProbability(uint32_t light, Vec3f p, Vec3f n) const {
+    float weights[kMaxLocallyChosenEmitters];
+    const float total = localChoiceWeights(p, n, weights);
+    return weights[emitterOfLight_[light]] / total * probabilityWithinEmitter_[light];
+}
+
+std::optional<LightSample> LightSet::sampleOther(Choice choice, Vec3f reference, Vec2f u) const {
+    const float choicePdf = choice.probability;
+    const uint32_t index = choice.light;
     const Light& light = lights_[index];
     LightSample ls{};
     Vec2f uv{0.0f, 0.0f};  // the sampled point's surface coordinates, for textured emission
     switch (light.kind) {
-        case LightKind::Point: return samplePoint(index, reference);
+        case LightKind::Point: return samplePoint(choice, reference);
         case LightKind::Spot: {
-            std::optional<LightSample> point = samplePoint(index, reference);
+            std::optional<LightSample> point = samplePoint(choice, reference);
             if (!point) return std::nullopt;
             point->radiance *= spotFalloff(-dot(point->direction, light.normal), light.cosFalloffStart, light.cosFalloffEnd);
             return point;
@@ -202,10 +381,10 @@ std::optional<LightSample> LightSet::sampleOther(uint32_t index, Vec3f reference
                 const float cosAlpha = sin2Theta / sinThetaMax +
                                        cosTheta * std::sqrt(std::max(0.0f, 1.0f - sin2Theta / sin2ThetaMax));
                 const float sinAlpha = std::sqrt(std::max(0.0f, 1.0f - cosAlpha * cosAlpha));
-                const float phi = 2.0f * kPi * u.y;
+                const Vec2f azimuth = cosSinTurn(u.y);
                 const Frame frame = Frame::fromNormal(toCenter / distance);
                 // Angle alpha is measured at the centre, from the direction back to the reference.
-                const Vec3f fromCenter = frame.toWorld({sinAlpha * std::cos(phi), sinAlpha * std::sin(phi), -cosAlpha});
+                const Vec3f fromCenter = frame.toWorld({sinAlpha * azimuth.x, sinAlpha * azimuth.y, -cosAlpha});
                 ls.lightNormal = normalize(fromCenter);
                 ls.point = light.center + ls.lightNormal * light.radius;
                 ls.pointError = (abs(light.center) + abs(ls.lightNormal * light.radius)) * gamma(8);
@@ -284,15 +463,16 @@ Rgb LightSet::emittedByAreaLight(const SurfaceInteraction& si, Vec3f towardsView
     return Rgb(0.0f);
 }
 
-float LightSet::pdfOfHit(Vec3f reference, const SurfaceInteraction& si) const {
+float LightSet::pdfOfHit(Vec3f reference, Vec3f referenceNormal, const SurfaceInteraction& si) const {
     const int32_t index = lightIndexOf(si.shape);
     if (index < 0) return 0.0f;
-    return choice_.probability(size_t(index)) * solidAnglePdf(lights_[index], reference, si.position);
+    return choiceProbability(uint32_t(index), reference, referenceNormal) *
+           solidAnglePdf(lights_[index], reference, si.position);
 }
 
-float LightSet::pdfOfEnvironment(Vec3f direction) const {
+float LightSet::pdfOfEnvironment(Vec3f reference, Vec3f referenceNormal, Vec3f direction) const {
     if (environmentLight_ < 0) return 0.0f;
-    return choice_.probability(size_t(environmentLight_)) * environment_.pdf(direction);
+    return choiceProbability(uint32_t(environmentLight_), reference, referenceNormal) * environment_.pdf(direction);
 }
 
 }  // namespace penumbra

@@ -1,6 +1,6 @@
 // The lights of a scene as one closed set: emitting triangles, emitting spheres, point, spot and
 // directional lights and the environment (lights/environment_light.h). Next-event estimation picks
-// one light with probability proportional to its power, then a point on it (triangles by area,
+// one light, by what it can contribute at the vertex or by power (choose()), then a point on it (triangles by area,
 // spheres by the solid angle they subtend) or a direction (the environment: uniformly for a
 // constant one, by luminance for an image).
 #pragma once
@@ -16,6 +16,7 @@
 #include "geometry/scene_geometry.h"
 #include "geometry/surface_interaction.h"
 #include "lights/environment_light.h"
+#include "lights/light_bounds.h"
 #include "lights/light.h"
 
 namespace penumbra {
@@ -60,21 +61,49 @@ public:
     bool emitsAlongRays() const { return hasAreaLights_ || !environment_.isBlack(); }
     size_t size() const { return lights_.size(); }
 
-    // Next-event estimation in two steps: choose() picks a light by power with uPoint.x and leaves
-    // in uPoint.x its position within the light's share, then sample() takes a point on the light
-    // with uPoint (one 2D sample for both, so each light's points stay stratified). Point, spot and
-    // directional lights (isDelta) ignore uPoint; with a single light choose() leaves it as it is.
-    uint32_t choose(Vec2f& uPoint) const { return choice_.sampleAndRemap(uPoint.x); }
+    // Next-event estimation in two steps: choose() picks a light for the vertex at `p` (surface
+    // normal `n`) with uPoint.x and leaves in uPoint.x its position within the light's share, then
+    // sample() takes a point on the light with uPoint (one 2D sample for both, so each light's
+    // points stay stratified). Point, spot and directional lights (isDelta) ignore uPoint; with a
+    // single light choose() leaves it as it is.
+    //
+    // The choice: where the scene has two finite emitters or more (an emitter is one light, or an
+    // emitting mesh's triangles together) and at most kMaxLocallyChosenEmitters emitters in all,
+    // an emitter by what it can contribute at the vertex (lights/light_bounds.h, as pbrt-v4's
+    // light BVH weighs its nodes), the infinite lights (directional, environment) keeping their
+    // share of the power, then one of its lights by power; where all lights fit, each light is an
+    // emitter of its own. Otherwise a light by power alone; beyond that count a light tree would
+    // be needed to keep the cost per vertex down.
+    struct Choice {
+        uint32_t light;
+        float probability;
+    };
+    static constexpr size_t kMaxLocallyChosenEmitters = LightBoundsBatch::kCapacity;
+    Choice choose(Vec2f& uPoint, Vec3f p, Vec3f n) const {
+        if (!choosesLocally_) {
+            const uint32_t light = choice_.sampleAndRemap(uPoint.x);
+            return {light, choice_.probability(light)};
+        }
+        return chooseLocally(uPoint, p, n);
+    }
+    // The probability that choose() at (p, n) picks `light`.
+    float choiceProbability(uint32_t light, Vec3f p, Vec3f n) const {
+        return choosesLocally_ ? localChoiceProbability(light, p, n) : choice_.probability(light);
+    }
+    // Whether the choice depends on the vertex (see choose()).
+    bool choosesLocally() const { return choosesLocally_; }
     // Whether next-event estimation uses sample values at all: not for one delta light.
     bool drawsSampleValues() const { return drawsSampleValues_; }
     bool isDelta(uint32_t light) const {
         const LightKind kind = lights_[light].kind;
         return kind == LightKind::Point || kind == LightKind::Spot || kind == LightKind::Directional;
     }
-    std::optional<LightSample> sample(uint32_t light, Vec3f reference, Vec2f uPoint) const {
+    // A point on the light `choice` names, seen from `reference`; its pdf includes the choice's
+    // probability.
+    std::optional<LightSample> sample(Choice choice, Vec3f reference, Vec2f uPoint) const {
         // Point lights, the common case, inline; the other kinds in lights.cpp.
-        if (lights_[light].kind == LightKind::Point) return samplePoint(light, reference);
-        return sampleOther(light, reference, uPoint);
+        if (lights_[choice.light].kind == LightKind::Point) return samplePoint(choice, reference);
+        return sampleOther(choice, reference, uPoint);
     }
 
     // Emitted radiance leaving a surface point towards `towardsViewer` (0 for non-emitters).
@@ -85,15 +114,16 @@ public:
     // Radiance arriving along -direction from the environment, for a ray that escapes.
     Rgb environmentRadiance(Vec3f direction) const { return environment_.radiance(direction); }
 
-    // Density with which sample() from `reference` would have produced the emitter point `si`
-    // (solid angle, light choice included): the MIS weight of a BSDF-sampled hit.
-    float pdfOfHit(Vec3f reference, const SurfaceInteraction& si) const;
+    // Density with which choose() and sample() from `reference` (surface normal `referenceNormal`)
+    // would have produced the emitter point `si` (solid angle, light choice included): the MIS
+    // weight of a BSDF-sampled hit.
+    float pdfOfHit(Vec3f reference, Vec3f referenceNormal, const SurfaceInteraction& si) const;
     // The same for a ray that escaped along `direction` (the ray's own: it need not be unit).
-    float pdfOfEnvironment(Vec3f direction) const;
+    float pdfOfEnvironment(Vec3f reference, Vec3f referenceNormal, Vec3f direction) const;
 
 private:
-    std::optional<LightSample> samplePoint(uint32_t index, Vec3f reference) const {
-        const Light& light = lights_[index];
+    std::optional<LightSample> samplePoint(Choice choice, Vec3f reference) const {
+        const Light& light = lights_[choice.light];
         const Vec3f toLight = light.center - reference;
         const float distanceSquared = lengthSquared(toLight);
         if (!(distanceSquared > 0.0f)) return std::nullopt;
@@ -102,11 +132,29 @@ private:
         ls.direction = toLight / ls.distance;
         ls.point = light.center;
         ls.radiance = light.radiance / distanceSquared;
-        ls.pdf = choice_.probability(index);
+        ls.pdf = choice.probability;
         ls.isDelta = true;
         return ls;
     }
-    std::optional<LightSample> sampleOther(uint32_t index, Vec3f reference, Vec2f uPoint) const;
+    std::optional<LightSample> sampleOther(Choice choice, Vec3f reference, Vec2f uPoint) const;
+    bool isInfinite(size_t light) const {
+        return lights_[light].kind == LightKind::Directional || lights_[light].kind == LightKind::Environment;
+    }
+    // An emitter: lights_[firstLight, firstLight + lightCount), chosen among by power.
+    struct Emitter {
+        uint32_t firstLight = 0, lightCount = 0;
+        bool infinite = false;
+        DiscreteDistribution withinEmitter;
+    };
+    void groupEmitters(std::vector<uint32_t> emitterSizes, const std::vector<double>& power);
+    float emitterPowerShare(size_t emitter) const;
+    // The choice's weights at (p, n), one per emitter, into `weights` (room for
+    // kMaxLocallyChosenEmitters): the finite emitters' importances, and the infinite lights' power
+    // shares scaled so that they keep that share of the sum. Returns the sum; choose() and
+    // choiceProbability() divide by it alike.
+    float localChoiceWeights(Vec3f p, Vec3f n, float* weights) const;
+    Choice chooseLocally(Vec2f& uPoint, Vec3f p, Vec3f n) const;
+    float localChoiceProbability(uint32_t light, Vec3f p, Vec3f n) const;
     Rgb emittedByAreaLight(const SurfaceInteraction& si, Vec3f towardsViewer) const;
     int32_t lightIndexOf(ShapeRef shape) const;
     float solidAnglePdf(const Light& light, Vec3f reference, Vec3f point) const;
@@ -117,7 +165,16 @@ private:
     }
 
     std::vector<Light> lights_;
-    DiscreteDistribution choice_;
+    DiscreteDistribution choice_;             // by power
+    // The choice at a vertex (choosesLocally_): emitters, their bounds (finite ones), and each
+    // light's emitter and probability within it.
+    std::vector<Emitter> emitters_;
+    LightBoundsBatch bounds_;
+    std::vector<uint32_t> emitterOfLight_;
+    std::vector<float> probabilityWithinEmitter_;
+    bool choosesLocally_ = false;
+    float finiteShare_ = 1.0f;                // the finite lights' share of the power
+    bool hasInfiniteLights_ = false;          // directional or environment
     std::vector<int32_t> meshFirstLight_;    // per mesh: index of its first triangle light, or -1
     std::vector<int32_t> sphereLight_;       // per sphere: its light index, or -1
     int32_t environmentLight_ = -1;

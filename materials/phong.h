@@ -81,8 +81,8 @@ struct Phong {
             const float oneMinusCos = -std::expm1(std::log(1.0f - u.x) / (exponent + 1.0f));
             const float cosAlpha = 1.0f - oneMinusCos;
             const float sinAlpha = std::sqrt(std::max(0.0f, oneMinusCos * (2.0f - oneMinusCos)));
-            const float phi = 2.0f * kPi * u.y;
-            const Vec3f local{sinAlpha * std::cos(phi), sinAlpha * std::sin(phi), cosAlpha};
+            const Vec2f azimuth = cosSinTurn(u.y);
+            const Vec3f local{sinAlpha * azimuth.x, sinAlpha * azimuth.y, cosAlpha};
             // A frame around the mirror direction r (unit).
             const Vec3f r = reflectAboutZ(wo);
             const float sign = std::copysign(1.0f, r.z);

@@ -192,6 +192,7 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
     float previousBsdfPdf = 0.0f;
     bool previousWasDelta = true;  // the camera vertex: emitters seen directly get full weight
     Vec3f previousPosition = ray.origin;
+    Vec3f previousNormal;  // the previous vertex's geometric normal (for the light choice's probability there)
     // A textured material's values at the current vertex (Material::at); untouched otherwise.
     detail::TexturedMaterialSlot textured;
     // The triangle the current vertex lies on, which its bounce and shadow rays leave.
@@ -216,7 +217,8 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
                 if (!environment.isBlack()) {
                     const float weight = previousWasDelta ? 1.0f
                                                           : detail::hitWeight(ctx.strategy, previousBsdfPdf,
-                                                                              lights.pdfOfEnvironment(ray.direction));
+                                                                              lights.pdfOfEnvironment(previousPosition, previousNormal,
+                                                                                                      ray.direction));
                     radiance += throughput * environment * weight;
                 }
             }
@@ -249,7 +251,7 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
         // --- Emission at the hit, found by the previous vertex's BSDF sample: weighted against NEE.
         const Rgb emitted = lights.emitted(si, wo);
         if (!emitted.isBlack()) {
-            const float weight = previousWasDelta ? 1.0f : detail::hitWeight(ctx.strategy, previousBsdfPdf, lights.pdfOfHit(previousPosition, si));
+            const float weight = previousWasDelta ? 1.0f : detail::hitWeight(ctx.strategy, previousBsdfPdf, lights.pdfOfHit(previousPosition, previousNormal, si));
             radiance += throughput * emitted * weight;
         }
         if (int(bounce) >= ctx.maxDepth) break;
@@ -271,10 +273,10 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
             // and then the point on it (LightSet::choose); frozen, it fixes the point on each light
             // but not the choice (README, `--freeze`).
             Vec2f uLight{0.5f, 0.5f};
-            uint32_t light = 0;
+            LightSet::Choice light{0, 1.0f};
             if (lights.drawsSampleValues()) {
                 uLight = sample.get2DUnfrozen(Dim::LightPosition, bounce);
-                light = lights.choose(uLight);
+                light = lights.choose(uLight, si.position, si.geometricNormal);
                 if (sample.isFrozen(Dim::LightPosition)) [[unlikely]] uLight = {0.5f, 0.5f};
             }
             const auto ls = lights.sample(light, si.position, uLight);
@@ -315,6 +317,7 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
             previousBsdfPdf = bs->pdf;
             previousWasDelta = bs->isSpecular();
             previousPosition = si.position;
+            previousNormal = si.geometricNormal;
 
             if (int(bounce) + 1 >= ctx.rouletteStartDepth) {
                 // A path that survives for certain draws no sample (u < 1 never ends it).

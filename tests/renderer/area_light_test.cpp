@@ -144,5 +144,37 @@ TEST(AreaLight, PenumbraLiesWhereTheGeometrySays) {
     }
 }
 
+// Several emitters, so that next-event estimation chooses among them at the vertex
+// (LightSet::choose), under MIS with the BSDF samples that find the same lights: a quad overhead,
+// a quad standing beside the point facing it, a sphere light and a point light. The irradiance is
+// the sum of their closed forms (Lambert's formula for the quads, pi L (R / D)^2 cos(theta) for
+// a sphere above the horizon, I cos(theta) / d^2 for the point light).
+TEST(AreaLight, LightsChosenAtTheVertexSumToTheirClosedForms) {
+    Scene scene = floorScene();
+    TriangleMesh overhead = testing::makeQuad({-0.5f, 1.0f, -0.4f}, {0.8f, 0, 0}, {0, 0, 0.8f}, 1);  // faces -y
+    overhead.emission.radiance = Rgb(3.0f);
+    TriangleMesh beside = testing::makeQuad({1.0f, 0.2f, -0.5f}, {0, 0, 1.0f}, {0, 0.8f, 0}, 1);  // faces -x
+    beside.emission.radiance = Rgb(2.0f);
+    scene.meshes.push_back(overhead);
+    scene.meshes.push_back(beside);
+    Sphere sphere;
+    sphere.center = {-1.0f, 0.8f, 0.5f};
+    sphere.radius = 0.2f;
+    sphere.material = 1;
+    sphere.emission.radiance = Rgb(5.0f);
+    scene.spheres.push_back(sphere);
+    const Vec3f pointPosition{0.8f, 1.5f, -0.8f};
+    scene.pointLights.push_back({pointPosition, Rgb(1.0f)});
+
+    const double quads =
+        polygonIrradiance({{-0.5f, 1.0f, -0.4f}, {0.3f, 1.0f, -0.4f}, {0.3f, 1.0f, 0.4f}, {-0.5f, 1.0f, 0.4f}}, 3.0) +
+        polygonIrradiance({{1.0f, 0.2f, -0.5f}, {1.0f, 0.2f, 0.5f}, {1.0f, 1.0f, 0.5f}, {1.0f, 1.0f, -0.5f}}, 2.0);
+    const double sphereDistance = length(sphere.center);
+    const double sphereIrradiance = kPi * 5.0 * std::pow(sphere.radius / sphereDistance, 2) * (sphere.center.y / sphereDistance);
+    const double pointIrradiance = pointPosition.y / std::pow(double(length(pointPosition)), 3);
+    expectIrradiance(measureIrradiance(scene, {0, 0, 0}, {0.3f, 0.4f, 1.5f}), quads + sphereIrradiance + pointIrradiance,
+                     "four emitters chosen at the vertex");
+}
+
 }  // namespace
 }  // namespace penumbra
