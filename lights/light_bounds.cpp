@@ -26,8 +26,8 @@ void LightBoundsBatch::importances(Vec3f p, Vec3f n, float* out) const {
 #pragma omp simd
     for (size_t i = 0; i < used_; ++i)
         out[i] = detail::lightImportance(p.x, p.y, p.z, n.x, n.y, n.z, centerX_[i], centerY_[i], centerZ_[i],
-                                         radius_[i], radiusSquared_[i], axisX_[i], axisY_[i], axisZ_[i], phi_[i], cosThetaO_[i],
-                                         sinThetaO_[i], cosThetaE_[i], twoSided_[i]);
+                                         radius_[i], radiusSquared_[i], axisX_[i], axisY_[i], axisZ_[i],
+                                         phi_[i], cosThetaO_[i], sinThetaO_[i], cosThetaE_[i], twoSided_[i]);
 }
 
 }  // namespace penumbra

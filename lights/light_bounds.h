@@ -23,7 +23,7 @@ struct LightBounds {
     float radius = 0;       // 0 for point and spot lights
     Vec3f axis{0, 0, 1};    // the emission cone's axis: a triangle's front normal, a spot light's direction
     float phi = 0;          // power (luminance), the importance's scale
-    float cosThetaO = -1;   // cosine of the spread of the emitters' normals about the axis (-1: all directions)
+    float cosThetaO = -1;   // cosine of the normals' spread about the axis (-1: all directions)
     float cosThetaE = 0;    // cosine of the emission's angle beyond the normals' spread (0: a hemisphere)
     bool twoSided = false;  // emits about -axis too
 
@@ -39,9 +39,10 @@ inline float safeSqrt(float x) { return std::sqrt(std::max(x, 0.0f)); }
 // The importance, one light's fields as plain numbers, written without branches so that a loop
 // over lights (LightBoundsBatch) computes several lanes at once; a lane's result is the same bits
 // as one call (IEEE operations, in the same order).
-inline float lightImportance(float px, float py, float pz, float nx, float ny, float nz, float centerX, float centerY,
-                             float centerZ, float radius, float radiusSquared, float axisX, float axisY, float axisZ, float phi,
-                             float cosThetaO, float sinThetaO, float cosThetaE, float twoSided) {
+inline float lightImportance(float px, float py, float pz, float nx, float ny, float nz, float centerX,
+                             float centerY, float centerZ, float radius, float radiusSquared, float axisX,
+                             float axisY, float axisZ, float phi, float cosThetaO, float sinThetaO,
+                             float cosThetaE, float twoSided) {
     const float dx = px - centerX, dy = py - centerY, dz = pz - centerZ;
     const float distanceSquared = dx * dx + dy * dy + dz * dz;
     // Every operation is done in every lane (no division by zero to avoid); a point at the light's
@@ -77,9 +78,10 @@ inline float lightImportance(float px, float py, float pz, float nx, float ny, f
 }  // namespace detail
 
 inline float LightBounds::importance(Vec3f p, Vec3f n) const {
-    return detail::lightImportance(p.x, p.y, p.z, n.x, n.y, n.z, center.x, center.y, center.z, radius, radius * radius, axis.x,
-                                   axis.y, axis.z, phi, cosThetaO, detail::safeSqrt(1.0f - cosThetaO * cosThetaO),
-                                   cosThetaE, twoSided ? 1.0f : 0.0f);
+    return detail::lightImportance(p.x, p.y, p.z, n.x, n.y, n.z, center.x, center.y, center.z, radius,
+                                   radius * radius, axis.x, axis.y, axis.z, phi, cosThetaO,
+                                   detail::safeSqrt(1.0f - cosThetaO * cosThetaO), cosThetaE,
+                                   twoSided ? 1.0f : 0.0f);
 }
 
 // The bounds of up to kCapacity lights, a field per array, for the importances of all of them at

@@ -233,7 +233,8 @@ void LightSet::groupEmitters(std::vector<uint32_t> emitterSizes, const std::vect
         emitter.withinEmitter = DiscreteDistribution(shares);
         for (uint32_t i = first; i < first + size; ++i) {
             emitterOfLight_[i] = uint32_t(emitters_.size());
-            probabilityWithinEmitter_[i] = emitter.withinEmitter.empty() ? 0.0f : emitter.withinEmitter.probability(i - first);
+            probabilityWithinEmitter_[i] =
+                emitter.withinEmitter.empty() ? 0.0f : emitter.withinEmitter.probability(i - first);
             if (emitter.infinite) {
                 hasInfiniteLights_ = true;
                 if (!choice_.empty()) finiteShare_ -= choice_.probability(i);

@@ -1,8 +1,8 @@
 // The lights of a scene as one closed set: emitting triangles, emitting spheres, point, spot and
 // directional lights and the environment (lights/environment_light.h). Next-event estimation picks
-// one light, by what it can contribute at the vertex or by power (choose()), then a point on it (triangles by area,
-// spheres by the solid angle they subtend) or a direction (the environment: uniformly for a
-// constant one, by luminance for an image).
+// one light, by what it can contribute at the vertex or by power (choose()), then a point on it
+// (triangles by area, spheres by the solid angle they subtend) or a direction (the environment:
+// uniformly for a constant one, by luminance for an image).
 #pragma once
 
 #include <cmath>

@@ -192,7 +192,7 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
     float previousBsdfPdf = 0.0f;
     bool previousWasDelta = true;  // the camera vertex: emitters seen directly get full weight
     Vec3f previousPosition = ray.origin;
-    Vec3f previousNormal;  // the previous vertex's geometric normal (for the light choice's probability there)
+    Vec3f previousNormal;  // its geometric normal: the light choice's probability there depends on it
     // A textured material's values at the current vertex (Material::at); untouched otherwise.
     detail::TexturedMaterialSlot textured;
     // The triangle the current vertex lies on, which its bounce and shadow rays leave.
@@ -215,10 +215,11 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
             if (lights.hasEnvironment()) {
                 const Rgb environment = lights.environmentRadiance(ray.direction);
                 if (!environment.isBlack()) {
-                    const float weight = previousWasDelta ? 1.0f
-                                                          : detail::hitWeight(ctx.strategy, previousBsdfPdf,
-                                                                              lights.pdfOfEnvironment(previousPosition, previousNormal,
-                                                                                                      ray.direction));
+                    const float weight =
+                        previousWasDelta ? 1.0f
+                                         : detail::hitWeight(ctx.strategy, previousBsdfPdf,
+                                                             lights.pdfOfEnvironment(previousPosition, previousNormal,
+                                                                                     ray.direction));
                     radiance += throughput * environment * weight;
                 }
             }
@@ -251,7 +252,9 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
         // --- Emission at the hit, found by the previous vertex's BSDF sample: weighted against NEE.
         const Rgb emitted = lights.emitted(si, wo);
         if (!emitted.isBlack()) {
-            const float weight = previousWasDelta ? 1.0f : detail::hitWeight(ctx.strategy, previousBsdfPdf, lights.pdfOfHit(previousPosition, previousNormal, si));
+            const float weight = previousWasDelta ? 1.0f
+                                                  : detail::hitWeight(ctx.strategy, previousBsdfPdf,
+                                                                      lights.pdfOfHit(previousPosition, previousNormal, si));
             radiance += throughput * emitted * weight;
         }
         if (int(bounce) >= ctx.maxDepth) break;

@@ -31,7 +31,8 @@ Vec3f randomUnit(std::mt19937& rng) {
 LightBounds triangleBounds(Vec3f p0, Vec3f p1, Vec3f p2, bool twoSided) {
     LightBounds b;
     b.center = (p0 + p1 + p2) / 3.0f;
-    b.radius = std::sqrt(std::max({lengthSquared(p0 - b.center), lengthSquared(p1 - b.center), lengthSquared(p2 - b.center)}));
+    b.radius = std::sqrt(
+        std::max({lengthSquared(p0 - b.center), lengthSquared(p1 - b.center), lengthSquared(p2 - b.center)}));
     b.axis = normalize(cross(p1 - p0, p2 - p0));
     b.cosThetaO = 1.0f;
     b.twoSided = twoSided;
@@ -138,7 +139,7 @@ Scene sceneWithSeveralLights(bool withEnvironment) {
     scene.materials = {testing::makeLambert(Rgb(0.5f))};
     TriangleMesh warm = testing::makeQuad({-2, 2, -1}, {1, 0, 0}, {0, 0, 1}, 0);  // faces -y
     warm.emission.radiance = {5, 4, 3};
-    TriangleMesh cool = testing::makeQuad({1, 1, 1}, {0, 1, 0}, {0, 0, 1}, 0);   // faces +x... and two-sided
+    TriangleMesh cool = testing::makeQuad({1, 1, 1}, {0, 1, 0}, {0, 0, 1}, 0);  // faces +x... and two-sided
     cool.emission.radiance = {1, 2, 6};
     cool.emission.twoSided = true;
     scene.meshes = {warm, cool};
@@ -153,14 +154,16 @@ Scene sceneWithSeveralLights(bool withEnvironment) {
 TEST(LightChoice, ChoosesEachLightWithTheProbabilityItReports) {
     for (const bool withEnvironment : {false, true}) {
         const Scene scene = sceneWithSeveralLights(withEnvironment);
-        const LightSet lights(scene, scene.pointLights, scene.spotLights, scene.directionalLights, scene.environment);
+        const LightSet lights(scene, scene.pointLights, scene.spotLights, scene.directionalLights,
+                              scene.environment);
         ASSERT_TRUE(lights.choosesLocally());
         std::mt19937 rng(14);
         for (int point = 0; point < 6; ++point) {
             const Vec3f p = randomPoint(rng, 1.5f), n = randomUnit(rng);
             double sum = 0.0;
             std::vector<double> expected(lights.size());
-            for (uint32_t l = 0; l < lights.size(); ++l) sum += expected[l] = lights.choiceProbability(l, p, n);
+            for (uint32_t l = 0; l < lights.size(); ++l)
+                sum += expected[l] = lights.choiceProbability(l, p, n);
             EXPECT_NEAR(sum, 1.0, 1e-5) << "point " << point;
             const int n_samples = 200000;
             std::vector<double> observed(lights.size(), 0.0);
@@ -179,9 +182,11 @@ TEST(LightChoice, ChoosesEachLightWithTheProbabilityItReports) {
             for (uint32_t l = 0; l < lights.size(); ++l) {
                 // Stratified values: each light's count is exact to within the lights before it
                 // (a few values of rounding at each boundary), far tighter than chi-square needs.
-                EXPECT_NEAR(observed[l], expected[l] * n_samples, 4.0 + 1e-4 * n_samples) << "point " << point << " light " << l;
+                EXPECT_NEAR(observed[l], expected[l] * n_samples, 4.0 + 1e-4 * n_samples)
+                    << "point " << point << " light " << l;
                 for (int q = 0; q < 4 && observed[l] > 1000; ++q)
-                    EXPECT_NEAR(quarters[l][q], observed[l] / 4.0, 4.0 + 1e-4 * n_samples) << "light " << l << " quarter " << q;
+                    EXPECT_NEAR(quarters[l][q], observed[l] / 4.0, 4.0 + 1e-4 * n_samples)
+                        << "light " << l << " quarter " << q;
             }
         }
     }
@@ -191,7 +196,8 @@ TEST(LightChoice, ChoosesEachLightWithTheProbabilityItReports) {
 // lights' importances differ widely (near one light, far from the others).
 TEST(LightChoice, RandomValuesPassChiSquare) {
     const Scene scene = sceneWithSeveralLights(true);
-    const LightSet lights(scene, scene.pointLights, scene.spotLights, scene.directionalLights, scene.environment);
+    const LightSet lights(scene, scene.pointLights, scene.spotLights, scene.directionalLights,
+                          scene.environment);
     std::mt19937 rng(15);
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
     const std::vector<Vec3f> points = {{-1.5f, 1.9f, -0.5f}, {1.1f, 1.5f, 1.5f}, {0.0f, 0.0f, 0.0f}};
@@ -200,7 +206,8 @@ TEST(LightChoice, RandomValuesPassChiSquare) {
         const Vec3f n{0, 1, 0};
         std::vector<double> observed(lights.size(), 0.0), expected(lights.size());
         const int samples = 100000;
-        for (uint32_t l = 0; l < lights.size(); ++l) expected[l] = lights.choiceProbability(l, p, n) * samples;
+        for (uint32_t l = 0; l < lights.size(); ++l)
+            expected[l] = lights.choiceProbability(l, p, n) * samples;
         for (int i = 0; i < samples; ++i) {
             Vec2f uPoint{u(rng), u(rng)};
             observed[lights.choose(uPoint, p, n).light] += 1.0;
@@ -217,7 +224,8 @@ TEST(LightChoice, OneEmitterChoosesByPower) {
     Scene scene = sceneWithSeveralLights(false);
     scene.meshes.pop_back();
     scene.pointLights.clear();
-    const LightSet lights(scene, scene.pointLights, scene.spotLights, scene.directionalLights, scene.environment);
+    const LightSet lights(scene, scene.pointLights, scene.spotLights, scene.directionalLights,
+                          scene.environment);
     EXPECT_FALSE(lights.choosesLocally());
     EXPECT_FLOAT_EQ(lights.choiceProbability(0, {0, 0, 0}, {0, 1, 0}), 0.5f);
 }
