@@ -91,7 +91,8 @@ public:
     static constexpr size_t kCapacity = 16;
     static constexpr size_t kLanes = 8;  // AVX
 
-    // Bounds `b` in slot `i` (< kCapacity); slots never set have importance 0.
+    // Bounds `b` in slot `i` (< kCapacity). importances() computes the slots up to the last one
+    // set; the caller sets every slot it reads.
     void set(size_t i, const LightBounds& b);
     // out[i] = bounds i's importance at (p, n), for the slots up to the last one set, rounded up
     // to a multiple of kLanes (out has room for kCapacity).

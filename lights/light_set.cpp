@@ -247,7 +247,10 @@ void LightSet::groupEmitters(std::vector<uint32_t> emitterSizes, const std::vect
     choosesLocally_ = !choice_.empty() && emitters_.size() <= kMaxLocallyChosenEmitters;
     if (!choosesLocally_) return;
     for (size_t e = 0; e < emitters_.size(); ++e) {
-        if (emitters_[e].infinite) continue;
+        if (emitters_[e].infinite) {
+            bounds_.set(e, LightBounds{});  // power 0: importance 0 (their weight is their power share)
+            continue;
+        }
         const uint32_t first = emitters_[e].firstLight, size = emitters_[e].lightCount;
         double emitterPower = 0.0;
         for (uint32_t i = first; i < first + size; ++i) emitterPower += power[i];
@@ -257,7 +260,7 @@ void LightSet::groupEmitters(std::vector<uint32_t> emitterSizes, const std::vect
 }
 
 float LightSet::localChoiceWeights(Vec3f p, Vec3f n, float* weights) const {
-    // The infinite lights' slots were never set: their importance is 0.
+    // The infinite lights' slots hold empty bounds: their importance is 0.
     bounds_.importances(p, n, weights);
     float finiteTotal = 0.0f;
     for (size_t e = 0; e < emitters_.size(); ++e) finiteTotal += weights[e];

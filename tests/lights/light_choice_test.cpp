@@ -192,6 +192,27 @@ TEST(LightChoice, ChoosesEachLightWithTheProbabilityItReports) {
     }
 }
 
+// Eight point lights and the environment: the environment's slot lies past the first eight lanes,
+// and the probabilities still sum to 1 at every point.
+TEST(LightChoice, ProbabilitiesSumToOneWithAnEmitterPastTheFirstLanes) {
+    Scene scene;
+    for (int i = 0; i < 8; ++i)
+        scene.pointLights.push_back({{float(i) - 3.5f, 2.0f, 0.5f * float(i % 3)}, Rgb(1.0f + i)});
+    scene.environment = EnvironmentLight::constant(Rgb(0.2f));
+    const LightSet lights(scene, scene.pointLights, scene.spotLights, scene.directionalLights,
+                          scene.environment);
+    ASSERT_TRUE(lights.choosesLocally());
+    ASSERT_EQ(lights.size(), 9u);
+    std::mt19937 rng(16);
+    for (int point = 0; point < 100; ++point) {
+        const Vec3f p = randomPoint(rng, 4.0f), n = randomUnit(rng);
+        double sum = 0.0;
+        for (uint32_t l = 0; l < lights.size(); ++l) sum += lights.choiceProbability(l, p, n);
+        EXPECT_NEAR(sum, 1.0, 1e-5) << "point " << point;
+        EXPECT_GT(lights.choiceProbability(8, p, n), 0.0f);
+    }
+}
+
 // Random values: the frequencies against the probabilities by chi-square, at points where the
 // lights' importances differ widely (near one light, far from the others).
 TEST(LightChoice, RandomValuesPassChiSquare) {
