@@ -28,10 +28,11 @@ ThinLensCamera::ThinLensCamera(const ThinLensCameraParams& p, int filmWidth, int
     apertureRotation_ = p.apertureRotationDegrees * kPi / 180.0f;
     // The polygon's vertices, once: a camera ray takes the two of its blade (two sincos calls a
     // ray before, 4% of a depth-of-field render's time).
-    for (int blade = 0; apertureBlades_ >= 3 && blade <= apertureBlades_; ++blade) {
-        const float angle = apertureRotation_ + 2.0f * kPi * float(blade) / float(apertureBlades_);
-        bladeVertices_.push_back({std::cos(angle), std::sin(angle)});
-    }
+    if (apertureBlades_ >= 3)
+        for (int blade = 0; blade <= apertureBlades_; ++blade) {
+            const float angle = apertureRotation_ + 2.0f * kPi * float(blade) / float(apertureBlades_);
+            bladeVertices_.push_back({std::cos(angle), std::sin(angle)});
+        }
     focusDistance_ = p.focusDistance > 0.0f ? p.focusDistance : length(p.lookAt - p.lookFrom);
     if (p.motion.size() == 1) throw InputError("camera: motion needs at least two poses");
     for (const CameraPose& pose : p.motion)

@@ -232,6 +232,7 @@ void LightSet::groupEmitters(std::vector<uint32_t> emitterSizes, const std::vect
         std::vector<double> shares(power.begin() + first, power.begin() + first + size);
         emitter.withinEmitter = DiscreteDistribution(shares);
         for (uint32_t i = first; i < first + size; ++i) {
+            if (!choice_.empty()) emitter.powerShare += choice_.probability(i);
             emitterOfLight_[i] = uint32_t(emitters_.size());
             probabilityWithinEmitter_[i] =
                 emitter.withinEmitter.empty() ? 0.0f : emitter.withinEmitter.probability(i - first);
@@ -266,7 +267,7 @@ float LightSet::localChoiceWeights(Vec3f p, Vec3f n, float* weights) const {
     for (size_t e = 0; e < emitters_.size(); ++e) finiteTotal += weights[e];
     if (!(finiteTotal > 0.0f)) {
         // No finite light can light the point: any choice among them adds nothing; by power, then.
-        for (size_t e = 0; e < emitters_.size(); ++e) weights[e] = emitterPowerShare(e);
+        for (size_t e = 0; e < emitters_.size(); ++e) weights[e] = emitters_[e].powerShare;
         return 1.0f;
     }
     if (!hasInfiniteLights_) return finiteTotal;
@@ -275,17 +276,10 @@ float LightSet::localChoiceWeights(Vec3f p, Vec3f n, float* weights) const {
     float total = finiteTotal;
     for (size_t e = 0; e < emitters_.size(); ++e)
         if (emitters_[e].infinite) {
-            weights[e] = emitterPowerShare(e) * scale;
+            weights[e] = emitters_[e].powerShare * scale;
             total += weights[e];
         }
     return total;
-}
-
-float LightSet::emitterPowerShare(size_t e) const {
-    const Emitter& emitter = emitters_[e];
-    float share = 0.0f;
-    for (uint32_t i = 0; i < emitter.lightCount; ++i) share += choice_.probability(emitter.firstLight + i);
-    return share;
 }
 
 LightSet::Choice LightSet::chooseLocally(Vec2f& uPoint, Vec3f p, Vec3f n) const {

@@ -144,10 +144,10 @@ private:
     struct Emitter {
         uint32_t firstLight = 0, lightCount = 0;
         bool infinite = false;
+        float powerShare = 0.0f;  // its lights' probabilities under the choice by power, summed
         DiscreteDistribution withinEmitter;
     };
     void groupEmitters(std::vector<uint32_t> emitterSizes, const std::vector<double>& power);
-    float emitterPowerShare(size_t emitter) const;
     // The choice's weights at (p, n), one per emitter, into `weights` (room for
     // kMaxLocallyChosenEmitters): the finite emitters' importances, and the infinite lights' power
     // shares scaled so that they keep that share of the sum. Returns the sum; choose() and
