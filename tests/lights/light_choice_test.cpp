@@ -180,8 +180,11 @@ TEST(LightChoice, ChoosesEachLightWithTheProbabilityItReports) {
                 quarters[choice.light][std::min(3, int(uPoint.x * 4.0f))] += 1.0;
             }
             for (uint32_t l = 0; l < lights.size(); ++l) {
-                // Stratified values: each light's count is exact to within the lights before it
-                // (a few values of rounding at each boundary), far tighter than chi-square needs.
+                // Stratified values (u = (i + 1/2) / n): a light's interval of [0, 1) holds its
+                // probability times n values, to 1 at each end. The weights, their sum and the
+                // targets u * total are floats of at most 16 terms (relative rounding below 2e-6),
+                // which moves each end by under 2e-6 n values; the bound, 4 + 1e-4 n (24 of
+                // 200,000), leaves room for both; a probability off by more than 1.2e-4 fails it.
                 EXPECT_NEAR(observed[l], expected[l] * n_samples, 4.0 + 1e-4 * n_samples)
                     << "point " << point << " light " << l;
                 for (int q = 0; q < 4 && observed[l] > 1000; ++q)
