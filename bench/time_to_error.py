@@ -20,7 +20,10 @@ per scene:
   2. each renderer at every rung of --ladder, --reps times with different seeds, alternating
      penumbra and Cycles, with the same thread count; penumbra also adaptive after each rung from
      2x --min-spp on, at the criterion the fixed film's median pixel has at that rung (at most
-     twice the rung's samples);
+     twice the rung's samples); and adaptive with the absolute criterion (`--adaptive-error
+     absolute`, renderer/adaptive_sampling.h) after each rung, its target the RMSE the fixed
+     render reached at that rung (at most 8x the rung's samples in a pixel, at least the smaller
+     of the rung and --min-spp);
   3. the RMSE of each image against its own renderer's reference, the reference's noise subtracted
      (corrected_mse); per rung the median time and the RMSE of the mean MSE over the repetitions;
      the time each renderer needs to reach the same RMSE, interpolated on the log-log curve of
@@ -59,7 +62,7 @@ What the two scenes share, and where they differ (the closest Cycles equivalents
 Coordinates are penumbra's (y up); Blender gets them rotated about x by 90 degrees (z up).
 
 Writes DIR/time-to-error.json, DIR/time-to-error.md (one row per scene, ending with the ratio
-written like `0.42x`) and DIR/time-to-error-SCENE.png (RMSE against time, all three curves).
+written like `0.42x`) and DIR/time-to-error-SCENE.png (RMSE against time, all four curves).
 A benchmark, not a test: nothing in tests/ runs it.
 """
 
@@ -238,13 +241,14 @@ def parse_penumbra_summary(text):
     m = re.search(r"\(([0-9]+) camera, ([0-9]+) bounce, ([0-9]+) shadow rays\)", text)
     if m:
         out["rays"] = sum(int(g) for g in m.groups())
-    m = re.search(r"adaptive [0-9.e+-]+ \(min [0-9]+ spp\): ([0-9]+) samples, mean ([0-9.]+) spp", text)
+    m = re.search(r"adaptive [0-9.e+-]+ \((?:image RMSE, )?min [0-9]+ spp\): ([0-9]+) samples, mean ([0-9.]+) spp",
+                  text)
     if m:
         out["samples"], out["mean_spp"] = int(m.group(1)), float(m.group(2))
     return out
 
 
-def run_penumbra(binary, scene_file, out, threads, spp, seed, adaptive=None, min_spp=None):
+def run_penumbra(binary, scene_file, out, threads, spp, seed, adaptive=None, min_spp=None, adaptive_error=None):
     """Wall time of the whole process: start-up, scene load, BVH build, render, writing the EXR
     (the default full film, as a user gets it); and its CPU time (user + system, all threads)."""
     cmd = [binary, "render", scene_file, "--spp", str(spp), "--seed", str(seed), "--threads", str(threads),
@@ -253,6 +257,8 @@ def run_penumbra(binary, scene_file, out, threads, spp, seed, adaptive=None, min
         cmd += ["--adaptive", repr(adaptive)]
         if min_spp:
             cmd += ["--min-spp", str(min_spp)]
+        if adaptive_error:
+            cmd += ["--adaptive-error", adaptive_error]
     start, usage = time.perf_counter(), resource.getrusage(resource.RUSAGE_CHILDREN)
     proc = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     seconds, after = time.perf_counter() - start, resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -510,8 +516,8 @@ def main():
                 f"{p['rms_radius']:.2f}/{c['rms_radius']:.2f}"
                 for p, c in zip(agreement["bokeh"]["penumbra"], agreement["bokeh"]["cycles"])))
 
-        runs = {"penumbra": [], "penumbra adaptive": [], "cycles": []}
-        thresholds = {}
+        runs = {"penumbra": [], "penumbra adaptive": [], "penumbra adaptive rmse": [], "cycles": []}
+        thresholds, targets = {}, {}
         for rep in range(args.reps):
             seed = rep + 1
             for spp in ladder:
@@ -527,6 +533,7 @@ def main():
                                        "mse": corrected_mse(image, reference[kind], ref_noise[kind]), **summary})
                     if kind == "penumbra" and rep == 0:
                         thresholds[spp] = median_relative_error(out)
+                        targets[spp] = math.sqrt(max(runs[kind][-1]["mse"], 1e-30))
                 # Adaptive at the criterion that the fixed render's median pixel has at this rung:
                 # it stops the pixels already as clean and spends on the others (as `converge
                 # --adaptive`), up to twice the rung's samples (a bound on its time: the pixels whose
@@ -538,13 +545,28 @@ def main():
                     runs["penumbra adaptive"].append({"key": spp, "threshold": threshold, "seconds": seconds,
                                                       "mse": corrected_mse(read_rgb(out), reference["penumbra"],
                                                                            ref_noise["penumbra"]), **summary})
+                # Adaptive with the absolute criterion: the image RMSE the fixed render reached at
+                # this rung as its target (the floor of the minimum everywhere takes it lower), up
+                # to 8x the rung's samples in a pixel (where the noise is); below --min-spp the
+                # rung is the minimum, so that the curve reaches the low rungs' errors too.
+                if not args.no_adaptive:
+                    target = float(f"{targets[spp]:.4g}")
+                    out = os.path.join(work, f"{name}-r-{spp}-{seed}.exr")
+                    seconds, summary = penumbra(8 * spp, seed, out, adaptive=target,
+                                                min_spp=max(2, min(args.min_spp, spp)), adaptive_error="absolute")
+                    runs["penumbra adaptive rmse"].append({"key": spp, "threshold": target, "seconds": seconds,
+                                                           "mse": corrected_mse(read_rgb(out), reference["penumbra"],
+                                                                                ref_noise["penumbra"]), **summary})
                 p = [r for r in runs["penumbra"] if r["key"] == spp][-1]
                 c = [r for r in runs["cycles"] if r["key"] == spp][-1]
                 log(f"  rep {rep + 1} {spp:5d} spp: penumbra {p['seconds']:.2f} s RMSE {math.sqrt(max(p['mse'], 0)):.4g}, "
                     f"cycles {c['seconds']:.2f} s RMSE {math.sqrt(max(c['mse'], 0)):.4g}"
                     + (f", adaptive {runs['penumbra adaptive'][-1]['seconds']:.2f} s RMSE "
                        f"{math.sqrt(max(runs['penumbra adaptive'][-1]['mse'], 0)):.4g}"
-                       if runs["penumbra adaptive"] and runs["penumbra adaptive"][-1]["key"] == spp else ""))
+                       if runs["penumbra adaptive"] and runs["penumbra adaptive"][-1]["key"] == spp else "")
+                    + (f", adaptive (image RMSE) {runs['penumbra adaptive rmse'][-1]['seconds']:.2f} s RMSE "
+                       f"{math.sqrt(max(runs['penumbra adaptive rmse'][-1]['mse'], 0)):.4g}"
+                       if runs["penumbra adaptive rmse"] and runs["penumbra adaptive rmse"][-1]["key"] == spp else ""))
         curves = {kind: summarize(r) for kind, r in runs.items()}
 
         # Equal error: each Cycles rung's RMSE, reached by penumbra (fixed, adaptive) in how long;
@@ -553,7 +575,7 @@ def main():
         for c in curves["cycles"]:
             row = {"spp": c["key"], "rmse": c["rmse"], "cycles_seconds": c["seconds"],
                    "cycles_cpu_seconds": c.get("cpu_seconds")}
-            for kind in ("penumbra", "penumbra adaptive"):
+            for kind in ("penumbra", "penumbra adaptive", "penumbra adaptive rmse"):
                 key = kind.replace(" ", "_")
                 t = time_at_rmse([(p["seconds"], p["rmse"]) for p in curves[kind]], c["rmse"])
                 row[key + "_seconds"] = t
@@ -562,21 +584,23 @@ def main():
                 row[key + "_cpu_seconds"] = t
                 row[key + "_cpu_ratio"] = t / c["cpu_seconds"] if t and c.get("cpu_seconds") else None
             rows.append(row)
-        adaptive_rows = []
-        for p in curves["penumbra"]:
-            t = time_at_rmse([(a["seconds"], a["rmse"]) for a in curves["penumbra adaptive"]], p["rmse"])
-            tc = time_at_rmse([(a["cpu_seconds"], a["rmse"]) for a in curves["penumbra adaptive"]], p["rmse"])
-            n = time_at_rmse([(a["mean_spp"], a["rmse"]) for a in curves["penumbra adaptive"] if a.get("mean_spp")],
-                             p["rmse"])
-            adaptive_rows.append({"spp": p["key"], "rmse": p["rmse"], "fixed_seconds": p["seconds"],
-                                  "adaptive_seconds": t, "ratio": t / p["seconds"] if t else None,
-                                  "cpu_ratio": tc / p["cpu_seconds"] if tc else None,
-                                  "adaptive_mean_spp": n, "spp_ratio": n / p["key"] if n else None})
+        def against_fixed(kind):
+            out = []
+            for p in curves["penumbra"]:
+                t = time_at_rmse([(a["seconds"], a["rmse"]) for a in curves[kind]], p["rmse"])
+                tc = time_at_rmse([(a["cpu_seconds"], a["rmse"]) for a in curves[kind]], p["rmse"])
+                n = time_at_rmse([(a["mean_spp"], a["rmse"]) for a in curves[kind] if a.get("mean_spp")], p["rmse"])
+                out.append({"spp": p["key"], "rmse": p["rmse"], "fixed_seconds": p["seconds"],
+                            "adaptive_seconds": t, "ratio": t / p["seconds"] if t else None,
+                            "cpu_ratio": tc / p["cpu_seconds"] if tc else None,
+                            "adaptive_mean_spp": n, "spp_ratio": n / p["key"] if n else None})
+            return out
+        adaptive_rows, adaptive_rmse_rows = against_fixed("penumbra adaptive"), against_fixed("penumbra adaptive rmse")
         results["scenes"][name] = {
             "what": scene["what"], "agreement": agreement, "cycles_settings": cycles_settings,
             "reference_noise_rmse": {k: math.sqrt(v) for k, v in ref_noise.items()},
             "reference_seconds": reference_seconds, "curves": curves, "equal_error": rows,
-            "adaptive_vs_fixed": adaptive_rows}
+            "adaptive_vs_fixed": adaptive_rows, "adaptive_rmse_vs_fixed": adaptive_rmse_rows}
         plot(name, scene["what"], curves, {k: math.sqrt(v) for k, v in ref_noise.items()},
              os.path.join(args.output, f"time-to-error-{name}.png"))
         # Written after every scene, so that a long run leaves what it measured.
@@ -595,12 +619,14 @@ def plot(name, what, curves, noise, path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     fig, ax = plt.subplots(figsize=(5, 3.6))
-    styles = {"penumbra": ("o-", "C0"), "penumbra adaptive": ("s-.", "C2"), "cycles": ("^--", "C3")}
+    styles = {"penumbra": ("o-", "C0"), "penumbra adaptive": ("s-.", "C2"),
+              "penumbra adaptive rmse": ("D:", "C1"), "cycles": ("^--", "C3")}
     for kind, (style, colour) in styles.items():
         pts = sorted(curves[kind], key=lambda p: p["seconds"])
         if not pts:
             continue
-        ax.plot([p["seconds"] for p in pts], [p["rmse"] for p in pts], style, color=colour, label=kind, ms=4)
+        label = "penumbra adaptive (image RMSE)" if kind == "penumbra adaptive rmse" else kind
+        ax.plot([p["seconds"] for p in pts], [p["rmse"] for p in pts], style, color=colour, label=label, ms=4)
         for p in pts:  # every repetition, faint
             ax.plot(p["seconds_all"], p["rmse_all"], ".", color=colour, alpha=0.35, ms=3)
     for kind, colour in (("penumbra", "C0"), ("cycles", "C3")):
@@ -637,25 +663,30 @@ def write_table(results, path):
              f"Command: `{results['command']}`", "",
              f"{w}x{h}, {results['threads']} threads for both, ladder {results['ladder']} spp, {results['reps']} "
              f"repetitions of each rung (the renderers alternating), references 2 x {results['reference_spp'] // 2} "
-             f"spp per renderer; penumbra adaptive at --min-spp {results['min_spp']}. Times: penumbra's whole "
+             f"spp per renderer; penumbra adaptive at --min-spp {results['min_spp']}, with the relative criterion "
+             "(the default, for display) and with the absolute one (`--adaptive-error absolute`: the image's "
+             "RMSE as its target, samples where the noise is). Times: penumbra's whole "
              "process; Cycles' render call inside Blender. RMSE against each renderer's own reference, the "
              "reference's own noise subtracted.", "",
              f"At the RMSE Cycles reaches with {hr} spp (medians of the repetitions; penumbra's time "
              "interpolated on its log-log curve of RMSE against time; CPU: the same with CPU time, user + "
              "system of all threads):", "",
              "| scene | references agree (means; 8x8 blocks within noise or 1%) | RMSE | Cycles s | "
-             "penumbra adaptive s | adaptive / Cycles | CPU time: penumbra / Cycles | penumbra s | penumbra / Cycles |",
-             "|---|---|---|---|---|---|---|---|---|"]
+             "penumbra adaptive s | adaptive / Cycles | adaptive (image RMSE) s | adaptive (image RMSE) / Cycles | "
+             "CPU time: penumbra / Cycles | penumbra s | penumbra / Cycles |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
     for name, r in results["scenes"].items():
         a = r["agreement"]
         agree = (f"{'yes' if a['agree'] else 'NO'} ({100 * a['mean_rel_diff']:+.2f}%; "
                  f"{100 * a['blocks_within_3se_or_1pct']:.0f}%)")
         row = next((x for x in r["equal_error"] if x["spp"] == hr), None)
         if row is None:
-            lines.append(f"| {name} | {agree} | - | - | - | - | - | - | - |")
+            lines.append(f"| {name} | {agree} | - | - | - | - | - | - | - | - | - |")
             continue
         lines.append(f"| {name} | {agree} | {row['rmse']:.4g} | {row['cycles_seconds']:.2f} | "
                      f"{fmt_s(row['penumbra_adaptive_seconds'])} | {fmt_ratio(row['penumbra_adaptive_ratio'])} | "
+                     f"{fmt_s(row.get('penumbra_adaptive_rmse_seconds'))} | "
+                     f"{fmt_ratio(row.get('penumbra_adaptive_rmse_ratio'))} | "
                      f"{fmt_ratio(row['penumbra_cpu_ratio'])} | "
                      f"{fmt_s(row['penumbra_seconds'])} | {fmt_ratio(row['penumbra_ratio'])} |")
     ladder_head = ["| scene | " + " | ".join(f"{n} spp" for n in results["ladder"]) + " |",
@@ -665,12 +696,20 @@ def write_table(results, path):
     for name, r in results["scenes"].items():
         lines.append(f"| {name} | " + " | ".join(
             f"{fmt_ratio(x['penumbra_ratio'])} ({fmt_ratio(x['penumbra_cpu_ratio'])})" for x in r["equal_error"]) + " |")
-    lines += ["", "penumbra adaptive against penumbra fixed, at each fixed rung's RMSE: time, wall (CPU), and "
-              "mean samples per pixel, as a ratio to the fixed render's:", ""] + ladder_head
+    lines += ["", "penumbra adaptive (image RMSE) / Cycles at every Cycles rung's RMSE, wall time (CPU time):", ""]
+    lines += ladder_head
     for name, r in results["scenes"].items():
         lines.append(f"| {name} | " + " | ".join(
-            f"{fmt_ratio(x['ratio'])} ({fmt_ratio(x['cpu_ratio'])}), spp {fmt_ratio(x['spp_ratio'])}"
-            if x["ratio"] or x["spp_ratio"] else "-" for x in r["adaptive_vs_fixed"]) + " |")
+            f"{fmt_ratio(x.get('penumbra_adaptive_rmse_ratio'))} ({fmt_ratio(x.get('penumbra_adaptive_rmse_cpu_ratio'))})"
+            for x in r["equal_error"]) + " |")
+    for key, what in (("adaptive_vs_fixed", "penumbra adaptive"),
+                      ("adaptive_rmse_vs_fixed", "penumbra adaptive (image RMSE)")):
+        lines += ["", f"{what} against penumbra fixed, at each fixed rung's RMSE: time, wall (CPU), and "
+                  "mean samples per pixel, as a ratio to the fixed render's:", ""] + ladder_head
+        for name, r in results["scenes"].items():
+            lines.append(f"| {name} | " + " | ".join(
+                f"{fmt_ratio(x['ratio'])} ({fmt_ratio(x['cpu_ratio'])}), spp {fmt_ratio(x['spp_ratio'])}"
+                if x["ratio"] or x["spp_ratio"] else "-" for x in r.get(key, [])) + " |")
     for name, r in results["scenes"].items():
         a = r["agreement"]
         lines += ["", f"## {name}", "", r["what"] + ".", "",
@@ -692,17 +731,21 @@ def write_table(results, path):
                       + "; hexagon orientation (degrees, modulo 60) "
                       + ", ".join(f"{p['phase_deg']:.1f} / {c['phase_deg']:.1f}" for p, c in pairs) + ".", ""]
         lines += ["| spp | penumbra s (reps) | CPU s | RMSE | Cycles s (reps) | CPU s | RMSE | adaptive threshold | "
-                  "adaptive mean spp | adaptive s (reps) | RMSE |",
-                  "|---|---|---|---|---|---|---|---|---|---|---|"]
+                  "adaptive mean spp | adaptive s (reps) | RMSE | image RMSE target | mean spp | adaptive (image "
+                  "RMSE) s (reps) | RMSE |",
+                  "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
         adaptive = {x["key"]: x for x in r["curves"]["penumbra adaptive"]}
+        adaptive_rmse = {x["key"]: x for x in r["curves"].get("penumbra adaptive rmse", [])}
         reps = lambda e: ", ".join(f"{v:.2f}" for v in e["seconds_all"])
         for p, c in zip(r["curves"]["penumbra"], r["curves"]["cycles"]):
-            ad = adaptive.get(p["key"])
+            ad, ar = adaptive.get(p["key"]), adaptive_rmse.get(p["key"])
             lines.append(f"| {p['key']} | {p['seconds']:.2f} ({reps(p)}) | {p.get('cpu_seconds', 0):.2f} | "
                          f"{p['rmse']:.4g} | {c['seconds']:.2f} ({reps(c)}) | {c.get('cpu_seconds', 0):.2f} | "
                          f"{c['rmse']:.4g} | "
                          + (f"{ad['threshold']:.4g} | {ad.get('mean_spp', 0):.1f} | {ad['seconds']:.2f} ({reps(ad)}) | "
-                            f"{ad['rmse']:.4g} |" if ad else "- | - | - | - |"))
+                            f"{ad['rmse']:.4g} |" if ad else "- | - | - | - |")
+                         + (f" {ar['threshold']:.4g} | {ar.get('mean_spp', 0):.1f} | {ar['seconds']:.2f} ({reps(ar)}) | "
+                            f"{ar['rmse']:.4g} |" if ar else " - | - | - | - |"))
     with open(path, "w") as f:
         f.write("\n".join(lines) + "\n")
 

@@ -8,21 +8,40 @@
 #include <algorithm>
 #include <bit>
 #include <cstdint>
+#include <string_view>
 
 namespace penumbra {
 
+// What adaptive sampling's threshold bounds (renderer/adaptive_sampling.h says how each decides):
+//  - Relative: each pixel's relative standard error, the noise left in it as a fraction of its
+//    value (0.02: 2%), about the same visible noise everywhere in a displayed image;
+//  - Absolute: the image's root-mean-square error in scene-linear units (0.01: an RMSE of 0.01
+//    against the converged image), each pixel sampled in proportion to its noise, which is the
+//    allocation of a sample budget with the least squared error (what convergence studies measure).
+enum class AdaptiveError : uint8_t { Relative, Absolute };
+
+constexpr std::string_view adaptiveErrorName(AdaptiveError error) {
+    return error == AdaptiveError::Absolute ? "absolute" : "relative";
+}
+
 struct AdaptiveSettings {
-    // A pixel stops once its relative standard error (renderer/adaptive_sampling.h) and its
+    // A pixel stops once its error (of kind `error`, renderer/adaptive_sampling.h) and its
     // neighbours' are below this.
     float threshold = 0.0f;
     // Samples every pixel gets before the first decision.
     uint32_t minSamples = 16;
+    AdaptiveError error = AdaptiveError::Relative;
 
     bool operator==(const AdaptiveSettings&) const = default;
 
-    // A relative error above 1 is noise as large as the pixel itself; below two samples there is
+    // A relative error above 1 is noise as large as the pixel itself; an absolute one is in the
+    // scene's units and bounded only so that its square stays finite. Below two samples there is
     // no variance to estimate.
     static constexpr float kMaxThreshold = 1.0f;
+    static constexpr float kMaxAbsoluteThreshold = 1e18f;
+    static constexpr float maxThreshold(AdaptiveError error) {
+        return error == AdaptiveError::Absolute ? kMaxAbsoluteThreshold : kMaxThreshold;
+    }
     static constexpr uint32_t kMinMinSamples = 2;
 
     // Decisions are taken at minSamples, then at the multiples of a step that grows with the

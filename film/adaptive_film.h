@@ -1,5 +1,5 @@
 // What a film of an adaptive render records and what it must hold: the settings as the EXR's
-// penumbra:adaptive attribute stores them ("THRESHOLD:MIN_SPP", docs/exr-layout.md), and the
+// penumbra:adaptive attribute stores them ("[absolute:]THRESHOLD:MIN_SPP", docs/exr-layout.md), and the
 // check that every pixel's sample count is one an adaptive render with them can leave (a pixel
 // stops only at a decision point of core/adaptive_schedule.h, or goes on to the end).
 #pragma once
@@ -13,7 +13,8 @@
 
 namespace penumbra {
 
-// "THRESHOLD:MIN_SPP", the threshold in the shortest decimal that reads back to the same float.
+// "THRESHOLD:MIN_SPP", the threshold in the shortest decimal that reads back to the same float,
+// prefixed "absolute:" for the absolute criterion.
 std::string formatAdaptiveAttribute(const AdaptiveSettings& settings);
 // The settings, or none when `text` is not what formatAdaptiveAttribute writes of valid settings.
 std::optional<AdaptiveSettings> parseAdaptiveAttribute(const std::string& text);

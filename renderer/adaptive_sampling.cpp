@@ -15,6 +15,13 @@ double relativeStandardError(const PixelSums& pixel) {
     return std::sqrt(meanVariance) / (meanValue + kAdaptiveErrorFloor);
 }
 
+double sampleStandardDeviation(const PixelSums& pixel) {
+    if (pixel.sampleCount < 2) return 0.0;
+    const Rgb variance = pixel.varianceOfMean();
+    const double meanVariance = (double(variance.r) + variance.g + variance.b) / 3.0;
+    return std::sqrt(std::max(0.0, meanVariance) * double(pixel.sampleCount));
+}
+
 ActivePixels::ActivePixels(const Film& film, const PixelWindow& window, uint32_t samples)
     : window_(window), mask_(size_t(window.width()) * size_t(window.height())) {
     size_t i = 0;
@@ -25,15 +32,48 @@ ActivePixels::ActivePixels(const Film& film, const PixelWindow& window, uint32_t
         }
 }
 
-size_t ActivePixels::stopConverged(const Film& film, float threshold) {
-    const int width = window_.width(), height = window_.height();
+namespace {
+
+// Per pixel of the window, row-major, whether it is below the threshold (adaptive_sampling.h).
+std::vector<uint8_t> belowThreshold(const Film& film, const PixelWindow& window, const AdaptiveSettings& settings) {
+    const int width = window.width(), height = window.height();
+    auto pixel = [&](int x, int row) -> const PixelSums& { return film.at(window.x0 + x, window.y0 + row); };
     // Rows in parallel: each pixel's result depends on the film alone, not on the order.
-    std::vector<uint8_t> converged(mask_.size());
+    std::vector<uint8_t> below(size_t(width) * size_t(height));
+    if (settings.error == AdaptiveError::Relative) {
+        tbb::parallel_for(0, height, [&](int row) {
+            for (int x = 0; x < width; ++x)
+                below[size_t(row) * width + x] = relativeStandardError(pixel(x, row)) < double(settings.threshold);
+        });
+        return below;
+    }
+    // Absolute: sigma_p / n_p < T^2 / mean(sigma), the mean summed by rows, then in row order.
+    std::vector<double> rowSums(size_t(height), 0.0);
     tbb::parallel_for(0, height, [&](int row) {
-        for (int x = 0; x < width; ++x)
-            converged[size_t(row) * width + x] =
-                relativeStandardError(film.at(window_.x0 + x, window_.y0 + row)) < double(threshold);
+        double sum = 0.0;
+        for (int x = 0; x < width; ++x) sum += sampleStandardDeviation(pixel(x, row));
+        rowSums[size_t(row)] = sum;
     });
+    double sum = 0.0;
+    for (const double rowSum : rowSums) sum += rowSum;
+    const double meanSigma = sum / (double(width) * double(height));
+    const double limit = double(settings.threshold) * double(settings.threshold) / meanSigma;  // inf when 0
+    tbb::parallel_for(0, height, [&](int row) {
+        for (int x = 0; x < width; ++x) {
+            const PixelSums& p = pixel(x, row);
+            // No estimate below two samples counts as 0, as for the relative criterion.
+            const double perSample = p.sampleCount >= 2 ? sampleStandardDeviation(p) / double(p.sampleCount) : 0.0;
+            below[size_t(row) * width + x] = perSample < limit;
+        }
+    });
+    return below;
+}
+
+}  // namespace
+
+size_t ActivePixels::stopConverged(const Film& film, const AdaptiveSettings& settings) {
+    const int width = window_.width(), height = window_.height();
+    const std::vector<uint8_t> converged = belowThreshold(film, window_, settings);
     std::vector<uint8_t> stop(mask_.size(), 0);
     tbb::parallel_for(0, height, [&](int row) {
         for (int x = 0; x < width; ++x) {

@@ -1,8 +1,10 @@
 // Adaptive sampling: which pixels keep receiving samples (film.adaptive, `--adaptive`).
 //
-// The criterion is the relative standard error of the pixel's mean, from the film's own sums
-// (PixelSums::varianceOfMean, the `variance.*` AOV): the RMS over the three channels of the
-// mean's standard error, divided by the mean over the channels plus an absolute floor,
+// Two criteria (AdaptiveError), both from the film's own sums (PixelSums::varianceOfMean, the
+// `variance.*` AOV).
+//
+// Relative (the default): the relative standard error of the pixel's mean: the RMS over the three
+// channels of the mean's standard error, divided by the mean over the channels plus an absolute floor,
 //
 //     error = sqrt((v_R + v_G + v_B) / 3) / ((m_R + m_G + m_B) / 3 + kAdaptiveErrorFloor).
 //
@@ -16,6 +18,21 @@
 // uses (intern/cycles/kernel/film/adaptive_sampling.h) with the difference between the image and
 // the image of every other sample in place of the variance; the film holds the variance exactly,
 // so we use it.
+//
+// Absolute: the image's root-mean-square error, the threshold T in scene-linear units. With a
+// pixel's per-sample standard deviation sigma_p (the RMS over the channels) and n_p samples, the
+// image's mean squared error is the mean over the pixels of sigma_p^2 / n_p; for a given number of
+// samples it is least when n_p is proportional to sigma_p (Neyman's allocation: Lagrange's
+// condition sigma_p^2 / n_p^2 = lambda for every pixel), and then it is sqrt(lambda) * mean(sigma).
+// So the pixels hold their share of an image RMSE of T when sigma_p / n_p <= T^2 / mean(sigma): a
+// pixel stops once its sigma_p / n_p (its standard error over sqrt(n_p): what one more sample
+// would still take off its squared error, per sample) is below T^2 / mean(sigma), mean(sigma) over
+// the rendered window at that decision. Where the noise is spread unevenly (caustics, bright
+// bokeh, the edges of motion blur) this reaches a given RMSE with far fewer samples than the
+// relative criterion, which spends on every pixel until its noise is a fraction of its value;
+// dark regions, whose noise is small in absolute terms, get little: for display, the relative
+// criterion. The sums of mean(sigma) are taken row by row and then in row order, so the decision
+// does not depend on the thread count.
 //
 // A pixel stops when it and its 8 neighbours (within the rendered window) are all below the
 // threshold, as Cycles and Dammertz dilate their converged regions: a pixel whose first samples
@@ -42,6 +59,9 @@ constexpr double kAdaptiveErrorFloor = 0.05;
 
 // The relative standard error of the pixel's mean (0 below two samples: no estimate).
 double relativeStandardError(const PixelSums& pixel);
+// The per-sample standard deviation of the pixel's samples, the RMS over the channels (0 below
+// two samples: no estimate).
+double sampleStandardDeviation(const PixelSums& pixel);
 
 // The pixels of a window that still receive samples.
 class ActivePixels {
@@ -56,8 +76,8 @@ public:
     size_t count() const { return count_; }
 
     // A decision: stops the active pixels whose 3x3 neighbourhood within the window is below
-    // `threshold`. Returns how many stopped.
-    size_t stopConverged(const Film& film, float threshold);
+    // `settings`' threshold by its criterion. Returns how many stopped.
+    size_t stopConverged(const Film& film, const AdaptiveSettings& settings);
 
 private:
     PixelWindow window_;

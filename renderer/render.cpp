@@ -118,7 +118,7 @@ RenderStats renderWith(const Accel& accel, const Scene& scene, const RenderOptio
     if (adaptive) {
         active.emplace(film, window, firstSample);
         if (adaptive->isDecisionPoint(firstSample) && firstSample < endSample)
-            active->stopConverged(film, adaptive->threshold);
+            active->stopConverged(film, *adaptive);
     }
     auto passEndAfter = [&](uint32_t begin) {
         uint64_t end = endSample;
@@ -177,7 +177,7 @@ RenderStats renderWith(const Accel& accel, const Scene& scene, const RenderOptio
         arena.execute([&] { tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), renderRange); });
         stats.endSample = passEnd;
         if (active && adaptive->isDecisionPoint(passEnd) && passEnd < endSample)
-            active->stopConverged(film, adaptive->threshold);
+            active->stopConverged(film, *adaptive);
         if (options.passDone) {
             const auto callbackStart = Clock::now();
             options.passDone(passEnd);

@@ -9,16 +9,36 @@
 
 namespace penumbra {
 
-void applyAdaptiveOptions(Scene& scene, const std::optional<double>& threshold,
-                          const std::optional<int64_t>& minSpp) {
+void applyAdaptiveOptions(Scene& scene, const std::optional<double>& threshold, const std::optional<int64_t>& minSpp,
+                          const std::optional<std::string>& error) {
+    if (error && !threshold && !scene.film.adaptive)
+        throw InputError(
+            "--adaptive-error: what adaptive sampling's threshold bounds; give --adaptive THRESHOLD too (or "
+            "film.adaptive in the scene)");
+    if (error && *error != "relative" && *error != "absolute")
+        throw InputError(fmt::format("--adaptive-error: expected relative or absolute, got '{}'", *error));
+    const AdaptiveError kind = error ? (*error == "absolute" ? AdaptiveError::Absolute : AdaptiveError::Relative)
+                                     : scene.film.adaptive.value_or(AdaptiveSettings{}).error;
     if (threshold) {
-        if (!(*threshold > 0.0 && *threshold <= AdaptiveSettings::kMaxThreshold))
-            throw InputError(
-                fmt::format("--adaptive: expected a relative standard error > 0 and <= {:g} (e.g. 0.02), "
-                            "got {:g}",
-                            AdaptiveSettings::kMaxThreshold, *threshold));
+        const double most = AdaptiveSettings::maxThreshold(kind);
+        if (!(*threshold > 0.0 && *threshold <= most))
+            throw InputError(kind == AdaptiveError::Relative
+                                 ? fmt::format("--adaptive: expected a relative standard error > 0 and <= {:g} (e.g. "
+                                               "0.02), got {:g}",
+                                               most, *threshold)
+                                 : fmt::format("--adaptive: expected the image's RMSE, > 0 and <= {:g} (e.g. 0.01), "
+                                               "got {:g}",
+                                               most, *threshold));
+    }
+    if (threshold || error) {
         AdaptiveSettings settings = scene.film.adaptive.value_or(AdaptiveSettings{});
-        settings.threshold = float(*threshold);
+        if (threshold) settings.threshold = float(*threshold);
+        settings.error = kind;
+        // A scene's relative threshold can be no RMSE: a changed kind takes a threshold with it.
+        if (!(settings.threshold <= AdaptiveSettings::maxThreshold(kind)))
+            throw InputError(fmt::format("--adaptive-error {}: the scene's threshold {:g} is out of its range; give "
+                                         "--adaptive THRESHOLD too",
+                                         adaptiveErrorName(kind), settings.threshold));
         scene.film.adaptive = settings;
     }
     if (minSpp) {
@@ -47,9 +67,10 @@ std::string describeAdaptiveRender(const Film& film, const PixelWindow& window,
     const double pixels = double(window.width()) * double(window.height());
     const double mean = pixels > 0 ? double(samples) / pixels : 0.0;
     return fmt::format(
-        "adaptive {} (min {} spp): {} samples, mean {:.1f} spp, {:.0f}% of {} spp everywhere; per pixel "
+        "adaptive {} ({}min {} spp): {} samples, mean {:.1f} spp, {:.0f}% of {} spp everywhere; per pixel "
         "{} to {} (the spp channel of part \"sums\")",
-        settings.threshold, settings.minSamples, samples, mean,
+        settings.threshold, settings.error == AdaptiveError::Absolute ? "image RMSE, " : "", settings.minSamples,
+        samples, mean,
         endSample > 0 ? 100.0 * mean / endSample : 0.0, endSample, pixels > 0 ? least : 0, most);
 }
 

@@ -1,7 +1,7 @@
 // penumbra: the command-line program.
 //
 //   penumbra render SCENE [--spp N] [--seed S] [--threads N] [--res WxH] [--accel embree|bvh]
-//                   [--adaptive T [--min-spp N]] [-o PATH] ...
+//                   [--adaptive T [--min-spp N] [--adaptive-error relative|absolute]] [-o PATH] ...
 //   penumbra crosscheck SCENE [--rays N] [--seed S] [--json]
 //   penumbra merge PART.exr... -o OUT.exr    (or --manifest OUT.parts.json)
 //   penumbra submit SCENE --parts N --spp S -o OUT.exr [--by samples|rows] [--dry-run] [--resume] ...
@@ -77,6 +77,7 @@ struct RenderCommand {
     std::string patch;                        // a JSON merge patch applied to the scene
     std::optional<double> adaptiveThreshold;  // --adaptive
     std::optional<int64_t> minSpp;            // --min-spp
+    std::optional<std::string> adaptiveError;  // --adaptive-error
 };
 
 // SIGINT / SIGTERM ask the render to stop at the end of the current pass; the film as of that
@@ -122,6 +123,7 @@ std::string filmDefiningOptions(const RenderCommand& cmd) {
     if (cmd.accel != "embree") add("--accel", cmd.accel);
     if (cmd.adaptiveThreshold) add("--adaptive", fmt::format("{}", *cmd.adaptiveThreshold));
     if (cmd.minSpp) add("--min-spp", std::to_string(*cmd.minSpp));
+    if (cmd.adaptiveError) add("--adaptive-error", *cmd.adaptiveError);
     return text;
 }
 
@@ -146,7 +148,7 @@ int runRender(const RenderCommand& cmd) {
         scene.film.width = int(parseIntegerOption("--res", parts[0], 1, limits::kMaxImageSide));
         scene.film.height = int(parseIntegerOption("--res", parts[1], 1, limits::kMaxImageSide));
     }
-    applyAdaptiveOptions(scene, cmd.adaptiveThreshold, cmd.minSpp);
+    applyAdaptiveOptions(scene, cmd.adaptiveThreshold, cmd.minSpp, cmd.adaptiveError);
 
     RenderOptions options;
     options.threads = cmd.threads;
@@ -367,6 +369,11 @@ int main(int argc, char** argv) {
                           "Adaptive sampling: a pixel stops once the relative standard error of its mean (and its "
                           "neighbours') is below THRESHOLD, e.g. 0.02; --spp is then the most a pixel gets "
                           "(overrides film.adaptive.threshold)");
+    renderApp->add_option("--adaptive-error", cmd.adaptiveError,
+                          "What --adaptive bounds: relative (default; each pixel's relative standard error, for "
+                          "display) or absolute (the image's RMSE in scene-linear units, e.g. 0.01, each pixel "
+                          "sampled in proportion to its noise: the least squared error for the samples; overrides "
+                          "film.adaptive.error)");
     renderApp->add_option("--min-spp", cmd.minSpp,
                           "Samples every pixel gets before adaptive sampling's first decision (default 16; overrides "
                           "film.adaptive.min_spp)");

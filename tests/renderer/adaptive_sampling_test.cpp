@@ -1,6 +1,7 @@
 // Adaptive sampling (renderer/adaptive_sampling.h): the film does not depend on threads, passes
 // or checkpoints; films record the settings, resume exactly and refuse to merge; a flat region
-// stops early while an edge keeps sampling; stopped pixels meet the threshold.
+// stops early while an edge keeps sampling; stopped pixels meet the threshold; the absolute
+// criterion stops pixels where their share of the image's RMSE says, and the image meets it.
 #include "renderer/adaptive_sampling.h"
 
 #include <gtest/gtest.h>
@@ -31,11 +32,16 @@ const SceneSource kSource{"box.json", "fnv1a64:00000000000000ab"};
 
 // The small box, adaptive: at 0.1 the lit walls stop at the first decisions, the penumbrae and
 // the light's edges go on to the end (AdaptiveBox.SamplesGoWhereTheNoiseIs checks it).
-Scene adaptiveBox(int spp, float threshold = 0.1f, uint32_t minSamples = 16) {
+Scene adaptiveBox(int spp, float threshold = 0.1f, uint32_t minSamples = 16,
+                  AdaptiveError error = AdaptiveError::Relative) {
     Scene scene = testing::makeSmallBoxScene(24, 20, spp);
-    scene.film.adaptive = AdaptiveSettings{threshold, minSamples};
+    scene.film.adaptive = AdaptiveSettings{threshold, minSamples, error};
     return scene;
 }
+
+// The absolute criterion on the small box: at an image RMSE of 0.03 and 48 samples, pixels hold 16
+// to 48 samples (25 on average).
+Scene absoluteBox(int spp, float rmse = 0.03f) { return adaptiveBox(spp, rmse, 16, AdaptiveError::Absolute); }
 
 Film renderFilm(const Scene& scene, RenderOptions options) {
     Film film(scene.film.width, scene.film.height);
@@ -85,19 +91,23 @@ TEST(AdaptiveBox, SamplesGoWhereTheNoiseIs) {
 }
 
 TEST(AdaptiveBox, TheFilmDoesNotDependOnThreadsTilesOrPasses) {
-    const Scene scene = adaptiveBox(48);
-    RenderOptions one;
-    one.threads = 1;
-    const Film reference = renderFilm(scene, one);
-    for (int threads : {2, 8})
-        for (uint32_t passSize : {0u, 3u, 8u}) {
-            RenderOptions options;
-            options.threads = threads;
-            options.passSize = passSize;
-            options.tileSize = threads == 8 ? 5 : 16;
-            EXPECT_TRUE(renderFilm(scene, options).identicalTo(reference))
-                << threads << " threads, passes of " << passSize;
-        }
+    for (const Scene& scene : {adaptiveBox(48), absoluteBox(48)}) {
+        RenderOptions one;
+        one.threads = 1;
+        const Film reference = renderFilm(scene, one);
+        const std::vector<uint32_t> counts = sampleCounts(reference);
+        ASSERT_LT(*std::min_element(counts.begin(), counts.end()), 48u) << "no pixel stopped";
+        for (int threads : {2, 8})
+            for (uint32_t passSize : {0u, 3u, 8u}) {
+                RenderOptions options;
+                options.threads = threads;
+                options.passSize = passSize;
+                options.tileSize = threads == 8 ? 5 : 16;
+                EXPECT_TRUE(renderFilm(scene, options).identicalTo(reference))
+                    << adaptiveErrorName(scene.film.adaptive->error) << ", " << threads << " threads, passes of "
+                    << passSize;
+            }
+    }
 }
 
 TEST(AdaptiveBox, NonAdaptiveRendersAreUnchanged) {
@@ -128,26 +138,30 @@ RenderOptions upTo(uint32_t end, uint32_t passSize = 0) {
 }
 
 TEST_F(AdaptiveFiles, EveryCheckpointResumesToTheUninterruptedFilm) {
-    const Scene scene = adaptiveBox(48);
-    RenderJob once(scene, kSource, upTo(48));
-    once.run();
+    for (const Scene& scene : {adaptiveBox(48), absoluteBox(48)}) {
+        const std::string kind(adaptiveErrorName(scene.film.adaptive->error));
+        RenderJob once(scene, kSource, upTo(48));
+        once.run();
 
-    // Passes of 4 samples: checkpoints at decision points (16, 24, ...) and between them (20, 28, ...).
-    RenderJob job(scene, kSource, upTo(48, 4));
-    std::vector<uint32_t> ends;
-    job.checkpointEvery(0.0, dir_ / "checkpoint.exr", [&](uint32_t, uint32_t end) {
-        fs::copy_file(dir_ / "checkpoint.exr", dir_ / ("at-" + std::to_string(end) + ".exr"));
-        ends.push_back(end);
-    });
-    job.run();
-    EXPECT_TRUE(job.film().identicalTo(once.film()));
-    ASSERT_EQ(ends.size(), 11u);  // 4, 8, ..., 44
-    for (uint32_t end : ends) {
-        RenderJob rest(scene, kSource, upTo(48));
-        rest.resumeFrom(dir_ / ("at-" + std::to_string(end) + ".exr"));
-        rest.run();
-        EXPECT_TRUE(rest.film().identicalTo(once.film())) << "resumed at " << end;
-        EXPECT_EQ(rest.metadata().adaptive, scene.film.adaptive);
+        // Passes of 4 samples: checkpoints at decision points (16, 24, ...) and between them (20, 28, ...).
+        RenderJob job(scene, kSource, upTo(48, 4));
+        std::vector<uint32_t> ends;
+        const fs::path checkpoint = dir_ / (kind + "-checkpoint.exr");
+        auto copyAt = [&](uint32_t end) { return dir_ / (kind + "-at-" + std::to_string(end) + ".exr"); };
+        job.checkpointEvery(0.0, checkpoint, [&](uint32_t, uint32_t end) {
+            fs::copy_file(checkpoint, copyAt(end));
+            ends.push_back(end);
+        });
+        job.run();
+        EXPECT_TRUE(job.film().identicalTo(once.film())) << kind;
+        ASSERT_EQ(ends.size(), 11u);  // 4, 8, ..., 44
+        for (uint32_t end : ends) {
+            RenderJob rest(scene, kSource, upTo(48));
+            rest.resumeFrom(copyAt(end));
+            rest.run();
+            EXPECT_TRUE(rest.film().identicalTo(once.film())) << kind << " resumed at " << end;
+            EXPECT_EQ(rest.metadata().adaptive, scene.film.adaptive);
+        }
     }
 }
 
@@ -187,6 +201,15 @@ TEST_F(AdaptiveFiles, TheFileRecordsTheSettingsAndEachPixelsCount) {
     oddJob.writeFilm(dir_ / "odd.exr");
     EXPECT_EQ(readFilmExr(dir_ / "odd.exr").metadata.adaptive, odd.film.adaptive);
 
+    // The absolute criterion is recorded as such (and an RMSE may exceed 1).
+    for (const float rmse : {0.01f, 2.5f}) {
+        Scene absolute = absoluteBox(20, rmse);
+        RenderJob absoluteJob(absolute, kSource, upTo(20));
+        absoluteJob.run();
+        absoluteJob.writeFilm(dir_ / "absolute.exr");
+        EXPECT_EQ(readFilmExr(dir_ / "absolute.exr").metadata.adaptive, absolute.film.adaptive) << rmse;
+    }
+
     Scene fixed = scene;
     fixed.film.adaptive.reset();
     RenderJob fixedJob(fixed, kSource, upTo(8));
@@ -203,9 +226,10 @@ TEST_F(AdaptiveFiles, ResumeRefusesOtherSettings) {
 
     Scene otherThreshold = adaptiveBox(32, 0.05f);
     Scene otherMinimum = adaptiveBox(32, 0.1f, 8);
+    Scene otherError = adaptiveBox(32, 0.1f, 16, AdaptiveError::Absolute);
     Scene fixed = scene;
     fixed.film.adaptive.reset();
-    for (const Scene* other : {&otherThreshold, &otherMinimum, &fixed}) {
+    for (const Scene* other : {&otherThreshold, &otherMinimum, &otherError, &fixed}) {
         RenderJob rest(*other, kSource, upTo(32));
         const InputError e = testing::catchInputError([&] { rest.resumeFrom(dir_ / "adaptive.exr"); });
         EXPECT_CONTAINS(e.what(), "adaptive.exr");
@@ -386,6 +410,90 @@ TEST(AdaptiveBox, StoppedPixelsMeetTheThreshold) {
     const double meanRatio = sum / stopped;
     std::printf("stopped %d pixels, mean squared error / (T (m + floor))^2 = %.3f\n", stopped, meanRatio);
     EXPECT_LT(meanRatio, 1.0);
+}
+
+// A film whose pixels hold 16 samples alternating 2 + d and 2 - d (every channel): the left half
+// d = 1, the right half d = 0.01. Their per-sample standard deviation is d sqrt(16 / 15) (the film's
+// unbiased variance), so a pixel's sigma / n is d / sqrt(16 * 15) and mean(sigma) over the film is
+// 0.505 sqrt(16 / 15).
+Film twoNoiseLevels(int width, int height) {
+    Film film(width, height);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            const float d = x < width / 2 ? 1.0f : 0.01f;
+            for (int i = 0; i < 16; ++i) film.at(x, y).add(Rgb(i % 2 == 0 ? 2.0f + d : 2.0f - d), 1.0f);
+        }
+    return film;
+}
+
+TEST(AdaptiveAbsolute, APixelStopsWhenItsShareOfTheImagesErrorIsMet) {
+    constexpr int kWidth = 12, kHeight = 4;
+    const Film film = twoNoiseLevels(kWidth, kHeight);
+    const PixelWindow window{0, kWidth, 0, kHeight};
+    const double meanSigma = 0.505 * std::sqrt(16.0 / 15.0), noisyPerSample = 1.0 / std::sqrt(16.0 * 15.0);
+    // The threshold T at which the limit T^2 / mean(sigma) is `factor` times the noisy half's sigma / n.
+    auto threshold = [&](double factor) { return float(std::sqrt(factor * noisyPerSample * meanSigma)); };
+
+    // Just above the noisy half's sigma / n: every pixel is below, and all stop.
+    ActivePixels all(film, window, 16);
+    EXPECT_EQ(all.stopConverged(film, AdaptiveSettings{threshold(1.01), 16, AdaptiveError::Absolute}), 48u);
+    EXPECT_EQ(all.count(), 0u);
+
+    // Just below it: the quiet half is below (its sigma / n is 1% of the noisy half's), and its
+    // pixels stop but for the column next to the noisy half (their neighbourhoods reach into it).
+    ActivePixels some(film, window, 16);
+    EXPECT_EQ(some.stopConverged(film, AdaptiveSettings{threshold(0.99), 16, AdaptiveError::Absolute}), 20u);
+    for (int y = 0; y < kHeight; ++y)
+        for (int x = 0; x < kWidth; ++x) EXPECT_EQ(some.active(x, y), x <= 6) << x << ", " << y;
+
+    // Just above the quiet half's: the same; just below it, nothing stops.
+    ActivePixels quiet(film, window, 16);
+    EXPECT_EQ(quiet.stopConverged(film, AdaptiveSettings{threshold(0.0101), 16, AdaptiveError::Absolute}), 20u);
+    ActivePixels none(film, window, 16);
+    EXPECT_EQ(none.stopConverged(film, AdaptiveSettings{threshold(0.0099), 16, AdaptiveError::Absolute}), 0u);
+
+    // A noiseless image has nothing left to spend on: every pixel stops.
+    Film flat(kWidth, kHeight);
+    for (int y = 0; y < kHeight; ++y)
+        for (int x = 0; x < kWidth; ++x)
+            for (int i = 0; i < 16; ++i) flat.at(x, y).add(Rgb(0.5f), 1.0f);
+    ActivePixels still(flat, window, 16);
+    EXPECT_EQ(still.stopConverged(flat, AdaptiveSettings{1e-6f, 16, AdaptiveError::Absolute}), 48u);
+}
+
+TEST(AdaptiveAbsolute, TheImageMeetsItsRmse) {
+    // A pixel stops once sigma_p / n_p < T^2 / mean(sigma), so its squared error, about
+    // sigma_p^2 / n_p, is below sigma_p T^2 / mean(sigma); over the image, below T^2. With
+    // independent samples the film's variance estimate is unbiased; the image's mean squared error
+    // against a converged reference (less the reference's own variance), in units of T^2, must be
+    // below 1, provided no pixel was held back by the most samples a pixel may take (checked).
+    constexpr float kRmse = 0.05f;  // pixels from 16 to a few hundred samples
+    constexpr int kMostSamples = 4096;
+    Scene scene = absoluteBox(kMostSamples, kRmse);
+    scene.settings.sampler = SamplerKind::Independent;
+    const Film film = renderFilm(scene, RenderOptions{});
+    Scene referenceScene = scene;
+    referenceScene.film.adaptive.reset();
+    referenceScene.film.samplesPerPixel = 8192;
+    referenceScene.settings.seed = 7;
+    const Film reference = renderFilm(referenceScene, RenderOptions{});
+
+    double squared = 0.0;
+    uint32_t least = UINT32_MAX, most = 0;
+    for (int y = 0; y < film.height(); ++y)
+        for (int x = 0; x < film.width(); ++x) {
+            const PixelSums& p = film.at(x, y);
+            least = std::min(least, p.sampleCount);
+            most = std::max(most, p.sampleCount);
+            const Rgb m = p.mean(), r = reference.at(x, y).mean(), rv = reference.at(x, y).varianceOfMean();
+            for (int c = 0; c < 3; ++c) squared += (double(m[c]) - r[c]) * (double(m[c]) - r[c]) - rv[c];
+        }
+    const double mse = squared / (3.0 * film.width() * film.height());
+    std::printf("samples per pixel %u to %u; image RMSE %.5f against a target of %.5f\n", least, most,
+                std::sqrt(std::max(mse, 0.0)), kRmse);
+    ASSERT_LT(most, uint32_t(kMostSamples)) << "a pixel was held back by the most samples";
+    ASSERT_LT(least, most) << "the samples did not follow the noise";
+    EXPECT_LT(mse / (double(kRmse) * kRmse), 1.0);
 }
 
 TEST(AdaptiveJob, RefusesALaterSampleRange) {

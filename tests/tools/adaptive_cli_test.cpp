@@ -84,6 +84,24 @@ TEST_F(AdaptiveCommandLine, RenderWritesAnAdaptiveFilm) {
               0);
     EXPECT_EQ(readFilmExr(out).metadata.adaptive, (AdaptiveSettings{0.2f, 24}));
 
+    // The absolute criterion, from the command line (its RMSE may exceed 1) and from the scene file.
+    const RunResult absolute = runPenumbra("render " + inScene.string() +
+                                           " --no-display --adaptive 2.5 --adaptive-error absolute -o " + out.string());
+    ASSERT_EQ(absolute.exitCode, 0) << absolute.output;
+    EXPECT_TRUE(contains(absolute, "adaptive 2.5 (image RMSE, min 24 spp)")) << absolute.output;
+    EXPECT_EQ(readFilmExr(out).metadata.adaptive, (AdaptiveSettings{2.5f, 24, AdaptiveError::Absolute}));
+    const fs::path absoluteScene = write(
+        "absolute.json", std::string(kScene).replace(std::string(kScene).find("\"spp\": 64}"), 10,
+                                                     "\"spp\": 64, \"adaptive\": {\"threshold\": 0.01, \"error\": "
+                                                     "\"absolute\"}}"));
+    ASSERT_EQ(runPenumbra("render " + absoluteScene.string() + " -q --no-display -o " + out.string()).exitCode, 0);
+    EXPECT_EQ(readFilmExr(out).metadata.adaptive, (AdaptiveSettings{0.01f, 16, AdaptiveError::Absolute}));
+    ASSERT_EQ(runPenumbra("render " + absoluteScene.string() + " -q --no-display --adaptive-error relative -o " +
+                          out.string())
+                  .exitCode,
+              0);
+    EXPECT_EQ(readFilmExr(out).metadata.adaptive, (AdaptiveSettings{0.01f, 16, AdaptiveError::Relative}));
+
     // Merging it is refused.
     const RunResult merge =
         runPenumbra("merge " + out.string() + " --no-display -o " + (dir_ / "m.exr").string());
@@ -158,6 +176,10 @@ TEST_F(AdaptiveCommandLine, BadSettingsAreRefused) {
         {"--min-spp 8", "--min-spp: the samples before adaptive sampling's first decision"},
         {"--adaptive 0.1 --min-spp 1", "--min-spp: expected an integer in [2,"},
         {"--adaptive 0.1 --samples 8:16", "an adaptive render"},
+        {"--adaptive-error absolute", "--adaptive-error: what adaptive sampling's threshold bounds"},
+        {"--adaptive 0.1 --adaptive-error sideways", "--adaptive-error: expected relative or absolute, got 'sideways'"},
+        {"--adaptive 0 --adaptive-error absolute", "--adaptive: expected the image's RMSE, > 0"},
+        {"--adaptive 1e19 --adaptive-error absolute", "--adaptive: expected the image's RMSE, > 0 and <= 1e+18"},
     };
     for (const auto& [arguments, message] : cases) {
         const RunResult r =
@@ -172,6 +194,9 @@ TEST_F(AdaptiveCommandLine, BadSettingsAreRefused) {
         {"\"adaptive\": {\"threshold\": 0}", "/film/adaptive/threshold"},
         {"\"adaptive\": {\"threshold\": 0.1, \"min_spp\": 1}", "/film/adaptive/min_spp"},
         {"\"adaptive\": {\"threshold\": 0.1, \"minspp\": 8}", "minspp"},
+        {"\"adaptive\": {\"threshold\": 0.1, \"error\": \"sideways\"}", "/film/adaptive/error"},
+        {"\"adaptive\": {\"threshold\": 1.5}", "a relative standard error > 0 and <= 1"},
+        {"\"adaptive\": {\"threshold\": 1e19, \"error\": \"absolute\"}", "/film/adaptive/threshold"},
     };
     for (const auto& [json, message] : sceneCases) {
         std::string text = kScene;
