@@ -31,7 +31,9 @@
 // bokeh, the edges of motion blur) this reaches a given RMSE with far fewer samples than the
 // relative criterion, which spends on every pixel until its noise is a fraction of its value;
 // dark regions, whose noise is small in absolute terms, get little: for display, the relative
-// criterion. The sums of mean(sigma) are taken row by row and then in row order, so the decision
+// criterion. T is a bound: the floor of min_spp samples, the 3x3 neighbourhoods below and a
+// stratified sampler (whose error falls faster than the sigma / sqrt(n) the variance assumes)
+// leave the image cleaner than T. The sums of mean(sigma) are taken row by row and then in row order, so the decision
 // does not depend on the thread count.
 //
 // A pixel stops when it and its 8 neighbours (within the rendered window) are all below the

@@ -46,13 +46,14 @@ std::vector<AdaptiveRun> runAdaptiveRenders(const Scene& scene, const RenderOpti
                                             const std::vector<float>& thresholds, uint32_t minSamples,
                                             uint32_t maxSpp,
                                             const std::function<RungMeasure(const Film&)>& measure,
-                                            const std::function<void(const std::string&)>& log) {
+                                            const std::function<void(const std::string&)>& log,
+                                            AdaptiveError error) {
     std::vector<AdaptiveRun> runs;
     for (size_t i = 0; i < rungs.size(); ++i) {
         if (rungs[i] < minSamples || !(thresholds[i] > 0.0f)) continue;
         Scene s = scene;
         s.film.adaptive =
-            AdaptiveSettings{std::min(thresholds[i], AdaptiveSettings::kMaxThreshold), minSamples};
+            AdaptiveSettings{std::min(thresholds[i], AdaptiveSettings::maxThreshold(error)), minSamples, error};
         RenderOptions o = base;
         o.endSample = maxSpp;
         RenderJob job(s, SceneSource{}, o);

@@ -42,6 +42,7 @@ struct EqualErrorPoint {
 
 struct AdaptiveStudy {
     uint32_t minSamples = 16;
+    AdaptiveError error = AdaptiveError::Relative;
     std::vector<AdaptiveRun> runs;
     std::vector<EqualErrorPoint> equalError;
 };
@@ -51,7 +52,7 @@ struct AdaptiveStudy {
 float medianRelativeError(const Film& film);
 
 // Adaptive renders of `scene` at `thresholds` (from rungs `rungs`, parallel), each measured by
-// `measure` (MSE and RMSE against the reference).
+// `measure` (MSE and RMSE against the reference), with the criterion `error`.
 struct RungMeasure {
     double mse = 0, rmse = 0;
 };
@@ -60,7 +61,8 @@ std::vector<AdaptiveRun> runAdaptiveRenders(const Scene& scene, const RenderOpti
                                             const std::vector<float>& thresholds, uint32_t minSamples,
                                             uint32_t maxSpp,
                                             const std::function<RungMeasure(const Film&)>& measure,
-                                            const std::function<void(const std::string&)>& log);
+                                            const std::function<void(const std::string&)>& log,
+                                            AdaptiveError error = AdaptiveError::Relative);
 
 // The equal-error comparison of fixed rungs (spp, RMSE, seconds) with the adaptive runs.
 std::vector<EqualErrorPoint> compareAtEqualError(const std::vector<uint32_t>& spp,

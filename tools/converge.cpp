@@ -301,7 +301,10 @@ ConvergenceReport runConvergence(const Scene& scene, const ConvergenceOptions& o
                             crop.insert(crop.end(), {m.r, m.g, m.b});
                         }
                     study.strip.push_back(std::move(crop));
-                    if (options.adaptive) study.adaptiveThresholds.push_back(medianRelativeError(film));
+                    if (options.adaptive)
+                        study.adaptiveThresholds.push_back(options.adaptiveError == AdaptiveError::Absolute
+                                                               ? float(e.rmse)
+                                                               : medianRelativeError(film));
                 }
                 ++next;
                 snapshots += Clock::now() - t0;
@@ -351,6 +354,7 @@ ConvergenceReport runConvergence(const Scene& scene, const ConvergenceOptions& o
                             top * kAdaptiveMaxSppFactor));
             AdaptiveStudy adaptive;
             adaptive.minSamples = options.adaptiveMinSamples;
+            adaptive.error = options.adaptiveError;
             adaptive.runs = runAdaptiveRenders(
                 s, base, options.rungs, study.adaptiveThresholds, options.adaptiveMinSamples,
                 top * kAdaptiveMaxSppFactor,
@@ -358,7 +362,7 @@ ConvergenceReport runConvergence(const Scene& scene, const ConvergenceOptions& o
                     const RungError e = measure(film, report.reference);
                     return RungMeasure{e.mse, e.rmse};
                 },
-                log);
+                log, options.adaptiveError);
             std::vector<double> rmse, seconds;
             for (const RungError& e : study.runs.front().rungs) {
                 rmse.push_back(e.rmse);
@@ -424,6 +428,7 @@ void writeConvergenceReport(const ConvergenceReport& report, const std::string& 
         if (study.adaptive) {
             json a;
             a["min_spp"] = study.adaptive->minSamples;
+            a["error"] = std::string(adaptiveErrorName(study.adaptive->error));
             a["runs"] = json::array();
             for (const AdaptiveRun& run : study.adaptive->runs)
                 a["runs"].push_back({{"rung", run.rung},
@@ -555,7 +560,11 @@ int runConvergeCommand(const ConvergeCommand& cmd) {
     };
     options.source = SceneSource::of(cmd.scenePath, scene);
     if (cmd.minSpp && !cmd.adaptive) throw InputError("--min-spp: only with --adaptive");
+    if (!cmd.adaptiveError.empty() && !cmd.adaptive) throw InputError("--adaptive-error: only with --adaptive");
+    if (!cmd.adaptiveError.empty() && cmd.adaptiveError != "relative" && cmd.adaptiveError != "absolute")
+        throw InputError(fmt::format("--adaptive-error: expected relative or absolute, got '{}'", cmd.adaptiveError));
     options.adaptive = cmd.adaptive;
+    options.adaptiveError = cmd.adaptiveError == "absolute" ? AdaptiveError::Absolute : AdaptiveError::Relative;
     if (cmd.minSpp) {
         if (*cmd.minSpp < AdaptiveSettings::kMinMinSamples || *cmd.minSpp > (1 << 24))
             throw InputError(fmt::format("--min-spp: expected an integer in [{}, {}], got {}",

@@ -43,6 +43,9 @@ struct ConvergenceOptions {
     // for each sampler and strategy with the first seed.
     bool adaptive = false;
     uint32_t adaptiveMinSamples = 16;
+    // The adaptive renders' criterion; with the absolute one, a rung's threshold is the RMSE the
+    // fixed render reached there (against the reference) rather than its median relative error.
+    AdaptiveError adaptiveError = AdaptiveError::Relative;
 
     static constexpr uint32_t kMaxReferenceSpp = 8192;
 };
@@ -69,7 +72,7 @@ struct SamplerStudy {
     double slope = 0;                  // least squares of log(mean MSE) against log(spp)
     double slopeStd = 0;               // standard deviation of the per-seed slopes (0 for one seed)
     std::vector<std::vector<float>> strip;  // seed 0's mean RGB in the strip window at each rung
-    std::vector<float> adaptiveThresholds;  // --adaptive: seed 0's median relative error at each rung
+    std::vector<float> adaptiveThresholds;  // --adaptive: seed 0's median relative error (or RMSE) at each rung
     std::optional<AdaptiveStudy> adaptive;  // --adaptive: the adaptive runs and the equal-error table
 };
 
@@ -131,6 +134,7 @@ struct ConvergeCommand {
     bool quiet = false;
     bool adaptive = false;         // --adaptive
     std::optional<int64_t> minSpp;  // --min-spp
+    std::string adaptiveError;      // --adaptive-error (empty: relative)
 };
 int runConvergeCommand(const ConvergeCommand& cmd);
 

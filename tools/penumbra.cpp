@@ -475,6 +475,9 @@ int main(int argc, char** argv) {
                           "(the fixed render's median relative error at each), and the time and samples each needs to "
                           "reach the fixed rungs' RMSE");
     convergeApp->add_option("--min-spp", convergeCmd.minSpp, "Samples before the adaptive renders' first decision (default 16)");
+    convergeApp->add_option("--adaptive-error", convergeCmd.adaptiveError,
+                            "The adaptive renders' criterion: relative (default) or absolute (each rung's threshold is "
+                            "then the RMSE the fixed render reached there)");
 
     std::string crosscheckScene, crosscheckPatch;
     CrosscheckOptions crosscheckOptions;

@@ -244,5 +244,40 @@ TEST(AdaptiveConvergence, AdaptiveRunsAreComparedAtEqualError) {
     }
 }
 
+// With the absolute criterion, each adaptive run's threshold is the RMSE its fixed rung reached.
+TEST(AdaptiveConvergence, AbsoluteRunsTargetTheRungsRmse) {
+    Scene scene = testing::makeSmallBoxScene(24, 20, 16);
+    ConvergenceOptions options;
+    options.rungs = {16, 32};
+    options.samplers = {SamplerKind::Stratified};
+    options.referenceSpp = 512;
+    options.adaptive = true;
+    options.adaptiveError = AdaptiveError::Absolute;
+    const ConvergenceReport report = runConvergence(scene, options);
+    ASSERT_EQ(report.studies.size(), 1u);
+    const SamplerStudy& study = report.studies.front();
+    ASSERT_TRUE(study.adaptive);
+    EXPECT_EQ(study.adaptive->error, AdaptiveError::Absolute);
+    ASSERT_EQ(study.adaptive->runs.size(), 2u);
+    for (size_t i = 0; i < 2; ++i) {
+        const AdaptiveRun& run = study.adaptive->runs[i];
+        EXPECT_EQ(run.threshold, float(study.runs.front().rungs[i].rmse)) << run.rung;
+        EXPECT_GE(run.meanSpp, 16.0);
+        EXPECT_GT(run.rmse, 0.0);
+    }
+}
+
+TEST_F(AdaptiveCommandLine, ConvergeRefusesAnAdaptiveErrorWithoutAdaptive) {
+    const fs::path scene = write("scene.json", kScene);
+    for (const auto& [arguments, message] :
+         {std::pair<std::string, std::string>{"--adaptive-error absolute", "--adaptive-error: only with --adaptive"},
+          {"--adaptive --adaptive-error sideways", "--adaptive-error: expected relative or absolute"}}) {
+        const RunResult r = runPenumbra("converge " + scene.string() + " --spp 16,32 --no-plot -q -o " +
+                                        (dir_ / "study").string() + " " + arguments);
+        EXPECT_NE(r.exitCode, 0) << arguments;
+        EXPECT_TRUE(contains(r, message)) << arguments << ": " << r.output;
+    }
+}
+
 }  // namespace
 }  // namespace penumbra
