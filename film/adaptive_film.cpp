@@ -13,8 +13,8 @@ namespace penumbra {
 constexpr std::string_view kAbsolutePrefix = "absolute:";
 
 std::string formatAdaptiveAttribute(const AdaptiveSettings& settings) {
-    return fmt::format("{}{}:{}", settings.error == AdaptiveError::Absolute ? kAbsolutePrefix : "", settings.threshold,
-                       settings.minSamples);
+    return fmt::format("{}{}:{}", settings.error == AdaptiveError::Absolute ? kAbsolutePrefix : "",
+                       settings.threshold, settings.minSamples);
 }
 
 std::optional<AdaptiveSettings> parseAdaptiveAttribute(const std::string& text) {
@@ -32,7 +32,8 @@ std::optional<AdaptiveSettings> parseAdaptiveAttribute(const std::string& text) 
     if (thresholdError != std::errc() || thresholdEnd != begin + colon) return std::nullopt;
     auto [minEnd, minError] = std::from_chars(begin + colon + 1, end, settings.minSamples);
     if (minError != std::errc() || minEnd != end) return std::nullopt;
-    if (!(settings.threshold > 0.0f && settings.threshold <= AdaptiveSettings::maxThreshold(settings.error)) ||
+    if (!(settings.threshold > 0.0f &&
+          settings.threshold <= AdaptiveSettings::maxThreshold(settings.error)) ||
         settings.minSamples < AdaptiveSettings::kMinMinSamples)
         return std::nullopt;
     return settings;

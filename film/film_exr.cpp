@@ -283,10 +283,11 @@ FilmHeader readHeader(const std::filesystem::path& path, Imf::MultiPartInputFile
         const std::string adaptive = stringAttribute(beauty, kAdaptiveAttribute);
         m.adaptive = parseAdaptiveAttribute(adaptive);
         if (!m.adaptive)
-            throwFileError(path, fmt::format("malformed {} '{}' (expected [absolute:]THRESHOLD:MIN_SPP, 0 < THRESHOLD "
-                                             "<= {:g} ({:g} absolute), MIN_SPP >= {})",
-                                             kAdaptiveAttribute, adaptive, AdaptiveSettings::kMaxThreshold,
-                                             AdaptiveSettings::kMaxAbsoluteThreshold, AdaptiveSettings::kMinMinSamples));
+            throwFileError(
+                path, fmt::format("malformed {} '{}' (expected [absolute:]THRESHOLD:MIN_SPP, 0 < THRESHOLD "
+                                  "<= {:g} ({:g} absolute), MIN_SPP >= {})",
+                                  kAdaptiveAttribute, adaptive, AdaptiveSettings::kMaxThreshold,
+                                  AdaptiveSettings::kMaxAbsoluteThreshold, AdaptiveSettings::kMinMinSamples));
     }
     return FilmHeader{m, fullWidth, fullHeight};
 }

@@ -181,7 +181,8 @@ void checkResumable(const FilmFile& file, const std::string& path, const ResumeT
         fail(fmt::format("it covers the pixels {}, the render {} (pass --crop {})", describeWindow(fileWindow),
                          describeWindow(targetWindow), describeWindow(fileWindow)));
     auto describeAdaptive = [](const std::optional<AdaptiveSettings>& a) {
-        return a ? fmt::format("adaptive sampling {} ([absolute:]THRESHOLD:MIN_SPP)", formatAdaptiveAttribute(*a))
+        return a ? fmt::format("adaptive sampling {} ([absolute:]THRESHOLD:MIN_SPP)",
+                               formatAdaptiveAttribute(*a))
                  : std::string("no adaptive sampling");
     };
     if (m.adaptive != target.adaptive)

@@ -35,7 +35,8 @@ ActivePixels::ActivePixels(const Film& film, const PixelWindow& window, uint32_t
 namespace {
 
 // Per pixel of the window, row-major, whether it is below the threshold (adaptive_sampling.h).
-std::vector<uint8_t> belowThreshold(const Film& film, const PixelWindow& window, const AdaptiveSettings& settings) {
+std::vector<uint8_t> belowThreshold(const Film& film, const PixelWindow& window,
+                                    const AdaptiveSettings& settings) {
     const int width = window.width(), height = window.height();
     auto pixel = [&](int x, int row) -> const PixelSums& { return film.at(window.x0 + x, window.y0 + row); };
     // Rows in parallel: each pixel's result depends on the film alone, not on the order.
@@ -43,7 +44,8 @@ std::vector<uint8_t> belowThreshold(const Film& film, const PixelWindow& window,
     if (settings.error == AdaptiveError::Relative) {
         tbb::parallel_for(0, height, [&](int row) {
             for (int x = 0; x < width; ++x)
-                below[size_t(row) * width + x] = relativeStandardError(pixel(x, row)) < double(settings.threshold);
+                below[size_t(row) * width + x] =
+                    relativeStandardError(pixel(x, row)) < double(settings.threshold);
         });
         return below;
     }
@@ -62,7 +64,8 @@ std::vector<uint8_t> belowThreshold(const Film& film, const PixelWindow& window,
         for (int x = 0; x < width; ++x) {
             const PixelSums& p = pixel(x, row);
             // No estimate below two samples counts as 0, as for the relative criterion.
-            const double perSample = p.sampleCount >= 2 ? sampleStandardDeviation(p) / double(p.sampleCount) : 0.0;
+            const double perSample =
+                p.sampleCount >= 2 ? sampleStandardDeviation(p) / double(p.sampleCount) : 0.0;
             below[size_t(row) * width + x] = perSample < limit;
         }
     });

@@ -33,8 +33,8 @@
 // dark regions, whose noise is small in absolute terms, get little: for display, the relative
 // criterion. T is a bound: the floor of min_spp samples, the 3x3 neighbourhoods below and a
 // stratified sampler (whose error falls faster than the sigma / sqrt(n) the variance assumes)
-// leave the image cleaner than T. The sums of mean(sigma) are taken row by row and then in row order, so the decision
-// does not depend on the thread count.
+// leave the image cleaner than T. The sums of mean(sigma) are taken row by row and then in row
+// order, so the decision does not depend on the thread count.
 //
 // A pixel stops when it and its 8 neighbours (within the rendered window) are all below the
 // threshold, as Cycles and Dammertz dilate their converged regions: a pixel whose first samples

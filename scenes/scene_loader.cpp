@@ -140,16 +140,21 @@ FilmSettings readFilm(const JsonValue& value) {
         const JsonObject adaptive(*v, {"threshold", "min_spp", "error"});
         AdaptiveSettings settings;
         if (auto error = adaptive.get("error"))
-            settings.error = error->choice({"relative", "absolute"}) == 0 ? AdaptiveError::Relative : AdaptiveError::Absolute;
+            settings.error = error->choice({"relative", "absolute"}) == 0 ? AdaptiveError::Relative
+                                                                          : AdaptiveError::Absolute;
         const auto threshold = adaptive.get("threshold");
         if (!threshold)
-            v->fail("adaptive sampling needs a \"threshold\" (a relative standard error, e.g. 0.02, or with \"error\": "
-                    "\"absolute\" the image's RMSE, e.g. 0.01)");
+            v->fail(
+                "adaptive sampling needs a \"threshold\" (a relative standard error, e.g. 0.02, or with "
+                "\"error\": "
+                "\"absolute\" the image's RMSE, e.g. 0.01)");
         settings.threshold = threshold->numberAbove(0.0f);
         if (settings.threshold > AdaptiveSettings::maxThreshold(settings.error))
-            threshold->failExpected(settings.error == AdaptiveError::Relative
-                                        ? fmt::format("a relative standard error > 0 and <= {:g}", AdaptiveSettings::kMaxThreshold)
-                                        : fmt::format("an RMSE > 0 and <= {:g}", AdaptiveSettings::kMaxAbsoluteThreshold));
+            threshold->failExpected(
+                settings.error == AdaptiveError::Relative
+                    ? fmt::format("a relative standard error > 0 and <= {:g}",
+                                  AdaptiveSettings::kMaxThreshold)
+                    : fmt::format("an RMSE > 0 and <= {:g}", AdaptiveSettings::kMaxAbsoluteThreshold));
         if (auto minSpp = adaptive.get("min_spp"))
             settings.minSamples = uint32_t(minSpp->integer(AdaptiveSettings::kMinMinSamples, kMaxInt));
         film.adaptive = settings;

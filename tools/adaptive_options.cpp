@@ -9,26 +9,28 @@
 
 namespace penumbra {
 
-void applyAdaptiveOptions(Scene& scene, const std::optional<double>& threshold, const std::optional<int64_t>& minSpp,
-                          const std::optional<std::string>& error) {
+void applyAdaptiveOptions(Scene& scene, const std::optional<double>& threshold,
+                          const std::optional<int64_t>& minSpp, const std::optional<std::string>& error) {
     if (error && !threshold && !scene.film.adaptive)
         throw InputError(
             "--adaptive-error: what adaptive sampling's threshold bounds; give --adaptive THRESHOLD too (or "
             "film.adaptive in the scene)");
     if (error && *error != "relative" && *error != "absolute")
         throw InputError(fmt::format("--adaptive-error: expected relative or absolute, got '{}'", *error));
-    const AdaptiveError kind = error ? (*error == "absolute" ? AdaptiveError::Absolute : AdaptiveError::Relative)
-                                     : scene.film.adaptive.value_or(AdaptiveSettings{}).error;
+    const AdaptiveError kind =
+        error ? (*error == "absolute" ? AdaptiveError::Absolute : AdaptiveError::Relative)
+              : scene.film.adaptive.value_or(AdaptiveSettings{}).error;
     if (threshold) {
         const double most = AdaptiveSettings::maxThreshold(kind);
         if (!(*threshold > 0.0 && *threshold <= most))
-            throw InputError(kind == AdaptiveError::Relative
-                                 ? fmt::format("--adaptive: expected a relative standard error > 0 and <= {:g} (e.g. "
-                                               "0.02), got {:g}",
-                                               most, *threshold)
-                                 : fmt::format("--adaptive: expected the image's RMSE, > 0 and <= {:g} (e.g. 0.01), "
-                                               "got {:g}",
-                                               most, *threshold));
+            throw InputError(
+                kind == AdaptiveError::Relative
+                    ? fmt::format("--adaptive: expected a relative standard error > 0 and <= {:g} (e.g. "
+                                  "0.02), got {:g}",
+                                  most, *threshold)
+                    : fmt::format("--adaptive: expected the image's RMSE, > 0 and <= {:g} (e.g. 0.01), "
+                                  "got {:g}",
+                                  most, *threshold));
     }
     if (threshold || error) {
         AdaptiveSettings settings = scene.film.adaptive.value_or(AdaptiveSettings{});
@@ -36,9 +38,10 @@ void applyAdaptiveOptions(Scene& scene, const std::optional<double>& threshold, 
         settings.error = kind;
         // A scene's relative threshold can be no RMSE: a changed kind takes a threshold with it.
         if (!(settings.threshold <= AdaptiveSettings::maxThreshold(kind)))
-            throw InputError(fmt::format("--adaptive-error {}: the scene's threshold {:g} is out of its range; give "
-                                         "--adaptive THRESHOLD too",
-                                         adaptiveErrorName(kind), settings.threshold));
+            throw InputError(
+                fmt::format("--adaptive-error {}: the scene's threshold {:g} is out of its range; give "
+                            "--adaptive THRESHOLD too",
+                            adaptiveErrorName(kind), settings.threshold));
         scene.film.adaptive = settings;
     }
     if (minSpp) {
@@ -69,9 +72,9 @@ std::string describeAdaptiveRender(const Film& film, const PixelWindow& window,
     return fmt::format(
         "adaptive {} ({}min {} spp): {} samples, mean {:.1f} spp, {:.0f}% of {} spp everywhere; per pixel "
         "{} to {} (the spp channel of part \"sums\")",
-        settings.threshold, settings.error == AdaptiveError::Absolute ? "image RMSE, " : "", settings.minSamples,
-        samples, mean,
-        endSample > 0 ? 100.0 * mean / endSample : 0.0, endSample, pixels > 0 ? least : 0, most);
+        settings.threshold, settings.error == AdaptiveError::Absolute ? "image RMSE, " : "",
+        settings.minSamples, samples, mean, endSample > 0 ? 100.0 * mean / endSample : 0.0, endSample,
+        pixels > 0 ? least : 0, most);
 }
 
 }  // namespace penumbra

@@ -16,7 +16,8 @@ namespace penumbra {
 // film.adaptive); throws InputError for a threshold outside its kind's range ((0, 1] relative),
 // a --min-spp below 2, an unknown error kind, or --min-spp or --adaptive-error without adaptive
 // sampling.
-void applyAdaptiveOptions(Scene& scene, const std::optional<double>& threshold, const std::optional<int64_t>& minSpp,
+void applyAdaptiveOptions(Scene& scene, const std::optional<double>& threshold,
+                          const std::optional<int64_t>& minSpp,
                           const std::optional<std::string>& error = std::nullopt);
 
 // "adaptive 0.02 (min 16 spp): 1234567 samples, mean 37.2 spp, 58% of 64 spp everywhere; per pixel 16 to 64"

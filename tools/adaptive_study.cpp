@@ -52,8 +52,8 @@ std::vector<AdaptiveRun> runAdaptiveRenders(const Scene& scene, const RenderOpti
     for (size_t i = 0; i < rungs.size(); ++i) {
         if (rungs[i] < minSamples || !(thresholds[i] > 0.0f)) continue;
         Scene s = scene;
-        s.film.adaptive =
-            AdaptiveSettings{std::min(thresholds[i], AdaptiveSettings::maxThreshold(error)), minSamples, error};
+        s.film.adaptive = AdaptiveSettings{std::min(thresholds[i], AdaptiveSettings::maxThreshold(error)),
+                                           minSamples, error};
         RenderOptions o = base;
         o.endSample = maxSpp;
         RenderJob job(s, SceneSource{}, o);

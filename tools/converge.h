@@ -72,7 +72,8 @@ struct SamplerStudy {
     double slope = 0;                  // least squares of log(mean MSE) against log(spp)
     double slopeStd = 0;               // standard deviation of the per-seed slopes (0 for one seed)
     std::vector<std::vector<float>> strip;  // seed 0's mean RGB in the strip window at each rung
-    std::vector<float> adaptiveThresholds;  // --adaptive: seed 0's median relative error (or RMSE) at each rung
+    std::vector<float>
+        adaptiveThresholds;  // --adaptive: seed 0's median relative error (or RMSE) at each rung
     std::optional<AdaptiveStudy> adaptive;  // --adaptive: the adaptive runs and the equal-error table
 };
 

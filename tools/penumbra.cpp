@@ -369,11 +369,12 @@ int main(int argc, char** argv) {
                           "Adaptive sampling: a pixel stops once the relative standard error of its mean (and its "
                           "neighbours') is below THRESHOLD, e.g. 0.02; --spp is then the most a pixel gets "
                           "(overrides film.adaptive.threshold)");
-    renderApp->add_option("--adaptive-error", cmd.adaptiveError,
-                          "What --adaptive bounds: relative (default; each pixel's relative standard error, for "
-                          "display) or absolute (the image's RMSE in scene-linear units, e.g. 0.01, each pixel "
-                          "sampled in proportion to its noise: the least squared error for the samples; overrides "
-                          "film.adaptive.error)");
+    renderApp->add_option(
+        "--adaptive-error", cmd.adaptiveError,
+        "What --adaptive bounds: relative (default; each pixel's relative standard error, for "
+        "display) or absolute (the image's RMSE in scene-linear units, e.g. 0.01, each pixel "
+        "sampled in proportion to its noise: the least squared error for the samples; overrides "
+        "film.adaptive.error)");
     renderApp->add_option("--min-spp", cmd.minSpp,
                           "Samples every pixel gets before adaptive sampling's first decision (default 16; overrides "
                           "film.adaptive.min_spp)");
@@ -475,9 +476,10 @@ int main(int argc, char** argv) {
                           "(the fixed render's median relative error at each), and the time and samples each needs to "
                           "reach the fixed rungs' RMSE");
     convergeApp->add_option("--min-spp", convergeCmd.minSpp, "Samples before the adaptive renders' first decision (default 16)");
-    convergeApp->add_option("--adaptive-error", convergeCmd.adaptiveError,
-                            "The adaptive renders' criterion: relative (default) or absolute (each rung's threshold is "
-                            "then the RMSE the fixed render reached there)");
+    convergeApp->add_option(
+        "--adaptive-error", convergeCmd.adaptiveError,
+        "The adaptive renders' criterion: relative (default) or absolute (each rung's threshold is "
+        "then the RMSE the fixed render reached there)");
 
     std::string crosscheckScene, crosscheckPatch;
     CrosscheckOptions crosscheckOptions;

@@ -104,8 +104,8 @@ TEST(AdaptiveBox, TheFilmDoesNotDependOnThreadsTilesOrPasses) {
                 options.passSize = passSize;
                 options.tileSize = threads == 8 ? 5 : 16;
                 EXPECT_TRUE(renderFilm(scene, options).identicalTo(reference))
-                    << adaptiveErrorName(scene.film.adaptive->error) << ", " << threads << " threads, passes of "
-                    << passSize;
+                    << adaptiveErrorName(scene.film.adaptive->error) << ", " << threads
+                    << " threads, passes of " << passSize;
             }
     }
 }
@@ -448,7 +448,8 @@ TEST(AdaptiveAbsolute, APixelStopsWhenItsShareOfTheImagesErrorIsMet) {
 
     // Just above the quiet half's: the same; just below it, nothing stops.
     ActivePixels quiet(film, window, 16);
-    EXPECT_EQ(quiet.stopConverged(film, AdaptiveSettings{threshold(0.0101), 16, AdaptiveError::Absolute}), 20u);
+    EXPECT_EQ(quiet.stopConverged(film, AdaptiveSettings{threshold(0.0101), 16, AdaptiveError::Absolute}),
+              20u);
     ActivePixels none(film, window, 16);
     EXPECT_EQ(none.stopConverged(film, AdaptiveSettings{threshold(0.0099), 16, AdaptiveError::Absolute}), 0u);
 

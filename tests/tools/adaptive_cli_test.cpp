@@ -85,19 +85,22 @@ TEST_F(AdaptiveCommandLine, RenderWritesAnAdaptiveFilm) {
     EXPECT_EQ(readFilmExr(out).metadata.adaptive, (AdaptiveSettings{0.2f, 24}));
 
     // The absolute criterion, from the command line (its RMSE may exceed 1) and from the scene file.
-    const RunResult absolute = runPenumbra("render " + inScene.string() +
-                                           " --no-display --adaptive 2.5 --adaptive-error absolute -o " + out.string());
+    const RunResult absolute =
+        runPenumbra("render " + inScene.string() +
+                    " --no-display --adaptive 2.5 --adaptive-error absolute -o " + out.string());
     ASSERT_EQ(absolute.exitCode, 0) << absolute.output;
     EXPECT_TRUE(contains(absolute, "adaptive 2.5 (image RMSE, min 24 spp)")) << absolute.output;
     EXPECT_EQ(readFilmExr(out).metadata.adaptive, (AdaptiveSettings{2.5f, 24, AdaptiveError::Absolute}));
-    const fs::path absoluteScene = write(
-        "absolute.json", std::string(kScene).replace(std::string(kScene).find("\"spp\": 64}"), 10,
-                                                     "\"spp\": 64, \"adaptive\": {\"threshold\": 0.01, \"error\": "
-                                                     "\"absolute\"}}"));
-    ASSERT_EQ(runPenumbra("render " + absoluteScene.string() + " -q --no-display -o " + out.string()).exitCode, 0);
+    const fs::path absoluteScene =
+        write("absolute.json",
+              std::string(kScene).replace(std::string(kScene).find("\"spp\": 64}"), 10,
+                                          "\"spp\": 64, \"adaptive\": {\"threshold\": 0.01, \"error\": "
+                                          "\"absolute\"}}"));
+    ASSERT_EQ(
+        runPenumbra("render " + absoluteScene.string() + " -q --no-display -o " + out.string()).exitCode, 0);
     EXPECT_EQ(readFilmExr(out).metadata.adaptive, (AdaptiveSettings{0.01f, 16, AdaptiveError::Absolute}));
-    ASSERT_EQ(runPenumbra("render " + absoluteScene.string() + " -q --no-display --adaptive-error relative -o " +
-                          out.string())
+    ASSERT_EQ(runPenumbra("render " + absoluteScene.string() +
+                          " -q --no-display --adaptive-error relative -o " + out.string())
                   .exitCode,
               0);
     EXPECT_EQ(readFilmExr(out).metadata.adaptive, (AdaptiveSettings{0.01f, 16, AdaptiveError::Relative}));
@@ -177,9 +180,11 @@ TEST_F(AdaptiveCommandLine, BadSettingsAreRefused) {
         {"--adaptive 0.1 --min-spp 1", "--min-spp: expected an integer in [2,"},
         {"--adaptive 0.1 --samples 8:16", "an adaptive render"},
         {"--adaptive-error absolute", "--adaptive-error: what adaptive sampling's threshold bounds"},
-        {"--adaptive 0.1 --adaptive-error sideways", "--adaptive-error: expected relative or absolute, got 'sideways'"},
+        {"--adaptive 0.1 --adaptive-error sideways",
+         "--adaptive-error: expected relative or absolute, got 'sideways'"},
         {"--adaptive 0 --adaptive-error absolute", "--adaptive: expected the image's RMSE, > 0"},
-        {"--adaptive 1e19 --adaptive-error absolute", "--adaptive: expected the image's RMSE, > 0 and <= 1e+18"},
+        {"--adaptive 1e19 --adaptive-error absolute",
+         "--adaptive: expected the image's RMSE, > 0 and <= 1e+18"},
     };
     for (const auto& [arguments, message] : cases) {
         const RunResult r =
@@ -270,7 +275,8 @@ TEST(AdaptiveConvergence, AbsoluteRunsTargetTheRungsRmse) {
 TEST_F(AdaptiveCommandLine, ConvergeRefusesAnAdaptiveErrorWithoutAdaptive) {
     const fs::path scene = write("scene.json", kScene);
     for (const auto& [arguments, message] :
-         {std::pair<std::string, std::string>{"--adaptive-error absolute", "--adaptive-error: only with --adaptive"},
+         {std::pair<std::string, std::string>{"--adaptive-error absolute",
+                                              "--adaptive-error: only with --adaptive"},
           {"--adaptive --adaptive-error sideways", "--adaptive-error: expected relative or absolute"}}) {
         const RunResult r = runPenumbra("converge " + scene.string() + " --spp 16,32 --no-plot -q -o " +
                                         (dir_ / "study").string() + " " + arguments);
