@@ -49,6 +49,15 @@ Film renderFilm(const Scene& scene, RenderOptions options) {
     return film;
 }
 
+// `scene` without adaptive sampling at `spp` samples, another seed: the converged image to measure
+// errors against.
+Film convergedReference(Scene scene, int spp) {
+    scene.film.adaptive.reset();
+    scene.film.samplesPerPixel = spp;
+    scene.settings.seed = 7;
+    return renderFilm(scene, RenderOptions{});
+}
+
 std::vector<uint32_t> sampleCounts(const Film& film) {
     std::vector<uint32_t> counts;
     for (int y = 0; y < film.height(); ++y)
@@ -386,11 +395,7 @@ TEST(AdaptiveBox, StoppedPixelsMeetTheThreshold) {
     Scene scene = adaptiveBox(256, kThreshold);
     scene.settings.sampler = SamplerKind::Independent;
     const Film film = renderFilm(scene, RenderOptions{});
-    Scene referenceScene = scene;
-    referenceScene.film.adaptive.reset();
-    referenceScene.film.samplesPerPixel = 4096;
-    referenceScene.settings.seed = 7;
-    const Film reference = renderFilm(referenceScene, RenderOptions{});
+    const Film reference = convergedReference(scene, 4096);
 
     double sum = 0;
     int stopped = 0;
@@ -473,11 +478,7 @@ TEST(AdaptiveAbsolute, TheImageMeetsItsRmse) {
     Scene scene = absoluteBox(kMostSamples, kRmse);
     scene.settings.sampler = SamplerKind::Independent;
     const Film film = renderFilm(scene, RenderOptions{});
-    Scene referenceScene = scene;
-    referenceScene.film.adaptive.reset();
-    referenceScene.film.samplesPerPixel = 8192;
-    referenceScene.settings.seed = 7;
-    const Film reference = renderFilm(referenceScene, RenderOptions{});
+    const Film reference = convergedReference(scene, 8192);
 
     double squared = 0.0;
     uint32_t least = UINT32_MAX, most = 0;
