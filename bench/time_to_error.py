@@ -19,7 +19,7 @@ per scene:
      errors of their difference (from that noise) or within 1% (see references_agree);
   2. each renderer at every rung of --ladder, --reps times with different seeds, alternating
      penumbra and Cycles, with the same thread count; penumbra also adaptive after each rung from
-     2x --min-spp on, at the criterion the fixed film's median pixel has at that rung (at most
+     --min-spp on, at the criterion the fixed film's median pixel has at that rung (at most
      twice the rung's samples); and adaptive with the absolute criterion (`--adaptive-error
      absolute`, renderer/adaptive_sampling.h) after each rung, its target the RMSE the fixed
      render reached at that rung (at most 8x the rung's samples in a pixel, at least the smaller
@@ -538,7 +538,7 @@ def main():
                 # it stops the pixels already as clean and spends on the others (as `converge
                 # --adaptive`), up to twice the rung's samples (a bound on its time: the pixels whose
                 # relative error stays large, bright bokeh or caustics, would take any maximum).
-                if not args.no_adaptive and spp >= 2 * args.min_spp:
+                if not args.no_adaptive and spp >= args.min_spp:
                     threshold = float(f"{thresholds[spp]:.4g}")
                     out = os.path.join(work, f"{name}-a-{spp}-{seed}.exr")
                     seconds, summary = penumbra(2 * spp, seed, out, adaptive=threshold, min_spp=args.min_spp)
