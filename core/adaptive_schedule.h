@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <bit>
 #include <cstdint>
+#include <optional>
 #include <string_view>
 
 namespace penumbra {
@@ -22,6 +23,12 @@ enum class AdaptiveError : uint8_t { Relative, Absolute };
 
 constexpr std::string_view adaptiveErrorName(AdaptiveError error) {
     return error == AdaptiveError::Absolute ? "absolute" : "relative";
+}
+// The criterion adaptiveErrorName names, or none for another name.
+constexpr std::optional<AdaptiveError> parseAdaptiveError(std::string_view name) {
+    if (name == "relative") return AdaptiveError::Relative;
+    if (name == "absolute") return AdaptiveError::Absolute;
+    return std::nullopt;
 }
 
 struct AdaptiveSettings {

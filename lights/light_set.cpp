@@ -222,6 +222,9 @@ void LightSet::groupEmitters(std::vector<uint32_t> emitterSizes, const std::vect
     }
     if (finiteEmitterCount < 2) return;
     if (lights_.size() <= kMaxLocallyChosenEmitters) emitterSizes.assign(lights_.size(), 1);
+    // Beyond the batch's capacity the choice stays by power (a light tree's work), and nothing
+    // below is needed.
+    if (choice_.empty() || emitterSizes.size() > kMaxLocallyChosenEmitters) return;
     emitterOfLight_.resize(lights_.size());
     probabilityWithinEmitter_.resize(lights_.size());
     for (uint32_t first = 0; const uint32_t size : emitterSizes) {
@@ -232,21 +235,20 @@ void LightSet::groupEmitters(std::vector<uint32_t> emitterSizes, const std::vect
         std::vector<double> shares(power.begin() + first, power.begin() + first + size);
         emitter.withinEmitter = DiscreteDistribution(shares);
         for (uint32_t i = first; i < first + size; ++i) {
-            if (!choice_.empty()) emitter.powerShare += choice_.probability(i);
+            emitter.powerShare += choice_.probability(i);
             emitterOfLight_[i] = uint32_t(emitters_.size());
             probabilityWithinEmitter_[i] =
                 emitter.withinEmitter.empty() ? 0.0f : emitter.withinEmitter.probability(i - first);
             if (emitter.infinite) {
                 hasInfiniteLights_ = true;
-                if (!choice_.empty()) finiteShare_ -= choice_.probability(i);
+                finiteShare_ -= choice_.probability(i);
             }
         }
         emitters_.push_back(std::move(emitter));
         first += size;
     }
     finiteShare_ = std::max(finiteShare_, 0.0f);
-    choosesLocally_ = !choice_.empty() && emitters_.size() <= kMaxLocallyChosenEmitters;
-    if (!choosesLocally_) return;
+    choosesLocally_ = true;
     for (size_t e = 0; e < emitters_.size(); ++e) {
         if (emitters_[e].infinite) {
             bounds_.set(e, LightBounds{});  // power 0: importance 0 (their weight is their power share)

@@ -7,19 +7,26 @@
 
 namespace penumbra {
 
+namespace {
+
+// The mean over the channels of the variance of the pixel's mean (both criteria start from it).
+double channelMeanVarianceOfMean(const PixelSums& pixel) {
+    const Rgb variance = pixel.varianceOfMean();
+    return (double(variance.r) + variance.g + variance.b) / 3.0;
+}
+
+}  // namespace
+
 double relativeStandardError(const PixelSums& pixel) {
     if (pixel.sampleCount < 2) return 0.0;
-    const Rgb variance = pixel.varianceOfMean(), mean = pixel.mean();
-    const double meanVariance = (double(variance.r) + variance.g + variance.b) / 3.0;
+    const Rgb mean = pixel.mean();
     const double meanValue = std::max(0.0, (double(mean.r) + mean.g + mean.b) / 3.0);
-    return std::sqrt(meanVariance) / (meanValue + kAdaptiveErrorFloor);
+    return std::sqrt(channelMeanVarianceOfMean(pixel)) / (meanValue + kAdaptiveErrorFloor);
 }
 
 double sampleStandardDeviation(const PixelSums& pixel) {
     if (pixel.sampleCount < 2) return 0.0;
-    const Rgb variance = pixel.varianceOfMean();
-    const double meanVariance = (double(variance.r) + variance.g + variance.b) / 3.0;
-    return std::sqrt(std::max(0.0, meanVariance) * double(pixel.sampleCount));
+    return std::sqrt(std::max(0.0, channelMeanVarianceOfMean(pixel)) * double(pixel.sampleCount));
 }
 
 ActivePixels::ActivePixels(const Film& film, const PixelWindow& window, uint32_t samples)
@@ -50,10 +57,14 @@ std::vector<uint8_t> belowThreshold(const Film& film, const PixelWindow& window,
         return below;
     }
     // Absolute: sigma_p / n_p < T^2 / mean(sigma), the mean summed by rows, then in row order.
-    std::vector<double> rowSums(size_t(height), 0.0);
+    std::vector<double> sigmas(below.size()), rowSums(size_t(height), 0.0);
     tbb::parallel_for(0, height, [&](int row) {
         double sum = 0.0;
-        for (int x = 0; x < width; ++x) sum += sampleStandardDeviation(pixel(x, row));
+        for (int x = 0; x < width; ++x) {
+            const double sigma = sampleStandardDeviation(pixel(x, row));
+            sigmas[size_t(row) * width + x] = sigma;
+            sum += sigma;
+        }
         rowSums[size_t(row)] = sum;
     });
     double sum = 0.0;
@@ -62,11 +73,11 @@ std::vector<uint8_t> belowThreshold(const Film& film, const PixelWindow& window,
     const double limit = double(settings.threshold) * double(settings.threshold) / meanSigma;  // inf when 0
     tbb::parallel_for(0, height, [&](int row) {
         for (int x = 0; x < width; ++x) {
-            const PixelSums& p = pixel(x, row);
+            const size_t i = size_t(row) * width + x;
+            const uint32_t n = pixel(x, row).sampleCount;
             // No estimate below two samples counts as 0, as for the relative criterion.
-            const double perSample =
-                p.sampleCount >= 2 ? sampleStandardDeviation(p) / double(p.sampleCount) : 0.0;
-            below[size_t(row) * width + x] = perSample < limit;
+            const double perSample = n >= 2 ? sigmas[i] / double(n) : 0.0;
+            below[i] = perSample < limit;
         }
     });
     return below;

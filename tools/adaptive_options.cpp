@@ -15,11 +15,10 @@ void applyAdaptiveOptions(Scene& scene, const std::optional<double>& threshold,
         throw InputError(
             "--adaptive-error: what adaptive sampling's threshold bounds; give --adaptive THRESHOLD too (or "
             "film.adaptive in the scene)");
-    if (error && *error != "relative" && *error != "absolute")
+    const std::optional<AdaptiveError> named = error ? parseAdaptiveError(*error) : std::nullopt;
+    if (error && !named)
         throw InputError(fmt::format("--adaptive-error: expected relative or absolute, got '{}'", *error));
-    const AdaptiveError kind =
-        error ? (*error == "absolute" ? AdaptiveError::Absolute : AdaptiveError::Relative)
-              : scene.film.adaptive.value_or(AdaptiveSettings{}).error;
+    const AdaptiveError kind = named.value_or(scene.film.adaptive.value_or(AdaptiveSettings{}).error);
     if (threshold) {
         const double most = AdaptiveSettings::maxThreshold(kind);
         if (!(*threshold > 0.0 && *threshold <= most))
