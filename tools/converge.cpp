@@ -560,11 +560,13 @@ int runConvergeCommand(const ConvergeCommand& cmd) {
     };
     options.source = SceneSource::of(cmd.scenePath, scene);
     if (cmd.minSpp && !cmd.adaptive) throw InputError("--min-spp: only with --adaptive");
-    if (!cmd.adaptiveError.empty() && !cmd.adaptive) throw InputError("--adaptive-error: only with --adaptive");
+    if (!cmd.adaptiveError.empty() && !cmd.adaptive)
+        throw InputError("--adaptive-error: only with --adaptive");
     const std::optional<AdaptiveError> adaptiveError =
         cmd.adaptiveError.empty() ? AdaptiveError::Relative : parseAdaptiveError(cmd.adaptiveError);
     if (!adaptiveError)
-        throw InputError(fmt::format("--adaptive-error: expected relative or absolute, got '{}'", cmd.adaptiveError));
+        throw InputError(
+            fmt::format("--adaptive-error: expected relative or absolute, got '{}'", cmd.adaptiveError));
     options.adaptive = cmd.adaptive;
     options.adaptiveError = *adaptiveError;
     if (cmd.minSpp) {
