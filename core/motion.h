@@ -20,10 +20,30 @@ struct TransformKey {
     Quaternion rotation;
     Vec3f translation{0.0f, 0.0f, 0.0f};
 
+    // translate(translation) * rotation * scale(scale) and its inverse, written out: the same bits
+    // as the products of the 4x4 factors (Matrix4::operator*, in double), without them. A hit on
+    // a moving shape needs it (bench/README.md, "Speed tricks").
     Transform toTransform() const {
-        return Transform::translate(translation) * Transform(rotation.toMatrix(), rotation.toMatrix().transposed()) *
-               Transform::scale(scale);
+        const Matrix4 r = rotation.toMatrix();
+        const Vec3f inverseScale{1.0f / scale.x, 1.0f / scale.y, 1.0f / scale.z};
+        Matrix4 m = Matrix4::identity(), inverse = Matrix4::identity();
+        for (int i = 0; i < 3; ++i) {
+            // (rotation^T * translate(-translation)) row i, last column: the factors' product's rounding.
+            double back = 0.0;
+            for (int k = 0; k < 3; ++k) back += double(r.m[k][i]) * double(-translation[k]);
+            for (int j = 0; j < 3; ++j) {
+                m.m[i][j] = exactProduct(r.m[i][j], scale[j]);
+                inverse.m[i][j] = exactProduct(inverseScale[i], r.m[j][i]);
+            }
+            m.m[i][3] = translation[i] + 0.0f;
+            inverse.m[i][3] = exactProduct(inverseScale[i], float(back));
+        }
+        return {m, inverse};
     }
+
+private:
+    // a * b rounded once, and a zero always +0, as a sum of products in double started at +0 gives it.
+    static float exactProduct(float a, float b) { return float(double(a) * double(b) + 0.0); }
 };
 
 // Where `time` falls between evenly spaced keys: the segment and the fraction within it.

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "core/float_error.h"
 #include "core/frame.h"
@@ -134,6 +135,31 @@ inline void recomputeTriangleHit(Vec3f origin, Vec3f direction, Vec3f p0, Vec3f 
     return hasNormal;
 }
 
+// Object to world at the ray's time of a shape in a space of its own (a moving mesh or sphere, an
+// instance); empty for shapes in world space.
+inline std::optional<Transform> placementOf(const SceneGeometry& scene, ShapeRef shape, float time) {
+    if (!scene.inObjectSpace(shape)) return std::nullopt;
+    return scene.toWorldOf(shape, time);
+}
+
+// canonicalizeHit on `shape`, placed by `toWorld` (placementOf).
+inline void canonicalizeShapeHit(const SceneGeometry& scene, ShapeRef shape, const std::optional<Transform>& toWorld,
+                                 const Ray& ray, Hit& hit) {
+    // Into object space exactly as the BVH takes a ray into an instance.
+    const ObjectSpaceRay objectRay = toWorld ? toObjectSpace(*toWorld, ray) : ObjectSpaceRay{ray.origin, ray.direction};
+    if (shape.kind != ShapeKind::Sphere) {
+        const TriangleMesh& mesh = scene.triangleMeshOf(shape);
+        const uint32_t* index = &mesh.indices[3 * size_t(shape.primitive)];
+        recomputeTriangleHit(objectRay.origin, objectRay.direction, vertexAt(mesh, index[0], ray.time),
+                             vertexAt(mesh, index[1], ray.time), vertexAt(mesh, index[2], ray.time), ray, hit);
+    } else {
+        const Sphere& sphere = scene.spheres[shape.index];
+        float t;
+        if (intersectSphere(objectRay.origin, objectRay.direction, sphere.center, sphere.radius, ray.tnear, ray.tfar, t))
+            hit.t = t;
+    }
+}
+
 }  // namespace detail
 
 // The same hit whichever backend found it: t and the barycentrics of the primitive the backend
@@ -143,22 +169,8 @@ inline void recomputeTriangleHit(Vec3f origin, Vec3f direction, Vec3f p0, Vec3f 
 // bit-identical unless some hit differs. Embree rounds differently (its Plücker-form test); should
 // our test miss the primitive (a ray along an edge), the backend's values stay.
 inline void canonicalizeHit(const SceneGeometry& scene, const Ray& ray, Hit& hit) {
-    detail::ObjectSpaceRay objectRay{ray.origin, ray.direction};
     const ShapeRef shape = scene.shapeOf(hit);
-    // Into object space exactly as the BVH takes a ray into an instance.
-    if (scene.inObjectSpace(shape)) objectRay = detail::toObjectSpace(scene.toWorldOf(shape, ray.time), ray);
-    if (shape.kind != ShapeKind::Sphere) {
-        const TriangleMesh& mesh = scene.triangleMeshOf(shape);
-        const uint32_t* index = &mesh.indices[3 * size_t(shape.primitive)];
-        detail::recomputeTriangleHit(objectRay.origin, objectRay.direction, detail::vertexAt(mesh, index[0], ray.time),
-                                     detail::vertexAt(mesh, index[1], ray.time),
-                                     detail::vertexAt(mesh, index[2], ray.time), ray, hit);
-    } else {
-        const Sphere& sphere = scene.spheres[shape.index];
-        float t;
-        if (intersectSphere(objectRay.origin, objectRay.direction, sphere.center, sphere.radius, ray.tnear, ray.tfar, t))
-            hit.t = t;
-    }
+    detail::canonicalizeShapeHit(scene, shape, detail::placementOf(scene, shape, ray.time), ray, hit);
 }
 
 namespace detail {
@@ -166,8 +178,9 @@ namespace detail {
 // The shading point on triangle `shape.primitive` of an instance's prototype, placed in the world;
 // `faceFrames`, when given, supplies the prototype triangle's normal (the same bits as computing it).
 // Out of line: inlined into the integrator, it costs scenes without instances registers.
-[[gnu::noinline]] inline SurfaceInteraction instanceInteraction(const SceneGeometry& scene, ShapeRef shape, const Ray& ray,
-                                              const Hit& hit, const FaceFrames* faceFrames) {
+[[gnu::noinline]] inline SurfaceInteraction instanceInteraction(const SceneGeometry& scene, ShapeRef shape,
+                                                               const Transform& toWorld, const Ray& ray, const Hit& hit,
+                                                               const FaceFrames* faceFrames) {
     const MeshInstance& instance = scene.instances[shape.index];
     const TriangleMesh& mesh = scene.prototypes[instance.prototype];
     const uint32_t* index = &mesh.indices[3 * size_t(shape.primitive)];
@@ -176,39 +189,32 @@ namespace detail {
     const Frame* faceFrame = faceFrames ? faceFrames->findPrototype(instance.prototype, shape.primitive) : nullptr;
     const bool hasNormal = triangleInteraction(mesh, index, mesh.positions[index[0]], mesh.positions[index[1]],
                                                mesh.positions[index[2]], hit, si, faceFrame);
-    const Transform toWorld = instance.toWorld(ray.time);
     placeInWorld(toWorld, si);  // its error bound covers the way back into the instance's space
     si.material = instance.material;
     if (!hasNormal) si.geometricNormal = si.shadingNormal = normalize(-ray.direction);
     return si;
 }
 
-}  // namespace detail
-
-// `faceFrames`, when given, supplies the normals of instanced triangles.
-inline SurfaceInteraction makeSurfaceInteraction(const SceneGeometry& scene, const Ray& ray, const Hit& hit,
-                                                 const FaceFrames* faceFrames = nullptr) {
+// makeSurfaceInteraction on `shape`, placed by `toWorld` (placementOf).
+inline SurfaceInteraction shapeInteraction(const SceneGeometry& scene, ShapeRef shape,
+                                           const std::optional<Transform>& toWorld, const Ray& ray, const Hit& hit,
+                                           const FaceFrames* faceFrames) {
     SurfaceInteraction si;
-    const ShapeRef shape = scene.shapeOf(hit);
     si.shape = shape;
-    if (shape.kind == ShapeKind::Instance) return detail::instanceInteraction(scene, shape, ray, hit, faceFrames);
+    if (shape.kind == ShapeKind::Instance) return instanceInteraction(scene, shape, *toWorld, ray, hit, faceFrames);
     if (shape.kind == ShapeKind::Mesh) {
         const TriangleMesh& mesh = scene.meshes[shape.index];
         const uint32_t* index = &mesh.indices[3 * size_t(shape.primitive)];
-        const bool hasNormal = detail::triangleInteraction(mesh, index, detail::vertexAt(mesh, index[0], ray.time),
-                                                           detail::vertexAt(mesh, index[1], ray.time),
-                                                           detail::vertexAt(mesh, index[2], ray.time), hit, si);
-        if (mesh.motion.moves()) detail::placeInWorld(mesh.motion.at(ray.time), si);
+        const bool hasNormal = triangleInteraction(mesh, index, vertexAt(mesh, index[0], ray.time),
+                                                   vertexAt(mesh, index[1], ray.time), vertexAt(mesh, index[2], ray.time),
+                                                   hit, si);
+        if (toWorld) placeInWorld(*toWorld, si);
         if (!hasNormal) si.geometricNormal = si.shadingNormal = normalize(-ray.direction);
     } else {
         const Sphere& sphere = scene.spheres[shape.index];
         // The hit point, reprojected onto the sphere in the sphere's own space.
         Vec3f hitPoint = ray.at(hit.t);
-        Transform toWorld;
-        if (sphere.motion.moves()) {
-            toWorld = sphere.motion.at(ray.time);
-            hitPoint = toWorld.inverse().applyPoint(hitPoint);
-        }
+        if (toWorld) hitPoint = toWorld->inverse().applyPoint(hitPoint);
         Vec3f outward = hitPoint - sphere.center;
         const float outwardLength = length(outward);
         outward = outwardLength > 0.0f ? outward / outwardLength : Vec3f{0.0f, 0.0f, 1.0f};
@@ -224,9 +230,30 @@ inline SurfaceInteraction makeSurfaceInteraction(const SceneGeometry& scene, con
                      std::acos(std::clamp(outward.z, -1.0f, 1.0f)) / kPi};
         }
         si.material = sphere.material;
-        if (sphere.motion.moves()) detail::placeInWorld(toWorld, si);
+        if (toWorld) placeInWorld(*toWorld, si);
     }
     return si;
+}
+
+// canonicalizeHit (unless `kHitIsCanonical`), then makeSurfaceInteraction, for a hit that is not on
+// a still mesh: the shape's placement computed once for both. Out of line: scenes without moving
+// shapes, spheres or instances never call it.
+template <bool kHitIsCanonical>
+[[gnu::noinline]] inline SurfaceInteraction resolveOtherHit(const SceneGeometry& scene, const Ray& ray, Hit& hit,
+                                                            const FaceFrames* faceFrames) {
+    const ShapeRef shape = scene.shapeOf(hit);
+    const std::optional<Transform> toWorld = placementOf(scene, shape, ray.time);
+    if constexpr (!kHitIsCanonical) canonicalizeShapeHit(scene, shape, toWorld, ray, hit);
+    return shapeInteraction(scene, shape, toWorld, ray, hit, faceFrames);
+}
+
+}  // namespace detail
+
+// `faceFrames`, when given, supplies the normals of instanced triangles.
+inline SurfaceInteraction makeSurfaceInteraction(const SceneGeometry& scene, const Ray& ray, const Hit& hit,
+                                                 const FaceFrames* faceFrames = nullptr) {
+    const ShapeRef shape = scene.shapeOf(hit);
+    return detail::shapeInteraction(scene, shape, detail::placementOf(scene, shape, ray.time), ray, hit, faceFrames);
 }
 
 // canonicalizeHit (unless `kHitIsCanonical`: the backend's hits already are) and then
@@ -250,8 +277,7 @@ template <bool kHitIsCanonical>
             si.geometricNormal = si.shadingNormal = normalize(-ray.direction);
         return si;
     }
-    if constexpr (!kHitIsCanonical) canonicalizeHit(scene, ray, hit);
-    si = makeSurfaceInteraction(scene, ray, hit, faceFrames);
+    si = detail::resolveOtherHit<kHitIsCanonical>(scene, ray, hit, faceFrames);
     return si;
 }
 

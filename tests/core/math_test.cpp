@@ -9,6 +9,7 @@
 
 #include "core/float_error.h"
 #include "core/frame.h"
+#include "core/motion.h"
 #include "core/ray_offset.h"
 #include "core/trig.h"
 #include "core/transform.h"
@@ -303,6 +304,35 @@ TEST(Transform, SwapsHandedness) {
 
 // The polynomials against double-precision libm over their whole range, 2^20 + 1 angles: within
 // 2 ulps of 1 (1.2e-7) absolutely; the sine also relatively near 0, where its value is tiny.
+// TransformKey::toTransform writes the product translate * rotation * scale out entry by entry;
+// it must give the general product's bits, matrix and inverse (renders with motion depend on them).
+TEST(Transform, AKeysTransformIsItsFactorsProductBitForBit) {
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<float> coordinate(-50.0f, 50.0f), factor(0.01f, 20.0f), unit(-1.0f, 1.0f);
+    for (int i = 0; i < 20000; ++i) {
+        TransformKey key;
+        key.translation = {coordinate(rng), coordinate(rng), i % 7 == 0 ? -0.0f : coordinate(rng)};
+        key.scale = {factor(rng), i % 3 == 0 ? -factor(rng) : factor(rng), factor(rng)};
+        // Axis-aligned rotations too: their matrices hold zeros of either sign.
+        const Vec3f axis = i % 5 == 0 ? Vec3f{0.0f, 1.0f, 0.0f} : Vec3f{unit(rng), unit(rng), unit(rng) + 2.0f};
+        key.rotation = Quaternion::fromAxisAngle(axis, i % 5 == 0 ? 90.0f * float(i % 4) : 180.0f * unit(rng));
+        const Matrix4 r = key.rotation.toMatrix();
+        const Transform product =
+            Transform::translate(key.translation) * Transform(r, r.transposed()) * Transform::scale(key.scale);
+        const Transform written = key.toTransform();
+        for (int row = 0; row < 4; ++row) {
+            for (int column = 0; column < 4; ++column) {
+                ASSERT_EQ(std::bit_cast<uint32_t>(written.matrix().m[row][column]),
+                          std::bit_cast<uint32_t>(product.matrix().m[row][column]))
+                    << "key " << i << " matrix " << row << "," << column;
+                ASSERT_EQ(std::bit_cast<uint32_t>(written.inverseMatrix().m[row][column]),
+                          std::bit_cast<uint32_t>(product.inverseMatrix().m[row][column]))
+                    << "key " << i << " inverse " << row << "," << column;
+            }
+        }
+    }
+}
+
 TEST(Trig, CosSinQuarterPiMatchesLibmWithinTwoUlps) {
     const int n = 1 << 20;
     double worstCos = 0, worstSinRelative = 0;
