@@ -269,11 +269,16 @@ template <bool kHitIsCanonical>
     if (shape.kind == ShapeKind::Mesh && !scene.meshes[shape.index].moves()) [[likely]] {
         const TriangleMesh& mesh = scene.meshes[shape.index];
         const uint32_t* index = &mesh.indices[3 * size_t(shape.primitive)];
-        const Vec3f p0 = mesh.positions[index[0]], p1 = mesh.positions[index[1]], p2 = mesh.positions[index[2]];
-        if constexpr (!kHitIsCanonical) detail::recomputeTriangleHit(ray.origin, ray.direction, p0, p1, p2, ray, hit);
-        si.shape = shape;
+        const Vec3f* positions = mesh.positions.data();
+        if constexpr (!kHitIsCanonical)
+            detail::recomputeTriangleHit(ray.origin, ray.direction, positions[index[0]], positions[index[1]],
+                                         positions[index[2]], ray, hit);
+        si.shape.kind = ShapeKind::Mesh;
+        si.shape.index = shape.index;
+        si.shape.primitive = shape.primitive;
         const Frame* faceFrame = faceFrames ? faceFrames->find(shape.index, shape.primitive) : nullptr;
-        if (!detail::triangleInteraction(mesh, index, p0, p1, p2, hit, si, faceFrame)) [[unlikely]]
+        if (!detail::triangleInteraction(mesh, index, positions[index[0]], positions[index[1]], positions[index[2]],
+                                         hit, si, faceFrame)) [[unlikely]]
             si.geometricNormal = si.shadingNormal = normalize(-ray.direction);
         return si;
     }
