@@ -269,6 +269,9 @@ template <bool kHitIsCanonical>
     if (shape.kind == ShapeKind::Mesh && !scene.meshes[shape.index].moves()) [[likely]] {
         const TriangleMesh& mesh = scene.meshes[shape.index];
         const uint32_t* index = &mesh.indices[3 * size_t(shape.primitive)];
+        // The vertices are read where they are used and the shape written field by field: kept in
+        // locals, they went through the stack in pieces the loads could not be forwarded from
+        // (bench/README.md, "Speed tricks").
         const Vec3f* positions = mesh.positions.data();
         if constexpr (!kHitIsCanonical)
             detail::recomputeTriangleHit(ray.origin, ray.direction, positions[index[0]], positions[index[1]],
