@@ -316,18 +316,28 @@ float LightSet::localChoiceProbability(uint32_t light, Vec3f p, Vec3f n) const {
 }
 
 std::optional<LightSample> LightSet::sampleOther(Choice choice, Vec3f reference, Vec2f u) const {
+    // Built in place in the result, which is returned by name: a LightSample built aside went to
+    // the result through vector registers and the stack, in pieces the loads that followed could
+    // not be forwarded from (bench/README.md, "Speed tricks").
+    std::optional<LightSample> result(std::in_place);
+    if (!sampleOtherInto(choice, reference, u, *result)) result.reset();
+    return result;
+}
+
+bool LightSet::sampleOtherInto(Choice choice, Vec3f reference, Vec2f u, LightSample& ls) const {
     const float choicePdf = choice.probability;
     const uint32_t index = choice.light;
     const Light& light = lights_[index];
-    LightSample ls{};
     Vec2f uv{0.0f, 0.0f};  // the sampled point's surface coordinates, for textured emission
     switch (light.kind) {
-        case LightKind::Point: return samplePoint(choice, reference);
+        case LightKind::Point:
         case LightKind::Spot: {
-            std::optional<LightSample> point = samplePoint(choice, reference);
-            if (!point) return std::nullopt;
-            point->radiance *= spotFalloff(-dot(point->direction, light.normal), light.cosFalloffStart, light.cosFalloffEnd);
-            return point;
+            const std::optional<LightSample> point = samplePoint(choice, reference);
+            if (!point) return false;
+            ls = *point;
+            if (light.kind == LightKind::Spot)
+                ls.radiance *= spotFalloff(-dot(ls.direction, light.normal), light.cosFalloffStart, light.cosFalloffEnd);
+            return true;
         }
         case LightKind::Directional: {
             ls.direction = -light.normal;
@@ -335,17 +345,17 @@ std::optional<LightSample> LightSet::sampleOther(Choice choice, Vec3f reference,
             ls.radiance = light.radiance;
             ls.pdf = choicePdf;
             ls.isDelta = true;
-            return ls;
+            return true;
         }
         case LightKind::Environment: {
             const std::optional<EnvironmentSample> es = environment_.sample(u);
-            if (!es) return std::nullopt;
+            if (!es) return false;
             ls.direction = es->direction;
             ls.distance = std::numeric_limits<float>::infinity();
             ls.radiance = es->radiance;
             ls.pdf = choicePdf * es->pdf;
             ls.isDelta = false;
-            return ls;
+            return true;
         }
         case LightKind::Triangle: {
             const Vec2f b = sampleUniformTriangle(u);
@@ -394,7 +404,7 @@ std::optional<LightSample> LightSet::sampleOther(Choice choice, Vec3f reference,
     }
     const Vec3f toLight = ls.point - reference;
     const float distanceSquared = lengthSquared(toLight);
-    if (!(distanceSquared > 0.0f)) return std::nullopt;
+    if (!(distanceSquared > 0.0f)) return false;
     ls.distance = std::sqrt(distanceSquared);
     ls.direction = toLight / ls.distance;
     const float cosAtLight = dot(ls.lightNormal, -ls.direction);
@@ -408,8 +418,7 @@ std::optional<LightSample> LightSet::sampleOther(Choice choice, Vec3f reference,
                                : solidAnglePdf(light, reference, ls.point);
     ls.pdf = choicePdf * pointPdf;
     ls.isDelta = false;
-    if (!(ls.pdf > 0.0f) || !std::isfinite(ls.pdf)) return std::nullopt;
-    return ls;
+    return ls.pdf > 0.0f && std::isfinite(ls.pdf);
 }
 
 float LightSet::solidAnglePdf(const Light& light, Vec3f reference, Vec3f point) const {

@@ -137,6 +137,8 @@ private:
         return ls;
     }
     std::optional<LightSample> sampleOther(Choice choice, Vec3f reference, Vec2f uPoint) const;
+    // sampleOther's work, written into `ls` (false: no sample).
+    bool sampleOtherInto(Choice choice, Vec3f reference, Vec2f uPoint, LightSample& ls) const;
     bool isInfinite(size_t light) const {
         return lights_[light].kind == LightKind::Directional || lights_[light].kind == LightKind::Environment;
     }
