@@ -14,7 +14,9 @@
 //    that are not powers of two are unions of such stratified blocks, and the shuffle decorrelates
 //    the dimensions so that, e.g., lens position does not follow pixel position.
 //    The pattern is progressive: the first 64 samples of a 256-sample render are a 64-sample
-//    render, which makes resume and convergence ladders exact.
+//    render, which makes resume and convergence ladders exact. One dimension is drawn jointly
+//    with another instead (get1DJointWith): the camera's time, as the third Sobol coordinate of
+//    its position in the pixel.
 #pragma once
 
 #include <cstdint>
@@ -101,6 +103,32 @@ inline constexpr uint32_t reversedSobolSecondDimension(uint32_t index) {
     return t[0][index & 0xffu] ^ t[1][(index >> 8) & 0xffu] ^ t[2][(index >> 16) & 0xffu] ^ t[3][index >> 24];
 }
 
+// Third dimension of the Sobol sequence (Joe and Kuo's d = 3: primitive polynomial x^2 + x + 1,
+// initial direction numbers m = 1, 3), bit-reversed as above. With the first two it makes every
+// power-of-two prefix a (1, m, 3)-net: every elementary box of volume 2/N holds two points.
+struct ReversedSobolThirdDimensionTables {
+    uint32_t byByte[4][256];
+    constexpr ReversedSobolThirdDimensionTables() : byByte{} {
+        uint32_t m[33] = {0, 1, 3};
+        for (int k = 3; k <= 32; ++k) m[k] = (2u * m[k - 1]) ^ (4u * m[k - 2]) ^ m[k - 2];
+        uint32_t direction[32] = {};
+        for (int k = 1; k <= 32; ++k) direction[k - 1] = reverseBits32(m[k] << (32 - k));
+        for (int k = 0; k < 4; ++k)
+            for (uint32_t b = 0; b < 256; ++b) {
+                uint32_t value = 0;
+                for (int j = 0; j < 8; ++j)
+                    if (b & (1u << j)) value ^= direction[8 * k + j];
+                byByte[k][b] = value;
+            }
+    }
+};
+inline constexpr ReversedSobolThirdDimensionTables kReversedSobolThirdDimension{};
+
+inline constexpr uint32_t reversedSobolThirdDimension(uint32_t index) {
+    const auto& t = kReversedSobolThirdDimension.byByte;
+    return t[0][index & 0xffu] ^ t[1][(index >> 8) & 0xffu] ^ t[2][(index >> 16) & 0xffu] ^ t[3][index >> 24];
+}
+
 // The two coordinates of a stratified 2D sample from its shuffled index: the first and second
 // Sobol dimensions of `index`, each Owen-scrambled with its own seed, as floats in [0, 1).
 inline Vec2f scrambledSobolPairScalar(uint32_t index, uint32_t xSeed, uint32_t ySeed) {
@@ -178,6 +206,21 @@ public:
         // y's scramble (the high half of the key times an odd constant, another well-mixed word).
         const uint32_t yScrambleSeed = uint32_t((key * 0x9e3779b97f4a7c15ULL) >> 32);
         return detail::scrambledSobolPair(shuffledIndex(key), uint32_t(key >> 32), yScrambleSeed);
+    }
+
+    // A 1D value for `dim` (at bounce 0) stratified jointly with `pairDim`'s 2D value: the third
+    // Sobol coordinate of the point whose first two are pairDim's (the same shuffled index, its
+    // own scramble), so that the three make a (1, m, 3)-net in every power-of-two prefix. The
+    // camera draws the shutter time this way: a moving edge's coverage of a pixel depends on the
+    // position in the pixel and the time together, and the three-dimensional strata follow it
+    // where a time shuffled on its own would not. The independent sampler's value is get1D's.
+    float get1DJointWith(Dim pairDim, Dim dim) const {
+        if (frozen_ & dimBit(dim)) [[unlikely]] return 0.5f;
+        const uint64_t key = dimensionKey(dim, 0);
+        if (kind_ == SamplerKind::Independent) return bitsToUnitFloat(uint32_t(hashWords(key, sampleIndex_)));
+        const uint32_t index = shuffledIndex(dimensionKey(pairDim, 0));
+        return bitsToUnitFloat(reverseBits32(
+            detail::laineKarrasPermutation(detail::reversedSobolThirdDimension(index), uint32_t(key >> 32))));
     }
 
     uint32_t sampleIndex() const { return sampleIndex_; }

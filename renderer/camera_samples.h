@@ -21,13 +21,14 @@ inline Vec2f sampleFilterOffset(const FilmSettings& film, Vec2f u) {
 
 // The ray of `sample` in pixel (x, y). Dimensions that nothing reads are not drawn: the lens
 // sample for a pinhole camera, the time sample when nothing in the scene moves (`sceneMoves`,
-// Scene::hasMotion()); the other dimensions do not depend on them.
+// Scene::hasMotion()); the other dimensions do not depend on them. The time is stratified jointly
+// with the position in the pixel (PixelSample::get1DJointWith).
 inline Ray generateCameraRay(const ThinLensCamera& camera, const FilmSettings& film, bool sceneMoves,
                              const PixelSample& sample, int x, int y) {
     const Vec2f offset = sampleFilterOffset(film, sample.get2D(Dim::Pixel));
     const Vec2f filmPosition{float(x) + 0.5f + offset.x, float(y) + 0.5f + offset.y};
     const Vec2f lens = camera.usesLensSample() ? sample.get2D(Dim::Lens) : Vec2f{0.5f, 0.5f};
-    const float time = sceneMoves ? sample.get1D(Dim::Time) : 0.5f;
+    const float time = sceneMoves ? sample.get1DJointWith(Dim::Pixel, Dim::Time) : 0.5f;
     return camera.generateRay(filmPosition, lens, time);
 }
 

@@ -192,6 +192,57 @@ TEST(StratifiedSampler, AlignedBlocksOfALongerSequenceAreStratified) {
 
 // The independent sampler makes no such promise; checking that it fails the test shows the test
 // can fail (with 16 iid values, all 16 intervals are hit with probability 16!/16^16 ~ 1e-6).
+// 2^m points in three dimensions form a (1, m, 3)-net: every elementary box of volume 2^(1-m)
+// ([a 2^-i, (a+1) 2^-i) x [b 2^-j, ...) x [c 2^-k, ...), i + j + k = m - 1) holds exactly two.
+::testing::AssertionResult stratified3D(const std::vector<Vec3f>& points, int m) {
+    for (int i = 0; i <= m - 1; ++i)
+        for (int j = 0; i + j <= m - 1; ++j) {
+            const int k = m - 1 - i - j, ni = 1 << i, nj = 1 << j, nk = 1 << k;
+            std::vector<int> counts(size_t(ni) * nj * nk, 0);
+            for (Vec3f p : points) {
+                const int a = std::min(ni - 1, int(p.x * float(ni))), b = std::min(nj - 1, int(p.y * float(nj))),
+                          c = std::min(nk - 1, int(p.z * float(nk)));
+                ++counts[(size_t(c) * nj + b) * ni + a];
+            }
+            for (size_t box = 0; box < counts.size(); ++box)
+                if (counts[box] != 2)
+                    return ::testing::AssertionFailure() << "box " << box << " of the " << ni << " x " << nj << " x " << nk
+                                                         << " boxes holds " << counts[box] << " of " << points.size()
+                                                         << " points, expected 2";
+        }
+    return ::testing::AssertionSuccess();
+}
+
+// The camera's time (get1DJointWith(Pixel, Time)) and its position in the pixel: every
+// power-of-two prefix, and every aligned block of a longer sequence, is a (1, m, 3)-net. Times
+// shuffled on their own (get1D) are stratified in one dimension but not jointly: the check rejects
+// them in nearly every pixel, so it can fail.
+TEST(StratifiedSampler, TheShutterTimeIsStratifiedJointlyWithThePositionInThePixel) {
+    auto points = [](uint64_t seed, uint64_t pixel, uint32_t first, uint32_t count, bool joint) {
+        std::vector<Vec3f> out;
+        for (uint32_t i = first; i < first + count; ++i) {
+            const PixelSample s(SamplerKind::Stratified, seed, pixel, i);
+            const Vec2f position = s.get2D(Dim::Pixel);
+            out.push_back({position.x, position.y, joint ? s.get1DJointWith(Dim::Pixel, Dim::Time) : s.get1D(Dim::Time)});
+        }
+        return out;
+    };
+    int shuffledAloneStratified = 0, shuffledAloneChecked = 0;
+    for (uint64_t seed : kSeeds)
+        for (uint64_t pixel : kPixels)
+            for (int m = 1; m <= 8; ++m) {
+                const uint32_t n = 1u << m;
+                EXPECT_TRUE(stratified3D(points(seed, pixel, 0, n, true), m)) << where(seed, pixel, Dim::Time, 0, 0, n);
+                EXPECT_TRUE(stratified3D(points(seed, pixel, 3 * n, n, true), m))
+                    << where(seed, pixel, Dim::Time, 0, 3 * n, n);
+                if (m >= 4) {
+                    shuffledAloneStratified += bool(stratified3D(points(seed, pixel, 0, n, false), m));
+                    ++shuffledAloneChecked;
+                }
+            }
+    EXPECT_LE(shuffledAloneStratified, shuffledAloneChecked / 10);
+}
+
 TEST(StratifiedSampler, StratificationCheckRejectsIidValues) {
     int stratifiedByChance = 0;
     for (uint64_t pixel : kPixels)
@@ -231,6 +282,12 @@ const std::vector<DimensionPair> kPairs = {
      [](const PixelSample& s) { return s.get1D(Dim::Time); }},
     {"Lens.x / Time", [](const PixelSample& s) { return s.get2D(Dim::Lens).x; },
      [](const PixelSample& s) { return s.get1D(Dim::Time); }},
+    {"Pixel.x / camera time", [](const PixelSample& s) { return s.get2D(Dim::Pixel).x; },
+     [](const PixelSample& s) { return s.get1DJointWith(Dim::Pixel, Dim::Time); }},
+    {"Pixel.y / camera time", [](const PixelSample& s) { return s.get2D(Dim::Pixel).y; },
+     [](const PixelSample& s) { return s.get1DJointWith(Dim::Pixel, Dim::Time); }},
+    {"Lens.x / camera time", [](const PixelSample& s) { return s.get2D(Dim::Lens).x; },
+     [](const PixelSample& s) { return s.get1DJointWith(Dim::Pixel, Dim::Time); }},
     {"BsdfDirection.x bounce 0 / 1", [](const PixelSample& s) { return s.get2D(Dim::BsdfDirection, 0).x; },
      [](const PixelSample& s) { return s.get2D(Dim::BsdfDirection, 1).x; }},
     {"RussianRoulette / BsdfLobe", [](const PixelSample& s) { return s.get1D(Dim::RussianRoulette, 1); },
