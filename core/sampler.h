@@ -215,7 +215,8 @@ public:
     // position in the pixel and the time together, and the three-dimensional strata follow it
     // where a time shuffled on its own would not. The independent sampler's value is get1D's.
     float get1DJointWith(Dim pairDim, Dim dim) const {
-        if (frozen_ & dimBit(dim)) [[unlikely]] return 0.5f;
+        if (frozen_ & dimBit(dim)) [[unlikely]]
+            return 0.5f;
         const uint64_t key = dimensionKey(dim, 0);
         if (kind_ == SamplerKind::Independent) return bitsToUnitFloat(uint32_t(hashWords(key, sampleIndex_)));
         const uint32_t index = shuffledIndex(dimensionKey(pairDim, 0));

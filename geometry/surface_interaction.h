@@ -143,15 +143,17 @@ inline std::optional<Transform> placementOf(const SceneGeometry& scene, ShapeRef
 }
 
 // canonicalizeHit on `shape`, placed by `toWorld` (placementOf).
-inline void canonicalizeShapeHit(const SceneGeometry& scene, ShapeRef shape, const std::optional<Transform>& toWorld,
-                                 const Ray& ray, Hit& hit) {
+inline void canonicalizeShapeHit(const SceneGeometry& scene, ShapeRef shape,
+                                 const std::optional<Transform>& toWorld, const Ray& ray, Hit& hit) {
     // Into object space exactly as the BVH takes a ray into an instance.
-    const ObjectSpaceRay objectRay = toWorld ? toObjectSpace(*toWorld, ray) : ObjectSpaceRay{ray.origin, ray.direction};
+    const ObjectSpaceRay objectRay =
+        toWorld ? toObjectSpace(*toWorld, ray) : ObjectSpaceRay{ray.origin, ray.direction};
     if (shape.kind != ShapeKind::Sphere) {
         const TriangleMesh& mesh = scene.triangleMeshOf(shape);
         const uint32_t* index = &mesh.indices[3 * size_t(shape.primitive)];
         recomputeTriangleHit(objectRay.origin, objectRay.direction, vertexAt(mesh, index[0], ray.time),
-                             vertexAt(mesh, index[1], ray.time), vertexAt(mesh, index[2], ray.time), ray, hit);
+                             vertexAt(mesh, index[1], ray.time), vertexAt(mesh, index[2], ray.time), ray,
+                             hit);
     } else {
         const Sphere& sphere = scene.spheres[shape.index];
         float t;
@@ -164,8 +166,8 @@ inline void canonicalizeShapeHit(const SceneGeometry& scene, ShapeRef shape, con
 
 // The same hit whichever backend found it: t and the barycentrics of the primitive the backend
 // reports are recomputed with the tests our BVH uses (geometry/ray_triangle.h, ray_sphere.h; moving
-// shapes and instances in object space, as the BVH traverses them), so that whenever Embree and the BVH find the
-// same primitive everything downstream sees the same bits, and renders with either backend are
+// shapes and instances in object space, as the BVH traverses them), so that whenever Embree and the BVH find
+// the same primitive everything downstream sees the same bits, and renders with either backend are
 // bit-identical unless some hit differs. Embree rounds differently (its Plücker-form test); should
 // our test miss the primitive (a ray along an edge), the backend's values stay.
 inline void canonicalizeHit(const SceneGeometry& scene, const Ray& ray, Hit& hit) {
@@ -179,16 +181,18 @@ namespace detail {
 // `faceFrames`, when given, supplies the prototype triangle's normal (the same bits as computing it).
 // Out of line: inlined into the integrator, it costs scenes without instances registers.
 [[gnu::noinline]] inline SurfaceInteraction instanceInteraction(const SceneGeometry& scene, ShapeRef shape,
-                                                               const Transform& toWorld, const Ray& ray, const Hit& hit,
-                                                               const FaceFrames* faceFrames) {
+                                                                const Transform& toWorld, const Ray& ray,
+                                                                const Hit& hit,
+                                                                const FaceFrames* faceFrames) {
     const MeshInstance& instance = scene.instances[shape.index];
     const TriangleMesh& mesh = scene.prototypes[instance.prototype];
     const uint32_t* index = &mesh.indices[3 * size_t(shape.primitive)];
     SurfaceInteraction si;
     si.shape = shape;
     const Frame* faceFrame = faceFrames ? faceFrames->findPrototype(instance.prototype, shape.primitive) : nullptr;
-    const bool hasNormal = triangleInteraction(mesh, index, mesh.positions[index[0]], mesh.positions[index[1]],
-                                               mesh.positions[index[2]], hit, si, faceFrame);
+    const bool hasNormal =
+        triangleInteraction(mesh, index, mesh.positions[index[0]], mesh.positions[index[1]],
+                            mesh.positions[index[2]], hit, si, faceFrame);
     placeInWorld(toWorld, si);  // its error bound covers the way back into the instance's space
     si.material = instance.material;
     if (!hasNormal) si.geometricNormal = si.shadingNormal = normalize(-ray.direction);
@@ -197,17 +201,18 @@ namespace detail {
 
 // makeSurfaceInteraction on `shape`, placed by `toWorld` (placementOf).
 inline SurfaceInteraction shapeInteraction(const SceneGeometry& scene, ShapeRef shape,
-                                           const std::optional<Transform>& toWorld, const Ray& ray, const Hit& hit,
-                                           const FaceFrames* faceFrames) {
+                                           const std::optional<Transform>& toWorld, const Ray& ray,
+                                           const Hit& hit, const FaceFrames* faceFrames) {
     SurfaceInteraction si;
     si.shape = shape;
-    if (shape.kind == ShapeKind::Instance) return instanceInteraction(scene, shape, *toWorld, ray, hit, faceFrames);
+    if (shape.kind == ShapeKind::Instance)
+        return instanceInteraction(scene, shape, *toWorld, ray, hit, faceFrames);
     if (shape.kind == ShapeKind::Mesh) {
         const TriangleMesh& mesh = scene.meshes[shape.index];
         const uint32_t* index = &mesh.indices[3 * size_t(shape.primitive)];
         const bool hasNormal = triangleInteraction(mesh, index, vertexAt(mesh, index[0], ray.time),
-                                                   vertexAt(mesh, index[1], ray.time), vertexAt(mesh, index[2], ray.time),
-                                                   hit, si);
+                                                   vertexAt(mesh, index[1], ray.time),
+                                                   vertexAt(mesh, index[2], ray.time), hit, si);
         if (toWorld) placeInWorld(*toWorld, si);
         if (!hasNormal) si.geometricNormal = si.shadingNormal = normalize(-ray.direction);
     } else {
@@ -239,8 +244,8 @@ inline SurfaceInteraction shapeInteraction(const SceneGeometry& scene, ShapeRef 
 // a still mesh: the shape's placement computed once for both. Out of line: scenes without moving
 // shapes, spheres or instances never call it.
 template <bool kHitIsCanonical>
-[[gnu::noinline]] inline SurfaceInteraction resolveOtherHit(const SceneGeometry& scene, const Ray& ray, Hit& hit,
-                                                            const FaceFrames* faceFrames) {
+[[gnu::noinline]] inline SurfaceInteraction resolveOtherHit(const SceneGeometry& scene, const Ray& ray,
+                                                            Hit& hit, const FaceFrames* faceFrames) {
     const ShapeRef shape = scene.shapeOf(hit);
     const std::optional<Transform> toWorld = placementOf(scene, shape, ray.time);
     if constexpr (!kHitIsCanonical) canonicalizeShapeHit(scene, shape, toWorld, ray, hit);
@@ -253,7 +258,8 @@ template <bool kHitIsCanonical>
 inline SurfaceInteraction makeSurfaceInteraction(const SceneGeometry& scene, const Ray& ray, const Hit& hit,
                                                  const FaceFrames* faceFrames = nullptr) {
     const ShapeRef shape = scene.shapeOf(hit);
-    return detail::shapeInteraction(scene, shape, detail::placementOf(scene, shape, ray.time), ray, hit, faceFrames);
+    return detail::shapeInteraction(scene, shape, detail::placementOf(scene, shape, ray.time), ray, hit,
+                                    faceFrames);
 }
 
 // canonicalizeHit (unless `kHitIsCanonical`: the backend's hits already are) and then
@@ -280,8 +286,8 @@ template <bool kHitIsCanonical>
         si.shape.index = shape.index;
         si.shape.primitive = shape.primitive;
         const Frame* faceFrame = faceFrames ? faceFrames->find(shape.index, shape.primitive) : nullptr;
-        if (!detail::triangleInteraction(mesh, index, positions[index[0]], positions[index[1]], positions[index[2]],
-                                         hit, si, faceFrame)) [[unlikely]]
+        if (!detail::triangleInteraction(mesh, index, positions[index[0]], positions[index[1]],
+                                         positions[index[2]], hit, si, faceFrame)) [[unlikely]]
             si.geometricNormal = si.shadingNormal = normalize(-ray.direction);
         return si;
     }

@@ -336,7 +336,8 @@ bool LightSet::sampleOtherInto(Choice choice, Vec3f reference, Vec2f u, LightSam
             if (!point) return false;
             ls = *point;
             if (light.kind == LightKind::Spot)
-                ls.radiance *= spotFalloff(-dot(ls.direction, light.normal), light.cosFalloffStart, light.cosFalloffEnd);
+                ls.radiance *=
+                    spotFalloff(-dot(ls.direction, light.normal), light.cosFalloffStart, light.cosFalloffEnd);
             return true;
         }
         case LightKind::Directional: {

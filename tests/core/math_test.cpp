@@ -11,8 +11,8 @@
 #include "core/frame.h"
 #include "core/motion.h"
 #include "core/ray_offset.h"
-#include "core/trig.h"
 #include "core/transform.h"
+#include "core/trig.h"
 #include "core/vec.h"
 #include "tests/support/test_statistics.h"
 
@@ -314,11 +314,13 @@ TEST(Transform, AKeysTransformIsItsFactorsProductBitForBit) {
         key.translation = {coordinate(rng), coordinate(rng), i % 7 == 0 ? -0.0f : coordinate(rng)};
         key.scale = {factor(rng), i % 3 == 0 ? -factor(rng) : factor(rng), factor(rng)};
         // Axis-aligned rotations too: their matrices hold zeros of either sign.
-        const Vec3f axis = i % 5 == 0 ? Vec3f{0.0f, 1.0f, 0.0f} : Vec3f{unit(rng), unit(rng), unit(rng) + 2.0f};
-        key.rotation = Quaternion::fromAxisAngle(axis, i % 5 == 0 ? 90.0f * float(i % 4) : 180.0f * unit(rng));
+        const Vec3f axis =
+            i % 5 == 0 ? Vec3f{0.0f, 1.0f, 0.0f} : Vec3f{unit(rng), unit(rng), unit(rng) + 2.0f};
+        key.rotation =
+            Quaternion::fromAxisAngle(axis, i % 5 == 0 ? 90.0f * float(i % 4) : 180.0f * unit(rng));
         const Matrix4 r = key.rotation.toMatrix();
-        const Transform product =
-            Transform::translate(key.translation) * Transform(r, r.transposed()) * Transform::scale(key.scale);
+        const Transform product = Transform::translate(key.translation) * Transform(r, r.transposed()) *
+                                  Transform::scale(key.scale);
         const Transform written = key.toTransform();
         for (int row = 0; row < 4; ++row) {
             for (int column = 0; column < 4; ++column) {

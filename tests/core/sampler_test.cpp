@@ -200,15 +200,16 @@ TEST(StratifiedSampler, AlignedBlocksOfALongerSequenceAreStratified) {
             const int k = m - 1 - i - j, ni = 1 << i, nj = 1 << j, nk = 1 << k;
             std::vector<int> counts(size_t(ni) * nj * nk, 0);
             for (Vec3f p : points) {
-                const int a = std::min(ni - 1, int(p.x * float(ni))), b = std::min(nj - 1, int(p.y * float(nj))),
+                const int a = std::min(ni - 1, int(p.x * float(ni))),
+                          b = std::min(nj - 1, int(p.y * float(nj))),
                           c = std::min(nk - 1, int(p.z * float(nk)));
                 ++counts[(size_t(c) * nj + b) * ni + a];
             }
             for (size_t box = 0; box < counts.size(); ++box)
                 if (counts[box] != 2)
-                    return ::testing::AssertionFailure() << "box " << box << " of the " << ni << " x " << nj << " x " << nk
-                                                         << " boxes holds " << counts[box] << " of " << points.size()
-                                                         << " points, expected 2";
+                    return ::testing::AssertionFailure() << "box " << box << " of the " << ni << " x " << nj
+                                                         << " x " << nk << " boxes holds " << counts[box]
+                                                         << " of " << points.size() << " points, expected 2";
         }
     return ::testing::AssertionSuccess();
 }
@@ -223,7 +224,8 @@ TEST(StratifiedSampler, TheShutterTimeIsStratifiedJointlyWithThePositionInThePix
         for (uint32_t i = first; i < first + count; ++i) {
             const PixelSample s(SamplerKind::Stratified, seed, pixel, i);
             const Vec2f position = s.get2D(Dim::Pixel);
-            out.push_back({position.x, position.y, joint ? s.get1DJointWith(Dim::Pixel, Dim::Time) : s.get1D(Dim::Time)});
+            out.push_back({position.x, position.y,
+                           joint ? s.get1DJointWith(Dim::Pixel, Dim::Time) : s.get1D(Dim::Time)});
         }
         return out;
     };
@@ -232,7 +234,8 @@ TEST(StratifiedSampler, TheShutterTimeIsStratifiedJointlyWithThePositionInThePix
         for (uint64_t pixel : kPixels)
             for (int m = 1; m <= 8; ++m) {
                 const uint32_t n = 1u << m;
-                EXPECT_TRUE(stratified3D(points(seed, pixel, 0, n, true), m)) << where(seed, pixel, Dim::Time, 0, 0, n);
+                EXPECT_TRUE(stratified3D(points(seed, pixel, 0, n, true), m))
+                    << where(seed, pixel, Dim::Time, 0, 0, n);
                 EXPECT_TRUE(stratified3D(points(seed, pixel, 3 * n, n, true), m))
                     << where(seed, pixel, Dim::Time, 0, 3 * n, n);
                 if (m >= 4) {
