@@ -19,6 +19,7 @@
 //    its position in the pixel.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string_view>
 
@@ -65,69 +66,50 @@ inline constexpr uint32_t nestedUniformScramble(uint32_t x, uint32_t seed) {
     return reverseBits32(laineKarrasPermutation(reverseBits32(x), seed));
 }
 
-// Second dimension of the Sobol sequence (primitive polynomial x + 1): the XOR of the direction
-// numbers of the index's set bits, looked up a byte at a time.
-struct SobolSecondDimensionTables {
+// A dimension of the Sobol sequence from its 32 direction numbers (the columns of its generator
+// matrix, most significant bit first): the XOR of the direction numbers of the index's set bits,
+// looked up a byte at a time, bit-reversed (the form Owen scrambling works on, which saves a
+// reversal per sample).
+struct ReversedSobolDimension {
     uint32_t byByte[4][256];
-    constexpr SobolSecondDimensionTables() : byByte{} {
-        uint32_t direction[32] = {};
-        for (uint32_t bit = 0, v = 1u << 31; bit < 32; ++bit, v ^= v >> 1) direction[bit] = v;
+    constexpr explicit ReversedSobolDimension(const std::array<uint32_t, 32>& direction) : byByte{} {
         for (int k = 0; k < 4; ++k)
             for (uint32_t b = 0; b < 256; ++b) {
                 uint32_t value = 0;
                 for (int j = 0; j < 8; ++j)
-                    if (b & (1u << j)) value ^= direction[8 * k + j];
+                    if (b & (1u << j)) value ^= reverseBits32(direction[8 * k + j]);
                 byByte[k][b] = value;
             }
     }
-};
-inline constexpr SobolSecondDimensionTables kSobolSecondDimension{};
-
-inline constexpr uint32_t sobolSecondDimension(uint32_t index) {
-    const auto& t = kSobolSecondDimension.byByte;
-    return t[0][index & 0xffu] ^ t[1][(index >> 8) & 0xffu] ^ t[2][(index >> 16) & 0xffu] ^ t[3][index >> 24];
-}
-
-// The same, bit-reversed: the form Owen scrambling works on, which saves a reversal per sample.
-struct ReversedSobolSecondDimensionTables {
-    uint32_t byByte[4][256];
-    constexpr ReversedSobolSecondDimensionTables() : byByte{} {
-        for (int k = 0; k < 4; ++k)
-            for (uint32_t b = 0; b < 256; ++b) byByte[k][b] = reverseBits32(kSobolSecondDimension.byByte[k][b]);
+    constexpr uint32_t operator()(uint32_t index) const {
+        return byByte[0][index & 0xffu] ^ byByte[1][(index >> 8) & 0xffu] ^ byByte[2][(index >> 16) & 0xffu] ^
+               byByte[3][index >> 24];
     }
 };
-inline constexpr ReversedSobolSecondDimensionTables kReversedSobolSecondDimension{};
 
-inline constexpr uint32_t reversedSobolSecondDimension(uint32_t index) {
-    const auto& t = kReversedSobolSecondDimension.byByte;
-    return t[0][index & 0xffu] ^ t[1][(index >> 8) & 0xffu] ^ t[2][(index >> 16) & 0xffu] ^ t[3][index >> 24];
+// The second dimension's direction numbers (primitive polynomial x + 1).
+constexpr std::array<uint32_t, 32> sobolSecondDirections() {
+    std::array<uint32_t, 32> direction{};
+    for (uint32_t bit = 0, v = 1u << 31; bit < 32; ++bit, v ^= v >> 1) direction[bit] = v;
+    return direction;
 }
 
-// Third dimension of the Sobol sequence (Joe and Kuo's d = 3: primitive polynomial x^2 + x + 1,
-// initial direction numbers m = 1, 3), bit-reversed as above. With the first two it makes every
-// power-of-two prefix a (1, m, 3)-net: every elementary box of volume 2/N holds two points.
-struct ReversedSobolThirdDimensionTables {
-    uint32_t byByte[4][256];
-    constexpr ReversedSobolThirdDimensionTables() : byByte{} {
-        uint32_t m[33] = {0, 1, 3};
-        for (int k = 3; k <= 32; ++k) m[k] = (2u * m[k - 1]) ^ (4u * m[k - 2]) ^ m[k - 2];
-        uint32_t direction[32] = {};
-        for (int k = 1; k <= 32; ++k) direction[k - 1] = reverseBits32(m[k] << (32 - k));
-        for (int k = 0; k < 4; ++k)
-            for (uint32_t b = 0; b < 256; ++b) {
-                uint32_t value = 0;
-                for (int j = 0; j < 8; ++j)
-                    if (b & (1u << j)) value ^= direction[8 * k + j];
-                byByte[k][b] = value;
-            }
-    }
-};
-inline constexpr ReversedSobolThirdDimensionTables kReversedSobolThirdDimension{};
-
-inline constexpr uint32_t reversedSobolThirdDimension(uint32_t index) {
-    const auto& t = kReversedSobolThirdDimension.byByte;
-    return t[0][index & 0xffu] ^ t[1][(index >> 8) & 0xffu] ^ t[2][(index >> 16) & 0xffu] ^ t[3][index >> 24];
+// The third's (Joe and Kuo's d = 3: primitive polynomial x^2 + x + 1, initial direction numbers
+// m = 1, 3). With the first two it makes every power-of-two prefix a (1, m, 3)-net: every
+// elementary box of volume 2/N holds two points.
+constexpr std::array<uint32_t, 32> sobolThirdDirections() {
+    uint32_t m[33] = {0, 1, 3};
+    for (int k = 3; k <= 32; ++k) m[k] = (2u * m[k - 1]) ^ (4u * m[k - 2]) ^ m[k - 2];
+    std::array<uint32_t, 32> direction{};
+    for (int k = 1; k <= 32; ++k) direction[size_t(k - 1)] = m[k] << (32 - k);
+    return direction;
 }
+
+inline constexpr ReversedSobolDimension kReversedSobolSecondDimension{sobolSecondDirections()};
+inline constexpr ReversedSobolDimension kReversedSobolThirdDimension{sobolThirdDirections()};
+
+inline constexpr uint32_t reversedSobolSecondDimension(uint32_t index) { return kReversedSobolSecondDimension(index); }
+inline constexpr uint32_t reversedSobolThirdDimension(uint32_t index) { return kReversedSobolThirdDimension(index); }
 
 // The two coordinates of a stratified 2D sample from its shuffled index: the first and second
 // Sobol dimensions of `index`, each Owen-scrambled with its own seed, as floats in [0, 1).
