@@ -108,8 +108,12 @@ constexpr std::array<uint32_t, 32> sobolThirdDirections() {
 inline constexpr ReversedSobolDimension kReversedSobolSecondDimension{sobolSecondDirections()};
 inline constexpr ReversedSobolDimension kReversedSobolThirdDimension{sobolThirdDirections()};
 
-inline constexpr uint32_t reversedSobolSecondDimension(uint32_t index) { return kReversedSobolSecondDimension(index); }
-inline constexpr uint32_t reversedSobolThirdDimension(uint32_t index) { return kReversedSobolThirdDimension(index); }
+inline constexpr uint32_t reversedSobolSecondDimension(uint32_t index) {
+    return kReversedSobolSecondDimension(index);
+}
+inline constexpr uint32_t reversedSobolThirdDimension(uint32_t index) {
+    return kReversedSobolThirdDimension(index);
+}
 
 // The two coordinates of a stratified 2D sample from its shuffled index: the first and second
 // Sobol dimensions of `index`, each Owen-scrambled with its own seed, as floats in [0, 1).
