@@ -190,8 +190,6 @@ TEST(StratifiedSampler, AlignedBlocksOfALongerSequenceAreStratified) {
         }
 }
 
-// The independent sampler makes no such promise; checking that it fails the test shows the test
-// can fail (with 16 iid values, all 16 intervals are hit with probability 16!/16^16 ~ 1e-6).
 // 2^m points in three dimensions form a (1, m, 3)-net: every elementary box of volume 2^(1-m)
 // ([a 2^-i, (a+1) 2^-i) x [b 2^-j, ...) x [c 2^-k, ...), i + j + k = m - 1) holds exactly two.
 ::testing::AssertionResult stratified3D(const std::vector<Vec3f>& points, int m) {
@@ -246,6 +244,8 @@ TEST(StratifiedSampler, TheShutterTimeIsStratifiedJointlyWithThePositionInThePix
     EXPECT_LE(shuffledAloneStratified, shuffledAloneChecked / 10);
 }
 
+// The independent sampler makes no such promise; checking that it fails the test shows the test
+// can fail (with 16 iid values, all 16 intervals are hit with probability 16!/16^16 ~ 1e-6).
 TEST(StratifiedSampler, StratificationCheckRejectsIidValues) {
     int stratifiedByChance = 0;
     for (uint64_t pixel : kPixels)
