@@ -146,8 +146,7 @@ FilmSettings readFilm(const JsonValue& value) {
         if (!threshold)
             v->fail(
                 "adaptive sampling needs a \"threshold\" (a relative standard error, e.g. 0.02, or with "
-                "\"error\": "
-                "\"absolute\" the image's RMSE, e.g. 0.01)");
+                "\"error\": \"absolute\" the image's RMSE, e.g. 0.01)");
         settings.threshold = threshold->numberAbove(0.0f);
         if (settings.threshold > AdaptiveSettings::maxThreshold(settings.error))
             threshold->failExpected(

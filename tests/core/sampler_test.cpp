@@ -214,8 +214,9 @@ TEST(StratifiedSampler, AlignedBlocksOfALongerSequenceAreStratified) {
 
 // The camera's time (get1DJointWith(Pixel, Time)) and its position in the pixel: every
 // power-of-two prefix, and every aligned block of a longer sequence, is a (1, m, 3)-net. Times
-// shuffled on their own (get1D) are stratified in one dimension but not jointly: the check rejects
-// them in nearly every pixel, so it can fail.
+// shuffled on their own (get1D) are stratified in one dimension but not jointly: over 600 seeds
+// and pixels they passed 4% of the checks of 16 samples and none of 32 to 256, about 0.6 of the 75
+// checks below expected; allowing a tenth keeps the test clear of chance, and shows it can fail.
 TEST(StratifiedSampler, TheShutterTimeIsStratifiedJointlyWithThePositionInThePixel) {
     auto points = [](uint64_t seed, uint64_t pixel, uint32_t first, uint32_t count, bool joint) {
         std::vector<Vec3f> out;
