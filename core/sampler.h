@@ -164,7 +164,8 @@ public:
         : kind_(kind),
           pixelKey_(pixel.value),
           sampleIndex_(sampleIndex),
-          reversedSampleIndex_(reverseBits32(sampleIndex)) {}
+          reversedSampleIndex_(reverseBits32(sampleIndex)),
+          pixelKeyTerms_(hashCombineSeedTerms(pixel.value)) {}
 
     float get1D(Dim dim, uint32_t bounce = 0) const {
         if (frozen_ & dimBit(dim)) [[unlikely]] return 0.5f;
@@ -220,8 +221,10 @@ public:
     bool isFrozen(Dim dim) const { return (frozen_ & dimBit(dim)) != 0; }
 
 private:
+    // hashCombine(pixelKey_, bounce * Count + dim), its part that depends on the pixel alone added
+    // once per sample (integers: the same bits).
     uint64_t dimensionKey(Dim dim, uint32_t bounce) const {
-        return hashCombine(pixelKey_, uint64_t(bounce) * uint64_t(Dim::Count) + uint64_t(dim));
+        return mix64(pixelKey_ ^ (uint64_t(bounce) * uint64_t(Dim::Count) + uint64_t(dim) + pixelKeyTerms_));
     }
     // The per-dimension shuffle: a permutation of every aligned power-of-two block of indices.
     uint32_t shuffledIndex(uint64_t key) const {
@@ -232,6 +235,7 @@ private:
     uint64_t pixelKey_;
     uint32_t sampleIndex_;
     uint32_t reversedSampleIndex_;
+    uint64_t pixelKeyTerms_;  // hashCombineSeedTerms(pixelKey_)
     uint32_t frozen_ = 0;
 };
 
