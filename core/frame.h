@@ -2,6 +2,8 @@
 // where the normal is +z.
 #pragma once
 
+#include <xmmintrin.h>
+
 #include <cmath>
 
 #include "core/vec.h"
@@ -25,6 +27,40 @@ struct Frame {
 
     Vec3f toLocal(Vec3f v) const { return {dot(v, s), dot(v, t), dot(v, n)}; }
     Vec3f toWorld(Vec3f v) const { return s * v.x + t * v.y + n * v.z; }
+};
+
+// A Frame held in SSE registers, its rows (s, t, n) and its columns, for code that converts several
+// vectors with one frame: each conversion is three products and two sums of whole vectors, the
+// same operations in the same order per coordinate as Frame's (so the same bits).
+struct FrameLanes {
+    __m128 s, t, n;  // rows
+    __m128 x, y, z;  // columns: (s.x, t.x, n.x), (s.y, t.y, n.y), (s.z, t.z, n.z)
+
+    explicit FrameLanes(const Frame& f)
+        : s(_mm_setr_ps(f.s.x, f.s.y, f.s.z, 0.0f)),
+          t(_mm_setr_ps(f.t.x, f.t.y, f.t.z, 0.0f)),
+          n(_mm_setr_ps(f.n.x, f.n.y, f.n.z, 0.0f)),
+          x(_mm_setr_ps(f.s.x, f.t.x, f.n.x, 0.0f)),
+          y(_mm_setr_ps(f.s.y, f.t.y, f.n.y, 0.0f)),
+          z(_mm_setr_ps(f.s.z, f.t.z, f.n.z, 0.0f)) {}
+
+    // Frame::toLocal: (dot(v, s), dot(v, t), dot(v, n)), each dot summed x, y, then z.
+    Vec3f toLocal(Vec3f v) const {
+        return toVec3f(_mm_add_ps(_mm_add_ps(_mm_mul_ps(x, _mm_set1_ps(v.x)), _mm_mul_ps(y, _mm_set1_ps(v.y))),
+                                  _mm_mul_ps(z, _mm_set1_ps(v.z))));
+    }
+    // Frame::toWorld: s v.x + t v.y + n v.z.
+    Vec3f toWorld(Vec3f v) const {
+        return toVec3f(_mm_add_ps(_mm_add_ps(_mm_mul_ps(s, _mm_set1_ps(v.x)), _mm_mul_ps(t, _mm_set1_ps(v.y))),
+                                  _mm_mul_ps(n, _mm_set1_ps(v.z))));
+    }
+
+private:
+    static Vec3f toVec3f(__m128 v) {
+        alignas(16) float out[4];
+        _mm_store_ps(out, v);
+        return {out[0], out[1], out[2]};
+    }
 };
 
 }  // namespace penumbra

@@ -262,7 +262,8 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
         const Frame frame = si.shadingFrame ? *si.shadingFrame : Frame::fromNormal(si.shadingNormal);
         // How far the vertex's shadow and bounce rays start off the surface (either side).
         const float leaveDistance = offsetDistance(si.position, si.positionError, si.geometricNormal);
-        const Vec3f woLocal = frame.toLocal(wo);
+        const FrameLanes lanes(frame);
+        const Vec3f woLocal = lanes.toLocal(wo);
 
         // --- Direct light (next-event estimation): the shadow ray and what it adds when
         // unoccluded. It is traced after the continuation's BSDF sample, not before: the two are
@@ -283,7 +284,7 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
                 if (sample.isFrozen(Dim::LightPosition)) [[unlikely]] uLight = {0.5f, 0.5f};
             }
             const auto ls = lights.sample(light, si.position, uLight);
-            const Vec3f wiLocal = ls ? frame.toLocal(ls->direction) : Vec3f{};
+            const Vec3f wiLocal = ls ? lanes.toLocal(ls->direction) : Vec3f{};
             // Reflection needs the light on wo's side of the geometric surface, transmission on the other.
             const bool reflects = woLocal.z * wiLocal.z > 0.0f;
             const float cosLight = ls ? dot(ls->direction, si.geometricNormal) : 0.0f;
@@ -309,7 +310,7 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
             const auto bs = material.sample(woLocal, uLobe, uDirection, woAbove);
             if (!bs) return false;
             PENUMBRA_CHECK(bs->pdf > 0.0f, "a BSDF sample has a positive density");
-            const Vec3f wi = frame.toWorld(bs->wi);
+            const Vec3f wi = lanes.toWorld(bs->wi);
             PENUMBRA_CHECK(detail::isUnit(wi), "a BSDF sample's direction has unit length");
             const float cosWi = dot(wi, si.geometricNormal);
             // A reflection that crosses the geometric surface, or a transmission that does not.

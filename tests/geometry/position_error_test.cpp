@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <random>
 
 #include "core/ray_offset.h"
@@ -140,6 +141,26 @@ bool shootAtSphere(std::mt19937& rng, const SceneGeometry& scene, const Sphere& 
     if (outward && hits) return ::testing::AssertionFailure() << "an outward ray hits the sphere again at t " << t;
     if (!outward && !(hits && t > 0.0f)) return ::testing::AssertionFailure() << "an inward ray finds no exit";
     return ::testing::AssertionSuccess();
+}
+
+// The hit point and its bound computed in SSE lanes (detail::setBarycentricPoint) are Vec3f's
+// p0 b0 + p1 b1 + p2 b2 and (|p0 b0| + |p1 b1| + |p2 b2|) gamma(7) bit for bit: vertices of mixed
+// signs and scales, barycentrics from 0 to 1 with b0 = 1 - b1 - b2 as the hit computes it.
+TEST(PositionError, TheLanesHitPointIsTheVectorFormulaBitForBit) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> coordinate(-1.0f, 1.0f), unit(0.0f, 1.0f);
+    const auto same = [](Vec3f a, Vec3f b) { return std::memcmp(&a, &b, sizeof(Vec3f)) == 0; };
+    for (int i = 0; i < 100000; ++i) {
+        const float scale = std::exp2(float(i % 60) - 30.0f);
+        const Vec3f p0{coordinate(rng) * scale, coordinate(rng), coordinate(rng) * 1000.0f};
+        const Vec3f p1{coordinate(rng) * scale, coordinate(rng), coordinate(rng) * 1000.0f};
+        const Vec3f p2{coordinate(rng) * scale, coordinate(rng), coordinate(rng) * 1000.0f};
+        const float b1 = unit(rng), b2 = unit(rng) * (1.0f - b1), b0 = 1.0f - b1 - b2;
+        SurfaceInteraction si;
+        detail::setBarycentricPoint(p0, p1, p2, b0, b1, b2, si);
+        ASSERT_TRUE(same(si.position, p0 * b0 + p1 * b1 + p2 * b2)) << i;
+        ASSERT_TRUE(same(si.positionError, (abs(p0 * b0) + abs(p1 * b1) + abs(p2 * b2)) * gamma(7))) << i;
+    }
 }
 
 TEST(PositionError, SphereHitsLieWithinTheirBound) {
