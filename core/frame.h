@@ -46,13 +46,15 @@ struct FrameLanes {
 
     // Frame::toLocal: (dot(v, s), dot(v, t), dot(v, n)), each dot summed x, y, then z.
     Vec3f toLocal(Vec3f v) const {
-        return toVec3f(_mm_add_ps(_mm_add_ps(_mm_mul_ps(x, _mm_set1_ps(v.x)), _mm_mul_ps(y, _mm_set1_ps(v.y))),
-                                  _mm_mul_ps(z, _mm_set1_ps(v.z))));
+        return toVec3f(
+            _mm_add_ps(_mm_add_ps(_mm_mul_ps(x, _mm_set1_ps(v.x)), _mm_mul_ps(y, _mm_set1_ps(v.y))),
+                       _mm_mul_ps(z, _mm_set1_ps(v.z))));
     }
     // Frame::toWorld: s v.x + t v.y + n v.z.
     Vec3f toWorld(Vec3f v) const {
-        return toVec3f(_mm_add_ps(_mm_add_ps(_mm_mul_ps(s, _mm_set1_ps(v.x)), _mm_mul_ps(t, _mm_set1_ps(v.y))),
-                                  _mm_mul_ps(n, _mm_set1_ps(v.z))));
+        return toVec3f(
+            _mm_add_ps(_mm_add_ps(_mm_mul_ps(s, _mm_set1_ps(v.x)), _mm_mul_ps(t, _mm_set1_ps(v.y))),
+                       _mm_mul_ps(n, _mm_set1_ps(v.z))));
     }
 
 private:

@@ -108,9 +108,9 @@ inline void recomputeTriangleHit(Vec3f origin, Vec3f direction, Vec3f p0, Vec3f 
 // si.position = p0 b0 + p1 b1 + p2 b2 and si.positionError = (|p0 b0| + |p1 b1| + |p2 b2|) gamma(7)
 // (b0 = 1 - b1 - b2 with two roundings, then three products and two sums: pbrt-v4's bound), the
 // three coordinates at once in SSE lanes: the same operations in the same order as Vec3f's, so
-// the same bits, in a third of the instructions (bench/README.md, "Speed tricks").
-[[gnu::always_inline]] inline void setBarycentricPoint(Vec3f p0, Vec3f p1, Vec3f p2, float b0, float b1, float b2,
-                                                       SurfaceInteraction& si) {
+// the same bits, in fewer instructions (bench/README.md, "Speed tricks").
+[[gnu::always_inline]] inline void setBarycentricPoint(Vec3f p0, Vec3f p1, Vec3f p2, float b0, float b1,
+                                                       float b2, SurfaceInteraction& si) {
     const __m128 t0 = _mm_mul_ps(_mm_setr_ps(p0.x, p0.y, p0.z, 0.0f), _mm_set1_ps(b0));
     const __m128 t1 = _mm_mul_ps(_mm_setr_ps(p1.x, p1.y, p1.z, 0.0f), _mm_set1_ps(b1));
     const __m128 t2 = _mm_mul_ps(_mm_setr_ps(p2.x, p2.y, p2.z, 0.0f), _mm_set1_ps(b2));
@@ -119,6 +119,8 @@ inline void recomputeTriangleHit(Vec3f origin, Vec3f direction, Vec3f p0, Vec3f 
     const __m128 error = _mm_mul_ps(
         _mm_add_ps(_mm_add_ps(_mm_andnot_ps(sign, t0), _mm_andnot_ps(sign, t1)), _mm_andnot_ps(sign, t2)),
         _mm_set1_ps(gamma(7)));
+    // Through an array, not stored into the fields with _mm_storel_pi: GCC's builtin stores
+    // through a vector type that may not alias the floats, and reads of the fields moved before it.
     alignas(16) float out[8];
     _mm_store_ps(out, position);
     _mm_store_ps(out + 4, error);
