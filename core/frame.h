@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "core/simd.h"
 #include "core/vec.h"
 
 namespace penumbra {
@@ -37,9 +38,9 @@ struct FrameLanes {
     __m128 x, y, z;  // columns: (s.x, t.x, n.x), (s.y, t.y, n.y), (s.z, t.z, n.z)
 
     explicit FrameLanes(const Frame& f)
-        : s(_mm_setr_ps(f.s.x, f.s.y, f.s.z, 0.0f)),
-          t(_mm_setr_ps(f.t.x, f.t.y, f.t.z, 0.0f)),
-          n(_mm_setr_ps(f.n.x, f.n.y, f.n.z, 0.0f)),
+        : s(toLanes(f.s)),
+          t(toLanes(f.t)),
+          n(toLanes(f.n)),
           x(_mm_setr_ps(f.s.x, f.t.x, f.n.x, 0.0f)),
           y(_mm_setr_ps(f.s.y, f.t.y, f.n.y, 0.0f)),
           z(_mm_setr_ps(f.s.z, f.t.z, f.n.z, 0.0f)) {}
@@ -55,13 +56,6 @@ struct FrameLanes {
         return toVec3f(
             _mm_add_ps(_mm_add_ps(_mm_mul_ps(s, _mm_set1_ps(v.x)), _mm_mul_ps(t, _mm_set1_ps(v.y))),
                        _mm_mul_ps(n, _mm_set1_ps(v.z))));
-    }
-
-private:
-    static Vec3f toVec3f(__m128 v) {
-        alignas(16) float out[4];
-        _mm_store_ps(out, v);
-        return {out[0], out[1], out[2]};
     }
 };
 

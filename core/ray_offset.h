@@ -15,6 +15,7 @@
 #include <limits>
 
 #include "core/float_error.h"
+#include "core/simd.h"
 #include "core/vec.h"
 
 namespace penumbra {
@@ -53,9 +54,7 @@ inline constexpr float kMinimumRelativeOffset = 0x1p-40f;
     const __m128 tiny = _mm_and_ps(_mm_cmplt_ps(_mm_andnot_ps(signMask, moved), smallest), _mm_castsi128_ps(alongN));
     const __m128 replacement = _mm_or_ps(_mm_and_ps(n, signMask), smallest);
     const __m128 result = _mm_or_ps(_mm_and_ps(tiny, replacement), _mm_andnot_ps(tiny, stepped));
-    alignas(16) float out[4];
-    _mm_store_ps(out, result);
-    return {out[0], out[1], out[2]};
+    return toVec3f(result);
 }
 
 // `normal`: the geometric normal, on the side the new ray leaves towards; `pointError`: a bound on

@@ -14,6 +14,7 @@
 #include "core/motion.h"
 #include "core/ray.h"
 #include "core/sampling.h"
+#include "core/simd.h"
 #include "geometry/face_frames.h"
 #include "geometry/hit.h"
 #include "geometry/ray_sphere.h"
@@ -111,21 +112,16 @@ inline void recomputeTriangleHit(Vec3f origin, Vec3f direction, Vec3f p0, Vec3f 
 // the same bits, in fewer instructions (bench/README.md, "Speed tricks").
 [[gnu::always_inline]] inline void setBarycentricPoint(Vec3f p0, Vec3f p1, Vec3f p2, float b0, float b1,
                                                        float b2, SurfaceInteraction& si) {
-    const __m128 t0 = _mm_mul_ps(_mm_setr_ps(p0.x, p0.y, p0.z, 0.0f), _mm_set1_ps(b0));
-    const __m128 t1 = _mm_mul_ps(_mm_setr_ps(p1.x, p1.y, p1.z, 0.0f), _mm_set1_ps(b1));
-    const __m128 t2 = _mm_mul_ps(_mm_setr_ps(p2.x, p2.y, p2.z, 0.0f), _mm_set1_ps(b2));
+    const __m128 t0 = _mm_mul_ps(toLanes(p0), _mm_set1_ps(b0));
+    const __m128 t1 = _mm_mul_ps(toLanes(p1), _mm_set1_ps(b1));
+    const __m128 t2 = _mm_mul_ps(toLanes(p2), _mm_set1_ps(b2));
     const __m128 position = _mm_add_ps(_mm_add_ps(t0, t1), t2);
     const __m128 sign = _mm_set1_ps(-0.0f);
     const __m128 error = _mm_mul_ps(
         _mm_add_ps(_mm_add_ps(_mm_andnot_ps(sign, t0), _mm_andnot_ps(sign, t1)), _mm_andnot_ps(sign, t2)),
         _mm_set1_ps(gamma(7)));
-    // Through an array, not stored into the fields with _mm_storel_pi: GCC's builtin stores
-    // through a vector type that may not alias the floats, and reads of the fields moved before it.
-    alignas(16) float out[8];
-    _mm_store_ps(out, position);
-    _mm_store_ps(out + 4, error);
-    si.position = {out[0], out[1], out[2]};
-    si.positionError = {out[4], out[5], out[6]};
+    si.position = toVec3f(position);
+    si.positionError = toVec3f(error);
 }
 
 // The shading point at the hit's barycentrics on triangle (p0, p1, p2) of `mesh` (`index`: its three
