@@ -47,16 +47,15 @@ struct FrameLanes {
           z(_mm_setr_ps(f.s.z, f.t.z, f.n.z, 0.0f)) {}
 
     // Frame::toLocal: (dot(v, s), dot(v, t), dot(v, n)), each dot summed x, y, then z.
-    Vec3f toLocal(Vec3f v) const {
-        return toVec3f(
-            _mm_add_ps(_mm_add_ps(_mm_mul_ps(x, _mm_set1_ps(v.x)), _mm_mul_ps(y, _mm_set1_ps(v.y))),
-                       _mm_mul_ps(z, _mm_set1_ps(v.z))));
-    }
+    Vec3f toLocal(Vec3f v) const { return combination(x, y, z, v); }
     // Frame::toWorld: s v.x + t v.y + n v.z.
-    Vec3f toWorld(Vec3f v) const {
-        return toVec3f(
-            _mm_add_ps(_mm_add_ps(_mm_mul_ps(s, _mm_set1_ps(v.x)), _mm_mul_ps(t, _mm_set1_ps(v.y))),
-                       _mm_mul_ps(n, _mm_set1_ps(v.z))));
+    Vec3f toWorld(Vec3f v) const { return combination(s, t, n, v); }
+
+private:
+    // a v.x + b v.y + c v.z, summed in that order.
+    static Vec3f combination(__m128 a, __m128 b, __m128 c, Vec3f v) {
+        return toVec3f(_mm_add_ps(_mm_add_ps(_mm_mul_ps(a, _mm_set1_ps(v.x)), _mm_mul_ps(b, _mm_set1_ps(v.y))),
+                                  _mm_mul_ps(c, _mm_set1_ps(v.z))));
     }
 };
 

@@ -17,14 +17,18 @@ inline constexpr uint64_t mix64(uint64_t x) {
 }
 
 // The terms of hashCombine's sum that depend on the seed alone, for callers that combine one seed
-// with many values.
+// with many values: hashCombineWithSeedTerms(seed, hashCombineSeedTerms(seed), value) is
+// hashCombine(seed, value).
 inline constexpr uint64_t hashCombineSeedTerms(uint64_t seed) {
     return 0x9e3779b97f4a7c15ULL + (seed << 6) + (seed >> 2);
+}
+inline constexpr uint64_t hashCombineWithSeedTerms(uint64_t seed, uint64_t seedTerms, uint64_t value) {
+    return mix64(seed ^ (value + seedTerms));
 }
 
 // Order-dependent combination of several words into one well-mixed 64-bit value.
 inline constexpr uint64_t hashCombine(uint64_t seed, uint64_t value) {
-    return mix64(seed ^ (value + hashCombineSeedTerms(seed)));
+    return hashCombineWithSeedTerms(seed, hashCombineSeedTerms(seed), value);
 }
 
 template <typename... Words>

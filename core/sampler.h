@@ -221,10 +221,11 @@ public:
     bool isFrozen(Dim dim) const { return (frozen_ & dimBit(dim)) != 0; }
 
 private:
-    // hashCombine(pixelKey_, bounce * Count + dim), its part that depends on the pixel alone added
-    // once per sample (integers: the same bits).
+    // hashCombine(pixelKey_, bounce * Count + dim), its terms that depend on the pixel alone
+    // computed once per sample.
     uint64_t dimensionKey(Dim dim, uint32_t bounce) const {
-        return mix64(pixelKey_ ^ (uint64_t(bounce) * uint64_t(Dim::Count) + uint64_t(dim) + pixelKeyTerms_));
+        return hashCombineWithSeedTerms(pixelKey_, pixelKeyTerms_,
+                                        uint64_t(bounce) * uint64_t(Dim::Count) + uint64_t(dim));
     }
     // The per-dimension shuffle: a permutation of every aligned power-of-two block of indices.
     uint32_t shuffledIndex(uint64_t key) const {
