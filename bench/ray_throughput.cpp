@@ -4,7 +4,7 @@
 //       takes its rays per second: camera, bounce and shadow rays over the render time;
 //   (b) records a sample of the very rays that render traces and retraces them bare, with
 //       rtcIntersect1 / rtcOccluded1 through EmbreeAccelerator (the same Embree scene as the
-//       render: high build quality, the robust flag when the scene is "watertight") and through
+//       render: built in two levels, the robust flag when the scene is "watertight") and through
 //       a plain Embree scene (default flags, medium quality: how Embree's own tutorials build;
 //       and once more with the robust flag, to tell its cost apart), on the same threads;
 // alternating (a) and (b) --repeat times, and prints the figures as JSON.
