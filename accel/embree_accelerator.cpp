@@ -81,10 +81,10 @@ RTCScene newScene(RTCDevice device, const EmbreeOptions& options) {
 // The scene's top level, built in two levels: a BVH for each geometry (at the geometry's own
 // build quality, high for ours: Embree's SAH builder), then one over the geometries (Embree builds
 // a scene of low build quality so: rtcSetSceneBuildQuality's documentation). One BVH over every
-// triangle of the scene bins triangles by centroid, so a leaf may mix objects and one wall's two
-// triangles may sit in two leaves. In two levels an object of up to four triangles is one leaf
-// (one SIMD test), a larger one keeps its own BVH, and the top level opens those BVHs where
-// objects overlap (Embree's BVHNBuilderTwoLevel). Measured (bench/README.md, "Speed tricks"): 10%
+// triangle of the scene groups triangles by their centroids, not by object. In two levels an
+// object of up to four triangles is one leaf (one SIMD test; a wall's two triangles, a flat box),
+// a larger one keeps its own BVH, and the top level opens those BVHs where objects overlap
+// (Embree's BVHNBuilderTwoLevel). Measured (bench/README.md, "Speed tricks"): 10%
 // less render time on Embree's Cornell box (34 triangles in 7 meshes), 3-14% less on our other
 // scenes of a few objects, within noise on the Stanford bunny and dragon.
 RTCScene newTwoLevelScene(RTCDevice device, const EmbreeOptions& options) {
