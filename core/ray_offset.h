@@ -39,8 +39,8 @@ inline constexpr float kMinimumRelativeOffset = 0x1p-40f;
 // `point` moved by `d` (offsetDistance) along `normal` and one float further. The three axes are
 // done at once with SSE2.
 [[gnu::always_inline]] inline Vec3f offsetAlong(Vec3f point, Vec3f normal, float d) {
-    const __m128 n = _mm_setr_ps(normal.x, normal.y, normal.z, 0.0f);
-    const __m128 moved = _mm_add_ps(_mm_setr_ps(point.x, point.y, point.z, 0.0f), _mm_mul_ps(n, _mm_set1_ps(d)));
+    const __m128 n = toLanes(normal);
+    const __m128 moved = _mm_add_ps(toLanes(point), _mm_mul_ps(n, _mm_set1_ps(d)));
     // One float further along n: the bits grow by one where moved and n have the same sign (away
     // from zero) and shrink by one where not; nothing where n is 0.
     const __m128i bits = _mm_castps_si128(moved);
