@@ -13,6 +13,8 @@
 #include <tbb/parallel_invoke.h>
 #include <tbb/parallel_reduce.h>
 
+#include "core/simd.h"
+
 namespace penumbra {
 
 namespace {
@@ -84,9 +86,8 @@ struct BinMapping {
             const float s = float(count) * (1.0f - 0x1p-20f) / extent;
             scale[axis] = extent > 0.0f && std::isfinite(s) ? s : 0.0f;
         }
-        const Vec3f& o = doubledCentroidBounds.lower;
-        origin4 = _mm_setr_ps(o.x, o.y, o.z, 0.0f);
-        scale4 = _mm_setr_ps(scale[0], scale[1], scale[2], 0.0f);
+        origin4 = toLanes(doubledCentroidBounds.lower);
+        scale4 = toLanes({scale[0], scale[1], scale[2]});
         lastBin4 = _mm_set1_ps(float(count - 1));
     }
     bool canSplit(int axis) const { return scale[axis] > 0.0f; }
