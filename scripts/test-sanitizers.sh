@@ -66,19 +66,17 @@ build_and_test() {
 #    matches that access's frames, could not be checked against it. A race that is ours comes back
 #    in the second run.
 rerun_if_nothing_was_found() {
-    local dir=$1 log=$2 reason=""
-    if grep -q "Tracer caught signal" "$log" &&
-        ! grep -qE "ERROR: (Address|Leak|Thread)Sanitizer|WARNING: ThreadSanitizer|runtime error:|SUMMARY: |\[  FAILED  \]" "$log"; then
-        reason="LeakSanitizer's tracer crashed at exit"
-    else
-        local reports races
-        reports=$(grep -c "WARNING: ThreadSanitizer" "$log" || true)
-        races=$(grep -c "WARNING: ThreadSanitizer: data race" "$log" || true)
-        if [ "$reports" -gt 0 ] && [ "$reports" = "$races" ] &&
-            [ "$(grep -c "\[failed to restore the stack\]" "$log" || true)" = "$reports" ] &&
-            ! grep -qE "ERROR: (Address|Leak|Thread)Sanitizer|runtime error:|Tracer caught signal|\[  FAILED  \]" "$log"; then
-            reason="ThreadSanitizer could not restore one access of each race it reported, so the suppressions could not be checked against them"
-        fi
+    local dir=$1 log=$2 reason="" reports races unrestored
+    if grep -qE "ERROR: (Address|Leak|Thread)Sanitizer|runtime error:|\[  FAILED  \]" "$log"; then
+        return 1
+    fi
+    reports=$(grep -c "WARNING: ThreadSanitizer" "$log" || true)
+    races=$(grep -c "WARNING: ThreadSanitizer: data race" "$log" || true)
+    unrestored=$(grep -c "\[failed to restore the stack\]" "$log" || true)
+    if grep -q "Tracer caught signal" "$log"; then
+        [ "$reports" = 0 ] && ! grep -q "SUMMARY: " "$log" && reason="LeakSanitizer's tracer crashed at exit"
+    elif [ "$reports" -gt 0 ] && [ "$races" = "$reports" ] && [ "$unrestored" = "$reports" ]; then
+        reason="ThreadSanitizer could not restore one access of each race it reported, so the suppressions could not be checked against them"
     fi
     [ -n "$reason" ] || return 1
     echo "$reason (not a finding); running the failed tests once more"
