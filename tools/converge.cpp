@@ -20,6 +20,7 @@
 #include "film/image_plugin_loader.h"
 #include "renderer/render.h"
 #include "tools/cli_numbers.h"
+#include "tools/run_program.h"
 #include "tools/split_text.h"
 #include "formats/scene_file.h"
 
@@ -584,17 +585,13 @@ int runConvergeCommand(const ConvergeCommand& cmd) {
 
     if (!cmd.noPlot) {
         const std::string python = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
-        auto quote = [](const std::string& s) {
-            std::string q = "'";
-            for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-            return q + "'";
-        };
-        const std::string command = fmt::format("{} {} {} {}", python, quote(sharedDataPath("plot_convergence.py").string()),
-                                                quote((dir / "convergence.json").string()),
-                                                quote((dir / "convergence.png").string()));
-        if (std::system(command.c_str()) != 0)
-            std::fprintf(stderr, "penumbra: warning: the plot was not made (needs python3 with matplotlib); run: %s\n",
-                         command.c_str());
+        const std::vector<std::string> command = {python, sharedDataPath("plot_convergence.py").string(),
+                                                  (dir / "convergence.json").string(),
+                                                  (dir / "convergence.png").string()};
+        const ProgramResult plot = runProgram(command);
+        if (plot.exitStatus != 0)
+            std::fprintf(stderr, "penumbra: warning: the plot was not made (needs python3 with matplotlib): %s\nrun: %s\n",
+                         plot.output.c_str(), commandLineFor(command).c_str());
     }
     if (!cmd.quiet) {
         std::printf("%-18s %8s %10s %12s %10s\n", "sampler", "slope", "spp", "RMSE", "seconds");

@@ -19,7 +19,10 @@
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
+#include <cerrno>
 #include <csignal>
+#include <cstring>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
@@ -30,6 +33,7 @@
 
 #include "core/error.h"
 #include "core/input_limits.h"
+#include "film/atomic_file.h"
 #include "film/film.h"
 #include "film/image_output.h"
 #include "renderer/render.h"
@@ -101,6 +105,19 @@ void installStopHandlers() {
 
 // --seed: checked as text before CLI11 converts it (which wraps "-1" and saturates 2^64).
 const CLI::Validator kSeedText([](std::string& text) { return checkSeedText(text); }, "SEED");
+
+// --checkpoint: a finite number of minutes >= 0 ("nan" and "inf" are numbers to CLI11).
+const CLI::Validator kCheckpointMinutes(
+    [](std::string& text) -> std::string {
+        try {
+            size_t used = 0;
+            const double minutes = std::stod(text, &used);
+            if (used == text.size() && std::isfinite(minutes) && minutes >= 0) return "";
+        } catch (const std::exception&) {
+        }
+        return fmt::format("expected a finite number of minutes >= 0, got '{}'", text);
+    },
+    "MINUTES");
 
 // Command-line integers: 1 to 2^30 (a positive count or size), or 0 to 2^30 (an index or a pixel).
 int parsePositive(const std::string& option, const std::string& text) {
@@ -295,21 +312,30 @@ int runRender(const RenderCommand& cmd) {
     return 0;
 }
 
-// `penumbra convert`: the JSON is written only once the whole scene has been read and built.
+// `penumbra convert`: the JSON is written only once the whole scene has been read and built, and
+// never over the scene it was read from.
 int runConvertCommand(const std::string& scenePath, const std::string& outputPath) {
-    const std::string json = convertSceneToJson(scenePath, outputPath);
     const fs::path output(outputPath);
-    const fs::path temporary = fs::path(outputPath + ".partial");
-    {
-        std::FILE* file = std::fopen(temporary.string().c_str(), "wb");
-        if (!file) throw InputError(fmt::format("{}: cannot be written", outputPath));
+    if (output.extension() != ".json")
+        throw InputError(fmt::format("-o: expected a path ending in .json (convert writes penumbra's JSON), got '{}'",
+                                     outputPath));
+    std::error_code ec;
+    if (fs::equivalent(output, scenePath, ec))
+        throw InputError(fmt::format("-o: {} is the scene being converted; name another output", outputPath));
+    const std::string json = convertSceneToJson(scenePath, outputPath);
+    writeFileAtomically(output, "JSON scene", [&](const std::string& tmp, std::string& error) {
+        std::FILE* file = std::fopen(tmp.c_str(), "wb");
+        if (!file) {
+            error = std::strerror(errno);
+            return false;
+        }
         const bool written = std::fwrite(json.data(), 1, json.size(), file) == json.size();
         if (std::fclose(file) != 0 || !written) {
-            fs::remove(temporary);
-            throw InputError(fmt::format("{}: cannot be written", outputPath));
+            error = fmt::format("write of '{}' failed: {}", tmp, std::strerror(errno));
+            return false;
         }
-    }
-    fs::rename(temporary, output);
+        return true;
+    });
     std::printf("wrote %s\n", outputPath.c_str());
     return 0;
 }
@@ -356,7 +382,8 @@ int main(int argc, char** argv) {
                           "resolution, seed, sampler, crop and --accel");
     renderApp->add_option("--checkpoint", cmd.checkpointMinutes,
                           "Write the film to the output EXR every MINUTES (fractions allowed; 0: after every pass); "
-                          "SIGINT/SIGTERM always write it before exiting");
+                          "SIGINT/SIGTERM always write it before exiting")
+        ->check(kCheckpointMinutes);
     renderApp->add_option("--pass-size", cmd.passSize,
                           "Sample indices per pass (default: about a million samples a pass); checkpoints and signals "
                           "take effect between passes")
@@ -420,7 +447,7 @@ int main(int argc, char** argv) {
     submitApp->add_option("--cpus-per-task", submitCmd.slurm.cpusPerTask,
                           "Cores per part (default 0: a whole node each, --exclusive)")->check(CLI::NonNegativeNumber);
     submitApp->add_option("--checkpoint", submitCmd.slurm.checkpointMinutes,
-                          "Minutes between a part's checkpoints (default 10; 0: after every pass)")->check(CLI::NonNegativeNumber);
+                          "Minutes between a part's checkpoints (default 10; 0: after every pass)")->check(kCheckpointMinutes);
     submitApp->add_option("--sbatch", submitCmd.slurm.sbatchArguments,
                           "More sbatch options for every job, e.g. --sbatch=--account=lab (repeatable)");
     submitApp->add_option("--merge-tree-above", submitCmd.mergeTreeAbove,

@@ -1,6 +1,8 @@
 // The Slurm side of `penumbra submit`: the batch scripts of a split render (a job array that
 // renders the parts, merge-group jobs when the merge is a tree, and the final merge) and the
-// commands that submit and inspect them (sbatch, squeue, scancel, found on PATH).
+// commands that submit and inspect them (sbatch, squeue, scancel, found on PATH). Every value a
+// script holds is checked to be one line of text and quoted for what reads it (tools/script_text.h);
+// the commands run without a shell (tools/run_program.h).
 #pragma once
 
 #include <optional>
@@ -20,11 +22,10 @@ struct SlurmRequest {
     std::vector<std::string> sbatchArguments;  // more #SBATCH lines (--account=..., --qos=...)
 };
 
-// `sh -c` quoting: 'text' with every ' written as '\''.
-std::string shellQuote(const std::string& text);
-
 // "0-7" or "3,5": the array indices of the parts.
 std::string arraySpec(const std::vector<int>& indices);
+
+// Each script is returned whole or not at all: InputError when a value cannot be written safely.
 
 // The job array that renders parts `indices`: task i renders part i to its file with
 // --checkpoint, continuing the part's own checkpoint when there is one (a requeued, preempted

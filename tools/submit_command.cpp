@@ -15,6 +15,7 @@
 #include "scenes/scene_loader.h"
 #include "tools/cli_numbers.h"
 #include "tools/part_status.h"
+#include "tools/script_text.h"
 #include "tools/split_text.h"
 
 namespace fs = std::filesystem;
@@ -118,6 +119,7 @@ std::string jobIdOf(const std::string& recorded) { return recorded.substr(record
 }  // namespace
 
 int runSubmitCommand(const SubmitCommand& cmd) {
+    requireOneLineOfText("-o", cmd.output);  // before it is named in any message or path
     const fs::path output = fs::absolute(cmd.output).lexically_normal();
     if (output.extension() != ".exr")
         throw InputError(fmt::format("-o: expected a path ending in .exr, got '{}'", cmd.output));
@@ -202,7 +204,19 @@ int runSubmitCommand(const SubmitCommand& cmd) {
 
     std::string after;
     if (!render.empty()) {
-        after = submitBatch(renderPath, "");
+        try {
+            after = submitBatch(renderPath, "");
+        } catch (const InputError& e) {
+            // Nothing of this render is queued: a first submit leaves nothing behind, so that it
+            // can be run again as it is once the cause is fixed.
+            if (!cmd.resume) {
+                std::error_code ignored;
+                for (const fs::path& written :
+                     {manifestPath, renderPath, groupsPath, mergePath, folder / "logs", folder})
+                    fs::remove(written, ignored);  // the folders only when empty
+            }
+            throw;
+        }
         manifest.jobs.push_back("render:" + after);
         writeManifest(manifest, manifestPath);
         std::printf("submitted parts %s of %zu as Slurm job array %s\n", arraySpec(toRender).c_str(),

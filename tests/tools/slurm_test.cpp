@@ -19,6 +19,7 @@
 #include "core/error.h"
 #include "film/image_output.h"
 #include "tests/support/run_command.h"
+#include "tools/run_program.h"
 
 namespace fs = std::filesystem;
 
@@ -208,6 +209,45 @@ TEST_F(SlurmCluster, RequeuedTaskContinuesItsCheckpoint) {
     const std::string log = readText(path("out.parts/logs/part-0000.log"));
     EXPECT_TRUE(contains(log, "restart 1, continuing " + path("out.parts/part-0000.exr"))) << log;
     EXPECT_TRUE(readFilmExr(path("out.exr")).film.identicalTo(renderOnce(kFaultOptions).film));
+}
+
+// Names with everything a shell or sbatch acts on (spaces, quotes, $(...), backticks, '#', Slurm's
+// '%' patterns) in the output's folder, its name and an --sbatch option: the job array renders,
+// the groups and the final merge run, the logs land under the literal names, and no injected
+// command runs. A newline is refused before anything is written or submitted.
+TEST_F(SlurmCluster, HostileNamesRenderAndMergeWithoutRunningAnything) {
+    const fs::path folder = dir_ / "a b'c\"d$(touch INJECTED)e`touch INJECTED`f*g#h%j%a";
+    fs::create_directories(folder);
+    const fs::path output = folder / "o'u t`touch INJECTED`.exr";
+    const std::string options = "--spp 8 --res 32x24";
+    const ProgramResult submit =
+        runProgram({PENUMBRA_BINARY, "submit", kScene, "--parts", "4", "--merge-tree-above", "2", "--spp",
+                    "8", "--res", "32x24", "-o", output.string(), "--cpus-per-task", "1", "--sbatch",
+                    "--comment=two words $(touch INJECTED) `touch INJECTED` #x"});
+    ASSERT_EQ(submit.exitStatus, 0) << submit.output;
+    ASSERT_TRUE(waitForEmptyQueue(300)) << runShell("squeue --me").output;
+    const fs::path logs = folder / "o'u t`touch INJECTED`.parts" / "logs";
+    ASSERT_TRUE(fs::exists(output)) << readText(logs / "merge.log");
+    EXPECT_TRUE(fs::exists(logs / "part-0003.log"));
+    EXPECT_TRUE(fs::exists(logs / "group-001.log"));
+    EXPECT_TRUE(contains(readText(logs / "merge.log"), "merged 4 parts (2 films)"))
+        << readText(logs / "merge.log");
+    EXPECT_TRUE(readFilmExr(output).film.identicalTo(renderOnce(options).film));
+
+    const std::string newline = (folder / "x\ntouch INJECTED\n#.exr").string();
+    const ProgramResult refused =
+        runProgram({PENUMBRA_BINARY, "submit", kScene, "--parts", "2", "-o", newline});
+    EXPECT_EQ(refused.exitStatus, 1) << refused.output;
+    EXPECT_TRUE(contains(refused.output, "contains a control character")) << refused.output;
+    ASSERT_TRUE(waitForEmptyQueue(60));
+
+    // The jobs ran in this process's folder and wrote in `folder`: neither holds what they would have made.
+    for (auto it = fs::recursive_directory_iterator(dir_); it != fs::recursive_directory_iterator(); ++it)
+        EXPECT_NE(it->path().filename(), "INJECTED") << it->path();
+    EXPECT_FALSE(fs::exists(fs::current_path() / "INJECTED"));
+    size_t entries = 0;
+    for ([[maybe_unused]] const auto& e : fs::directory_iterator(folder)) ++entries;
+    EXPECT_EQ(entries, 4u) << "expected the output, its PNG, its manifest and its parts folder only";
 }
 
 }  // namespace

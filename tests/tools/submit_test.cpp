@@ -12,6 +12,8 @@
 #include "film/image_output.h"
 #include "tests/support/run_command.h"
 #include "tools/part_manifest.h"
+#include "tools/run_program.h"
+#include "tools/slurm_batch.h"
 
 namespace fs = std::filesystem;
 
@@ -90,6 +92,24 @@ TEST_F(SplitRender, SplitsAreEvenContiguousAndComplete) {
     EXPECT_EQ(groups[0].endPart, 32);
     EXPECT_EQ(groups.back().endPart, 1000);
 }
+bool contains(const ProgramResult& r, const std::string& what) {
+    return r.output.find(what) != std::string::npos;
+}
+
+// `penumbra` with exactly these arguments, no shell between.
+ProgramResult runPenumbraWith(std::vector<std::string> arguments) {
+    arguments.insert(arguments.begin(), PENUMBRA_BINARY);
+    return runProgram(arguments);
+}
+
+std::string readText(const fs::path& path) {
+    std::ifstream in(path);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// A name a shell would act on in every way it can: spaces, both quotes, $(...), backticks, a
+// glob, a comment, and Slurm's own '%' patterns.
+const std::string kHostileName = "a b'c\"d$(touch INJECTED)e`touch INJECTED`f*g#h%j%a";
 
 TEST_F(SplitRender, DryRunPrintsTheBatchScriptsAndWritesNothing) {
     const RunResult r = runPenumbra("submit " + kScene + " --parts 4 --spp 16 --res 32x24 -o " + path("out.exr") +
@@ -187,6 +207,138 @@ TEST_F(SplitRender, ABadManifestIsReportedAtItsJsonPointer) {
     const RunResult r = runPenumbra("merge --manifest " + path("out.parts.json"));
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_TRUE(contains(r, path("out.parts.json") + ": /parts/1/sample")) << r.output;
+}
+
+// Every value a batch script holds is one line: a newline, carriage return or other control
+// character in the output's name, --partition, --time or --sbatch is refused before anything is
+// written (in a script it would be a command of its own, run on the compute node).
+TEST_F(SplitRender, ControlCharactersInAnyScriptValueAreRefusedBeforeAnythingIsWritten) {
+    const std::string injected = "\ntouch INJECTED\n#";
+    const std::vector<std::vector<std::string>> attempts = {
+        {"-o", path("x" + injected + ".exr")},
+        {"-o", path("out.exr"), "--partition", "batch" + injected},
+        {"-o", path("out.exr"), "--time", "1:00" + injected},
+        {"-o", path("out.exr"), "--sbatch", "--account=lab" + injected},
+        {"-o", path("out.exr"), "--sbatch", std::string("--comment=a\rb")},
+    };
+    for (const auto& extra : attempts) {
+        std::vector<std::string> arguments = {"submit", kScene, "--parts", "2",
+                                              "--spp",  "4",    "--res",   "16x12"};
+        arguments.insert(arguments.end(), extra.begin(), extra.end());
+        // With sbatch on PATH or not, the refusal comes first; without it nothing could be submitted anyway.
+        const ProgramResult r = runPenumbraWith(arguments);
+        EXPECT_EQ(r.exitStatus, 1) << r.output;
+        EXPECT_TRUE(contains(r, "contains a control character")) << r.output;
+        arguments.push_back("--dry-run");
+        const ProgramResult dry = runPenumbraWith(arguments);
+        EXPECT_EQ(dry.exitStatus, 1) << dry.output;
+        EXPECT_FALSE(contains(dry, "#SBATCH")) << dry.output;
+    }
+    EXPECT_EQ(fileCount(), 0u);
+    const ProgramResult nan =
+        runPenumbraWith({"submit", kScene, "--parts", "2", "-o", path("out.exr"), "--checkpoint", "nan"});
+    EXPECT_EQ(nan.exitStatus, 2) << nan.output;
+    EXPECT_TRUE(contains(nan, "expected a finite number of minutes")) << nan.output;
+    const ProgramResult inf =
+        runPenumbraWith({"render", kScene, "-o", path("out.exr"), "--checkpoint", "inf"});
+    EXPECT_EQ(inf.exitStatus, 2) << inf.output;
+    EXPECT_EQ(fileCount(), 0u);
+}
+
+// The render script run as Slurm runs an array task (bash, SLURM_ARRAY_TASK_ID set), in a folder
+// whose name holds everything a shell acts on: the part is rendered to its file under that name
+// and nothing in the name runs.
+TEST_F(SplitRender, ARenderScriptRunsWithAHostileFolderNameAsItIs) {
+    const fs::path folder = dir_ / kHostileName;
+    fs::create_directories(folder);
+    PartManifest m;
+    m.scene = kScene;
+    m.output = folder / "out.exr";
+    m.penumbra = PENUMBRA_BINARY;
+    m.samplesPerPixel = 2;
+    m.width = 16;
+    m.height = 12;
+    m.renderArguments = {"--res", "16x12", "--seed", "3"};
+    m.parts = splitRender(SplitKind::Samples, 2, 2, 16, 12, partsFolderFor(m.output));
+    SlurmRequest request;
+    request.sbatchArguments = {"--comment=" + kHostileName};
+    const std::string script = renderScript(m, manifestPathFor(m.output), request, {0, 1});
+    fs::create_directories(partsFolderFor(m.output));
+    std::ofstream(path("render.sbatch")) << script;
+
+    const ProgramResult task =
+        runProgram({"env", "SLURM_ARRAY_TASK_ID=1", "SLURM_JOB_ID=7", "bash", path("render.sbatch")});
+    EXPECT_EQ(task.exitStatus, 0) << task.output << "\n" << script;
+    EXPECT_TRUE(fs::exists(m.parts[1].file)) << script;
+    EXPECT_FALSE(fs::exists(m.parts[0].file));
+    for (auto it = fs::recursive_directory_iterator(dir_); it != fs::recursive_directory_iterator(); ++it)
+        EXPECT_NE(it->path().filename(), "INJECTED") << it->path();
+    EXPECT_FALSE(fs::exists(fs::current_path() / "INJECTED"));
+    // In "...", \" is a quote and '#' is not a comment; '%' is doubled where Slurm reads a file
+    // name pattern (--output).
+    const std::string quotedName = R"(a b'c\"d$(touch INJECTED)e`touch INJECTED`f*g#h)";
+    EXPECT_NE(script.find("#SBATCH --output=\"" + dir_.string() + "/" + quotedName +
+                          "%%j%%a/out.parts/logs/part-%4a.log\"\n"),
+              std::string::npos)
+        << script;
+    EXPECT_NE(script.find("#SBATCH \"--comment=" + quotedName + "%j%a\"\n"), std::string::npos) << script;
+}
+
+// A manifest names its output, parts and merge groups only as submit names them beside it: a
+// crafted one cannot make `merge --manifest` overwrite another file (a text file, a picture, a
+// finished part's film), and an existing file that is not a penumbra film is never overwritten.
+TEST_F(SplitRender, ACraftedManifestCannotChooseWhatMergeOverwrites) {
+    const PartManifest m = twoParts();
+    renderPart("0:2", "-o " + m.parts[0].file.string());
+    renderPart("2:4", "-o " + m.parts[1].file.string());
+    std::ofstream(path("notes.txt")) << "someone's notes";
+    const std::string manifestText = readText(path("out.parts.json"));
+    auto craft = [&](const std::string& from, const std::string& to) {
+        std::string text = manifestText;
+        const size_t at = text.find(from);
+        EXPECT_NE(at, std::string::npos) << from;
+        if (at != std::string::npos) text.replace(at, from.size(), to);
+        std::ofstream(path("out.parts.json")) << text;
+    };
+    const std::string partBefore = readText(m.parts[0].file);
+
+    craft("\"output\": \"" + path("out.exr") + "\"", "\"output\": \"" + path("notes.txt") + "\"");
+    ProgramResult r = runPenumbraWith({"merge", "--manifest", path("out.parts.json")});
+    EXPECT_EQ(r.exitStatus, 1) << r.output;
+    EXPECT_TRUE(contains(r, path("out.parts.json") + ": /output: expected " + path("out.exr"))) << r.output;
+
+    craft("\"output\": \"" + path("out.exr") + "\"", "\"output\": \"" + m.parts[0].file.string() + "\"");
+    r = runPenumbraWith({"merge", "--manifest", path("out.parts.json")});
+    EXPECT_EQ(r.exitStatus, 1) << r.output;
+    EXPECT_TRUE(contains(r, "/output: expected")) << r.output;
+
+    craft("\"file\": \"" + m.parts[1].file.string() + "\"", "\"file\": \"" + path("notes.txt") + "\"");
+    r = runPenumbraWith({"merge", "--manifest", path("out.parts.json")});
+    EXPECT_EQ(r.exitStatus, 1) << r.output;
+    EXPECT_TRUE(contains(r, "/parts/1/file: expected " + m.parts[1].file.string())) << r.output;
+
+    // The manifest as submit wrote it, but a file that is not a film where the output goes: kept.
+    std::ofstream(path("out.parts.json")) << manifestText;
+    std::ofstream(path("out.exr")) << "not a film";
+    r = runPenumbraWith({"merge", "--manifest", path("out.parts.json"), "--no-display"});
+    EXPECT_EQ(r.exitStatus, 1) << r.output;
+    EXPECT_TRUE(contains(r, path("out.exr") + " exists and is not a penumbra film")) << r.output;
+    EXPECT_EQ(readText(path("out.exr")), "not a film");
+    // -o may not name one of the films being merged.
+    r = runPenumbraWith({"merge", "--manifest", path("out.parts.json"), "-o", m.parts[1].file.string()});
+    EXPECT_EQ(r.exitStatus, 1) << r.output;
+    EXPECT_TRUE(contains(r, "is one of the films being merged")) << r.output;
+    r = runPenumbraWith(
+        {"merge", m.parts[0].file.string(), m.parts[1].file.string(), "-o", m.parts[0].file.string()});
+    EXPECT_EQ(r.exitStatus, 1) << r.output;
+    EXPECT_TRUE(contains(r, "is one of the films being merged")) << r.output;
+
+    EXPECT_EQ(readText(path("notes.txt")), "someone's notes");
+    EXPECT_EQ(readText(m.parts[0].file), partBefore);
+    // Once the file is moved away, the same manifest merges.
+    fs::remove(path("out.exr"));
+    r = runPenumbraWith({"merge", "--manifest", path("out.parts.json"), "--no-display"});
+    EXPECT_EQ(r.exitStatus, 0) << r.output;
 }
 
 }  // namespace
