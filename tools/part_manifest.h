@@ -51,6 +51,8 @@ struct PartManifest {
 // OUT.parts.json and the folder OUT.parts/ (part films, batch scripts, logs) of OUT.exr.
 std::filesystem::path manifestPathFor(const std::filesystem::path& output);
 std::filesystem::path partsFolderFor(const std::filesystem::path& output);
+// OUT.exr (absolute) of OUT.parts.json; throws InputError when the name is not of that form.
+std::filesystem::path outputForManifest(const std::filesystem::path& manifestPath);
 
 // Splits samples [0, spp) into `count` contiguous ranges, or the image into `count` bands of
 // whole rows (every sample), as even as integers allow; files part-0000.exr, ... in `folder`.
@@ -69,7 +71,8 @@ RenderPart unionOfParts(const PartManifest& manifest, int firstPart, int endPart
 
 // Written atomically; throws InputError naming the path when it cannot be.
 void writeManifest(const PartManifest& manifest, const std::filesystem::path& path);
-// Throws InputError "FILE: /json/pointer: ..." when it is not a manifest written by submit.
+// Throws InputError "FILE: /json/pointer: ..." when it is not a manifest written by submit,
+// including when it names its output, a part or a group otherwise than submit names them beside it.
 PartManifest readManifest(const std::filesystem::path& path);
 
 }  // namespace penumbra
