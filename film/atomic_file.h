@@ -8,13 +8,15 @@
 
 namespace penumbra {
 
-// Creates the destination's folder, then calls `write` with the temporary path (same folder, same
-// extension, so that writers that pick the format from the extension still can), which writes the
-// whole file there and returns true, or returns false with `error` set. On any failure the
-// temporary file is removed and an InputError naming `path` is thrown:
+// Creates the destination's folder, then calls `write` with the temporary path, which writes the
+// whole file there and returns true, or returns false with `error` set. The temporary path is
+// "NAME.tmp-PID-XXXXXX/NAME" beside the destination: a new folder of this process's own (mkdtemp,
+// mode 0700), so that no link planted in a shared folder can redirect the write, and the same file
+// name, so that writers that pick the format from the extension still can. On any failure the
+// temporary folder is removed and an InputError naming `path` is thrown:
 // "cannot write the WHAT: reason". Temporaries of the same destination left by writers that were
-// killed (SIGKILL, a crash) are removed first: those whose process is gone and that have not been
-// modified for a minute.
+// killed (SIGKILL, a crash) are removed first: this user's, whose process is gone and that have
+// not been modified for a minute.
 void writeFileAtomically(const std::filesystem::path& path, const char* what,
                          const std::function<bool(const std::string& tmp, std::string& error)>& write);
 

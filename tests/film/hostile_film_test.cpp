@@ -166,15 +166,19 @@ long deadProcessId() {
     return long(child);
 }
 
-// A writer killed with SIGKILL leaves NAME.tmp-PID.exr; the next write to NAME.exr removes it once
-// its process is gone (and it has not been touched for a minute), and keeps the others.
+// A writer killed with SIGKILL leaves its folder NAME.exr.tmp-PID-XXXXXX; the next write to
+// NAME.exr removes it once its process is gone (and it has not been touched for a minute), and
+// keeps the others.
 TEST_F(HostileFilm, StaleTemporariesOfDeadWritersAreRemoved) {
     const fs::path destination = dir_ / "image.exr";
-    const fs::path stale = dir_ / ("image.tmp-" + std::to_string(deadProcessId()) + ".exr");
-    const fs::path recent = dir_ / ("image.tmp-" + std::to_string(deadProcessId()) + ".exr");
-    const fs::path alive = dir_ / ("image.tmp-" + std::to_string(long(getppid())) + ".exr");
-    const fs::path otherDestination = dir_ / ("other.tmp-" + std::to_string(deadProcessId()) + ".exr");
-    for (const fs::path& p : {stale, recent, alive, otherDestination}) std::ofstream(p) << "half-written";
+    const fs::path stale = dir_ / ("image.exr.tmp-" + std::to_string(deadProcessId()) + "-Ab12Cd");
+    const fs::path recent = dir_ / ("image.exr.tmp-" + std::to_string(deadProcessId()) + "-Ef34Gh");
+    const fs::path alive = dir_ / ("image.exr.tmp-" + std::to_string(long(getppid())) + "-Ij56Kl");
+    const fs::path otherDestination = dir_ / ("image.png.tmp-" + std::to_string(deadProcessId()) + "-Mn78Op");
+    for (const fs::path& p : {stale, recent, alive, otherDestination}) {
+        fs::create_directory(p);
+        std::ofstream(p / p.filename().string().substr(0, 9)) << "half-written";
+    }
     const auto old = fs::file_time_type::clock::now() - std::chrono::minutes(5);
     for (const fs::path& p : {stale, alive, otherDestination}) fs::last_write_time(p, old);
 
@@ -187,6 +191,35 @@ TEST_F(HostileFilm, StaleTemporariesOfDeadWritersAreRemoved) {
     EXPECT_TRUE(fs::exists(recent)) << "a temporary modified within the minute was removed";
     EXPECT_TRUE(fs::exists(alive)) << "the temporary of a live process was removed";
     EXPECT_TRUE(fs::exists(otherDestination)) << "another destination's temporary was removed";
+}
+
+// A link planted in a shared folder where a writer's temporary goes (once NAME.tmp-PID.EXT, a
+// name anyone could predict) must not redirect the write: the temporary is a file in a folder of
+// the writer's own, made with a name nobody knew in advance, and nothing else is touched.
+TEST_F(HostileFilm, ALinkPlantedWhereTheTemporaryGoesIsNotFollowed) {
+    const fs::path destination = dir_ / "image.exr";
+    const fs::path victim = dir_ / "victim.txt";
+    std::ofstream(victim) << "someone else's file";
+    const fs::path planted = dir_ / ("image.tmp-" + std::to_string(long(getpid())) + ".exr");
+    fs::create_symlink(victim, planted);
+    std::string writtenTo;
+    writeFileAtomically(destination, "test file", [&](const std::string& tmp, std::string&) {
+        writtenTo = tmp;
+        std::ofstream(tmp) << "complete";
+        return true;
+    });
+    std::ifstream in(victim);
+    EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), "someone else's file");
+    std::ifstream out(destination);
+    EXPECT_EQ(std::string(std::istreambuf_iterator<char>(out), {}), "complete");
+    EXPECT_FALSE(fs::is_symlink(destination));
+    // Written in a private folder, which is gone: only the destination, the victim and the link remain.
+    EXPECT_EQ(fs::path(writtenTo).filename(), "image.exr");
+    EXPECT_NE(fs::path(writtenTo).parent_path(), dir_);
+    EXPECT_FALSE(fs::exists(fs::path(writtenTo).parent_path()));
+    size_t entries = 0;
+    for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir_)) ++entries;
+    EXPECT_EQ(entries, 3u);
 }
 
 }  // namespace
