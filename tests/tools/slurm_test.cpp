@@ -250,5 +250,23 @@ TEST_F(SlurmCluster, HostileNamesRenderAndMergeWithoutRunningAnything) {
     EXPECT_EQ(entries, 4u) << "expected the output, its PNG, its manifest and its parts folder only";
 }
 
+// A first submit that sbatch refuses (here: a partition the cluster does not have) leaves no
+// manifest or script behind, so the same command runs once the option is corrected.
+TEST_F(SlurmCluster, AFirstSubmitThatSbatchRefusesLeavesNothingBehind) {
+    const std::vector<std::string> submit = {PENUMBRA_BINARY, "submit", kScene, "--parts", "2", "--spp", "2",
+                                             "--res", "16x12", "-o", path("out.exr"), "--cpus-per-task", "1"};
+    std::vector<std::string> wrongPartition = submit;
+    wrongPartition.insert(wrongPartition.end(), {"--partition", "no-such-partition"});
+    const ProgramResult refused = runProgram(wrongPartition);
+    EXPECT_EQ(refused.exitStatus, 1) << refused.output;
+    EXPECT_TRUE(contains(refused.output, "sbatch")) << refused.output;
+    EXPECT_FALSE(fs::exists(path("out.parts.json")));
+    EXPECT_FALSE(fs::exists(path("out.parts")));
+    const ProgramResult accepted = runProgram(submit);
+    ASSERT_EQ(accepted.exitStatus, 0) << accepted.output;
+    ASSERT_TRUE(waitForEmptyQueue(300)) << runShell("squeue --me").output;
+    EXPECT_TRUE(fs::exists(path("out.exr"))) << readText(path("out.parts/logs/merge.log"));
+}
+
 }  // namespace
 }  // namespace penumbra
