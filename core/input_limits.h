@@ -15,6 +15,23 @@ constexpr int64_t kMaxImageTexels = int64_t(1) << 27;
 // Bytes of a scene file (JSON): parsing takes about four times its size in memory.
 constexpr uint64_t kMaxSceneFileBytes = uint64_t(256) << 20;
 
+// pbrt-v4 scenes (formats/pbrt), where Include, object instances and nesting let a small file ask
+// for unbounded work or memory. Files read for one scene (the scene file, and each Include or
+// Import every time it is read): 13 files of 10 Includes each once meant 10^12 readings.
+constexpr int kMaxPbrtFileReads = 16384;
+// Bytes of pbrt text read for one scene, counted the same way (each file is also within
+// kMaxSceneFileBytes): four JSON scene files' worth.
+constexpr uint64_t kMaxPbrtTextBytes = uint64_t(1) << 30;
+// AttributeBegin, TransformBegin and ObjectBegin open at once: each keeps a copy of the graphics
+// state (10^6 of them took 500 MB); exporters nest one level per node of a scene graph.
+constexpr int kMaxPbrtNesting = 4096;
+// Shapes placed by ObjectInstance (one instance per mesh of the object, or a copy of a sphere, an
+// emitter or a moving shape; a copied mesh counts its triangles): one per 16 bytes of the scene's
+// text, as many as writing each out as `Shape "sphere"` would give, and at least 2^16 (about 110
+// MB). A 54 KB file once placed 10^6 spheres.
+constexpr int kPbrtTextBytesPerPlacedShape = 16;
+constexpr int64_t kMinPbrtPlacedShapes = int64_t(1) << 16;
+
 // Bytes of a mesh file as read: an OBJ or PLY file, or a .ply.gz once decompressed.
 constexpr uint64_t kMaxMeshFileBytes = uint64_t(4) << 30;
 

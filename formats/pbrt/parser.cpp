@@ -86,14 +86,15 @@ public:
     Parser(DirectiveTarget& target, std::vector<fs::path>& filesRead, fs::path baseFolder)
         : target_(target), filesRead_(filesRead), baseFolder_(std::move(baseFolder)) {}
 
-    void parseFile(const fs::path& file, int depth) {
-        // The text outlives this call's tokens: directives copy what they keep.
-        const std::string text = InputFile(file, "scene file", limits::kMaxSceneFileBytes).readAll();
-        filesRead_.push_back(file);
-        parseText(text, file, depth);
+    void parseFile(const fs::path& file) {
+        InputFile input(file, "scene file", limits::kMaxSceneFileBytes);
+        parseFile(input, file, 0);
     }
 
     void parseText(std::string_view text, const fs::path& file, int depth) {
+        ++fileReads_;
+        textBytes_ += text.size();
+        target_.textRead(textBytes_);
         Tokenizer tokens(text, file.string());
         while (true) {
             const Token t = tokens.next();
@@ -124,7 +125,31 @@ private:
         std::error_code error;
         if (!fs::exists(path, error))
             tokens.fail(at, fmt::format("{}: file \"{}\" not found (looked for {})", d.name, name.string(), path.string()));
-        parseFile(path, depth + 1);
+        // A file may include another many times, and each of those many more: without these
+        // bounds a few small files could ask for 10^12 readings.
+        if (fileReads_ >= limits::kMaxPbrtFileReads)
+            tokens.fail(
+                at,
+                fmt::format("{} \"{}\" would be file reading {} of this scene: a pbrt scene reads at most {} "
+                            "files, each Include or Import counted every time it is read (docs/limits.md)",
+                            d.name, name.string(), fileReads_ + 1, limits::kMaxPbrtFileReads));
+        InputFile input(path, "scene file", limits::kMaxSceneFileBytes);
+        if (textBytes_ + input.size() > limits::kMaxPbrtTextBytes)
+            tokens.fail(
+                at, fmt::format(
+                        "{} \"{}\" ({}) would bring the text read for this scene to {}: a pbrt scene reads "
+                        "at most {} of text, each Include or Import counted every time it is read "
+                        "(docs/limits.md)",
+                        d.name, name.string(), describeBytes(input.size()),
+                        describeBytes(textBytes_ + input.size()), describeBytes(limits::kMaxPbrtTextBytes)));
+        parseFile(input, path, depth + 1);
+    }
+
+    void parseFile(InputFile& input, const fs::path& file, int depth) {
+        // The text outlives this call's tokens: directives copy what they keep.
+        const std::string text = input.readAll();
+        filesRead_.push_back(file);
+        parseText(text, file, depth);
     }
 
     double number(Tokenizer& tokens, const Token& t) {
@@ -288,13 +313,15 @@ private:
     DirectiveTarget& target_;
     std::vector<fs::path>& filesRead_;
     fs::path baseFolder_;
+    int fileReads_ = 0;
+    uint64_t textBytes_ = 0;
 };
 
 }  // namespace
 
 void parseSceneFile(const fs::path& file, DirectiveTarget& target, std::vector<fs::path>& filesRead) {
     Parser parser(target, filesRead, file.parent_path());
-    parser.parseFile(file, 0);
+    parser.parseFile(file);
 }
 
 void parseSceneText(std::string_view text, const fs::path& file, DirectiveTarget& target, std::vector<fs::path>& filesRead) {

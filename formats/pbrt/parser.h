@@ -4,6 +4,7 @@
 // pbrt-v4's parser hands them to its ParserTarget.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -26,12 +27,17 @@ public:
     virtual ~DirectiveTarget() = default;
     // The directive is the target's to keep (a shape's parameters are moved, not copied).
     virtual void directive(Directive&& directive) = 0;
+    // The bytes of scene text read so far (every file, each time it is read), before the
+    // directives of the text just read: what the target may make of the scene is bounded by it.
+    virtual void textRead(uint64_t totalBytes) { (void)totalBytes; }
 };
 
 // Parses a scene file, with the files it includes, into `target`. Relative Include, Import and
 // mesh file names are resolved against the folder of the first file, as pbrt-v4 does. Every file
 // read is appended to `filesRead` (the scene file first). Throws InputError at FILE:LINE:COLUMN for
-// syntax errors, unknown directives, malformed parameter lists and missing Include files.
+// syntax errors, unknown directives, malformed parameter lists and missing Include files, and at
+// the Include or Import that would pass the limits on the files and text one scene may read
+// (core/input_limits.h).
 void parseSceneFile(const std::filesystem::path& file, DirectiveTarget& target, std::vector<std::filesystem::path>& filesRead);
 
 // The same for scene text in memory; `file` names it in messages and gives the base folder.

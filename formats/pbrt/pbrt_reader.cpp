@@ -25,7 +25,8 @@ const Origin* originOf(const std::vector<Origin>& origins, std::string_view poin
     for (const Origin& o : origins) {
         const bool prefix = pointer.substr(0, o.pointer.size()) == o.pointer &&
                             (pointer.size() == o.pointer.size() || pointer[o.pointer.size()] == '/');
-        if (prefix && (!best || o.pointer.size() > best->pointer.size())) best = &o;
+        // Of equal ones the last: a directive given twice (Film, Sampler) counts as it is last given.
+        if (prefix && (!best || o.pointer.size() >= best->pointer.size())) best = &o;
     }
     return best;
 }

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/input_file.h"
+#include "core/input_limits.h"
 #include "textures/image_file.h"
 
 namespace penumbra::pbrt {
@@ -135,7 +137,7 @@ void SceneBuilder::directive(Directive&& d) {
         n == "ActiveTransform" || n == "TransformTimes") {
         transformDirective(d);
     } else if (n == "AttributeBegin" || n == "TransformBegin") {
-        stack_.push_back({state_, n == "AttributeBegin", d.where});
+        push(d, n == "AttributeBegin");
     } else if (n == "AttributeEnd" || n == "TransformEnd") {
         const bool attributes = n == "AttributeEnd";
         if (stack_.empty()) failAt(d.where, fmt::format("{} without a matching {}", n, attributes ? "AttributeBegin" : "TransformBegin"));
@@ -190,6 +192,24 @@ void SceneBuilder::directive(Directive&& d) {
     } else {
         failAt(d.where, fmt::format("directive '{}' is not handled", n));
     }
+}
+
+void SceneBuilder::push(const Directive& d, bool attributes) {
+    if (stack_.size() >= size_t(limits::kMaxPbrtNesting))
+        failAt(d.where,
+               fmt::format(
+                   "{} would open level {} of nesting: a pbrt scene nests AttributeBegin, TransformBegin and "
+                   "ObjectBegin at most {} levels deep (docs/limits.md)",
+                   d.name, stack_.size() + 1, limits::kMaxPbrtNesting));
+    stack_.push_back({state_, attributes, d.where});
+}
+
+std::string SceneBuilder::unusedName(const char* section, const std::string& wanted) const {
+    const auto members = scene_.find(section);
+    if (members == scene_.end()) return wanted;
+    std::string name = wanted;
+    for (int i = 2; members->contains(name); ++i) name = fmt::format("{}#{}", wanted, i);
+    return name;
 }
 
 void SceneBuilder::transformDirective(const Directive& d) {
@@ -281,27 +301,46 @@ void SceneBuilder::optionDirective(const Directive& d) {
             failAt(d.where, fmt::format("Film: resolution {}x{} is outside 1 to 65536 pixels a side", w, h));
         filmWidth_ = int(w), filmHeight_ = int(h);
         film["resolution"] = {w, h};
+        origins_.push_back({"/film/resolution", d.where});
         if (auto f = p.getString("filename"))
             log_.warn(p.find("filename", {ParamType::String})->where,
                       fmt::format("Film filename \"{}\" is not used: penumbra writes the EXR that -o names", *f));
         if (const Parameter* crop = p.find("cropwindow", {ParamType::Float})) {
             requireNumberCount(crop, 4);
             const auto& c = crop->numbers;
-            log_.warn(crop->where, fmt::format("Film cropwindow is not applied: render the same pixels with --crop {},{},{},{}",
-                                               int(std::ceil(w * c[0])), int(std::ceil(w * c[1])), int(std::ceil(h * c[2])),
-                                               int(std::ceil(h * c[3]))));
+            for (double v : c)
+                if (!(v >= 0.0 && v <= 1.0))
+                    failAt(crop->where,
+                           fmt::format(
+                               "Film cropwindow: expected fractions of the image from 0 to 1, found {}", v));
+            // pbrt-v4 takes each pair in either order.
+            const double x0 = std::min(c[0], c[1]), x1 = std::max(c[0], c[1]);
+            const double y0 = std::min(c[2], c[3]), y1 = std::max(c[2], c[3]);
+            log_.warn(
+                crop->where,
+                fmt::format("Film cropwindow is not applied: render the same pixels with --crop {},{},{},{}",
+                            int64_t(std::ceil(double(w) * x0)), int64_t(std::ceil(double(w) * x1)),
+                            int64_t(std::ceil(double(h) * y0)), int64_t(std::ceil(double(h) * y1))));
         }
     } else if (n == "Sampler") {
         const std::string& type = d.strings[0];
         int64_t spp = p.getInt("pixelsamples").value_or(16);
         if (type == "stratified") {
             const int64_t xs = p.getInt("xsamples").value_or(4), ys = p.getInt("ysamples").value_or(4);
+            // Two negative counts would multiply to a positive one.
+            if (xs < 1 || ys < 1)
+                failAt(d.where, fmt::format("Sampler \"stratified\": expected xsamples and ysamples of at "
+                                            "least 1, found {} and {}",
+                                            xs, ys));
             spp = xs * ys;
             p.getBool("jitter");
         }
         if (spp < 1) failAt(d.where, fmt::format("Sampler: expected at least 1 sample per pixel, found {}", spp));
         film["spp"] = spp;
-        if (auto seed = p.getInt("seed")) scene_["render"]["seed"] = std::max<int64_t>(*seed, 0);
+        origins_.push_back({"/film/spp", d.where});
+        // pbrt-v4's seed is any int: a negative one stays distinct from every other seed.
+        if (auto seed = p.getInt("seed")) scene_["render"]["seed"] = uint64_t(*seed);
+        origins_.push_back({"/render", d.where});
         if (type == "independent") {
             scene_["render"]["sampler"] = "independent";
         } else if (type != "stratified") {
@@ -333,11 +372,13 @@ void SceneBuilder::optionDirective(const Directive& d) {
         }
         if (!(radius > 0.0)) failAt(d.where, "PixelFilter: the radius must be > 0");
         film["filter"] = Json{{"type", kind}, {"radius", radius}};
+        origins_.push_back({"/film/filter", d.where});
     } else if (n == "Integrator") {
         const std::string& type = d.strings[0];
         const int64_t depth = p.getInt("maxdepth").value_or(5);
         if (depth < 0) failAt(d.where, fmt::format("Integrator: maxdepth must be >= 0, found {}", depth));
         scene_["integrator"]["max_depth"] = depth;
+        origins_.push_back({"/integrator", d.where});
         if (const Parameter* r = p.find("regularize", {ParamType::Bool}))
             log_.warn(r->where, "Integrator \"regularize\" is not supported and was ignored");
         if (type != "path" && type != "volpath")
@@ -437,6 +478,7 @@ void SceneBuilder::finishCamera(Json& scene) {
     }
     camera["shutter"] = Json::array({open, close});
     scene["camera"] = camera;
+    if (camera_.given) origins_.push_back({"/camera", where});
     p.reportUnused(log_, fmt::format("Camera \"{}\"", camera_.type));
     if (!filterGiven_)
         log_.warn({mainFile_.string(), 0, 0, {}},
@@ -448,7 +490,7 @@ void SceneBuilder::finishCamera(Json& scene) {
 std::string SceneBuilder::materialOf(const ShapeRecord& shape) {
     if (!shape.state.material.empty()) return shape.state.material;
     if (defaultMaterial_.empty()) {
-        defaultMaterial_ = "pbrt default (diffuse 0.5)";
+        defaultMaterial_ = unusedName("materials", "pbrt default (diffuse 0.5)");
         scene_["materials"][defaultMaterial_] = Json{{"type", "lambert"}, {"albedo", 0.5}};
     }
     return defaultMaterial_;
@@ -479,7 +521,7 @@ void SceneBuilder::materialDirective(const Directive& d) {
         if (!t) failAt(d.where, fmt::format("MakeNamedMaterial \"{}\" needs a \"string type\" parameter", name));
         type = *t;
     }
-    std::string jsonName = name;
+    std::string jsonName = unusedName("materials", name);
     if (type == "mix") {
         // No mixed materials yet: the one of the two with the larger weight.
         const Parameter* materials = p.find("materials", {ParamType::String});
@@ -664,7 +706,7 @@ void SceneBuilder::objectDirective(const Directive& d) {
             failAt(d.where, fmt::format("ObjectBegin inside the definition of \"{}\" (started at {})", currentObject_->first,
                                         currentObject_->second.describe()));
         if (objects_.count(d.strings[0])) failAt(d.where, fmt::format("ObjectBegin: object \"{}\" is defined twice", d.strings[0]));
-        stack_.push_back({state_, true, d.where});  // ObjectBegin opens attributes, as in pbrt-v4
+        push(d, true);  // ObjectBegin opens attributes, as in pbrt-v4
         currentObject_ = {d.strings[0], d.where};
         objects_[d.strings[0]];
     } else if (d.name == "ObjectEnd") {
@@ -690,8 +732,37 @@ std::string SceneBuilder::copyReason(const ShapeRecord& shape) const {
     return {};
 }
 
+int64_t SceneBuilder::placementCost(const std::string& object) const {
+    int64_t cost = 0;
+    for (const ShapeRecord& shape : objects_.at(object)) {
+        int64_t triangles = 1;
+        const bool mesh = shape.type == "trianglemesh" || shape.type == "bilinearmesh";
+        if (mesh && !copyReason(shape).empty())
+            for (const Parameter& q : shape.params.parameters())
+                if (q.name == "indices")
+                    triangles = std::max<int64_t>(
+                        1, int64_t(q.numbers.size()) / (shape.type == "trianglemesh" ? 3 : 2));
+        cost += triangles;
+    }
+    return cost;
+}
+
 void SceneBuilder::instantiate(const std::string& object, const std::array<Matrix4d, 2>& worldFromInstance,
                                const SourceLocation& where) {
+    // Checked before anything is placed: a few lines could otherwise place millions of shapes.
+    const int64_t cost = placementCost(object);
+    const int64_t allowed = std::max<int64_t>(
+        limits::kMinPbrtPlacedShapes, int64_t(textBytes_ / uint64_t(limits::kPbrtTextBytesPerPlacedShape)));
+    if (placedShapes_ + cost > allowed)
+        failAt(where,
+               fmt::format(
+                   "ObjectInstance \"{}\" would bring the shapes placed by object instances to {} (it places "
+                   "{}): "
+                   "a pbrt scene of {} of text places at most {}, one per {} bytes of text and at least {} "
+                   "(docs/limits.md)",
+                   object, placedShapes_ + cost, cost, describeBytes(textBytes_), allowed,
+                   limits::kPbrtTextBytesPerPlacedShape, limits::kMinPbrtPlacedShapes));
+    placedShapes_ += cost;
     const std::vector<ShapeRecord>& shapes = objects_.at(object);
     auto [names, first] = prototypes_.try_emplace(object);
     for (size_t i = 0; i < shapes.size(); ++i) {
@@ -701,7 +772,8 @@ void SceneBuilder::instantiate(const std::string& object, const std::array<Matri
             std::string name;
             if (copyReason(shape).empty()) {
                 if (std::optional<Json> geometry = shapeGeometry(shape, shape.state.ctm[0].determinant3() < 0.0)) {
-                    name = shapes.size() == 1 ? object : fmt::format("{}/{}", object, i);
+                    name = unusedName("prototypes",
+                                      shapes.size() == 1 ? object : fmt::format("{}/{}", object, i));
                     if (!(shape.state.ctm[0] == Matrix4d::identity()))
                         (*geometry)["transform"] = Json::array({Json{{"matrix", matrixJson(shape.state.ctm[0])}}});
                     origins_.push_back({"/prototypes/" + escapeJsonPointerToken(name), shape.where});

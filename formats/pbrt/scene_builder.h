@@ -12,17 +12,18 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "scenes/json_reader.h"
 #include "formats/pbrt/double_math.h"
 #include "formats/pbrt/materials.h"
 #include "formats/pbrt/parser.h"
 #include "formats/pbrt/warning_log.h"
+#include "scenes/json_reader.h"
 
 namespace penumbra::pbrt {
 
@@ -39,6 +40,7 @@ public:
     SceneBuilder(std::filesystem::path mainFile, WarningLog& log);
 
     void directive(Directive&& d) override;
+    void textRead(uint64_t totalBytes) override { textBytes_ = totalBytes; }
 
     // The scene in penumbra's format, once every directive has been given (called once: the
     // document is moved out). Throws InputError for what is still open (AttributeBegin, ObjectBegin).
@@ -103,6 +105,16 @@ private:
                      const SourceLocation& where);
     // Why `shape` of an object cannot be a prototype, or empty when it can.
     std::string copyReason(const ShapeRecord& shape) const;
+    // What placing `object` once adds to the shapes placed by instances (core/input_limits.h):
+    // one per instance or copied shape, a copied mesh one per triangle.
+    int64_t placementCost(const std::string& object) const;
+    // `wanted`, or, when the document already has a member of that name under `section`
+    // ("materials", "prototypes"), the first of "wanted#2", "wanted#3", ... that it has not:
+    // generated names ("a/0" for object a's first shape, "Material at ...") must not replace
+    // what a scene named so.
+    std::string unusedName(const char* section, const std::string& wanted) const;
+    // Opens an AttributeBegin, TransformBegin or ObjectBegin, within the nesting limit.
+    void push(const Directive& d, bool attributes);
     // The material a shape was given (pbrt-v4: the one current where the Shape directive is, also
     // inside an object definition), or pbrt's default diffuse material.
     std::string materialOf(const ShapeRecord& shape);
@@ -146,6 +158,10 @@ private:
     // shape placed as copies or left out).
     std::map<std::string, std::vector<std::string>> prototypes_;
     std::optional<std::pair<std::string, SourceLocation>> currentObject_;
+
+    // Bounds on what the scene's text may ask for (core/input_limits.h).
+    uint64_t textBytes_ = 0;
+    int64_t placedShapes_ = 0;
 };
 
 }  // namespace penumbra::pbrt

@@ -35,14 +35,18 @@ Token Tokenizer::scan() {
     const size_t size = text_.size();
     while (pos_ < size) {
         const char c = text_[pos_];
-        if (c == '\n') {
+        if (c == '\n' || (c == '\r' && (pos_ + 1 == size || text_[pos_ + 1] != '\n'))) {
+            // A lone CR ends a line too (old Mac files), as it ends a comment in pbrt-v4: counted
+            // as one, so that messages name the line an editor shows.
             ++pos_;
             ++line_;
             lineStart_ = pos_;
         } else if (isSpace(c)) {
             ++pos_;
         } else if (c == '#') {
-            while (pos_ < size && text_[pos_] != '\n') ++pos_;
+            // pbrt-v4 ends a comment at CR as at LF: a CR-only file's comment must not swallow
+            // the rest of the file.
+            while (pos_ < size && text_[pos_] != '\n' && text_[pos_] != '\r') ++pos_;
         } else {
             break;
         }
@@ -60,7 +64,7 @@ Token Tokenizer::scan() {
     if (c == '"') {
         const size_t start = ++pos_;
         while (true) {
-            if (pos_ >= size || text_[pos_] == '\n')
+            if (pos_ >= size || text_[pos_] == '\n' || text_[pos_] == '\r')
                 fail(token, "unterminated string: a string must end with \" on the line where it starts");
             if (text_[pos_] == '\\') {
                 token.hasEscapes = true;
