@@ -67,6 +67,8 @@ public:
     ScratchFile(const ScratchFile&) = delete;
     ScratchFile& operator=(const ScratchFile&) = delete;
 
+    const std::filesystem::path& folder() const { return folder_; }
+
     // Replaces the file's contents with `bytes`; returns its path.
     const std::filesystem::path& write(const uint8_t* bytes, size_t size) {
         FILE* f = std::fopen(path_.c_str(), "wb");
