@@ -206,8 +206,10 @@ std::string checksummedMetadata(const Imf::Header& beauty) {
                                    intAttribute(beauty, "penumbra:spp"), stringAttribute(beauty, "penumbra:seed"),
                                    stringAttribute(beauty, "penumbra:sampler"), stringAttribute(beauty, "penumbra:accel"),
                                    stringAttribute(beauty, "penumbra:sceneHash"));
-    if (intAttribute(beauty, "penumbra:film") >= kFirstAdaptiveLayout)
-        text += "|" + stringAttribute(beauty, kAdaptiveAttribute);
+    if (intAttribute(beauty, "penumbra:film") >= kFirstAdaptiveLayout) {
+        text += '|';  // appended in two steps: GCC 12 warns (-Wrestrict) of "|" + a temporary string
+        text += stringAttribute(beauty, kAdaptiveAttribute);
+    }
     return text;
 }
 

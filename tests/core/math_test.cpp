@@ -408,8 +408,12 @@ TEST(RayOffset, ClearsTheErrorBoxAlongTheNormal) {
         for (int a = 0; a < 3; ++a) {
             along += (double(q[a]) - double(p[a])) * double(n[a]);
             bound += std::abs(double(n[a])) * double(e[a]);
-            if (n[a] > 0.0f) ASSERT_GT(q[a], p[a]);
-            if (n[a] < 0.0f) ASSERT_LT(q[a], p[a]);
+            if (n[a] > 0.0f) {
+                ASSERT_GT(q[a], p[a]);
+            }
+            if (n[a] < 0.0f) {
+                ASSERT_LT(q[a], p[a]);
+            }
         }
         ASSERT_GE(along, bound) << "p.x " << p.x << " e.x " << e.x << " n.x " << n.x;
         ++checked;

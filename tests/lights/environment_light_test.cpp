@@ -65,7 +65,9 @@ void expectSamplingMatchesLuminanceTimesSolidAngle(const Transform& rotation,
         // The density sample() reports is the one pdf() gives for its direction.
         if (std::abs(light.pdf(s->direction) - s->pdf) > 1e-3f * s->pdf) ++pdfMismatches;
         // And the radiance is that of the direction's texel.
-        if (i < 1000) EXPECT_EQ(s->radiance, light.radiance(s->direction));
+        if (i < 1000) {
+            EXPECT_EQ(s->radiance, light.radiance(s->direction));
+        }
     }
     // A few samples land within float rounding of a texel edge, where the two may differ.
     EXPECT_LE(pdfMismatches, n / 10000);

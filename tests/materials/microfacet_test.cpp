@@ -337,7 +337,9 @@ TEST(RoughEnergy, ConductorWithUnitFresnelLosesOnlyWhatSingleScatteringLoses) {
             const std::string what = std::string(isBeckmann ? "Beckmann" : "GGX") + ", alpha " + std::to_string(alpha) +
                                      ", theta " + std::to_string(thetaO);
             EXPECT_LT(albedo, 1.0 + 1e-6) << what;
-            if (alpha >= 0.7 && thetaO == 0.0) EXPECT_LT(albedo, 0.8) << what;  // the loss is real
+            if (alpha >= 0.7 && thetaO == 0.0) {
+                EXPECT_LT(albedo, 0.8) << what;  // the loss is real
+            }
             expectAlbedo(m, directionFromAngles(thetaO, 0.0), true, albedo * (1.0 - 4e-6), what);
         }
 }

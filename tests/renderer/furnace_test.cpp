@@ -86,7 +86,7 @@ TEST(Furnace, MaxDepthTruncatesTheSeries) {
         scene.materials = {testing::makeLambert(Rgb(0.5f))};
         Sphere sphere;
         sphere.radius = 1.0f;
-        sphere.emission = {Rgb(1.0f), true};
+        sphere.emission = {Rgb(1.0f), true, nullptr};
         scene.spheres.push_back(sphere);
         Film film(16, 16);
         render(scene, RenderOptions{}, film);

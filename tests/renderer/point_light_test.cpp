@@ -85,7 +85,9 @@ TEST(SpotLight, LambertPlaneMatchesClosedFormInsideTheBandAndOutside) {
         const double t = std::clamp((cosine - cosEnd) / (cosStart - cosEnd), 0.0, 1.0);
         const double expected = albedo / kPi * intensity * (t * t * (3.0 - 2.0 * t)) * cosine / distanceSquared;
         const double found = renderedMeanAt({float(offset), 0.0f, 0.0f}, scene);
-        if (offset == bandMiddle) EXPECT_NEAR(t, 0.5, 1e-9);
+        if (offset == bandMiddle) {
+            EXPECT_NEAR(t, 0.5, 1e-9);
+        }
         if (expected == 0.0)
             EXPECT_EQ(found, 0.0) << "offset " << offset;
         else
