@@ -370,7 +370,7 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"full", "beauty"}));
     renderApp->add_option("--view", cmd.view,
                           "OpenColorIO view of the display PNG: 'Standard' (default, sRGB), 'Filmic' (high dynamic "
-                          "range) or 'False Color' (exposure zones); see film/README.md");
+                          "range), 'False Color' (exposure zones) or 'Raw' (no view transform); see film/README.md");
     renderApp->add_option("--exposure", cmd.exposure, "Exposure of the display PNG in stops (default 0)")
         ->check(CLI::Range(-64.0f, 64.0f));
     renderApp->add_flag("-q,--quiet", cmd.quiet, "No progress line and no summary");

@@ -123,9 +123,8 @@ int runSubmitCommand(const SubmitCommand& cmd) {
     const fs::path output = fs::absolute(cmd.output).lexically_normal();
     if (output.extension() != ".exr")
         throw InputError(fmt::format("-o: expected a path ending in .exr, got '{}'", cmd.output));
-    if (!fs::is_directory(output.parent_path()))
-        throw InputError(fmt::format("-o: the folder {} does not exist", output.parent_path().string()));
-    if (::access(output.parent_path().c_str(), W_OK) != 0)
+    // A missing folder is made when the parts folder is (as render -o makes its folder).
+    if (fs::is_directory(output.parent_path()) && ::access(output.parent_path().c_str(), W_OK) != 0)
         throw InputError(fmt::format("-o: cannot write in the folder {}", output.parent_path().string()));
     const fs::path manifestPath = manifestPathFor(output);
     const fs::path folder = partsFolderFor(output);
