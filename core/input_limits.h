@@ -22,6 +22,10 @@ constexpr int kMaxPbrtFileReads = 16384;
 // Bytes of pbrt text read for one scene, counted the same way (each file is also within
 // kMaxSceneFileBytes): four JSON scene files' worth.
 constexpr uint64_t kMaxPbrtTextBytes = uint64_t(1) << 30;
+// Of that, the text of files read again (their second and later readings): as much as the distinct
+// files hold, or 16 MiB if that is more. A reading adds nothing to the input, but the scene made of
+// it takes about nine times the text: a 64 KB mesh read 16384 times would take 10 GB.
+constexpr uint64_t kMinPbrtRereadBytes = uint64_t(16) << 20;
 // AttributeBegin, TransformBegin and ObjectBegin open at once: each keeps a copy of the graphics
 // state (10^6 of them took 500 MB); exporters nest one level per node of a scene graph.
 constexpr int kMaxPbrtNesting = 4096;

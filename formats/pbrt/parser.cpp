@@ -1,12 +1,16 @@
 #include "formats/pbrt/parser.h"
 
 #include <fmt/format.h>
+#include <sys/stat.h>
 
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <set>
 #include <string_view>
+#include <utility>
 
 #include "core/input_file.h"
 #include "core/input_limits.h"
@@ -88,7 +92,14 @@ public:
 
     void parseFile(const fs::path& file) {
         InputFile input(file, "scene file", limits::kMaxSceneFileBytes);
+        firstReading(input);
         parseFile(input, file, 0);
+    }
+
+    // Scene text given in memory: as a file read for the first time.
+    void parseTextOnce(std::string_view text, const fs::path& file) {
+        distinctBytes_ += text.size();
+        parseText(text, file, 0);
     }
 
     void parseText(std::string_view text, const fs::path& file, int depth) {
@@ -142,7 +153,32 @@ private:
                         "(docs/limits.md)",
                         d.name, name.string(), describeBytes(input.size()),
                         describeBytes(textBytes_ + input.size()), describeBytes(limits::kMaxPbrtTextBytes)));
+        // Reading a file again adds nothing to the input, but the scene made of it grows (to about
+        // nine times the text): as much text again as the distinct files hold, or a little.
+        if (!firstReading(input)) {
+            const uint64_t allowed = std::max(limits::kMinPbrtRereadBytes, distinctBytes_);
+            if (rereadBytes_ + input.size() > allowed)
+                tokens.fail(
+                    at, fmt::format(
+                            "{} \"{}\" ({}, read before) would bring the text read again to {}: a pbrt scene "
+                            "reads its files again for at most {}, as much as its distinct files hold ({}) "
+                            "or {} if that is more (docs/limits.md)",
+                            d.name, name.string(), describeBytes(input.size()),
+                            describeBytes(rereadBytes_ + input.size()), describeBytes(allowed),
+                            describeBytes(distinctBytes_), describeBytes(limits::kMinPbrtRereadBytes)));
+            rereadBytes_ += input.size();
+        }
         parseFile(input, path, depth + 1);
+    }
+
+    // Whether this is the first reading of the file (by device and inode: "b.pbrt" and
+    // "./b.pbrt" are one file); the first counts towards the distinct files' text.
+    bool firstReading(const InputFile& input) {
+        struct stat status {};
+        if (::fstat(input.fd(), &status) != 0 || !filesSeen_.insert({status.st_dev, status.st_ino}).second)
+            return false;
+        distinctBytes_ += input.size();
+        return true;
     }
 
     void parseFile(InputFile& input, const fs::path& file, int depth) {
@@ -314,7 +350,9 @@ private:
     std::vector<fs::path>& filesRead_;
     fs::path baseFolder_;
     int fileReads_ = 0;
-    uint64_t textBytes_ = 0;
+    uint64_t textBytes_ = 0;  // every reading
+    std::set<std::pair<dev_t, ino_t>> filesSeen_;
+    uint64_t distinctBytes_ = 0, rereadBytes_ = 0;  // the first readings, and the later ones
 };
 
 }  // namespace
@@ -326,7 +364,7 @@ void parseSceneFile(const fs::path& file, DirectiveTarget& target, std::vector<f
 
 void parseSceneText(std::string_view text, const fs::path& file, DirectiveTarget& target, std::vector<fs::path>& filesRead) {
     Parser parser(target, filesRead, file.parent_path());
-    parser.parseText(text, file, 0);
+    parser.parseTextOnce(text, file);
 }
 
 }  // namespace penumbra::pbrt
