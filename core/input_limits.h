@@ -11,6 +11,20 @@ namespace penumbra::limits {
 constexpr int kMaxImageSide = 1 << 16;
 // Texels of an image read whole into memory (an environment map): 2^27, 1.5 GiB of RGB floats.
 constexpr int64_t kMaxImageTexels = int64_t(1) << 27;
+// Texels of an image texture, at every MIP level a file holds (8192 x 8192): OpenImageIO reads an
+// untiled image, or one it must linearise, whole, so beyond this one file could take more than the
+// tile cache's 2 GiB (at the limit an untiled RGBA float EXR took 1.8 GB of peak memory, an RGBA
+// PNG 1.2 GB). Checked from the header, before any pixel is allocated.
+constexpr int64_t kMaxTextureTexels = int64_t(1) << 26;
+// Channels of any image read, and its values (texels x channels): every channel is decoded and
+// cached, though at most three are used, so the values are limited to those of the largest RGBA
+// image (4 x kMaxTextureTexels for a texture, 4 x kMaxImageTexels for an environment map).
+constexpr int kMaxImageChannels = 1024;
+constexpr int64_t kMaxValuesPerTexel = 4;
+// Chunks (scanline blocks or tiles, all parts and levels) of an OpenEXR image: OpenEXR allocates
+// a table of their offsets when it opens a file, 8 bytes each (32 MiB at this limit; an 8192 x
+// 8192 texture in 64 x 64 tiles with its MIP levels has 21,846).
+constexpr int64_t kMaxExrChunks = int64_t(1) << 22;
 
 // Bytes of a scene file (JSON): parsing takes about four times its size in memory.
 constexpr uint64_t kMaxSceneFileBytes = uint64_t(256) << 20;

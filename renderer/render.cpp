@@ -18,6 +18,7 @@
 #include "renderer/camera_samples.h"
 #include "film/pixel_accumulator.h"
 #include "renderer/prepared_scene.h"
+#include "textures/image_texture.h"
 #include "accel/bvh_accelerator.h"
 #include "accel/embree_accelerator.h"
 
@@ -175,6 +176,9 @@ RenderStats renderWith(const Accel& accel, const Scene& scene, const RenderOptio
         }
         passEnd = passEndAfter(passBegin);
         arena.execute([&] { tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), renderRange); });
+        // A texture that could not be read stops the render before this pass reaches the film's
+        // checkpoints or output.
+        throwIfTextureLookupsFailed();
         stats.endSample = passEnd;
         if (active && adaptive->isDecisionPoint(passEnd) && passEnd < endSample)
             active->stopConverged(film, *adaptive);

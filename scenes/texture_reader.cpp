@@ -7,7 +7,7 @@
 
 #include "core/error.h"
 #include "scenes/type_table.h"
-#include "textures/texture_plugin_loader.h"
+#include "textures/image_texture.h"
 
 namespace penumbra {
 
@@ -72,16 +72,13 @@ Texture readImage(const JsonValue& value, const TextureContext& context) {
     Rgb scale(1.0f);
     if (auto v = value.member("scale")) scale = v->rgb(0.0f);
 
-    try {
-        source.plugin = &texturePlugin();
-    } catch (const InputError& e) {
-        fileValue.fail(e.message());
-    }
-    char error[1024] = "";
-    PenumbraTextureInfo info{};
-    if (!source.plugin->openTexture(path.c_str(), colorSpace, &source.handle, &info, error, sizeof error))
-        fileValue.fail(fmt::format("cannot read the image {}: {}", path.string(), error));
-    source.channels = info.channels;
+    SourceLocation where;
+    where.file = fileValue.file();
+    where.jsonPointer = fileValue.pointer();
+    const ImageTextureSource opened = openImageTexture(path, colorSpace, where);
+    source.plugin = opened.plugin;
+    source.handle = opened.handle;
+    source.channels = opened.channels;
     Texture texture = Texture::image(source, scale);
     readUvMapping(value, texture);
     return texture;

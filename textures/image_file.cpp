@@ -4,13 +4,14 @@
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfInputFile.h>
-
 #include <fmt/format.h>
 
+#include <cmath>
 #include <cstdint>
 #include <limits>
 
 #include "core/input_limits.h"
+#include "textures/exr_header_check.h"
 #include "textures/texture_plugin_loader.h"
 
 namespace penumbra {
@@ -23,17 +24,23 @@ bool isExr(const std::filesystem::path& path) {
     return extension == ".exr";
 }
 
-void checkSize(int64_t width, int64_t height, const std::filesystem::path& path, const SourceLocation& where) {
+void checkSize(int64_t width, int64_t height, const std::filesystem::path& path,
+               const SourceLocation& where) {
     if (width <= 0 || height <= 0 || width * height > limits::kMaxImageTexels)
-        throw InputError(where, fmt::format("{}: an image of {} x {} texels (at most {} in all)", path.string(), width,
-                                            height, limits::kMaxImageTexels));
+        throw InputError(where, fmt::format("{}: an image of {} x {} texels (at most {} in all)",
+                                            path.string(), width, height, limits::kMaxImageTexels));
 }
 
 LinearRgbImage readExr(const std::filesystem::path& path, const SourceLocation& where) {
+    // The headers first, by OpenEXR's C core, before the C++ reader allocates what they declare.
+    const std::string problem = exrHeaderProblem(path.c_str(), limits::kMaxImageTexels);
+    if (!problem.empty())
+        throw InputError(where, fmt::format("{}: cannot read the OpenEXR image: {}", path.string(), problem));
     try {
         Imf::InputFile file(path.c_str());
         const Imath::Box2i window = file.header().dataWindow();
-        const int64_t width = int64_t(window.max.x) - window.min.x + 1, height = int64_t(window.max.y) - window.min.y + 1;
+        const int64_t width = int64_t(window.max.x) - window.min.x + 1,
+                      height = int64_t(window.max.y) - window.min.y + 1;
         checkSize(width, height, path, where);
         const Imf::ChannelList& channels = file.header().channels();
         // R, G, B; a luminance-only image (Y) is grey.
@@ -47,34 +54,62 @@ LinearRgbImage readExr(const std::filesystem::path& path, const SourceLocation& 
                      (int64_t(window.min.x) + int64_t(window.min.y) * width) * int64_t(sizeof(Rgb));
         const char* names[3] = {"R", "G", "B"};
         for (int c = 0; c < 3; ++c)
-            buffer.insert(grey ? "Y" : names[c],
-                          Imf::Slice(Imf::FLOAT, base + c * sizeof(float), sizeof(Rgb), sizeof(Rgb) * size_t(width), 1, 1, 0.0));
+            buffer.insert(grey ? "Y" : names[c], Imf::Slice(Imf::FLOAT, base + c * sizeof(float), sizeof(Rgb),
+                                                            sizeof(Rgb) * size_t(width), 1, 1, 0.0));
         file.setFrameBuffer(buffer);
         file.readPixels(window.min.y, window.max.y);
         return image;
     } catch (const InputError&) {
         throw;
     } catch (const std::exception& e) {  // OpenEXR throws Iex exceptions
-        throw InputError(where, fmt::format("{}: cannot read the OpenEXR image: {}", path.string(), e.what()));
+        throw InputError(where,
+                         fmt::format("{}: cannot read the OpenEXR image: {}", path.string(), e.what()));
     }
 }
 
-}  // namespace
+// An environment map's texels are radiance: finite and not negative. Anything else (a NaN, an
+// infinity, a negative value from a corrupt or mistaken file) is refused rather than taken as
+// black, naming the first such texel (x from the left, y from the top).
+void checkRadiance(const LinearRgbImage& image, const std::filesystem::path& path,
+                   const SourceLocation& where) {
+    for (size_t i = 0; i < image.texels.size(); ++i) {
+        const Rgb& texel = image.texels[i];
+        for (int c = 0; c < 3; ++c) {
+            if (std::isfinite(texel[c]) && texel[c] >= 0.0f) continue;
+            size_t bad = 0;
+            for (const Rgb& t : image.texels)
+                for (int k = 0; k < 3; ++k) bad += !(std::isfinite(t[k]) && t[k] >= 0.0f);
+            throw InputError(
+                where, fmt::format("{}: texel ({}, {}) has {} = {}: radiance must be finite and not "
+                                   "negative ({} such values in the image)",
+                                   path.string(), i % size_t(image.width), i / size_t(image.width), "RGB"[c],
+                                   texel[c], bad));
+        }
+    }
+}
 
-LinearRgbImage readLinearRgbImage(const std::filesystem::path& path, const SourceLocation& where) {
-    if (isExr(path)) return readExr(path, where);
+LinearRgbImage readPluginImage(const std::filesystem::path& path, const SourceLocation& where) {
     const PenumbraTexturePlugin& plugin = texturePlugin();
     char error[1024] = "";
     int width = 0, height = 0;
-    if (!plugin.readImageSize(path.c_str(), &width, &height, error, sizeof error))
-        throw InputError(where, fmt::format("{}: {}", path.string(), error));
+    if (!plugin.probeImage(path.c_str(), limits::kMaxImageTexels, &width, &height, error, sizeof error))
+        throw InputError(where, fmt::format("{}: cannot read the image: {}", path.string(), error));
     checkSize(width, height, path, where);
     LinearRgbImage image;
     image.width = width;
     image.height = height;
     image.texels.resize(size_t(width) * size_t(height));
-    if (!plugin.readLinearRgb(path.c_str(), reinterpret_cast<float*>(image.texels.data()), error, sizeof error))
-        throw InputError(where, fmt::format("{}: {}", path.string(), error));
+    if (!plugin.readLinearRgb(path.c_str(), width, height, reinterpret_cast<float*>(image.texels.data()),
+                              error, sizeof error))
+        throw InputError(where, fmt::format("{}: cannot read the image: {}", path.string(), error));
+    return image;
+}
+
+}  // namespace
+
+LinearRgbImage readLinearRgbImage(const std::filesystem::path& path, const SourceLocation& where) {
+    LinearRgbImage image = isExr(path) ? readExr(path, where) : readPluginImage(path, where);
+    checkRadiance(image, path, where);
     return image;
 }
 

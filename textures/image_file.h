@@ -18,7 +18,10 @@ struct LinearRgbImage {
     std::vector<Rgb> texels;  // rows top to bottom
 };
 
-// Throws InputError at `where` (the scene key that names the file) when the file cannot be read.
+// Throws InputError at `where` (the scene key that names the file) when the file cannot be read,
+// declares more than limits::kMaxImageTexels texels or 4 values a texel of that (checked from
+// its header, before its pixels are allocated), or holds a texel that is not a radiance: NaN,
+// infinite or negative (the message names the first one's position).
 LinearRgbImage readLinearRgbImage(const std::filesystem::path& path, const SourceLocation& where);
 
 }  // namespace penumbra

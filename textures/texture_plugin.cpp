@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <cstring>
@@ -21,15 +22,61 @@
 #include <string>
 #include <vector>
 
+#include "core/input_limits.h"
+#include "textures/exr_header_check.h"
+
 namespace {
 
+void copyText(const std::string& text, char* to, size_t size) {
+    if (size == 0) return;
+    const size_t n = std::min(text.size(), size - 1);
+    std::memcpy(to, text.data(), n);
+    to[n] = '\0';
+    for (size_t i = 0; i < n; ++i)
+        if ((unsigned char)to[i] < 0x20 || to[i] == 0x7f)
+            to[i] = '?';  // bytes of a corrupt file are not printed raw
+}
+
 int failWith(const std::string& message, char* error, size_t errorSize) {
-    if (errorSize > 0) {
-        const size_t n = std::min(message.size(), errorSize - 1);
-        std::memcpy(error, message.data(), n);
-        error[n] = '\0';
-    }
+    copyText(message, error, errorSize);
     return 0;
+}
+
+// What is wrong with the size an image declares, from its header only (nothing of its pixels is
+// read or allocated yet): every MIP level of the first subimage (the one looked up) within
+// `maxTexels`, its tiles too, within the limits on channels and values, a flat 2D image. An OpenEXR
+// file's headers are parsed by OpenEXR's C core before OpenImageIO opens it (exr_header_check.h).
+std::string declaredSizeProblem(const char* path, int64_t maxTexels) {
+    if (penumbra::startsLikeExr(path)) {
+        const std::string problem = penumbra::exrHeaderProblem(path, maxTexels);
+        if (!problem.empty()) return problem;
+    }
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) return OIIO::geterror();
+    constexpr int kMaxLevels = 32;  // a 65536-texel side has 17
+    for (int level = 0; level < kMaxLevels && in->seek_subimage(0, level); ++level) {
+        const OIIO::ImageSpec& spec = in->spec();
+        const std::string where = level == 0 ? "" : " (MIP level " + std::to_string(level) + ")";
+        if (spec.deep) return "deep data is not read as an image";
+        if (spec.depth > 1)
+            return "a volume of depth " + std::to_string(spec.depth) + " is not read as an image";
+        if (spec.width <= 0 || spec.height <= 0) return "an empty image" + where;
+        const int64_t texels = int64_t(spec.width) * int64_t(spec.height);
+        if (texels > maxTexels)
+            return std::to_string(spec.width) + " x " + std::to_string(spec.height) + " texels" + where +
+                   "; at most " + std::to_string(maxTexels) + " are read";
+        if (int64_t(spec.tile_width) * int64_t(spec.tile_height) * int64_t(std::max(spec.tile_depth, 1)) >
+            maxTexels)
+            return "tiles of " + std::to_string(spec.tile_width) + " x " + std::to_string(spec.tile_height) +
+                   " texels" + where + "; at most " + std::to_string(maxTexels) + " are read";
+        const int64_t maxValues = penumbra::limits::kMaxValuesPerTexel * maxTexels;
+        if (spec.nchannels < 1 || spec.nchannels > penumbra::limits::kMaxImageChannels ||
+            texels * spec.nchannels > maxValues)
+            return std::to_string(spec.nchannels) + " channels of " + std::to_string(spec.width) + " x " +
+                   std::to_string(spec.height) + " texels" + where + "; at most " +
+                   std::to_string(maxValues) + " values (texels x channels) are read";
+    }
+    return "";
 }
 
 // Integer formats hold display-encoded values (PNG, JPEG, 8-bit TIFF); float formats linear ones.
@@ -40,21 +87,20 @@ bool isSrgb(const OIIO::ImageSpec& spec, int colorSpace) {
     return !OIIO::Strutil::iequals(declared, "linear") && !OIIO::Strutil::iequals(declared, "scene_linear");
 }
 
-// The file's pixels as linear floats (sRGB-encoded ones decoded with OpenImageIO's built-in sRGB ->
-// linear conversion).
-bool readLinear(const char* path, bool srgb, OIIO::ImageBuf& result, std::string& failure) {
+// The file's pixels linearised (sRGB-encoded ones decoded with OpenImageIO's built-in sRGB ->
+// linear conversion) into half floats, the precision the linearised texture keeps: one copy of
+// the image in the file's own format, converted texel by texel into the other.
+bool readLinearised(const char* path, OIIO::ImageBuf& result, std::string& failure) {
     OIIO::ImageBuf source(path);
-    OIIO::ImageBuf floats;
-    if (!source.read(0, 0, true, OIIO::TypeDesc::FLOAT) || !floats.copy(source, OIIO::TypeDesc::FLOAT)) {
-        failure = source.geterror().empty() ? floats.geterror() : source.geterror();
+    if (!source.read(0, 0, true)) {
+        failure = source.geterror();
         return false;
     }
-    if (!srgb) {
-        result = std::move(floats);
-        return true;
-    }
+    OIIO::ImageSpec spec = source.spec();
+    spec.set_format(OIIO::TypeDesc::HALF);
+    result.reset(spec);
     // Alpha, when there is one, stays linear (colorconvert's unpremult = false, alpha untouched).
-    if (!OIIO::ImageBufAlgo::colorconvert(result, floats, "sRGB", "linear", false)) {
+    if (!OIIO::ImageBufAlgo::colorconvert(result, source, "sRGB", "linear", false)) {
         failure = result.geterror();
         return false;
     }
@@ -72,13 +118,17 @@ void removeFoldersOfKilledProcesses(const std::filesystem::path& temporary) {
         const std::string name = entry.path().filename().string();
         if (!name.starts_with(prefix) || !entry.is_directory(ec)) continue;
         const size_t end = name.find('-', prefix.size());
-        const std::string digits = name.substr(prefix.size(), end == std::string::npos ? 0 : end - prefix.size());
-        if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) continue;
+        const std::string digits =
+            name.substr(prefix.size(), end == std::string::npos ? 0 : end - prefix.size());
+        if (digits.empty() || digits.size() > 9 ||
+            digits.find_first_not_of("0123456789") != std::string::npos)
+            continue;
         const pid_t pid = pid_t(std::stol(digits));
         if (pid == ::getpid() || ::kill(pid, 0) == 0 || errno == EPERM) continue;
         std::error_code ignored;
         const auto modified = std::filesystem::last_write_time(entry.path(), ignored);
-        if (ignored || std::filesystem::file_time_type::clock::now() - modified < std::chrono::minutes(1)) continue;
+        if (ignored || std::filesystem::file_time_type::clock::now() - modified < std::chrono::minutes(1))
+            continue;
         std::filesystem::remove_all(entry.path(), ignored);
     }
 }
@@ -90,7 +140,7 @@ class Textures {
 public:
     Textures() {
         system_ = OIIO::TextureSystem::create(false);
-        system_->attribute("automip", 1);         // plain images get MIP levels built in memory
+        system_->attribute("automip", 1);  // plain images get MIP levels built in memory
         system_->attribute("max_memory_MB", 2048.0f);
         system_->attribute("deduplicate", 1);
     }
@@ -118,36 +168,74 @@ public:
             return true;
         }
         OIIO::ImageBuf linear;
-        if (!readLinear(path, true, linear, failure)) return false;
+        if (!readLinearised(path, linear, failure)) return false;
         if (folder_.empty()) {
             const std::filesystem::path temporary = std::filesystem::temp_directory_path();
             removeFoldersOfKilledProcesses(temporary);
-            std::string pattern = (temporary / ("penumbra-textures-" + std::to_string(::getpid()) + "-XXXXXX")).string();
+            std::string pattern =
+                (temporary / ("penumbra-textures-" + std::to_string(::getpid()) + "-XXXXXX")).string();
             if (!::mkdtemp(pattern.data())) {
-                failure = std::string("cannot create a temporary folder for converted textures: ") + std::strerror(errno);
+                failure = std::string("cannot create a temporary folder for converted textures: ") +
+                          std::strerror(errno);
                 return false;
             }
             folder_ = pattern;
         }
-        file = folder_ + "/" + std::to_string(converted_.size()) + ".exr";
-        // Half floats keep 11 significant bits, more than the 8 of the source; tiled and MIP-mapped as maketx makes them.
-        OIIO::ImageSpec config;
-        config.format = OIIO::TypeDesc::HALF;
-        config.tile_width = config.tile_height = 64;
-        config.attribute("maketx:filtername", "box");
-        if (!OIIO::ImageBufAlgo::make_texture(OIIO::ImageBufAlgo::MakeTxTexture, linear, file, config)) {
-            failure = "cannot build the linearised texture: " + OIIO::geterror();
+        file = folder_ + "/" + std::to_string(conversions_++) + ".exr";
+        // Half floats keep 11 significant bits, more than the 8 of the source. Tiled, so that the
+        // TextureSystem reads it tile by tile; its MIP levels are built on demand from the tiles of
+        // the level above ("automip"), as for any image without them. make_texture, which writes
+        // them at once, took 1.8 GB beside the 8192 x 8192 RGBA image it was given.
+        linear.set_write_format(OIIO::TypeDesc::HALF);
+        linear.set_write_tiles(64, 64);
+        if (!linear.write(file)) {
+            failure = "cannot write the linearised texture: " + linear.geterror();
             return false;
         }
         converted_.emplace(path, file);
         return true;
     }
 
+    // The file a handle was opened from, for the message of a failed lookup.
+    void name(void* handle, const char* path) {
+        std::lock_guard lock(mutex_);
+        names_[handle] = path;
+    }
+    void recordFailure(void* handle, const std::string& message) {
+        if (failures_++ > 0) return;  // the first is the one reported
+        std::lock_guard lock(mutex_);
+        const auto found = names_.find(handle);
+        firstFailure_ = (found != names_.end() ? found->second : std::string("an image texture")) + ": " +
+                        (message.empty() ? "a lookup failed" : message);
+    }
+    unsigned long long takeFailures(std::string& first) {
+        std::lock_guard lock(mutex_);
+        first = firstFailure_;
+        firstFailure_.clear();
+        return failures_.exchange(0);
+    }
+
+    void forget(const char* path) {
+        std::lock_guard lock(mutex_);
+        const auto found = converted_.find(path);
+        if (found != converted_.end()) {
+            system_->invalidate(OIIO::ustring(found->second), true);
+            std::error_code ec;
+            std::filesystem::remove(found->second, ec);
+            converted_.erase(found);
+        }
+        system_->invalidate(OIIO::ustring(path), true);
+    }
+
 private:
     OIIO::TextureSystem* system_;
     std::mutex mutex_;
     std::map<std::string, std::string> converted_;
+    size_t conversions_ = 0;
     std::string folder_;
+    std::map<void*, std::string> names_;
+    std::atomic<unsigned long long> failures_{0};
+    std::string firstFailure_;
 };
 
 Textures& textures() {
@@ -158,6 +246,8 @@ Textures& textures() {
 int openTexture(const char* path, int colorSpace, void** handle, PenumbraTextureInfo* info, char* error,
                 size_t errorSize) {
     try {
+        const std::string problem = declaredSizeProblem(path, penumbra::limits::kMaxTextureTexels);
+        if (!problem.empty()) return failWith(problem, error, errorSize);
         auto in = OIIO::ImageInput::open(path);
         if (!in) return failWith(OIIO::geterror(), error, errorSize);
         const OIIO::ImageSpec spec = in->spec();
@@ -168,6 +258,7 @@ int openTexture(const char* path, int colorSpace, void** handle, PenumbraTexture
         OIIO::TextureSystem& system = textures().system();
         OIIO::TextureSystem::TextureHandle* h = system.get_texture_handle(OIIO::ustring(file));
         if (!h || !system.good(h)) return failWith(system.geterror(), error, errorSize);
+        textures().name(h, path);
         *handle = h;
         *info = PenumbraTextureInfo{spec.width, spec.height, spec.nchannels, srgb ? 1 : 0};
         return 1;
@@ -178,15 +269,19 @@ int openTexture(const char* path, int colorSpace, void** handle, PenumbraTexture
 
 OIIO::TextureOpt::Wrap wrapOf(int wrap) {
     switch (wrap) {
-        case PENUMBRA_WRAP_CLAMP: return OIIO::TextureOpt::WrapClamp;
-        case PENUMBRA_WRAP_BLACK: return OIIO::TextureOpt::WrapBlack;
-        case PENUMBRA_WRAP_MIRROR: return OIIO::TextureOpt::WrapMirror;
-        default: return OIIO::TextureOpt::WrapPeriodic;
+        case PENUMBRA_WRAP_CLAMP:
+            return OIIO::TextureOpt::WrapClamp;
+        case PENUMBRA_WRAP_BLACK:
+            return OIIO::TextureOpt::WrapBlack;
+        case PENUMBRA_WRAP_MIRROR:
+            return OIIO::TextureOpt::WrapMirror;
+        default:
+            return OIIO::TextureOpt::WrapPeriodic;
     }
 }
 
-void lookup(void* handle, int wrapS, int wrapT, int filter, float s, float t, float dsdx, float dtdx, float dsdy,
-            float dtdy, int channels, float* result) {
+void lookup(void* handle, int wrapS, int wrapT, int filter, float s, float t, float dsdx, float dtdx,
+            float dsdy, float dtdy, int channels, float* result) {
     OIIO::TextureOpt options;
     options.swrap = wrapOf(wrapS);
     options.twrap = wrapOf(wrapT);
@@ -210,12 +305,17 @@ void lookup(void* handle, int wrapS, int wrapT, int filter, float s, float t, fl
     }
     OIIO::TextureSystem& system = textures().system();
     if (!system.texture(static_cast<OIIO::TextureSystem::TextureHandle*>(handle), system.get_perthread_info(),
-                        options, s, t, dsdx, dtdx, dsdy, dtdy, channels, result))
+                        options, s, t, dsdx, dtdx, dsdy, dtdy, channels, result)) {
         std::fill(result, result + channels, 0.0f);
+        textures().recordFailure(handle, system.geterror());
+    }
 }
 
-int readImageSize(const char* path, int* width, int* height, char* error, size_t errorSize) {
+int probeImage(const char* path, long long maxTexels, int* width, int* height, char* error,
+               size_t errorSize) {
     try {
+        const std::string problem = declaredSizeProblem(path, maxTexels);
+        if (!problem.empty()) return failWith(problem, error, errorSize);
         auto in = OIIO::ImageInput::open(path);
         if (!in) return failWith(OIIO::geterror(), error, errorSize);
         *width = in->spec().width;
@@ -226,22 +326,38 @@ int readImageSize(const char* path, int* width, int* height, char* error, size_t
     }
 }
 
-int readLinearRgb(const char* path, float* rgb, char* error, size_t errorSize) {
+int readLinearRgb(const char* path, int width, int height, float* rgb, char* error, size_t errorSize) {
     try {
         auto in = OIIO::ImageInput::open(path);
         if (!in) return failWith(OIIO::geterror(), error, errorSize);
         const OIIO::ImageSpec spec = in->spec();
-        in->close();
-        OIIO::ImageBuf linear;
-        std::string failure;
-        if (!readLinear(path, isSrgb(spec, PENUMBRA_COLOR_AUTO), linear, failure))
-            return failWith(failure, error, errorSize);
-        const int n = linear.nchannels();
-        std::vector<float> pixels(size_t(spec.width) * size_t(spec.height) * size_t(n));
-        if (!linear.get_pixels(linear.roi(), OIIO::TypeDesc::FLOAT, pixels.data()))
-            return failWith(linear.geterror(), error, errorSize);
-        for (size_t p = 0; p < size_t(spec.width) * size_t(spec.height); ++p)
-            for (int c = 0; c < 3; ++c) rgb[3 * p + c] = pixels[p * size_t(n) + size_t(n >= 3 ? c : 0)];
+        if (spec.width != width || spec.height != height || spec.nchannels < 1 ||
+            spec.nchannels > penumbra::limits::kMaxImageChannels ||
+            int64_t(width) * height * spec.nchannels >
+                penumbra::limits::kMaxValuesPerTexel * penumbra::limits::kMaxImageTexels)
+            return failWith("the file changed while it was read", error, errorSize);
+        const bool srgb = isSrgb(spec, PENUMBRA_COLOR_AUTO);
+        const int n = spec.nchannels;
+        // A strip of rows at a time: beyond the result, memory for one strip (and what the
+        // format's reader keeps).
+        constexpr int kStripRows = 64;
+        std::vector<float> strip(size_t(width) * kStripRows * size_t(n));
+        for (int y = 0; y < height; y += kStripRows) {
+            const int rows = std::min(kStripRows, height - y);
+            if (!in->read_scanlines(0, 0, spec.y + y, spec.y + y + rows, spec.z, 0, n, OIIO::TypeDesc::FLOAT,
+                                    strip.data()))
+                return failWith(in->geterror(), error, errorSize);
+            if (srgb) {
+                // Alpha, when there is one, stays linear (as openTexture() converts).
+                OIIO::ImageBuf view(OIIO::ImageSpec(width, rows, n, OIIO::TypeDesc::FLOAT), strip.data());
+                if (!OIIO::ImageBufAlgo::colorconvert(view, view, "sRGB", "linear", false))
+                    return failWith(view.geterror(), error, errorSize);
+            }
+            float* out = rgb + size_t(y) * size_t(width) * 3;
+            for (size_t p = 0; p < size_t(width) * size_t(rows); ++p)
+                for (int c = 0; c < 3; ++c)
+                    out[3 * p + size_t(c)] = strip[p * size_t(n) + size_t(n >= 3 ? c : 0)];
+        }
         return 1;
     } catch (const std::exception& e) {
         return failWith(e.what(), error, errorSize);
@@ -268,10 +384,26 @@ void counters(unsigned long long* lookups, unsigned long long* files, unsigned l
     *peakCacheBytes = (unsigned long long)memory;
 }
 
+unsigned long long takeLookupFailures(char* first, size_t firstSize) {
+    std::string text;
+    const unsigned long long count = textures().takeFailures(text);
+    copyText(text, first, firstSize);
+    return count;
+}
+
+void forget(const char* path) { textures().forget(path); }
+
 }  // namespace
 
 extern "C" __attribute__((visibility("default"))) const PenumbraTexturePlugin* penumbra_texture_plugin() {
-    static const PenumbraTexturePlugin plugin{kPenumbraTexturePluginVersion, openTexture, lookup, readImageSize,
-                                              readLinearRgb, statistics, counters};
+    static const PenumbraTexturePlugin plugin{kPenumbraTexturePluginVersion,
+                                              openTexture,
+                                              lookup,
+                                              probeImage,
+                                              readLinearRgb,
+                                              statistics,
+                                              counters,
+                                              takeLookupFailures,
+                                              forget};
     return &plugin;
 }
