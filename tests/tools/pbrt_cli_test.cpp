@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
 
 #include "tests/support/run_command.h"
 
@@ -56,6 +57,35 @@ TEST_F(PbrtCommandLine, RenderTakesAPbrtSceneWithOverrides) {
     // One line for both media, with its first place and the count.
     EXPECT_TRUE(contains(r, "penumbra: warning: " + scene.string() + ":7:1: MakeNamedMedium is not supported")) << r.output;
     EXPECT_TRUE(contains(r, "(2 times)")) << r.output;
+}
+
+// Scenes that ask for far more than their size (tests/data/hostile/pbrt-bombs): exit status 1,
+// the limit named at the directive that crosses it, nothing written, within seconds (the fan-out
+// once ran on without end, the spheres wrote a 360 MiB file).
+TEST_F(PbrtCommandLine, BombsAreRefusedWithNothingWritten) {
+    const fs::path bombs = fs::path(PENUMBRA_TEST_DATA_DIR) / "hostile" / "pbrt-bombs";
+    std::string spheres = kScene;
+    spheres += "ObjectBegin \"a\"\n";
+    for (int i = 0; i < 1000; ++i) spheres += "Shape \"sphere\" \"float radius\" 0.01\n";
+    spheres += "ObjectEnd\n";
+    for (int i = 0; i < 1000; ++i) spheres += "ObjectInstance \"a\"\n";
+    const std::pair<fs::path, std::string> cases[] = {
+        {bombs / "include-fan-out" / "main.pbrt", "a pbrt scene reads at most 16384 files"},
+        {write("spheres.pbrt", spheres),
+         "spheres.pbrt:1078:1: ObjectInstance \"a\" would bring the shapes placed"},
+        {bombs / "cr-only-lines.pbrt", "cr-only-lines.pbrt:9:1: sphere: the radius must be > 0"}};
+    for (const auto& [scene, message] : cases) {
+        for (const std::string command :
+             {"render " + scene.string() + " --no-display -o " + (dir_ / "out.exr").string(),
+              "convert " + scene.string() + " -o " + (dir_ / "out.json").string()}) {
+            const RunResult r = penumbra::testing::runShell(std::string("timeout -s KILL 60 ") +
+                                                            PENUMBRA_BINARY + " " + command);
+            EXPECT_EQ(r.exitCode, 1) << command << "\n" << r.output;
+            EXPECT_TRUE(contains(r, "penumbra: error: ")) << r.output;
+            EXPECT_TRUE(contains(r, message)) << command << "\n" << r.output;
+            EXPECT_FALSE(fs::exists(dir_ / "out.exr") || fs::exists(dir_ / "out.json")) << command;
+        }
+    }
 }
 
 // --patch changes the scene for render, converge and crosscheck alike: a film size they report,
