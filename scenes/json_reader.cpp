@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/input_limits.h"
+#include "scenes/name_suggestion.h"
 
 namespace penumbra {
 
@@ -172,7 +173,7 @@ size_t JsonValue::choice(std::span<const std::string_view> choices) const {
         if (s == c) return index;
         ++index;
     }
-    failExpected("one of: " + list);
+    fail("expected one of: " + list + ", found " + describe() + suggestName(s, choices));
 }
 
 float JsonValue::number() const {
@@ -324,7 +325,7 @@ JsonObject::JsonObject(const JsonValue& value, std::span<const std::string_view>
         if (std::find(allowedKeys.begin(), allowedKeys.end(), key) != allowedKeys.end()) continue;
         std::string list;
         for (std::string_view k : allowedKeys) list += (list.empty() ? "" : ", ") + std::string(k);
-        member.fail("unknown key (expected one of: " + list + ")");
+        member.fail("unknown key (expected one of: " + list + ")" + suggestName(key, allowedKeys));
     }
 }
 

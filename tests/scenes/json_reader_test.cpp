@@ -111,7 +111,7 @@ TEST(JsonReader, UnknownKeysAreErrorsListingTheAcceptedKeys) {
     });
     EXPECT_EQ(std::string(e.what()),
               "scene.json: /shapes/2/radus: unknown key (expected one of: type, center, radius, material, "
-              "emission)");
+              "emission); did you mean 'radius'?");
     EXPECT_NO_THROW(JsonObject(shape, {"type", "radus"}));
 }
 

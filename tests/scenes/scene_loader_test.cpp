@@ -8,6 +8,7 @@
 #include <string>
 #include <tuple>
 
+#include "scenes/name_suggestion.h"
 #include "tests/support/expect_input_error.h"
 #include "tests/support/shared_data.h"
 
@@ -337,7 +338,7 @@ TEST(SceneErrors, UnknownKeys) {
     InputError e = catchInputError([] { parseScene(R"({"cameras": {}})", "scene.json"); });
     EXPECT_EQ(std::string(e.what()),
               "scene.json: /cameras: unknown key (expected one of: camera, film, integrator, "
-              "render, background, environment, materials, prototypes, shapes, lights)");
+              "render, background, environment, materials, prototypes, shapes, lights); did you mean 'camera'?");
 
     e = catchInputError([] {
         parseScene(R"({"materials": {"m": {"type": "lambert"}}, "shapes": [
@@ -348,7 +349,7 @@ TEST(SceneErrors, UnknownKeys) {
     });
     EXPECT_EQ(std::string(e.what()),
               "scene.json: /shapes/2/radus: unknown key (expected one of: type, center, "
-              "radius, material, emission, transform, motion)");
+              "radius, material, emission, transform, motion); did you mean 'radius'?");
 
     e = catchInputError(
         [] { parseScene(R"({"film": {"filter": {"type": "box", "radius": 1, "width": 2}}})", "s.json"); });
@@ -373,6 +374,43 @@ TEST(SceneErrors, WrongTypes) {
     e = catchInputError(
         [] { sceneWithShape(R"({"type": "spher", "center": [0, 0, 0], "radius": 1, "material": "m"})"); });
     EXPECT_CONTAINS(e.what(), "/shapes/0/type: expected one of: triangle_mesh, mesh_file, quad, sphere");
+}
+
+// An unknown type or key gets a "did you mean": other renderers' names from a table that says
+// whose they are, slips of spelling by edit distance, and nothing for a name that is not close.
+TEST(SceneErrors, UnknownNamesGetTheLikelyOneSuggested) {
+    InputError e = catchInputError([] { parseScene(R"({"materials": {"m": {"type": "diffuse"}}})", "s.json"); });
+    EXPECT_EQ(std::string(e.what()),
+              "s.json: /materials/m/type: expected one of: lambert, phong, dielectric, thin_dielectric, mirror, "
+              "conductor, rough_conductor, rough_dielectric, coated_diffuse, found the string \"diffuse\"; did you "
+              "mean 'lambert'? (pbrt-v4 and Mitsuba 3 call it 'diffuse', Cycles 'Diffuse BSDF')");
+    e = catchInputError([] { parseScene(R"({"materials": {"m": {"type": "roughconductor"}}})", "s.json"); });
+    EXPECT_CONTAINS(e.what(), "did you mean 'rough_conductor'? (Mitsuba 3 calls it 'roughconductor')");
+    e = catchInputError([] { parseScene(R"({"materials": {"m": {"type": "emission"}}})", "s.json"); });
+    EXPECT_CONTAINS(e.what(), "a shape that emits light is any shape with an \"emission\" object");
+    e = catchInputError([] { parseScene(R"({"lights": [{"type": "distant", "direction": [0, -1, 0]}]})", "s.json"); });
+    EXPECT_CONTAINS(e.what(), "did you mean 'directional'? (pbrt-v4 calls it 'distant')");
+    e = catchInputError([] { sceneWithShape(R"({"type": "trianglemesh", "positions": []})"); });
+    EXPECT_CONTAINS(e.what(), "did you mean 'triangle_mesh'? (pbrt-v4 calls it 'trianglemesh')");
+    // Slips: a letter missing, two swapped, another case.
+    e = catchInputError([] { sceneWithShape(R"({"type": "spehre", "center": [0, 0, 0], "radius": 1})"); });
+    EXPECT_CONTAINS(e.what(), "did you mean 'sphere'?");
+    e = catchInputError([] { parseScene(R"({"film": {"Resolution": [4, 4]}})", "s.json"); });
+    EXPECT_CONTAINS(e.what(), "did you mean 'resolution'?");
+    // A name that is not a slip of any accepted one gets the list only.
+    e = catchInputError([] { parseScene(R"({"film": {"filter": {"type": "gauss"}}})", "s.json"); });
+    EXPECT_EQ(std::string(e.what()).find("did you mean"), std::string::npos) << e.what();
+    // A foreign name whose counterpart is not accepted here is not suggested.
+    e = catchInputError([] { parseScene(R"({"film": {"filter": {"type": "diffuse"}}})", "s.json"); });
+    EXPECT_EQ(std::string(e.what()).find("lambert"), std::string::npos) << e.what();
+}
+
+TEST(SceneErrors, NameDistanceCountsEditsIgnoringCaseAndSeparators) {
+    EXPECT_EQ(nameDistance("rough_conductor", "RoughConductor"), 0);
+    EXPECT_EQ(nameDistance("sphere", "spehre"), 1);  // a swap of neighbours is one edit
+    EXPECT_EQ(nameDistance("radius", "radus"), 1);
+    EXPECT_EQ(nameDistance("box", "tent"), 4);
+    EXPECT_EQ(nameDistance("", "quad"), 4);
 }
 
 TEST(SceneErrors, UnknownMaterialListsTheKnownOnes) {
