@@ -30,6 +30,12 @@ std::pair<double, double> readAlpha(const ParameterList& params, const TextureTa
     const double r = readScalar(params, "roughness", 0.0, textures, log);
     double u = readScalar(params, "uroughness", r, textures, log);
     double v = readScalar(params, "vroughness", r, textures, log);
+    // A negative roughness has no alpha (pbrt-v4 would take its square root): not a smooth surface.
+    for (const char* name : {"roughness", "uroughness", "vroughness"})
+        if (const Parameter* p = params.find(name, {ParamType::Float, ParamType::Texture});
+            p && !p->numbers.empty() && p->numbers[0] < 0.0)
+            failAt(p->where,
+                   fmt::format("parameter \"{}\" must be >= 0, found {}", p->declaration(), p->numbers[0]));
     const bool remap = params.getBool("remaproughness").value_or(true);
     if (remap) {
         u = std::sqrt(std::max(u, 0.0));

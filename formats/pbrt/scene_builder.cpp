@@ -938,6 +938,8 @@ std::optional<Json> SceneBuilder::shapeGeometry(const ShapeRecord& record, bool 
     } else if (type == "disk") {
         const double radius = p.getFloat("radius").value_or(1.0), height = p.getFloat("height").value_or(0.0);
         if (!(radius > 0.0)) failAt(where, fmt::format("disk: the radius must be > 0, found {}", radius));
+        if (const double inner = p.getFloat("innerradius").value_or(0.0); inner < 0.0)
+            failAt(where, fmt::format("disk: the inner radius must be >= 0, found {}", inner));
         if (p.getFloat("innerradius").value_or(0.0) > 0.0 || p.getFloat("phimax").value_or(360.0) < 360.0)
             failAt(where, "partial disks (innerradius, phimax) are not supported: penumbra renders whole disks only");
         shape["type"] = "disk";

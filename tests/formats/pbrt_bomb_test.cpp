@@ -336,5 +336,23 @@ TEST(PbrtBombs, ValuesTheLoaderRefusesAreReportedAtTheirDirective) {
         "v.pbrt:1:1: Sampler \"stratified\": expected xsamples and ysamples of at least 1, found -2 and -2"));
 }
 
+TEST(PbrtBombs, NegativeRoughnessAndInnerRadiusAreRefused) {
+    // Both were taken silently as 0: a smooth conductor, a whole disk.
+    auto messageOf = [](const std::string& text) {
+        try {
+            convertPbrtText(kHeader + text, "r.pbrt");
+        } catch (const InputError& e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    EXPECT_TRUE(contains(messageOf("Material \"conductor\" \"float roughness\" -1\nShape \"sphere\"\n"),
+                         "r.pbrt:5:22: parameter \"float roughness\" must be >= 0, found -1"));
+    EXPECT_TRUE(contains(messageOf("Material \"dielectric\" \"float vroughness\" -0.5\nShape \"sphere\"\n"),
+                         "r.pbrt:5:23: parameter \"float vroughness\" must be >= 0, found -0.5"));
+    EXPECT_TRUE(contains(messageOf("Shape \"disk\" \"float innerradius\" -1\n"),
+                         "r.pbrt:5:1: disk: the inner radius must be >= 0, found -1"));
+}
+
 }  // namespace
 }  // namespace penumbra::pbrt
