@@ -8,6 +8,7 @@
 
 #include <cerrno>
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <system_error>
@@ -108,6 +109,28 @@ void writeFileAtomically(const std::filesystem::path& path, const char* what,
         cleanupAndFail(fmt::format("cannot rename '{}' to the destination: {}", tmp.string(), ec.message()));
     std::filesystem::remove(privateFolder, ec);
     syncFile(parent.empty() ? std::filesystem::path(".") : parent, error);  // the rename; best effort
+}
+
+void writeTextFileAtomically(const std::filesystem::path& path, const char* what, const std::string& text,
+                             std::filesystem::perms addedPermissions) {
+    writeFileAtomically(path, what, [&](const std::string& tmp, std::string& error) {
+        std::FILE* file = std::fopen(tmp.c_str(), "wb");
+        if (!file) {
+            error = fmt::format("cannot create '{}': {}", tmp, std::strerror(errno));
+            return false;
+        }
+        const bool written = std::fwrite(text.data(), 1, text.size(), file) == text.size();
+        const int writeErrno = errno;
+        if (std::fclose(file) != 0 || !written) {
+            error = fmt::format("write of '{}' failed: {}", tmp, std::strerror(written ? errno : writeErrno));
+            return false;
+        }
+        std::error_code ec;
+        if (addedPermissions != std::filesystem::perms::none)
+            std::filesystem::permissions(tmp, addedPermissions, std::filesystem::perm_options::add, ec);
+        if (ec) error = fmt::format("cannot set the permissions of '{}': {}", tmp, ec.message());
+        return !ec;
+    });
 }
 
 }  // namespace penumbra

@@ -20,4 +20,9 @@ namespace penumbra {
 void writeFileAtomically(const std::filesystem::path& path, const char* what,
                          const std::function<bool(const std::string& tmp, std::string& error)>& write);
 
+// `text` written atomically as above, with `addedPermissions` (e.g. the execute bits of a script)
+// set on the temporary before it takes the destination's name.
+void writeTextFileAtomically(const std::filesystem::path& path, const char* what, const std::string& text,
+                             std::filesystem::perms addedPermissions = std::filesystem::perms::none);
+
 }  // namespace penumbra

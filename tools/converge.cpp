@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
 #include <numeric>
 
 #include <fmt/format.h>
@@ -16,6 +15,7 @@
 #include "core/input_file.h"
 #include "core/input_limits.h"
 #include "core/hash.h"
+#include "film/atomic_file.h"
 #include "film/image_output.h"
 #include "film/image_plugin_loader.h"
 #include "renderer/render.h"
@@ -388,14 +388,13 @@ void writeConvergenceReport(const ConvergenceReport& report, const std::string& 
 
     // CSV: one row per sampler, seed and rung.
     {
-        std::ofstream csv(dir / "convergence.csv");
-        csv << "sampler,strategy,seed,spp,mse,rel_mse,rmse,seconds\n";
+        std::string csv = "sampler,strategy,seed,spp,mse,rel_mse,rmse,seconds\n";
         for (const SamplerStudy& study : report.studies)
             for (const SeedRun& run : study.runs)
                 for (const RungError& e : run.rungs)
-                    csv << fmt::format("{},{},{},{},{:.9g},{:.9g},{:.9g},{:.6f}\n", samplerKindName(study.sampler),
+                    csv += fmt::format("{},{},{},{},{:.9g},{:.9g},{:.9g},{:.6f}\n", samplerKindName(study.sampler),
                                        lightStrategyName(study.strategy), run.seed, e.spp, e.mse, e.relMse, e.rmse, e.seconds);
-        if (!csv) throw InputError(where, "cannot write convergence.csv");
+        writeTextFileAtomically(dir / "convergence.csv", "convergence table", csv);
     }
 
     using nlohmann::json;
@@ -476,11 +475,7 @@ void writeConvergenceReport(const ConvergenceReport& report, const std::string& 
                   {"columns", report.rungs}};
     for (const SamplerStudy& study : report.studies) j["strip"]["rows"].push_back(study.name);
     j["strip"]["columns"].push_back("reference");
-    {
-        std::ofstream out(dir / "convergence.json");
-        out << j.dump(2) << "\n";
-        if (!out) throw InputError(where, "cannot write convergence.json");
-    }
+    writeTextFileAtomically(dir / "convergence.json", "convergence report", j.dump(2) + "\n");
 
     // The strip: the same crop at each rung (columns) for each sampler (rows), the reference last;
     // small crops are enlarged (nearest neighbour) so that the noise can be seen.

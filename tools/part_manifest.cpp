@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <cmath>
-#include <fstream>
 
 #include "core/error.h"
 #include "core/input_file.h"
@@ -140,13 +139,7 @@ void writeManifest(const PartManifest& m, const fs::path& path) {
         j["merge_groups"].push_back({{"file", g.file.string()}, {"parts", {g.firstPart, g.endPart}}});
     j["jobs"] = m.jobs;
     const std::string text = j.dump(2) + "\n";
-    writeFileAtomically(path, "manifest", [&](const std::string& tmp, std::string& error) {
-        std::ofstream out(tmp, std::ios::binary);
-        out << text;
-        out.close();
-        if (!out) error = "write failed";
-        return bool(out);
-    });
+    writeTextFileAtomically(path, "manifest", text);
 }
 
 PartManifest readManifest(const fs::path& path) {

@@ -20,9 +20,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <cerrno>
 #include <csignal>
-#include <cstring>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
@@ -323,19 +321,7 @@ int runConvertCommand(const std::string& scenePath, const std::string& outputPat
     if (fs::equivalent(output, scenePath, ec))
         throw InputError(fmt::format("-o: {} is the scene being converted; name another output", outputPath));
     const std::string json = convertSceneToJson(scenePath, outputPath);
-    writeFileAtomically(output, "JSON scene", [&](const std::string& tmp, std::string& error) {
-        std::FILE* file = std::fopen(tmp.c_str(), "wb");
-        if (!file) {
-            error = std::strerror(errno);
-            return false;
-        }
-        const bool written = std::fwrite(json.data(), 1, json.size(), file) == json.size();
-        if (std::fclose(file) != 0 || !written) {
-            error = fmt::format("write of '{}' failed: {}", tmp, std::strerror(errno));
-            return false;
-        }
-        return true;
-    });
+    writeTextFileAtomically(output, "JSON scene", json);
     std::printf("wrote %s\n", outputPath.c_str());
     return 0;
 }

@@ -5,12 +5,12 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 
 #include <fmt/format.h>
 
 #include "core/error.h"
 #include "core/input_limits.h"
+#include "film/atomic_file.h"
 #include "film/image_output.h"
 #include "scenes/scene_loader.h"
 #include "tools/cli_numbers.h"
@@ -106,12 +106,8 @@ void checkSameRender(const PartManifest& planned, const PartManifest& stored, co
 }
 
 void writeScript(const fs::path& path, const std::string& text) {
-    std::ofstream out(path);
-    out << text;
-    out.close();
-    if (!out) throw InputError(fmt::format("{}: cannot write the batch script", path.string()));
-    fs::permissions(path, fs::perms::owner_exec | fs::perms::group_exec | fs::perms::others_exec,
-                    fs::perm_options::add);
+    writeTextFileAtomically(path, "batch script", text,
+                            fs::perms::owner_exec | fs::perms::group_exec | fs::perms::others_exec);
 }
 
 std::string jobIdOf(const std::string& recorded) { return recorded.substr(recorded.find(':') + 1); }
