@@ -61,6 +61,11 @@ std::string declaredSizeProblem(const char* path, int64_t maxTexels) {
         if (spec.depth > 1)
             return "a volume of depth " + std::to_string(spec.depth) + " is not read as an image";
         if (spec.width <= 0 || spec.height <= 0) return "an empty image" + where;
+        // OpenImageIO reads (and converts) 256 rows at a time whatever the height: a 4-row BMP
+        // 7 million texels wide made it allocate 5.4 GB (found by fuzzing).
+        if (spec.width > penumbra::limits::kMaxImageSide || spec.height > penumbra::limits::kMaxImageSide)
+            return std::to_string(spec.width) + " x " + std::to_string(spec.height) + " texels" + where +
+                   "; at most " + std::to_string(penumbra::limits::kMaxImageSide) + " a side are read";
         const int64_t texels = int64_t(spec.width) * int64_t(spec.height);
         if (texels > maxTexels)
             return std::to_string(spec.width) + " x " + std::to_string(spec.height) + " texels" + where +
@@ -181,7 +186,10 @@ public:
             }
             folder_ = pattern;
         }
-        file = folder_ + "/" + std::to_string(conversions_++) + ".exr";
+        // One name per source file, kept when it is forgotten: a file rewritten and opened again
+        // reuses its name, so the TextureSystem's table of files does not grow.
+        const size_t index = conversionNames_.emplace(path, conversionNames_.size()).first->second;
+        file = folder_ + "/" + std::to_string(index) + ".exr";
         // Half floats keep 11 significant bits, more than the 8 of the source. Tiled, so that the
         // TextureSystem reads it tile by tile; its MIP levels are built on demand from the tiles of
         // the level above ("automip"), as for any image without them. make_texture, which writes
@@ -231,7 +239,7 @@ private:
     OIIO::TextureSystem* system_;
     std::mutex mutex_;
     std::map<std::string, std::string> converted_;
-    size_t conversions_ = 0;
+    std::map<std::string, size_t> conversionNames_;
     std::string folder_;
     std::map<void*, std::string> names_;
     std::atomic<unsigned long long> failures_{0};
@@ -339,14 +347,19 @@ int readLinearRgb(const char* path, int width, int height, float* rgb, char* err
         const bool srgb = isSrgb(spec, PENUMBRA_COLOR_AUTO);
         const int n = spec.nchannels;
         // A strip of rows at a time: beyond the result, memory for one strip (and what the
-        // format's reader keeps).
-        constexpr int kStripRows = 64;
-        std::vector<float> strip(size_t(width) * kStripRows * size_t(n));
-        for (int y = 0; y < height; y += kStripRows) {
-            const int rows = std::min(kStripRows, height - y);
-            if (!in->read_scanlines(0, 0, spec.y + y, spec.y + y + rows, spec.z, 0, n, OIIO::TypeDesc::FLOAT,
-                                    strip.data()))
-                return failWith(in->geterror(), error, errorSize);
+        // format's reader keeps). A tiled image by rows of tiles: OpenImageIO 2.4's read_scanlines
+        // divides by zero on a tiled TIFF (SIGFPE; found by fuzzing).
+        const bool tiled = spec.tile_width > 0 && spec.tile_height > 0;
+        const int stripRows = std::min(tiled ? spec.tile_height : 64, height);
+        std::vector<float> strip(size_t(width) * size_t(stripRows) * size_t(n));
+        for (int y = 0; y < height; y += stripRows) {
+            const int rows = std::min(stripRows, height - y);
+            const int top = spec.y + y;
+            const bool read = tiled ? in->read_tiles(0, 0, spec.x, spec.x + width, top, top + rows, spec.z,
+                                                     spec.z + 1, 0, n, OIIO::TypeDesc::FLOAT, strip.data())
+                                    : in->read_scanlines(0, 0, top, top + rows, spec.z, 0, n,
+                                                         OIIO::TypeDesc::FLOAT, strip.data());
+            if (!read) return failWith(in->geterror(), error, errorSize);
             if (srgb) {
                 // Alpha, when there is one, stays linear (as openTexture() converts).
                 OIIO::ImageBuf view(OIIO::ImageSpec(width, rows, n, OIIO::TypeDesc::FLOAT), strip.data());

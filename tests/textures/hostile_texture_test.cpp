@@ -183,6 +183,14 @@ TEST_F(HostileTexture, ExrAttributeDeclaringGigabytesIsRefusedAsTextureAndEnviro
     EXPECT_LT(childrenPeakBytes(), uint64_t(1) << 30);
 }
 
+TEST_F(HostileTexture, ImageWiderThanAnyImageIsRefusedFromItsHeader) {
+    // A 98-byte BMP declaring 7,107,950 x 4 texels (found by fuzzing): OpenImageIO reads 256 rows
+    // at a time whatever the height and asked for 5.4 GB; once refused with an empty reason.
+    const fs::path bmp = kHostile / "bmp_7_million_texels_wide.bmp";
+    const RunResult r = expectRenderFailure(texturedScene(bmp), bmp);
+    EXPECT_TRUE(contains(r, "7107950 x 4 texels; at most 65536 a side are read")) << r.output;
+}
+
 TEST_F(HostileTexture, TruncatedExrTextureStopsTheRender) {
     // Its header reads, so it opens; its pixels are found missing only by the lookups, which once
     // gave black with exit status 0.

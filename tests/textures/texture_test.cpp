@@ -170,6 +170,28 @@ TEST(TextureImage, ReadsWholeImagesLinear) {
     EXPECT_NEAR(decoded.texels[0].b, 1.0, 1e-6);
 }
 
+// A tiled image read whole through the plugin, a row of tiles at a time (OpenImageIO 2.4's
+// scanline reading divides by zero on a tiled TIFF).
+TEST(TextureImage, ReadsTiledImagesWhole) {
+    const int width = 8, height = 8;
+    std::vector<float> pixels(size_t(width) * height * 3);
+    for (size_t i = 0; i < pixels.size(); ++i) pixels[i] = float(i);
+    const fs::path tif = temporaryFile("tiled.tif");
+    auto out = OIIO::ImageOutput::create(tif.string());
+    ASSERT_TRUE(out);
+    OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::FLOAT);
+    spec.tile_width = spec.tile_height = 16;
+    ASSERT_TRUE(out->open(tif.string(), spec));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
+    ASSERT_TRUE(out->close());
+    const LinearRgbImage image = readLinearRgbImage(tif, SourceLocation{});
+    ASSERT_EQ(image.width, width);
+    ASSERT_EQ(image.height, height);
+    EXPECT_EQ(
+        image.texels[size_t(5 * width + 3)],
+        Rgb(pixels[(5 * width + 3) * 3], pixels[(5 * width + 3) * 3 + 1], pixels[(5 * width + 3) * 3 + 2]));
+}
+
 // The shipped environment map is what tools/make_sky makes with its defaults, texel for texel.
 TEST(EnvironmentSkyMap, ShippedMapIsMakeSkysOutput) {
     const fs::path made = temporaryFile("sky.exr");
