@@ -191,6 +191,15 @@ TEST_F(HostileTexture, ImageWiderThanAnyImageIsRefusedFromItsHeader) {
     EXPECT_TRUE(contains(r, "7107950 x 4 texels; at most 65536 a side are read")) << r.output;
 }
 
+TEST_F(HostileTexture, DisplayWindowLargerThanAnyImageIsRefusedFromItsHeader) {
+    // An 8 x 4 EXR of 751 bytes whose display window is 889,192,456 texels wide (found by
+    // fuzzing): the TextureSystem spans it and built MIP levels over it, 22 GB and 2.5 minutes.
+    const fs::path exr = kHostile / "exr_display_window_889_million_wide.exr";
+    const RunResult r = expectRenderFailure(texturedScene(exr), exr);
+    EXPECT_TRUE(contains(r, "a display window of 889192456 x 4 texels")) << r.output;
+    EXPECT_LT(childrenPeakBytes(), uint64_t(1) << 30);
+}
+
 TEST_F(HostileTexture, TruncatedExrTextureStopsTheRender) {
     // Its header reads, so it opens; its pixels are found missing only by the lookups, which once
     // gave black with exit status 0.
