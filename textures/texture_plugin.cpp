@@ -105,13 +105,22 @@ bool isSrgb(const OIIO::ImageSpec& spec, int colorSpace) {
 // The file's pixels linearised (sRGB-encoded ones decoded with OpenImageIO's built-in sRGB ->
 // linear conversion) into half floats, the precision the linearised texture keeps: one copy of
 // the image in the file's own format, converted texel by texel into the other.
+// Read with an ImageInput of its own, not ImageBuf(path): that keeps the file's header in
+// OpenImageIO's shared ImageCache, and a file rewritten under the same name was then read into a
+// buffer of the old size (a heap overflow; found by fuzzing).
 bool readLinearised(const char* path, OIIO::ImageBuf& result, std::string& failure) {
-    OIIO::ImageBuf source(path);
-    if (!source.read(0, 0, true)) {
-        failure = source.geterror();
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) {
+        failure = OIIO::geterror();
         return false;
     }
-    OIIO::ImageSpec spec = source.spec();
+    OIIO::ImageSpec spec = in->spec();
+    spec.channelformats.clear();  // one format for every channel, as read_image converts them
+    OIIO::ImageBuf source(spec);
+    if (!in->read_image(0, 0, 0, spec.nchannels, spec.format, source.localpixels())) {
+        failure = in->geterror();
+        return false;
+    }
     spec.set_format(OIIO::TypeDesc::HALF);
     result.reset(spec);
     // Alpha, when there is one, stays linear (colorconvert's unpremult = false, alpha untouched).

@@ -192,6 +192,20 @@ TEST(TextureImage, ReadsTiledImagesWhole) {
         Rgb(pixels[(5 * width + 3) * 3], pixels[(5 * width + 3) * 3 + 1], pixels[(5 * width + 3) * 3 + 2]));
 }
 
+// A file forgotten and rewritten under the same name is read again, at its new size (the sRGB
+// conversion once read it into a buffer of the old size: OpenImageIO's shared cache kept the
+// old header).
+TEST(TextureImage, ForgottenFileIsReadAgain) {
+    const fs::path path = temporaryFile("rewritten.png");
+    writeImage(path, 1, 1, 3, std::vector<unsigned char>{255, 255, 255}, OIIO::TypeDesc::UINT8);
+    EXPECT_EQ(Texture::image(open(path, TextureFilter::Closest), Rgb(1.0f)).evaluate(at(0.5f, 0.5f)), Rgb(1.0f));
+    texturePlugin().forget(path.c_str());
+    std::vector<unsigned char> black(8 * 4 * 3, 0);
+    writeImage(path, 8, 4, 3, black, OIIO::TypeDesc::UINT8);
+    const ImageTextureSource again = open(path, TextureFilter::Closest);
+    EXPECT_EQ(Texture::image(again, Rgb(1.0f)).evaluate(at(0.5f, 0.5f)), Rgb(0.0f));
+}
+
 // The shipped environment map is what tools/make_sky makes with its defaults, texel for texel.
 TEST(EnvironmentSkyMap, ShippedMapIsMakeSkysOutput) {
     const fs::path made = temporaryFile("sky.exr");
