@@ -1,13 +1,8 @@
 #include "film/image_plugin_loader.h"
 
-#include <dlfcn.h>
-
 #include <atomic>
-#include <system_error>
 
-#include <fmt/format.h>
-
-#include "core/error.h"
+#include "core/plugin_library.h"
 #include "core/resource_paths.h"
 
 namespace penumbra {
@@ -17,20 +12,10 @@ namespace {
 std::atomic<bool> loaded{false};
 
 const PenumbraImagePlugin& load() {
-    const std::filesystem::path path = imagePluginPath();
-    SourceLocation where;
-    where.file = path.string();
-    // RTLD_LOCAL: OpenImageIO's symbols stay inside the plugin. The handle is never closed.
-    void* handle = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
-    if (!handle) throw InputError(where, fmt::format("cannot load the image plugin: {}", ::dlerror()));
-    auto entry = reinterpret_cast<PenumbraImagePluginEntry>(::dlsym(handle, PENUMBRA_IMAGE_PLUGIN_ENTRY));
-    if (!entry) throw InputError(where, fmt::format("cannot load the image plugin: {}", ::dlerror()));
-    const PenumbraImagePlugin* plugin = entry();
-    if (!plugin || plugin->version != kPenumbraImagePluginVersion)
-        throw InputError(where, fmt::format("the image plugin is of another version (expected {})",
-                                            kPenumbraImagePluginVersion));
+    const PenumbraImagePlugin& plugin = loadPlugin<PenumbraImagePlugin>(
+        imagePluginPath(), PENUMBRA_IMAGE_PLUGIN_ENTRY, "image plugin", kPenumbraImagePluginVersion);
     loaded = true;
-    return *plugin;
+    return plugin;
 }
 
 }  // namespace

@@ -1,13 +1,8 @@
 #include "textures/texture_plugin_loader.h"
 
-#include <dlfcn.h>
-
 #include <atomic>
-#include <system_error>
 
-#include <fmt/format.h>
-
-#include "core/error.h"
+#include "core/plugin_library.h"
 #include "core/resource_paths.h"
 
 namespace penumbra {
@@ -17,20 +12,10 @@ namespace {
 std::atomic<bool> loaded{false};
 
 const PenumbraTexturePlugin& load() {
-    const std::filesystem::path path = texturePluginPath();
-    SourceLocation where;
-    where.file = path.string();
-    // RTLD_LOCAL: OpenImageIO's symbols stay inside the plugin. The handle is never closed.
-    void* handle = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
-    if (!handle) throw InputError(where, fmt::format("cannot load the texture plugin: {}", ::dlerror()));
-    auto entry = reinterpret_cast<PenumbraTexturePluginEntry>(::dlsym(handle, PENUMBRA_TEXTURE_PLUGIN_ENTRY));
-    if (!entry) throw InputError(where, fmt::format("cannot load the texture plugin: {}", ::dlerror()));
-    const PenumbraTexturePlugin* plugin = entry();
-    if (!plugin || plugin->version != kPenumbraTexturePluginVersion)
-        throw InputError(where, fmt::format("the texture plugin is of another version (expected {})",
-                                            kPenumbraTexturePluginVersion));
+    const PenumbraTexturePlugin& plugin = loadPlugin<PenumbraTexturePlugin>(
+        texturePluginPath(), PENUMBRA_TEXTURE_PLUGIN_ENTRY, "texture plugin", kPenumbraTexturePluginVersion);
     loaded = true;
-    return *plugin;
+    return plugin;
 }
 
 }  // namespace
