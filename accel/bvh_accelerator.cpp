@@ -1,5 +1,8 @@
 #include "accel/bvh_accelerator.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cassert>
 #include <cmath>
@@ -8,12 +11,9 @@
 #include <stdexcept>
 #include <utility>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
-#include "core/error.h"
 #include "accel/bvh_box4.h"
 #include "accel/bvh_triangle4.h"
+#include "core/error.h"
 #include "geometry/ray_sphere.h"
 #include "geometry/ray_triangle.h"
 
@@ -37,7 +37,6 @@ bool isDegenerate(Vec3f p0, Vec3f p1, Vec3f p2) {
     return ay * bz - az * by == 0.0 && az * bx - ax * bz == 0.0 && ax * by - ay * bx == 0.0;
 }
 
-
 // A box padded on every side by `pad` plus a few ulps of its largest coordinate.
 Bounds3f padded(const Bounds3f& b, float pad) {
     const float scale = std::max(maxComponent(abs(b.lower)), maxComponent(abs(b.upper)));
@@ -55,7 +54,8 @@ Bounds3f boundsOverShutter(const MotionTransform& motion, const Bounds3f& object
     Vec3f corners[8];
     float radius = 0.0f;
     for (int c = 0; c < 8; ++c) {
-        corners[c] = {(c & 1) ? objectBox.upper.x : objectBox.lower.x, (c & 2) ? objectBox.upper.y : objectBox.lower.y,
+        corners[c] = {(c & 1) ? objectBox.upper.x : objectBox.lower.x,
+                      (c & 2) ? objectBox.upper.y : objectBox.lower.y,
                       (c & 4) ? objectBox.upper.z : objectBox.lower.z};
         radius = std::max(radius, length(corners[c]));
     }
@@ -66,13 +66,15 @@ Bounds3f boundsOverShutter(const MotionTransform& motion, const Bounds3f& object
         const TransformKey& a = motion.keys[seg];
         const TransformKey& b = motion.keys[seg + 1];
         const float norms = std::sqrt(a.rotation.dot(a.rotation) * b.rotation.dot(b.rotation));
-        const float cosHalf = norms > 0.0f ? std::min(std::abs(a.rotation.dot(b.rotation)) / norms, 1.0f) : 0.0f;
+        const float cosHalf =
+            norms > 0.0f ? std::min(std::abs(a.rotation.dot(b.rotation)) / norms, 1.0f) : 0.0f;
         // 2 acos(cos) is the rotation angle; a margin covers the normalized lerp of close keys
         // and rounding.
         const float theta = 2.0f * std::acos(cosHalf) * 1.05f + 1e-4f;
         const float maxScale = std::max(maxComponent(abs(a.scale)), maxComponent(abs(b.scale)));
         const float scaleChange = maxComponent(abs(b.scale - a.scale));
-        const float speed = length(b.translation - a.translation) + theta * maxScale * radius + scaleChange * radius;
+        const float speed =
+            length(b.translation - a.translation) + theta * maxScale * radius + scaleChange * radius;
         pad = std::max(pad, speed / float(kSamples));  // twice the half spacing, for safety
         for (int i = 0; i <= kSamples; ++i) {
             const float time = (float(seg) + float(i) / float(kSamples)) / float(segments);
@@ -206,20 +208,22 @@ BvhAccelerator::BvhAccelerator(const SceneGeometry& scene, const BvhBuildSetting
             node.child[i] = uint32_t(blockCount);
             blockCount += (node.count[i] + 3) / 4;
         }
-    if (uint64_t(blockCount) * 4 >= kNoHit) throw std::length_error("BvhAccelerator: too many primitive blocks");
+    if (uint64_t(blockCount) * 4 >= kNoHit)
+        throw std::length_error("BvhAccelerator: too many primitive blocks");
     blocks_.resize(blockCount);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, leaves.size(), 4096), [&](const tbb::blocked_range<size_t>& range) {
-        for (size_t l = range.begin(); l != range.end(); ++l) {
-            const Leaf& leaf = leaves[l];
-            for (uint32_t k = 0; k < (leaf.count + 3) / 4 * 4; ++k) {
-                PrimitiveBlock& block = blocks_[leaf.firstBlock + k / 4];
-                const Primitive p = k < leaf.count ? candidates[built.primitiveOrder[leaf.first + k]]
-                                                   : Primitive{{0, 0, 0, 0, 0, 0, 0, 0, 0}, kNoHit};
-                for (int j = 0; j < 9; ++j) block.data[j][k % 4] = p.data[j];
-                block.globalIndex[k % 4] = p.globalIndex;
+    tbb::parallel_for(
+        tbb::blocked_range<size_t>(0, leaves.size(), 4096), [&](const tbb::blocked_range<size_t>& range) {
+            for (size_t l = range.begin(); l != range.end(); ++l) {
+                const Leaf& leaf = leaves[l];
+                for (uint32_t k = 0; k < (leaf.count + 3) / 4 * 4; ++k) {
+                    PrimitiveBlock& block = blocks_[leaf.firstBlock + k / 4];
+                    const Primitive p = k < leaf.count ? candidates[built.primitiveOrder[leaf.first + k]]
+                                                       : Primitive{{0, 0, 0, 0, 0, 0, 0, 0, 0}, kNoHit};
+                    for (int j = 0; j < 9; ++j) block.data[j][k % 4] = p.data[j];
+                    block.globalIndex[k % 4] = p.globalIndex;
+                }
             }
-        }
-    });
+        });
 }
 
 BvhAccelerator::Primitive BvhAccelerator::primitiveAt(const PrimitiveBlock& block, int lane) {
@@ -240,8 +244,8 @@ void BvhAccelerator::addMovingPrimitives(const SceneGeometry& scene, const BvhBu
     };
     // An instance of tree `child` (object space), placed by `motion` when it moves, else by
     // `placement`, and boxed in the world over the whole shutter.
-    auto placeInstance = [&](const BvhAccelerator* child, const MotionTransform& motion, const Transform& placement,
-                             uint32_t geomId, uint32_t primId) {
+    auto placeInstance = [&](const BvhAccelerator* child, const MotionTransform& motion,
+                             const Transform& placement, uint32_t geomId, uint32_t primId) {
         if (child->nodes_.empty()) return;
         const Bounds3f worldBox = motion.moves() ? boundsOverShutter(motion, child->bounds_)
                                                  : placedBounds(placement, child->bounds_);
@@ -258,7 +262,8 @@ void BvhAccelerator::addMovingPrimitives(const SceneGeometry& scene, const BvhBu
         addSpecial(special, worldBox);
     };
     // A moving shape: the shape alone, in object space, in a tree of its own.
-    auto addInstance = [&](SceneGeometry&& child, const MotionTransform& motion, uint32_t geomId, uint32_t primId) {
+    auto addInstance = [&](SceneGeometry&& child, const MotionTransform& motion, uint32_t geomId,
+                           uint32_t primId) {
         auto accelerator = std::make_unique<BvhAccelerator>(child, settings);
         skippedCount_ += accelerator->skippedCount_;
         children_.push_back(std::move(accelerator));
@@ -354,13 +359,15 @@ bool BvhAccelerator::intersectSpecial(const Ray& ray, const WatertightRay& trian
         return true;
     }
     const Instance& instance = instances_[special.source];
-    if (instance.motion.moves()) return intersectInstance<AnyHit>(special, instance.motion.at(ray.time), ray, tFar, t, b1, b2, instanceHit);
+    if (instance.motion.moves())
+        return intersectInstance<AnyHit>(special, instance.motion.at(ray.time), ray, tFar, t, b1, b2,
+                                         instanceHit);
     return intersectInstance<AnyHit>(special, instance.placement, ray, tFar, t, b1, b2, instanceHit);
 }
 
 template <bool AnyHit>
-bool BvhAccelerator::intersectInstance(const Special& special, const Transform& toWorld, const Ray& ray, float tFar,
-                                       float& t, float& b1, float& b2, Hit& instanceHit) const {
+bool BvhAccelerator::intersectInstance(const Special& special, const Transform& toWorld, const Ray& ray,
+                                       float tFar, float& t, float& b1, float& b2, Hit& instanceHit) const {
     const Instance& instance = instances_[special.source];
     // The same transform the shading code places the hit with, and the same object-space ray that
     // hits are recomputed with (geometry/surface_interaction.h); the direction is not normalized,
@@ -527,8 +534,8 @@ bool BvhAccelerator::intersectLeaf(const Ray& ray, const WatertightRay& triangle
                                      ray.tnear, tClosest, t))
                     continue;
             } else {
-                if (!intersectSpecial<AnyHit>(ray, triangleRay, p.globalIndex - specialBase_, tClosest, t, b1, b2,
-                                              instanceHit))
+                if (!intersectSpecial<AnyHit>(ray, triangleRay, p.globalIndex - specialBase_, tClosest, t, b1,
+                                              b2, instanceHit))
                     continue;
             }
             if constexpr (AnyHit) return true;
@@ -588,8 +595,8 @@ bool BvhAccelerator::traverse(const Ray& ray, Hit* hit) const {
                 continue;
             }
         } else {
-            if (intersectLeaf<AnyHit>(ray, triangleRay, triangleRay4, current.child, current.count, tClosest, closest, closestB1,
-                                      closestB2, instanceHit)) {
+            if (intersectLeaf<AnyHit>(ray, triangleRay, triangleRay4, current.child, current.count, tClosest,
+                                      closest, closestB1, closestB2, instanceHit)) {
                 if constexpr (AnyHit) return true;
             }
         }
@@ -597,7 +604,8 @@ bool BvhAccelerator::traverse(const Ray& ray, Hit* hit) const {
         for (;;) {
             if (top == 0) {
                 if (closest == kNoHit) return false;
-                if constexpr (!AnyHit) fillHit(ray, closest, tClosest, closestB1, closestB2, instanceHit, *hit);
+                if constexpr (!AnyHit)
+                    fillHit(ray, closest, tClosest, closestB1, closestB2, instanceHit, *hit);
                 return true;
             }
             const PendingChild& pending = stack[--top];

@@ -32,10 +32,10 @@
 #include <memory>
 #include <vector>
 
-#include "accel/traversal.h"
-#include "geometry/scene_geometry.h"
 #include "accel/bvh_build.h"
 #include "accel/bvh_wide.h"
+#include "accel/traversal.h"
+#include "geometry/scene_geometry.h"
 
 namespace penumbra {
 
@@ -63,9 +63,9 @@ public:
         size_t leafCount = 0;
         size_t primitiveCount = 0;  // triangles and spheres in the tree
         size_t skippedCount = 0;    // degenerate or non-finite primitives left out
-        int maxDepth = 0;        // of the 4-wide tree
-        float sahCost = 0.0f;    // of the 4-wide tree, see Bvh4::sahCost
-        size_t memoryBytes = 0;  // everything traversal reads: nodes, primitives, id tables
+        int maxDepth = 0;           // of the 4-wide tree
+        float sahCost = 0.0f;       // of the 4-wide tree, see Bvh4::sahCost
+        size_t memoryBytes = 0;     // everything traversal reads: nodes, primitives, id tables
     };
     Stats stats() const;
 
@@ -88,9 +88,8 @@ private:
     static Primitive primitiveAt(const PrimitiveBlock& block, int lane);
     template <bool AnyHit>
     bool intersectLeaf(const Ray& ray, const WatertightRay& triangleRay, const WatertightRay4& triangleRay4,
-                       uint32_t firstBlock, uint32_t count,
-                       float& tClosest, uint32_t& closest, float& closestB1, float& closestB2,
-                       Hit& instanceHit) const;
+                       uint32_t firstBlock, uint32_t count, float& tClosest, uint32_t& closest,
+                       float& closestB1, float& closestB2, Hit& instanceHit) const;
 
     void addMovingPrimitives(const SceneGeometry& scene, const BvhBuildSettings& settings,
                              std::vector<Primitive>& candidates, std::vector<Bounds3f>& bounds);
@@ -119,11 +118,12 @@ private:
     // Intersects instance special `special`, placed by `toWorld` at the ray's time. Out of line:
     // still scenes never call it, and inlined it costs their leaf loop registers.
     template <bool AnyHit>
-    [[gnu::noinline]] bool intersectInstance(const Special& special, const Transform& toWorld, const Ray& ray, float tFar,
-                                             float& t, float& b1, float& b2, Hit& instanceHit) const;
+    [[gnu::noinline]] bool intersectInstance(const Special& special, const Transform& toWorld, const Ray& ray,
+                                             float tFar, float& t, float& b1, float& b2,
+                                             Hit& instanceHit) const;
     template <bool AnyHit>
-    bool intersectSpecial(const Ray& ray, const WatertightRay& triangleRay, uint32_t index, float tFar, float& t, float& b1, float& b2,
-                          Hit& instanceHit) const;
+    bool intersectSpecial(const Ray& ray, const WatertightRay& triangleRay, uint32_t index, float tFar,
+                          float& t, float& b1, float& b2, Hit& instanceHit) const;
 
     Bvh4NodeArray nodes_;
     Bounds3f bounds_;  // of everything in the tree

@@ -10,13 +10,13 @@
 // (1 / direction), times the factor for far planes.
 #pragma once
 
-#include <cmath>
-
 #include <xmmintrin.h>
 
+#include <cmath>
+
+#include "accel/bvh_wide.h"
 #include "core/float_error.h"
 #include "core/vec.h"
-#include "accel/bvh_wide.h"
 
 namespace penumbra {
 

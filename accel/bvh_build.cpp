@@ -1,17 +1,16 @@
 #include "accel/bvh_build.h"
 
-#include <algorithm>
-#include <array>
-#include <cmath>
-#include <memory>
-
 #include <emmintrin.h>
-#include <xmmintrin.h>
-
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 #include <tbb/parallel_reduce.h>
+#include <xmmintrin.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <memory>
 
 #include "core/simd.h"
 
@@ -430,7 +429,8 @@ BvhBuildResult buildBvh(const std::vector<Bounds3f>& primitiveBounds, const BvhB
             {node.bounds[0], node.bounds[1], node.bounds[2]},
             {node.bounds[3], node.bounds[4],
              node.bounds[5]}}.halfArea();
-        const double blocks = double((node.count + settings.primitivesPerBlock - 1) / settings.primitivesPerBlock);
+        const double blocks =
+            double((node.count + settings.primitivesPerBlock - 1) / settings.primitivesPerBlock);
         cost += double(area) * (node.isLeaf() ? blocks : double(settings.traversalCost));
     }
     result.sahCost = rootArea > 0.0f ? float(cost / rootArea) : 0.0f;

@@ -11,8 +11,8 @@
 #include <limits>
 #include <vector>
 
-#include "core/vec.h"
 #include "core/huge_page_allocator.h"
+#include "core/vec.h"
 
 namespace penumbra {
 
@@ -43,11 +43,10 @@ struct Bounds3f {
 
 // One node in 32 bytes. The two children of an interior node are siblings in the array, at
 // `offset` and `offset + 1`, and every such pair starts on a 64-byte boundary, so both children's
-// boxes arrive in one cache line (the collapse into 4-wide nodes, bvh_wide.h, reads them together). Pairs are laid out
-// depth first (a subtree's pairs follow its root's). A leaf's primitives are
-// [offset, offset + count) of the primitive order. The root is node 0; node 1 is padding.
-// Trivial on purpose (no member initializers), so the builder's scratch arrays of nodes are not
-// written before use; BvhNode{} is all zeros.
+// boxes arrive in one cache line (the collapse into 4-wide nodes, bvh_wide.h, reads them together). Pairs are
+// laid out depth first (a subtree's pairs follow its root's). A leaf's primitives are [offset, offset +
+// count) of the primitive order. The root is node 0; node 1 is padding. Trivial on purpose (no member
+// initializers), so the builder's scratch arrays of nodes are not written before use; BvhNode{} is all zeros.
 struct alignas(32) BvhNode {
     float bounds[6];   // lower x, y, z, then upper x, y, z
     uint32_t offset;   // interior: index of the first child; leaf: first primitive

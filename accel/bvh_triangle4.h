@@ -26,8 +26,15 @@ struct WatertightRay4 {
     __m128 ox, oy, oz, sx, sy, sz;
 
     explicit WatertightRay4(const WatertightRay& r)
-        : kx(r.kx), ky(r.ky), kz(r.kz), ox(_mm_set1_ps(r.ox)), oy(_mm_set1_ps(r.oy)), oz(_mm_set1_ps(r.oz)),
-          sx(_mm_set1_ps(r.sx)), sy(_mm_set1_ps(r.sy)), sz(_mm_set1_ps(r.sz)) {}
+        : kx(r.kx),
+          ky(r.ky),
+          kz(r.kz),
+          ox(_mm_set1_ps(r.ox)),
+          oy(_mm_set1_ps(r.oy)),
+          oz(_mm_set1_ps(r.oz)),
+          sx(_mm_set1_ps(r.sx)),
+          sy(_mm_set1_ps(r.sy)),
+          sz(_mm_set1_ps(r.sz)) {}
 };
 
 struct TriangleHits4 {
@@ -36,8 +43,8 @@ struct TriangleHits4 {
     int fallback;  // bit i: an edge function of lane i is exactly zero; run the scalar test on it
 };
 
-inline void intersectTrianglesWatertight4(const WatertightRay4& r, const TriangleLanes& v, float tMin, float tMax,
-                                          TriangleHits4& out) {
+inline void intersectTrianglesWatertight4(const WatertightRay4& r, const TriangleLanes& v, float tMin,
+                                          float tMax, TriangleHits4& out) {
     const __m128 zero = _mm_setzero_ps();
     // Vertices relative to the ray origin, permuted so the ray runs along z, then sheared.
     const __m128 z0 = _mm_sub_ps(_mm_load_ps(v[0 + r.kz]), r.oz);
@@ -64,8 +71,9 @@ inline void intersectTrianglesWatertight4(const WatertightRay4& r, const Triangl
     const __m128 anyPositive =
         _mm_or_ps(_mm_or_ps(_mm_cmpgt_ps(e0, zero), _mm_cmpgt_ps(e1, zero)), _mm_cmpgt_ps(e2, zero));
     const __m128 det = _mm_add_ps(_mm_add_ps(e0, e1), e2);
-    const __m128 tScaled = _mm_add_ps(_mm_add_ps(_mm_mul_ps(e0, _mm_mul_ps(z0, r.sz)), _mm_mul_ps(e1, _mm_mul_ps(z1, r.sz))),
-                                      _mm_mul_ps(e2, _mm_mul_ps(z2, r.sz)));
+    const __m128 tScaled =
+        _mm_add_ps(_mm_add_ps(_mm_mul_ps(e0, _mm_mul_ps(z0, r.sz)), _mm_mul_ps(e1, _mm_mul_ps(z1, r.sz))),
+                   _mm_mul_ps(e2, _mm_mul_ps(z2, r.sz)));
     const __m128 detNegative = _mm_cmplt_ps(det, zero);
     const __m128 behind = _mm_or_ps(_mm_and_ps(detNegative, _mm_cmpgt_ps(tScaled, zero)),
                                     _mm_andnot_ps(detNegative, _mm_cmplt_ps(tScaled, zero)));
@@ -78,7 +86,9 @@ inline void intersectTrianglesWatertight4(const WatertightRay4& r, const Triangl
     if (out.hit != 0) {  // t beyond its error bound (watertightTError), lane by lane as there
         const __m128 absMask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
         const auto abs4 = [&](__m128 a) { return _mm_and_ps(a, absMask); };
-        const auto max3 = [&](__m128 a, __m128 b, __m128 c) { return _mm_max_ps(_mm_max_ps(abs4(a), abs4(b)), abs4(c)); };
+        const auto max3 = [&](__m128 a, __m128 b, __m128 c) {
+            return _mm_max_ps(_mm_max_ps(abs4(a), abs4(b)), abs4(c));
+        };
         const __m128 maxXt = max3(x0, x1, x2), maxYt = max3(y0, y1, y2);
         const __m128 maxZ = max3(z0, z1, z2);
         const __m128 maxZt = max3(_mm_mul_ps(z0, r.sz), _mm_mul_ps(z1, r.sz), _mm_mul_ps(z2, r.sz));
@@ -86,10 +96,11 @@ inline void intersectTrianglesWatertight4(const WatertightRay4& r, const Triangl
         const __m128 deltaZ = _mm_mul_ps(_mm_set1_ps(gamma(3)), maxZt);
         const __m128 deltaX = _mm_mul_ps(_mm_set1_ps(gamma(5)), _mm_add_ps(maxXt, maxZ));
         const __m128 deltaY = _mm_mul_ps(_mm_set1_ps(gamma(5)), _mm_add_ps(maxYt, maxZ));
-        const __m128 deltaE = _mm_mul_ps(
-            _mm_set1_ps(2.0f),
-            _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_mul_ps(_mm_set1_ps(gamma(2)), maxXt), maxYt), _mm_mul_ps(deltaY, maxXt)),
-                       _mm_mul_ps(deltaX, maxYt)));
+        const __m128 deltaE =
+            _mm_mul_ps(_mm_set1_ps(2.0f),
+                       _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_mul_ps(_mm_set1_ps(gamma(2)), maxXt), maxYt),
+                                             _mm_mul_ps(deltaY, maxXt)),
+                                  _mm_mul_ps(deltaX, maxYt)));
         const __m128 sum = _mm_add_ps(
             _mm_add_ps(_mm_mul_ps(_mm_mul_ps(_mm_set1_ps(gamma(3)), maxE), maxZt), _mm_mul_ps(deltaE, maxZt)),
             _mm_mul_ps(deltaZ, maxE));

@@ -8,7 +8,8 @@ namespace penumbra {
 namespace {
 
 Bounds3f boundsOf(const BvhNode& node) {
-    return {{node.bounds[0], node.bounds[1], node.bounds[2]}, {node.bounds[3], node.bounds[4], node.bounds[5]}};
+    return {{node.bounds[0], node.bounds[1], node.bounds[2]},
+            {node.bounds[3], node.bounds[4], node.bounds[5]}};
 }
 
 Bvh4Node emptyNode() {

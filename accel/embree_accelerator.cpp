@@ -24,8 +24,8 @@ void reportEmbreeError(void* /*userPtr*/, RTCError code, const char* message) {
 // Embree reads vertices with 16-byte loads, so its own buffers (which it pads) are used rather
 // than sharing the scene's tightly packed arrays.
 void setVertices(RTCDevice device, RTCGeometry geometry, unsigned slot, const std::vector<Vec3f>& positions) {
-    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, slot,
-                                                                 RTC_FORMAT_FLOAT3, 3 * sizeof(float), positions.size()));
+    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_VERTEX, slot, RTC_FORMAT_FLOAT3, 3 * sizeof(float), positions.size()));
     if (!vertices) throwEmbreeError(device, "allocating a vertex buffer");
     std::memcpy(vertices, positions.data(), positions.size() * sizeof(Vec3f));
 }
@@ -36,7 +36,8 @@ RTCGeometry newTriangleGeometry(RTCDevice device, const TriangleMesh& mesh) {
     RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
     if (mesh.deforms()) {
         rtcSetGeometryTimeStepCount(geometry, unsigned(mesh.positionKeys.size()));
-        for (size_t k = 0; k < mesh.positionKeys.size(); ++k) setVertices(device, geometry, unsigned(k), mesh.positionKeys[k]);
+        for (size_t k = 0; k < mesh.positionKeys.size(); ++k)
+            setVertices(device, geometry, unsigned(k), mesh.positionKeys[k]);
     } else {
         setVertices(device, geometry, 0, mesh.positions);
     }
@@ -52,8 +53,8 @@ RTCGeometry newTriangleGeometry(RTCDevice device, const TriangleMesh& mesh) {
 // Real spheres: Embree's sphere points, one primitive per sphere (x, y, z, radius).
 RTCGeometry newSphereGeometry(RTCDevice device, const std::vector<const Sphere*>& spheres) {
     RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
-    auto* points = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
-                                                               4 * sizeof(float), spheres.size()));
+    auto* points = static_cast<float*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), spheres.size()));
     if (!points) throwEmbreeError(device, "allocating the sphere buffer");
     for (size_t i = 0; i < spheres.size(); ++i) {
         points[4 * i + 0] = spheres[i]->center.x;
@@ -109,8 +110,8 @@ RTCGeometry newMotionInstance(RTCDevice device, RTCScene child, const MotionTran
         RTCQuaternionDecomposition decomposition;
         rtcInitQuaternionDecomposition(&decomposition);
         rtcQuaternionDecompositionSetScale(&decomposition, key.scale.x, key.scale.y, key.scale.z);
-        rtcQuaternionDecompositionSetQuaternion(&decomposition, key.rotation.w, key.rotation.v.x, key.rotation.v.y,
-                                                key.rotation.v.z);
+        rtcQuaternionDecompositionSetQuaternion(&decomposition, key.rotation.w, key.rotation.v.x,
+                                                key.rotation.v.y, key.rotation.v.z);
         rtcQuaternionDecompositionSetTranslation(&decomposition, key.translation.x, key.translation.y,
                                                  key.translation.z);
         rtcSetGeometryTransformQuaternion(instance, unsigned(k), &decomposition);
@@ -214,7 +215,8 @@ void EmbreeAccelerator::skipTriangleLeft(const RTCFilterFunctionNArguments* args
     for (unsigned i = 0; i < args->N; ++i) {
         if (args->valid[i] == 0) continue;
         const unsigned instance = RTCHitN_instID(args->hit, args->N, i, 0);
-        const unsigned geomId = instance != RTC_INVALID_GEOMETRY_ID ? instance : RTCHitN_geomID(args->hit, args->N, i);
+        const unsigned geomId =
+            instance != RTC_INVALID_GEOMETRY_ID ? instance : RTCHitN_geomID(args->hit, args->N, i);
         if (geomId == left.geomId && RTCHitN_primID(args->hit, args->N, i) == left.primId) args->valid[i] = 0;
     }
 }
@@ -255,7 +257,8 @@ void EmbreeAccelerator::intersectPacket(const Ray* rays, int count, Hit* hits, b
         hit.v = packet.hit.v[i];
         hit.geometricNormal = {packet.hit.Ng_x[i], packet.hit.Ng_y[i], packet.hit.Ng_z[i]};
         const unsigned instance = packet.hit.instID[0][i];
-        setIds(instance != RTC_INVALID_GEOMETRY_ID ? instance : packet.hit.geomID[i], packet.hit.primID[i], hit);
+        setIds(instance != RTC_INVALID_GEOMETRY_ID ? instance : packet.hit.geomID[i], packet.hit.primID[i],
+               hit);
     }
 }
 

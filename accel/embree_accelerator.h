@@ -4,9 +4,9 @@
 #pragma once
 
 #include <embree3/rtcore.h>
+#include <xmmintrin.h>
 
 #include <vector>
-#include <xmmintrin.h>
 
 #include "accel/traversal.h"
 #include "geometry/scene_geometry.h"
@@ -100,8 +100,8 @@ inline bool EmbreeAccelerator::traceableRows(const Ray& ray, __m128& orgTnear, _
     orgTnear = _mm_setr_ps(ray.origin.x, ray.origin.y, ray.origin.z, ray.tnear);
     dirTime = _mm_setr_ps(ray.direction.x, ray.direction.y, ray.direction.z, ray.time);
     const __m128 zero = _mm_setzero_ps();
-    const __m128 finite =
-        _mm_and_ps(_mm_cmpeq_ps(_mm_mul_ps(orgTnear, zero), zero), _mm_cmpeq_ps(_mm_mul_ps(dirTime, zero), zero));
+    const __m128 finite = _mm_and_ps(_mm_cmpeq_ps(_mm_mul_ps(orgTnear, zero), zero),
+                                     _mm_cmpeq_ps(_mm_mul_ps(dirTime, zero), zero));
     const bool hasDirection = (_mm_movemask_ps(_mm_cmpneq_ps(dirTime, zero)) & 0x7) != 0;
     return _mm_movemask_ps(finite) == 0xf && hasDirection && ray.tnear >= 0.0f && ray.tfar >= ray.tnear;
 }

@@ -6,6 +6,7 @@
 //
 // Meshes are read from $PENUMBRA_DATA_DIR/meshes (default: the CMake cache's PENUMBRA_DATA_DIR).
 #include <benchmark/benchmark.h>
+#include <embree3/rtcore.h>
 
 #include <atomic>
 #include <chrono>
@@ -17,8 +18,6 @@
 #include <memory>
 #include <string>
 #include <vector>
-
-#include <embree3/rtcore.h>
 
 #include "accel/bvh_accelerator.h"
 #include "accel/embree_accelerator.h"
@@ -86,9 +85,9 @@ BenchScene* benchScene(const std::string& file) {
     CrosscheckOptions options;
     options.rays = 4 * kIncoherentRays;
     for (const CrosscheckRay& r : generateCrosscheckRays(b->scene, *b->embree, options)) {
-        RaySet* set = r.kind == CrosscheckRayKind::Shadow ? &b->shadow
+        RaySet* set = r.kind == CrosscheckRayKind::Shadow   ? &b->shadow
                       : r.kind == CrosscheckRayKind::Camera ? nullptr
-                                                             : &b->incoherent;
+                                                            : &b->incoherent;
         if (!set) continue;
         set->rays.push_back(r.ray);
         // The mesh has no spheres: every surface left is a triangle.

@@ -5,7 +5,8 @@
 // read a part, add it) and writes the result. In the same run, the peer: reading the same files'
 // bytes and nothing else. Prints bytes per pixel on disk, and parts x pixels per second.
 //
-//   penumbra_merge_throughput SCENE [--parts 64] [--res 1920x1080] [--dir DIR (default $TMPDIR/penumbra-merge-bench)] [--keep 1]
+//   penumbra_merge_throughput SCENE [--parts 64] [--res 1920x1080] [--dir DIR (default
+//   $TMPDIR/penumbra-merge-bench)] [--keep 1]
 //
 // Each phase is timed on the wall clock and in CPU seconds of the process (on a busy shared
 // machine the CPU seconds are the figure to trust). With --keep 1 the part files stay in DIR and
@@ -31,13 +32,16 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+double secondsSince(Clock::time_point start) {
+    return std::chrono::duration<double>(Clock::now() - start).count();
+}
 
 // User and system CPU seconds of the process so far (every thread).
 double cpuSeconds() {
     rusage usage{};
     getrusage(RUSAGE_SELF, &usage);
-    return double(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) + 1e-6 * double(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+    return double(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+           1e-6 * double(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
 }
 
 }  // namespace
@@ -56,11 +60,16 @@ int main(int argc, char** argv) {
         bool keep = false;
         for (int i = 2; i + 1 < argc; i += 2) {
             const std::string option = argv[i], value = argv[i + 1];
-            if (option == "--parts") parts = std::stoi(value);
-            else if (option == "--res") std::sscanf(value.c_str(), "%dx%d", &scene.film.width, &scene.film.height);
-            else if (option == "--dir") dir = value;
-            else if (option == "--keep") keep = value == "1";
-            else throw InputError("unknown option " + option);
+            if (option == "--parts")
+                parts = std::stoi(value);
+            else if (option == "--res")
+                std::sscanf(value.c_str(), "%dx%d", &scene.film.width, &scene.film.height);
+            else if (option == "--dir")
+                dir = value;
+            else if (option == "--keep")
+                keep = value == "1";
+            else
+                throw InputError("unknown option " + option);
         }
         fs::create_directories(dir);
         const double pixels = double(scene.film.width) * scene.film.height;
@@ -120,7 +129,8 @@ int main(int argc, char** argv) {
         writeExr(merged.merged.film, merged.merged.metadata, dir / "merged.exr");
         const double mergedWriteSeconds = secondsSince(start);
         const uint64_t mergedBytes = fs::file_size(dir / "merged.exr");
-        if (merged.merged.film.at(0, 0).sampleCount != uint32_t(parts) || merged.merged.metadata.endSample != uint32_t(parts))
+        if (merged.merged.film.at(0, 0).sampleCount != uint32_t(parts) ||
+            merged.merged.metadata.endSample != uint32_t(parts))
             throw InputError("the merged film does not hold every part's sample");
         if (!keep)
             for (const fs::path& f : files) fs::remove(f);
@@ -128,17 +138,23 @@ int main(int argc, char** argv) {
 
         const double mergeSeconds = readSeconds + addSeconds;
         const double partPixels = parts * pixels;
-        std::printf("%s at %dx%d, %d parts of one sample each\n", argv[1], scene.film.width, scene.film.height, parts);
+        std::printf("%s at %dx%d, %d parts of one sample each\n", argv[1], scene.film.width,
+                    scene.film.height, parts);
         std::printf("render of one part: %.2f s (%.2f M samples/s)\n", stats.renderSeconds,
                     pixels / stats.renderSeconds * 1e-6);
         std::printf("part on disk: %.1f MB, %.1f bytes/pixel (merged film: %.1f bytes/pixel)\n",
-                    double(bytes) / parts * 1e-6, double(bytes) / parts / pixels, double(mergedBytes) / pixels);
+                    double(bytes) / parts * 1e-6, double(bytes) / parts / pixels,
+                    double(mergedBytes) / pixels);
         if (written > 0)
-            std::printf("writing a part: %.2f s wall, %.2f s CPU\n", writeSeconds / written, writeCpu / written);
-        std::printf("| phase | wall s | CPU s | M parts x pixels / wall s | M parts x pixels / CPU s | MB / wall s |\n|---|---|---|---|---|---|\n");
+            std::printf("writing a part: %.2f s wall, %.2f s CPU\n", writeSeconds / written,
+                        writeCpu / written);
+        std::printf(
+            "| phase | wall s | CPU s | M parts x pixels / wall s | M parts x pixels / CPU s | MB / wall s "
+            "|\n|---|---|---|---|---|---|\n");
         auto row = [&](const char* what, double wall, double cpuTime) {
-            std::printf("| %s | %.2f | %.2f | %.1f | %.1f | %.0f |\n", what, wall, cpuTime, partPixels / wall * 1e-6,
-                        partPixels / std::max(cpuTime, 1e-9) * 1e-6, double(bytes) / wall * 1e-6);
+            std::printf("| %s | %.2f | %.2f | %.1f | %.1f | %.0f |\n", what, wall, cpuTime,
+                        partPixels / wall * 1e-6, partPixels / std::max(cpuTime, 1e-9) * 1e-6,
+                        double(bytes) / wall * 1e-6);
         };
         row("peer: read the bytes", readBytesSeconds, readBytesCpu);
         row("merge: read films", readSeconds, readCpu);

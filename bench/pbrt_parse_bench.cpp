@@ -6,6 +6,8 @@
 //   penumbra_pbrt_parse_bench [REPEATS]     (best of REPEATS, default 3)
 //
 // The dragon is read from $PENUMBRA_DATA_DIR/meshes (default: the CMake cache's PENUMBRA_DATA_DIR).
+#include <fmt/format.h>
+
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -15,8 +17,6 @@
 #include <functional>
 #include <string>
 #include <vector>
-
-#include <fmt/format.h>
 
 #include "accel/embree_accelerator.h"
 #include "formats/pbrt/parser.h"
@@ -61,10 +61,11 @@ void writeAsciiMesh(const fs::path& file) {
 
 void writeBinaryPly(const fs::path& file) {
     const int triangles = 2 * (kGrid - 1) * (kGrid - 1);
-    std::string out = fmt::format("ply\nformat binary_little_endian 1.0\nelement vertex {}\nproperty float x\n"
-                                  "property float y\nproperty float z\nelement face {}\n"
-                                  "property list uchar int vertex_indices\nend_header\n",
-                                  kGrid * kGrid, triangles);
+    std::string out = fmt::format(
+        "ply\nformat binary_little_endian 1.0\nelement vertex {}\nproperty float x\n"
+        "property float y\nproperty float z\nelement face {}\n"
+        "property list uchar int vertex_indices\nend_header\n",
+        kGrid * kGrid, triangles);
     for (int y = 0; y < kGrid; ++y)
         for (int x = 0; x < kGrid; ++x) {
             const float p[3] = {float(x) / kGrid, float(y) / kGrid, heightAt(x, y)};
@@ -114,30 +115,38 @@ int main(int argc, char** argv) {
     const double convertSeconds = bestSeconds(repeats, [&] { conversion = pbrt::convertPbrtFile(ascii); });
     const double buildSeconds = bestSeconds(repeats, [&] { pbrt::buildPbrtScene(conversion, ascii); });
     size_t triangles = 0;
-    const double loadSeconds = bestSeconds(repeats, [&] { triangles = quietLoad(ascii).meshes.at(0).triangleCount(); });
+    const double loadSeconds =
+        bestSeconds(repeats, [&] { triangles = quietLoad(ascii).meshes.at(0).triangleCount(); });
     std::printf("ASCII trianglemesh, %zu triangles, %.1f MB:\n", triangles, asciiMb);
-    std::printf("  parse (tokens, numbers, parameter lists): %.3f s, %.1f MB/s\n", parseSeconds, asciiMb / parseSeconds);
-    std::printf("  parse and map to penumbra's format: %.3f s; build the scene from that: %.3f s\n", convertSeconds, buildSeconds);
+    std::printf("  parse (tokens, numbers, parameter lists): %.3f s, %.1f MB/s\n", parseSeconds,
+                asciiMb / parseSeconds);
+    std::printf("  parse and map to penumbra's format: %.3f s; build the scene from that: %.3f s\n",
+                convertSeconds, buildSeconds);
     std::printf("  load (all of it): %.3f s, %.1f MB/s\n", loadSeconds, asciiMb / loadSeconds);
 
     // 2. Binary PLY named by a plymesh.
     writeBinaryPly(dir / "grid.ply");
     std::ofstream(dir / "ply.pbrt") << "WorldBegin\nShape \"plymesh\" \"string filename\" \"grid.ply\"\n";
     const double plyMb = double(fs::file_size(dir / "grid.ply")) / 1e6;
-    const double plySeconds = bestSeconds(repeats, [&] { triangles = quietLoad(dir / "ply.pbrt").meshes.at(0).triangleCount(); });
-    std::printf("binary PLY via plymesh, %zu triangles, %.1f MB: %.3f s, %.1f MB/s\n", triangles, plyMb, plySeconds,
-                plyMb / plySeconds);
+    const double plySeconds =
+        bestSeconds(repeats, [&] { triangles = quietLoad(dir / "ply.pbrt").meshes.at(0).triangleCount(); });
+    std::printf("binary PLY via plymesh, %zu triangles, %.1f MB: %.3f s, %.1f MB/s\n", triangles, plyMb,
+                plySeconds, plyMb / plySeconds);
 
     // 3. The dragon from a .pbrt file against Embree's build of it.
     const char* env = std::getenv("PENUMBRA_DATA_DIR");
-    const fs::path dragon = (env ? fs::path(env) : fs::path(PENUMBRA_DATA_DIR)) / "meshes" / "dragon_vrip.ply.gz";
+    const fs::path dragon =
+        (env ? fs::path(env) : fs::path(PENUMBRA_DATA_DIR)) / "meshes" / "dragon_vrip.ply.gz";
     if (fs::exists(dragon)) {
-        std::ofstream(dir / "dragon.pbrt") << "WorldBegin\nShape \"plymesh\" \"string filename\" \"" << dragon.string() << "\"\n";
+        std::ofstream(dir / "dragon.pbrt")
+            << "WorldBegin\nShape \"plymesh\" \"string filename\" \"" << dragon.string() << "\"\n";
         Scene scene;
         const double dragonLoad = bestSeconds(repeats, [&] { scene = quietLoad(dir / "dragon.pbrt"); });
         const double embreeBuild = bestSeconds(repeats, [&] { EmbreeAccelerator accel(scene); });
-        std::printf("dragon (%zu triangles, .ply.gz) from a .pbrt: load %.3f s, Embree build %.3f s, load / build = %.2f\n",
-                    scene.meshes.at(0).triangleCount(), dragonLoad, embreeBuild, dragonLoad / embreeBuild);
+        std::printf(
+            "dragon (%zu triangles, .ply.gz) from a .pbrt: load %.3f s, Embree build %.3f s, load / build = "
+            "%.2f\n",
+            scene.meshes.at(0).triangleCount(), dragonLoad, embreeBuild, dragonLoad / embreeBuild);
     } else {
         std::printf("dragon: %s not found, skipped\n", dragon.string().c_str());
     }

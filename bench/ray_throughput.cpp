@@ -20,6 +20,9 @@
 //   penumbra_ray_throughput SCENE [--threads N] [--pixel-stride K] [--render-spp N] [--repeat R]
 //                                 [--json OUT]
 #include <embree3/rtcore.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <atomic>
@@ -34,17 +37,13 @@
 #include <string>
 #include <vector>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
-
-#include "core/sampling.h"
-#include "renderer/camera_samples.h"
-#include "film/film.h"
-#include "renderer/path_integrator.h"
-#include "renderer/render.h"
-#include "renderer/prepared_scene.h"
 #include "accel/embree_accelerator.h"
+#include "core/sampling.h"
+#include "film/film.h"
+#include "renderer/camera_samples.h"
+#include "renderer/path_integrator.h"
+#include "renderer/prepared_scene.h"
+#include "renderer/render.h"
 #include "scenes/scene_loader.h"
 
 namespace penumbra {
@@ -52,7 +51,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+double secondsSince(Clock::time_point start) {
+    return std::chrono::duration<double>(Clock::now() - start).count();
+}
 
 // One traced ray: what rtcIntersect1 / rtcOccluded1 need (tnear is always 0 in the integrator,
 // which the recorder checks).
@@ -93,7 +94,6 @@ struct RecordingAccelerator {
         if (ray.tnear != 0.0f) throw std::runtime_error("the recorder assumes tnear = 0");
     }
 };
-
 
 // Replays the render's paths for the given pixels (all samples [0, spp) of each), in render
 // order, and returns the rays they trace; one chunk per pixel.
@@ -161,11 +161,11 @@ struct PlainEmbreeScene {
             if (mesh.motion.moves() || mesh.deforms())
                 throw std::runtime_error("the plain Embree scene takes still triangle meshes only");
             RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-            auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                                  3 * sizeof(float), mesh.positions.size()));
+            auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+                g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.positions.size()));
             std::memcpy(v, mesh.positions.data(), mesh.positions.size() * sizeof(Vec3f));
-            auto* i = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                     3 * sizeof(unsigned), mesh.triangleCount()));
+            auto* i = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+                g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), mesh.triangleCount()));
             std::memcpy(i, mesh.indices.data(), mesh.indices.size() * sizeof(uint32_t));
             rtcCommitGeometry(g);
             rtcAttachGeometry(scene, g);
@@ -235,14 +235,15 @@ TraceResult traceAll(const Tracer& tracer, const Recording& rec, int threads, in
     const auto start = Clock::now();
     for (int p = 0; p < passes; ++p)
         arena.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<size_t>(0, chunks, 4), [&](const tbb::blocked_range<size_t>& range) {
-                uint64_t local = 0;
-                for (size_t i = rec.pixelStart[range.begin()]; i < rec.pixelStart[range.end()]; ++i) {
-                    const RecordedRay& r = rec.rays[i];
-                    local += r.kind == 2 ? tracer.occluded(r) : tracer.intersect(r);
-                }
-                hits += local;
-            });
+            tbb::parallel_for(
+                tbb::blocked_range<size_t>(0, chunks, 4), [&](const tbb::blocked_range<size_t>& range) {
+                    uint64_t local = 0;
+                    for (size_t i = rec.pixelStart[range.begin()]; i < rec.pixelStart[range.end()]; ++i) {
+                        const RecordedRay& r = rec.rays[i];
+                        local += r.kind == 2 ? tracer.occluded(r) : tracer.intersect(r);
+                    }
+                    hits += local;
+                });
         });
     TraceResult result;
     result.seconds = secondsSince(start);
@@ -269,7 +270,8 @@ Recording randomRays(const Scene& scene, size_t count) {
         if (i % 256 == 0) rec.pixelStart.push_back(i);
         Vec3f o;
         for (int a = 0; a < 3; ++a) o[a] = lo[a] + (hi[a] - lo[a]) * u(rng);
-        const float z = 1.0f - 2.0f * u(rng), phi = 2.0f * kPi * u(rng), r = std::sqrt(std::max(0.0f, 1.0f - z * z));
+        const float z = 1.0f - 2.0f * u(rng), phi = 2.0f * kPi * u(rng),
+                    r = std::sqrt(std::max(0.0f, 1.0f - z * z));
         rec.rays.push_back({o, Vec3f{r * std::cos(phi), r * std::sin(phi), z}, INFINITY, 0.0f, 1u});
     }
     rec.pixelStart.push_back(count);
@@ -302,17 +304,25 @@ int run(int argc, char** argv) {
             if (i + 1 >= argc) throw std::runtime_error(a + ": missing value");
             return argv[++i];
         };
-        if (a == "--threads") threads = std::stoi(next());
-        else if (a == "--pixel-stride") pixelStride = std::stoi(next());
-        else if (a == "--repeat") repeat = std::stoi(next());
-        else if (a == "--render-spp") renderSpp = std::stoi(next());
-        else if (a == "--json") jsonPath = next();
+        if (a == "--threads")
+            threads = std::stoi(next());
+        else if (a == "--pixel-stride")
+            pixelStride = std::stoi(next());
+        else if (a == "--repeat")
+            repeat = std::stoi(next());
+        else if (a == "--render-spp")
+            renderSpp = std::stoi(next());
+        else if (a == "--json")
+            jsonPath = next();
         else if (a == "--help" || a == "-h") {
-            std::printf("usage: penumbra_ray_throughput SCENE [--threads N=2] [--pixel-stride K=61] "
-                        "[--render-spp N=scene's] [--repeat R=3] [--json OUT]\n");
+            std::printf(
+                "usage: penumbra_ray_throughput SCENE [--threads N=2] [--pixel-stride K=61] "
+                "[--render-spp N=scene's] [--repeat R=3] [--json OUT]\n");
             return 0;
-        } else if (!a.empty() && a[0] == '-') throw std::runtime_error("unknown option " + a);
-        else scenePath = a;
+        } else if (!a.empty() && a[0] == '-')
+            throw std::runtime_error("unknown option " + a);
+        else
+            scenePath = a;
     }
     if (scenePath.empty()) throw std::runtime_error("no scene given (--help for usage)");
     if (threads < 1 || pixelStride < 1 || repeat < 1) throw std::runtime_error("bad option value");
@@ -396,57 +406,58 @@ int run(int argc, char** argv) {
         randomMrays.push_back(rnd.mraysPerSecond());
         randomPlainMrays.push_back(rndPlain.mraysPerSecond());
         checksum += bare.hits + barePlain.hits + barePlainRobust.hits + rnd.hits + rndPlain.hits;
-        std::fprintf(stderr,
-                     "repetition %d: render %.2f Mrays/s (%.2f s); bare retrace %.2f Mrays/s (accelerator), %.2f "
-                     "(plain scene); random rays %.2f / %.2f Mrays/s\n",
-                     r + 1, renderMrays.back(), stats.renderSeconds, bare.mraysPerSecond(),
-                     barePlain.mraysPerSecond(), rnd.mraysPerSecond(), rndPlain.mraysPerSecond());
+        std::fprintf(
+            stderr,
+            "repetition %d: render %.2f Mrays/s (%.2f s); bare retrace %.2f Mrays/s (accelerator), %.2f "
+            "(plain scene); random rays %.2f / %.2f Mrays/s\n",
+            r + 1, renderMrays.back(), stats.renderSeconds, bare.mraysPerSecond(), barePlain.mraysPerSecond(),
+            rnd.mraysPerSecond(), rndPlain.mraysPerSecond());
     }
 
     const double medRender = median(renderMrays), medBare = median(bareMrays), medPlain = median(plainMrays);
     char buf[4096];
-    std::snprintf(
-        buf, sizeof buf,
-        "{\n"
-        "  \"scene\": \"%s\",\n"
-        "  \"threads\": %d,\n"
-        "  \"spp\": %u,\n"
-        "  \"replay_verified\": %s,\n"
-        "  \"crop_rays_render\": [%llu, %llu, %llu],\n"
-        "  \"crop_rays_replay\": [%llu, %llu, %llu],\n"
-        "  \"recorded_pixels\": %zu,\n"
-        "  \"pixel_stride\": %d,\n"
-        "  \"recorded_rays\": %zu,\n"
-        "  \"recorded_rays_by_kind\": {\"camera\": %llu, \"bounce\": %llu, \"shadow\": %llu},\n"
-        "  \"bounce_rays_per_path_histogram\": %s,\n"
-        "  \"record_seconds\": %.3f,\n"
-        "  \"retrace_passes\": %d,\n"
-        "  \"render_rays\": %llu,\n"
-        "  \"render_seconds\": %s,\n"
-        "  \"render_mrays_per_s\": %s,\n"
-        "  \"bare_accelerator_mrays_per_s\": %s,\n"
-        "  \"bare_plain_embree_mrays_per_s\": %s,\n"
-        "  \"bare_plain_embree_robust_mrays_per_s\": %s,\n"
-        "  \"random_rays_accelerator_mrays_per_s\": %s,\n"
-        "  \"random_rays_plain_embree_mrays_per_s\": %s,\n"
-        "  \"median_render_mrays_per_s\": %.4f,\n"
-        "  \"median_bare_accelerator_mrays_per_s\": %.4f,\n"
-        "  \"median_bare_plain_embree_mrays_per_s\": %.4f,\n"
-        "  \"render_over_bare_accelerator\": %.4f,\n"
-        "  \"render_over_bare_plain_embree\": %.4f,\n"
-        "  \"checksum\": %llu\n"
-        "}\n",
-        scenePath.c_str(), threads, spp, verified ? "true" : "false", (unsigned long long)renderCrop.primary,
-        (unsigned long long)renderCrop.extension, (unsigned long long)renderCrop.shadow,
-        (unsigned long long)cropReplay.counters.primary, (unsigned long long)cropReplay.counters.extension,
-        (unsigned long long)cropReplay.counters.shadow, pixels.size(), pixelStride, rec.rays.size(),
-        (unsigned long long)kinds[0], (unsigned long long)kinds[1], (unsigned long long)kinds[2], histogram.c_str(),
-        recordSeconds,
-        passes, (unsigned long long)renderRays, jsonList(renderSeconds).c_str(), jsonList(renderMrays).c_str(),
-        jsonList(bareMrays).c_str(), jsonList(plainMrays).c_str(), jsonList(plainRobustMrays).c_str(),
-        jsonList(randomMrays).c_str(),
-        jsonList(randomPlainMrays).c_str(), medRender, medBare, medPlain, medBare > 0 ? medRender / medBare : 0.0,
-        medPlain > 0 ? medRender / medPlain : 0.0, (unsigned long long)checksum);
+    std::snprintf(buf, sizeof buf,
+                  "{\n"
+                  "  \"scene\": \"%s\",\n"
+                  "  \"threads\": %d,\n"
+                  "  \"spp\": %u,\n"
+                  "  \"replay_verified\": %s,\n"
+                  "  \"crop_rays_render\": [%llu, %llu, %llu],\n"
+                  "  \"crop_rays_replay\": [%llu, %llu, %llu],\n"
+                  "  \"recorded_pixels\": %zu,\n"
+                  "  \"pixel_stride\": %d,\n"
+                  "  \"recorded_rays\": %zu,\n"
+                  "  \"recorded_rays_by_kind\": {\"camera\": %llu, \"bounce\": %llu, \"shadow\": %llu},\n"
+                  "  \"bounce_rays_per_path_histogram\": %s,\n"
+                  "  \"record_seconds\": %.3f,\n"
+                  "  \"retrace_passes\": %d,\n"
+                  "  \"render_rays\": %llu,\n"
+                  "  \"render_seconds\": %s,\n"
+                  "  \"render_mrays_per_s\": %s,\n"
+                  "  \"bare_accelerator_mrays_per_s\": %s,\n"
+                  "  \"bare_plain_embree_mrays_per_s\": %s,\n"
+                  "  \"bare_plain_embree_robust_mrays_per_s\": %s,\n"
+                  "  \"random_rays_accelerator_mrays_per_s\": %s,\n"
+                  "  \"random_rays_plain_embree_mrays_per_s\": %s,\n"
+                  "  \"median_render_mrays_per_s\": %.4f,\n"
+                  "  \"median_bare_accelerator_mrays_per_s\": %.4f,\n"
+                  "  \"median_bare_plain_embree_mrays_per_s\": %.4f,\n"
+                  "  \"render_over_bare_accelerator\": %.4f,\n"
+                  "  \"render_over_bare_plain_embree\": %.4f,\n"
+                  "  \"checksum\": %llu\n"
+                  "}\n",
+                  scenePath.c_str(), threads, spp, verified ? "true" : "false",
+                  (unsigned long long)renderCrop.primary, (unsigned long long)renderCrop.extension,
+                  (unsigned long long)renderCrop.shadow, (unsigned long long)cropReplay.counters.primary,
+                  (unsigned long long)cropReplay.counters.extension,
+                  (unsigned long long)cropReplay.counters.shadow, pixels.size(), pixelStride, rec.rays.size(),
+                  (unsigned long long)kinds[0], (unsigned long long)kinds[1], (unsigned long long)kinds[2],
+                  histogram.c_str(), recordSeconds, passes, (unsigned long long)renderRays,
+                  jsonList(renderSeconds).c_str(), jsonList(renderMrays).c_str(), jsonList(bareMrays).c_str(),
+                  jsonList(plainMrays).c_str(), jsonList(plainRobustMrays).c_str(),
+                  jsonList(randomMrays).c_str(), jsonList(randomPlainMrays).c_str(), medRender, medBare,
+                  medPlain, medBare > 0 ? medRender / medBare : 0.0,
+                  medPlain > 0 ? medRender / medPlain : 0.0, (unsigned long long)checksum);
     std::fputs(buf, stdout);
     if (!jsonPath.empty()) {
         std::ofstream out(jsonPath);
@@ -454,7 +465,9 @@ int run(int argc, char** argv) {
         if (!out) throw std::runtime_error("cannot write " + jsonPath);
     }
     if (!verified) {
-        std::fprintf(stderr, "penumbra_ray_throughput: the replay does not trace the render's rays (crop counts differ)\n");
+        std::fprintf(
+            stderr,
+            "penumbra_ray_throughput: the replay does not trace the render's rays (crop counts differ)\n");
         return 3;
     }
     return 0;

@@ -21,7 +21,8 @@ using namespace penumbra;
 
 int main(int argc, char** argv) {
     if (argc < 2) {
-        std::fprintf(stderr, "usage: %s SCENE [--spp N] [--res WxH] [--repeat R] [--max-threads T]\n", argv[0]);
+        std::fprintf(stderr, "usage: %s SCENE [--spp N] [--res WxH] [--repeat R] [--max-threads T]\n",
+                     argv[0]);
         return 2;
     }
     try {
@@ -29,11 +30,16 @@ int main(int argc, char** argv) {
         int repeat = 3, maxThreads = tbb::info::default_concurrency();
         for (int i = 2; i + 1 < argc; i += 2) {
             const std::string option = argv[i], value = argv[i + 1];
-            if (option == "--spp") scene.film.samplesPerPixel = std::stoi(value);
-            else if (option == "--res") std::sscanf(value.c_str(), "%dx%d", &scene.film.width, &scene.film.height);
-            else if (option == "--repeat") repeat = std::stoi(value);
-            else if (option == "--max-threads") maxThreads = std::stoi(value);
-            else throw InputError("unknown option " + option);
+            if (option == "--spp")
+                scene.film.samplesPerPixel = std::stoi(value);
+            else if (option == "--res")
+                std::sscanf(value.c_str(), "%dx%d", &scene.film.width, &scene.film.height);
+            else if (option == "--repeat")
+                repeat = std::stoi(value);
+            else if (option == "--max-threads")
+                maxThreads = std::stoi(value);
+            else
+                throw InputError("unknown option " + option);
         }
         std::vector<int> threadCounts;
         for (int t = 1; t < maxThreads; t *= 2) threadCounts.push_back(t);
@@ -41,7 +47,9 @@ int main(int argc, char** argv) {
 
         std::printf("scene %s, %dx%d, %d spp, best of %d\n", argv[1], scene.film.width, scene.film.height,
                     scene.film.samplesPerPixel, repeat);
-        std::printf("| threads | seconds | M samples/s | M rays/s | speed-up | same image |\n|---|---|---|---|---|---|\n");
+        std::printf(
+            "| threads | seconds | M samples/s | M rays/s | speed-up | same image "
+            "|\n|---|---|---|---|---|---|\n");
         Film reference(scene.film.width, scene.film.height);
         double oneThreadSeconds = 0;
         for (int threads : threadCounts) {
@@ -63,8 +71,9 @@ int main(int argc, char** argv) {
             for (int y = 0; y < film.height() && same; ++y)
                 for (int x = 0; x < film.width() && same; ++x)
                     same = std::memcmp(&film.at(x, y), &reference.at(x, y), sizeof(PixelSums)) == 0;
-            std::printf("| %d | %.3f | %.2f | %.2f | %.2fx | %s |\n", threads, best, stats.samples / best * 1e-6,
-                        stats.rays.total() / best * 1e-6, oneThreadSeconds / best, same ? "yes" : "NO");
+            std::printf("| %d | %.3f | %.2f | %.2f | %.2fx | %s |\n", threads, best,
+                        stats.samples / best * 1e-6, stats.rays.total() / best * 1e-6,
+                        oneThreadSeconds / best, same ? "yes" : "NO");
         }
         return 0;
     } catch (const std::exception& e) {

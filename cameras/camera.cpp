@@ -11,7 +11,8 @@ namespace penumbra {
 
 ThinLensCamera::ThinLensCamera(const ThinLensCameraParams& p, int filmWidth, int filmHeight) {
     auto toWorld = Transform::lookAt(p.lookFrom, p.lookAt, p.up);
-    if (!toWorld) throw InputError("camera: look_from, look_at and up must span a view (got a degenerate look-at)");
+    if (!toWorld)
+        throw InputError("camera: look_from, look_at and up must span a view (got a degenerate look-at)");
     if (!(p.verticalFovDegrees > 0.0f && p.verticalFovDegrees < 180.0f))
         throw InputError("camera: fov must lie in (0, 180) degrees");
     if (filmWidth <= 0 || filmHeight <= 0) throw InputError("camera: film resolution must be positive");
@@ -22,7 +23,8 @@ ThinLensCamera::ThinLensCamera(const ThinLensCameraParams& p, int filmWidth, int
     invWidth_ = 1.0f / float(filmWidth);
     invHeight_ = 1.0f / float(filmHeight);
     if (!(p.apertureRadius >= 0.0f)) throw InputError("camera: the aperture radius must be >= 0");
-    if (p.apertureBlades != 0 && p.apertureBlades < 3) throw InputError("camera: an aperture needs 0 or >= 3 blades");
+    if (p.apertureBlades != 0 && p.apertureBlades < 3)
+        throw InputError("camera: an aperture needs 0 or >= 3 blades");
     apertureRadius_ = p.apertureRadius;
     apertureBlades_ = p.apertureBlades;
     apertureRotation_ = p.apertureRotationDegrees * kPi / 180.0f;
@@ -98,7 +100,8 @@ Transform ThinLensCamera::cameraToWorld(float time) const {
     auto lerp = [t](Vec3f x, Vec3f y) { return x * (1.0f - t) + y * t; };
     // Poses were validated one by one; an in-between pose can still degenerate (e.g. up flipping
     // through the view direction), in which case the nearer key's pose is used.
-    const auto between = Transform::lookAt(lerp(a.lookFrom, b.lookFrom), lerp(a.lookAt, b.lookAt), lerp(a.up, b.up));
+    const auto between =
+        Transform::lookAt(lerp(a.lookFrom, b.lookFrom), lerp(a.lookAt, b.lookAt), lerp(a.up, b.up));
     if (between) return *between;
     const CameraPose& nearest = t < 0.5f ? a : b;
     return *Transform::lookAt(nearest.lookFrom, nearest.lookAt, nearest.up);

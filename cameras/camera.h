@@ -70,7 +70,8 @@ private:
     float apertureRadius_ = 0.0f;
     int apertureBlades_ = 0;
     float apertureRotation_ = 0.0f;  // radians
-    std::vector<Vec2f> bladeVertices_;  // the polygon's vertices on the unit circle, the first repeated at the end
+    std::vector<Vec2f>
+        bladeVertices_;  // the polygon's vertices on the unit circle, the first repeated at the end
     float focusDistance_ = 1.0f;
     float invWidth_ = 1.0f, invHeight_ = 1.0f;
 };

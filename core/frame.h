@@ -54,8 +54,9 @@ struct FrameLanes {
 private:
     // a v.x + b v.y + c v.z, summed in that order.
     static Vec3f combination(__m128 a, __m128 b, __m128 c, Vec3f v) {
-        return toVec3f(_mm_add_ps(_mm_add_ps(_mm_mul_ps(a, _mm_set1_ps(v.x)), _mm_mul_ps(b, _mm_set1_ps(v.y))),
-                                  _mm_mul_ps(c, _mm_set1_ps(v.z))));
+        return toVec3f(
+            _mm_add_ps(_mm_add_ps(_mm_mul_ps(a, _mm_set1_ps(v.x)), _mm_mul_ps(b, _mm_set1_ps(v.y))),
+                       _mm_mul_ps(c, _mm_set1_ps(v.z))));
     }
 };
 

@@ -10,13 +10,13 @@
 //    first written, and on a virtual machine a fault is dear (bench/README.md, "Speed tricks").
 #pragma once
 
+#include <sys/mman.h>
+
 #include <cstddef>
 #include <cstdlib>
 #include <memory>
 #include <new>
 #include <type_traits>
-
-#include <sys/mman.h>
 
 namespace penumbra {
 
@@ -33,8 +33,10 @@ inline void* allocateHugePageBytes(size_t bytes, size_t alignment) {
 }
 
 inline void freeHugePageBytes(void* p, size_t bytes, size_t alignment) {
-    if (bytes < kHugePageSize) ::operator delete(p, std::align_val_t(alignment));
-    else std::free(p);
+    if (bytes < kHugePageSize)
+        ::operator delete(p, std::align_val_t(alignment));
+    else
+        std::free(p);
 }
 
 template <typename T, size_t Alignment = alignof(T)>
@@ -65,7 +67,8 @@ class HugePageBuffer {
 
 public:
     explicit HugePageBuffer(size_t size)
-        : data_(static_cast<T*>(allocateHugePageBytes(size * sizeof(T), alignof(T))), Free{size * sizeof(T)}) {}
+        : data_(static_cast<T*>(allocateHugePageBytes(size * sizeof(T), alignof(T))),
+                Free{size * sizeof(T)}) {}
     T* get() const { return data_.get(); }
 
 private:

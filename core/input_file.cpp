@@ -27,9 +27,12 @@ const char* kindOf(mode_t mode) {
 
 std::string describeBytes(uint64_t bytes) {
     char text[64];
-    if (bytes >= (uint64_t(1) << 30)) std::snprintf(text, sizeof text, "%.1f GiB", double(bytes) / 0x1p30);
-    else if (bytes >= (uint64_t(1) << 20)) std::snprintf(text, sizeof text, "%.1f MiB", double(bytes) / 0x1p20);
-    else std::snprintf(text, sizeof text, "%llu bytes", static_cast<unsigned long long>(bytes));
+    if (bytes >= (uint64_t(1) << 30))
+        std::snprintf(text, sizeof text, "%.1f GiB", double(bytes) / 0x1p30);
+    else if (bytes >= (uint64_t(1) << 20))
+        std::snprintf(text, sizeof text, "%.1f MiB", double(bytes) / 0x1p20);
+    else
+        std::snprintf(text, sizeof text, "%llu bytes", static_cast<unsigned long long>(bytes));
     return text;
 }
 
@@ -38,7 +41,8 @@ InputFile::InputFile(const std::filesystem::path& path, const char* what, uint64
     fd_ = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
     if (fd_ < 0) {
         if (errno == ENOENT) throwFileError(path, std::string(what) + " not found");
-        throwFileError(path, std::string("cannot open the ") + what + " for reading: " + std::strerror(errno));
+        throwFileError(path,
+                       std::string("cannot open the ") + what + " for reading: " + std::strerror(errno));
     }
     struct stat status {};
     if (::fstat(fd_, &status) != 0) {
@@ -48,14 +52,15 @@ InputFile::InputFile(const std::filesystem::path& path, const char* what, uint64
     }
     if (!S_ISREG(status.st_mode)) {
         ::close(fd_);
-        throwFileError(path, std::string("is ") + kindOf(status.st_mode) + ", not a regular file; penumbra reads the " +
-                                 what + " only from a regular file");
+        throwFileError(path, std::string("is ") + kindOf(status.st_mode) +
+                                 ", not a regular file; penumbra reads the " + what +
+                                 " only from a regular file");
     }
     size_ = uint64_t(status.st_size);
     if (size_ > maxBytes) {
         ::close(fd_);
-        throwFileError(path, "the " + std::string(what) + " is " + describeBytes(size_) + "; penumbra reads at most " +
-                                 describeBytes(maxBytes) + " (docs/limits.md)");
+        throwFileError(path, "the " + std::string(what) + " is " + describeBytes(size_) +
+                                 "; penumbra reads at most " + describeBytes(maxBytes) + " (docs/limits.md)");
     }
 }
 

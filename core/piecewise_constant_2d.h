@@ -70,7 +70,8 @@ private:
 class PiecewiseConstant2D {
 public:
     PiecewiseConstant2D() = default;
-    PiecewiseConstant2D(const std::vector<float>& values, size_t width, size_t height) : width_(width), height_(height) {
+    PiecewiseConstant2D(const std::vector<float>& values, size_t width, size_t height)
+        : width_(width), height_(height) {
         std::vector<float> rowIntegrals(height);
         rows_.reserve(height);
         for (size_t v = 0; v < height; ++v) {

@@ -33,7 +33,8 @@ inline constexpr float kMinimumRelativeOffset = 0x1p-40f;
     // exactly 0) would move by 0 and leave with a coordinate of the smallest normal float, on which
     // Embree's traversal runs markedly slower; the distance is therefore at least
     // kMinimumRelativeOffset of the point's largest coordinate (bench/README.md, "Speed tricks").
-    return std::max(dot(abs(normal), pointError) * (1.0f + gamma(8)), maxComponent(abs(point)) * kMinimumRelativeOffset);
+    return std::max(dot(abs(normal), pointError) * (1.0f + gamma(8)),
+                    maxComponent(abs(point)) * kMinimumRelativeOffset);
 }
 
 // `point` moved by `d` (offsetDistance) along `normal` and one float further. The three axes are
@@ -51,7 +52,8 @@ inline constexpr float kMinimumRelativeOffset = 0x1p-40f;
     // Embree runs with denormals read as zero: a zero or subnormal origin would lie on the surface,
     // so it becomes the smallest normal float on n's side (stepping a zero would not do either).
     const __m128 signMask = _mm_set1_ps(-0.0f), smallest = _mm_set1_ps(std::numeric_limits<float>::min());
-    const __m128 tiny = _mm_and_ps(_mm_cmplt_ps(_mm_andnot_ps(signMask, moved), smallest), _mm_castsi128_ps(alongN));
+    const __m128 tiny =
+        _mm_and_ps(_mm_cmplt_ps(_mm_andnot_ps(signMask, moved), smallest), _mm_castsi128_ps(alongN));
     const __m128 replacement = _mm_or_ps(_mm_and_ps(n, signMask), smallest);
     const __m128 result = _mm_or_ps(_mm_and_ps(tiny, replacement), _mm_andnot_ps(tiny, stepped));
     return toVec3f(result);

@@ -20,9 +20,10 @@ std::filesystem::path findPrefix() {
         if (!dir.has_parent_path() || dir.parent_path() == dir) break;
         dir = dir.parent_path();
     }
-    throw InputError("cannot find penumbra's data: no share/penumbra folder at or above " + exe.parent_path().string() +
-                     " (install with 'cmake --install BUILD --prefix PREFIX', which puts the program in PREFIX/bin "
-                     "and its data in PREFIX/share/penumbra and PREFIX/lib/penumbra)");
+    throw InputError(
+        "cannot find penumbra's data: no share/penumbra folder at or above " + exe.parent_path().string() +
+        " (install with 'cmake --install BUILD --prefix PREFIX', which puts the program in PREFIX/bin "
+        "and its data in PREFIX/share/penumbra and PREFIX/lib/penumbra)");
 }
 
 }  // namespace

@@ -12,9 +12,24 @@ struct Rgb {
     constexpr explicit Rgb(float v) : r(v), g(v), b(v) {}
     constexpr Rgb(float r_, float g_, float b_) : r(r_), g(g_), b(b_) {}
     constexpr float operator[](int i) const { return i == 0 ? r : (i == 1 ? g : b); }
-    Rgb& operator+=(Rgb o) { r += o.r; g += o.g; b += o.b; return *this; }
-    Rgb& operator*=(Rgb o) { r *= o.r; g *= o.g; b *= o.b; return *this; }
-    Rgb& operator*=(float s) { r *= s; g *= s; b *= s; return *this; }
+    Rgb& operator+=(Rgb o) {
+        r += o.r;
+        g += o.g;
+        b += o.b;
+        return *this;
+    }
+    Rgb& operator*=(Rgb o) {
+        r *= o.r;
+        g *= o.g;
+        b *= o.b;
+        return *this;
+    }
+    Rgb& operator*=(float s) {
+        r *= s;
+        g *= s;
+        b *= s;
+        return *this;
+    }
     constexpr bool isBlack() const { return r == 0 && g == 0 && b == 0; }
     float maxComponent() const { return std::max(r, std::max(g, b)); }
     float minComponent() const { return std::min(r, std::min(g, b)); }

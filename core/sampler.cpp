@@ -4,8 +4,10 @@ namespace penumbra {
 
 std::string_view samplerKindName(SamplerKind kind) {
     switch (kind) {
-        case SamplerKind::Stratified: return "stratified";
-        case SamplerKind::Independent: return "independent";
+        case SamplerKind::Stratified:
+            return "stratified";
+        case SamplerKind::Independent:
+            return "independent";
     }
     return "unknown";
 }

@@ -43,7 +43,8 @@ enum class Dim : uint32_t {
     Pixel,            // 2D: position within the pixel's filter footprint
     Lens,             // 2D: position on the lens aperture
     Time,             // 1D: instant within the shutter
-    LightPosition,    // 2D: which light next-event estimation samples (x, reused: LightSet::choose) and the point on it
+    LightPosition,    // 2D: which light next-event estimation samples (x, reused: LightSet::choose) and the
+                      // point on it
     BsdfLobe,         // 1D: which lobe of the material is sampled
     BsdfDirection,    // 2D: direction within the lobe
     RussianRoulette,  // 1D: survival decision
@@ -118,8 +119,9 @@ inline constexpr uint32_t reversedSobolThirdDimension(uint32_t index) {
 // The two coordinates of a stratified 2D sample from its shuffled index: the first and second
 // Sobol dimensions of `index`, each Owen-scrambled with its own seed, as floats in [0, 1).
 inline Vec2f scrambledSobolPairScalar(uint32_t index, uint32_t xSeed, uint32_t ySeed) {
-    return {bitsToUnitFloat(reverseBits32(laineKarrasPermutation(index, xSeed))),
-            bitsToUnitFloat(reverseBits32(laineKarrasPermutation(reversedSobolSecondDimension(index), ySeed)))};
+    return {
+        bitsToUnitFloat(reverseBits32(laineKarrasPermutation(index, xSeed))),
+        bitsToUnitFloat(reverseBits32(laineKarrasPermutation(reversedSobolSecondDimension(index), ySeed)))};
 }
 
 // The same values, with x and y in two lanes of one SSE register where SSE4.1 is there (the
@@ -136,7 +138,8 @@ inline Vec2f scrambledSobolPair(uint32_t index, uint32_t xSeed, uint32_t ySeed) 
     const __m128i lowNibbles = _mm_set1_epi8(0x0f);
     const __m128i reversedAsHigh = _mm_setr_epi8(0x00, 0x80, 0x40, 0xc0, 0x20, 0xa0, 0x60, 0xe0, 0x10, 0x90,
                                                  0x50, 0xd0, 0x30, 0xb0, 0x70, 0xf0);
-    const __m128i reversedAsLow = _mm_srli_epi16(reversedAsHigh, 4);  // no bits cross a byte: the low nibbles are 0
+    const __m128i reversedAsLow =
+        _mm_srli_epi16(reversedAsHigh, 4);  // no bits cross a byte: the low nibbles are 0
     x = _mm_or_si128(_mm_shuffle_epi8(reversedAsHigh, _mm_and_si128(x, lowNibbles)),
                      _mm_shuffle_epi8(reversedAsLow, _mm_and_si128(_mm_srli_epi16(x, 4), lowNibbles)));
     const __m128 unit = _mm_mul_ps(_mm_cvtepi32_ps(_mm_srli_epi32(x, 8)), _mm_set1_ps(0x1p-24f));
@@ -168,10 +171,10 @@ public:
           pixelKeyTerms_(hashCombineSeedTerms(pixel.value)) {}
 
     float get1D(Dim dim, uint32_t bounce = 0) const {
-        if (frozen_ & dimBit(dim)) [[unlikely]] return 0.5f;
+        if (frozen_ & dimBit(dim)) [[unlikely]]
+            return 0.5f;
         const uint64_t key = dimensionKey(dim, bounce);
-        if (kind_ == SamplerKind::Independent)
-            return bitsToUnitFloat(uint32_t(hashWords(key, sampleIndex_)));
+        if (kind_ == SamplerKind::Independent) return bitsToUnitFloat(uint32_t(hashWords(key, sampleIndex_)));
         // The first Sobol dimension is the bit-reversed index, so its Owen scrambling reduces to
         // reverse(permute(index)).
         const uint32_t index = shuffledIndex(key);
@@ -179,7 +182,8 @@ public:
     }
 
     Vec2f get2D(Dim dim, uint32_t bounce = 0) const {
-        if (frozen_ & dimBit(dim)) [[unlikely]] return {0.5f, 0.5f};
+        if (frozen_ & dimBit(dim)) [[unlikely]]
+            return {0.5f, 0.5f};
         return get2DUnfrozen(dim, bounce);
     }
     // The value get2D gives when `dim` is not frozen, whether it is or not.

@@ -28,8 +28,8 @@ inline constexpr float kInvPi = std::numbers::inv_pi_v<float>;
 }
 
 // Cosine-weighted direction on the +z hemisphere (Malley's method); pdf = cos(theta) / pi. It and
-// the disk map (with its sine and cosine) are always inlined: with several materials calling them the compiler stopped
-// inlining them into Lambert's sampling in the integrator (bench/README.md, "Speed tricks").
+// the disk map (with its sine and cosine) are always inlined: with several materials calling them the
+// compiler stopped inlining them into Lambert's sampling in the integrator (bench/README.md, "Speed tricks").
 [[gnu::always_inline]] inline Vec3f sampleCosineHemisphere(Vec2f u) {
     const Vec2f d = sampleUniformDiskConcentric(u);
     const float z = std::sqrt(std::max(0.0f, 1.0f - d.x * d.x - d.y * d.y));

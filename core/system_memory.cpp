@@ -31,12 +31,13 @@ void requireMemory(double bytes, const std::string& what, const SystemMemory& me
     if (limit <= 0 || bytes <= limit) return;
     char text[512];
     if (memory.availableBytes)
-        std::snprintf(text, sizeof text, "%s needs %.1f GiB of memory; this machine has %.1f GiB available (of %.1f GiB)",
+        std::snprintf(text, sizeof text,
+                      "%s needs %.1f GiB of memory; this machine has %.1f GiB available (of %.1f GiB)",
                       what.c_str(), bytes / 0x1p30, double(memory.availableBytes) / 0x1p30,
                       double(memory.totalBytes) / 0x1p30);
     else
-        std::snprintf(text, sizeof text, "%s needs %.1f GiB of memory; this machine has %.1f GiB", what.c_str(),
-                      bytes / 0x1p30, double(memory.totalBytes) / 0x1p30);
+        std::snprintf(text, sizeof text, "%s needs %.1f GiB of memory; this machine has %.1f GiB",
+                      what.c_str(), bytes / 0x1p30, double(memory.totalBytes) / 0x1p30);
     throw InputError(text);
 }
 

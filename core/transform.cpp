@@ -67,15 +67,23 @@ std::optional<Transform> Transform::fromMatrix(const Matrix4& matrix) {
 
 Transform Transform::translate(Vec3f d) {
     Matrix4 m = Matrix4::identity(), inv = Matrix4::identity();
-    m.m[0][3] = d.x; m.m[1][3] = d.y; m.m[2][3] = d.z;
-    inv.m[0][3] = -d.x; inv.m[1][3] = -d.y; inv.m[2][3] = -d.z;
+    m.m[0][3] = d.x;
+    m.m[1][3] = d.y;
+    m.m[2][3] = d.z;
+    inv.m[0][3] = -d.x;
+    inv.m[1][3] = -d.y;
+    inv.m[2][3] = -d.z;
     return {m, inv};
 }
 
 Transform Transform::scale(Vec3f f) {
     Matrix4 m = Matrix4::identity(), inv = Matrix4::identity();
-    m.m[0][0] = f.x; m.m[1][1] = f.y; m.m[2][2] = f.z;
-    inv.m[0][0] = 1.0f / f.x; inv.m[1][1] = 1.0f / f.y; inv.m[2][2] = 1.0f / f.z;
+    m.m[0][0] = f.x;
+    m.m[1][1] = f.y;
+    m.m[2][2] = f.z;
+    inv.m[0][0] = 1.0f / f.x;
+    inv.m[1][1] = 1.0f / f.y;
+    inv.m[2][2] = 1.0f / f.z;
     return {m, inv};
 }
 
@@ -129,8 +137,7 @@ Vec3f Transform::applyPoint(Vec3f p) const {
 
 Vec3f Transform::applyVector(Vec3f v) const {
     const auto& m = matrix_.m;
-    return {m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z,
-            m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
+    return {m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z, m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
             m[2][0] * v.x + m[2][1] * v.y + m[2][2] * v.z};
 }
 

@@ -27,7 +27,7 @@ public:
     static std::optional<Transform> fromMatrix(const Matrix4& matrix);
 
     static Transform translate(Vec3f delta);
-    static Transform scale(Vec3f factors);                   // factors must be non-zero
+    static Transform scale(Vec3f factors);                    // factors must be non-zero
     static Transform rotate(float angleDegrees, Vec3f axis);  // right-handed, axis need not be unit
     // Camera-to-world transform of a camera at `from` looking at `to`; camera space has +z forward,
     // +y up and +x to the right of the image. Empty when the directions are degenerate.

@@ -14,7 +14,9 @@ namespace penumbra {
 [[gnu::always_inline]] inline Vec2f cosSinQuarterPi(float a) {
     const float z = a * a;
     const float sine = a + a * z * (-1.6666654611e-1f + z * (8.3321608736e-3f + z * -1.9515295891e-4f));
-    const float cosine = 1.0f - 0.5f * z + z * z * (4.166664568298827e-2f + z * (-1.388731625493765e-3f + z * 2.443315711809948e-5f));
+    const float cosine =
+        1.0f - 0.5f * z +
+        z * z * (4.166664568298827e-2f + z * (-1.388731625493765e-3f + z * 2.443315711809948e-5f));
     return {cosine, sine};
 }
 
@@ -25,10 +27,14 @@ namespace penumbra {
     const float nearest = std::nearbyint(quarters);
     const Vec2f cs = cosSinQuarterPi((quarters - nearest) * (std::numbers::pi_v<float> / 2.0f));
     switch (int(nearest) & 3) {
-        case 0: return cs;
-        case 1: return {-cs.y, cs.x};
-        case 2: return {-cs.x, -cs.y};
-        default: return {cs.y, -cs.x};
+        case 0:
+            return cs;
+        case 1:
+            return {-cs.y, cs.x};
+        case 2:
+            return {-cs.x, -cs.y};
+        default:
+            return {cs.y, -cs.x};
     }
 }
 

@@ -24,9 +24,24 @@ struct Vec3f {
     constexpr Vec3f(float x_, float y_, float z_) : x(x_), y(y_), z(z_) {}
     constexpr float operator[](int i) const { return i == 0 ? x : (i == 1 ? y : z); }
     float& operator[](int i) { return i == 0 ? x : (i == 1 ? y : z); }
-    Vec3f& operator+=(Vec3f b) { x += b.x; y += b.y; z += b.z; return *this; }
-    Vec3f& operator-=(Vec3f b) { x -= b.x; y -= b.y; z -= b.z; return *this; }
-    Vec3f& operator*=(float s) { x *= s; y *= s; z *= s; return *this; }
+    Vec3f& operator+=(Vec3f b) {
+        x += b.x;
+        y += b.y;
+        z += b.z;
+        return *this;
+    }
+    Vec3f& operator-=(Vec3f b) {
+        x -= b.x;
+        y -= b.y;
+        z -= b.z;
+        return *this;
+    }
+    Vec3f& operator*=(float s) {
+        x *= s;
+        y *= s;
+        z *= s;
+        return *this;
+    }
 };
 
 inline constexpr Vec3f operator+(Vec3f a, Vec3f b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }

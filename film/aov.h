@@ -8,10 +8,10 @@
 namespace penumbra {
 
 struct FirstHitAovs {
-    bool hit = false;       // false: the camera ray left the scene (the other fields are unused)
-    float distance = 0.0f;  // from the ray origin to the first hit, in scene units
+    bool hit = false;                // false: the camera ray left the scene (the other fields are unused)
+    float distance = 0.0f;           // from the ray origin to the first hit, in scene units
     Vec3f normal{0.0f, 0.0f, 0.0f};  // unit shading normal at the first hit (on the shape's front side)
-    Rgb albedo{0.0f};       // reflectance of the first hit's material (Material::albedo)
+    Rgb albedo{0.0f};                // reflectance of the first hit's material (Material::albedo)
 };
 
 }  // namespace penumbra

@@ -1,9 +1,9 @@
 #include "film/film.h"
 
+#include <fmt/format.h>
+
 #include <limits>
 #include <stdexcept>
-
-#include <fmt/format.h>
 
 #include "core/error.h"
 #include "core/system_memory.h"
@@ -73,9 +73,10 @@ void Film::merge(const Film& other) {
         throw std::invalid_argument("Film::merge: the films differ in size");
     for (size_t i = 0; i < pixels_.size(); ++i)
         if (!pixels_[i].tryMerge(other.pixels_[i]))
-            throw InputError(fmt::format("pixel ({}, {}) would hold more than 2^32 - 1 samples or a sum beyond "
-                                         "128 bits: the films cannot both be intact parts of one render",
-                                         i % size_t(width_), i / size_t(width_)));
+            throw InputError(
+                fmt::format("pixel ({}, {}) would hold more than 2^32 - 1 samples or a sum beyond "
+                            "128 bits: the films cannot both be intact parts of one render",
+                            i % size_t(width_), i / size_t(width_)));
 }
 
 bool Film::identicalTo(const Film& other) const {

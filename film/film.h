@@ -52,8 +52,10 @@ public:
     void add(double value) {
         const double scaled = value * 0x1p48;
         // Fast path: truncation of a value that fits a 64-bit integer.
-        if (std::abs(scaled) < 0x1p62) raw_ += int64_t(scaled);
-        else raw_ += wide(scaled);
+        if (std::abs(scaled) < 0x1p62)
+            raw_ += int64_t(scaled);
+        else
+            raw_ += wide(scaled);
     }
     // Below this many units in magnitude, an addend may be summed in 64 bits (PixelAccumulator):
     // 2^6 such addends cannot overflow an int64.
@@ -110,7 +112,8 @@ private:
 };
 
 static_assert(std::endian::native == std::endian::little && sizeof(ExactSum) == 16 &&
-              std::is_standard_layout_v<ExactSum>, "ExactSum::wordOffset assumes a little-endian 128-bit integer");
+                  std::is_standard_layout_v<ExactSum>,
+              "ExactSum::wordOffset assumes a little-endian 128-bit integer");
 
 struct PixelSums {
     ExactSum radiance[3];         // sum of weight * L
@@ -124,7 +127,13 @@ struct PixelSums {
 
     // The sums by index, in the order above (the order of the film's EXR channels).
     enum SumIndex : int {
-        kRadiance = 0, kRadianceSquared = 3, kWeight = 6, kAlbedo = 7, kNormal = 10, kDepth = 13, kHitWeight = 14,
+        kRadiance = 0,
+        kRadianceSquared = 3,
+        kWeight = 6,
+        kAlbedo = 7,
+        kNormal = 10,
+        kDepth = 13,
+        kHitWeight = 14,
         kSumCount = 15
     };
     ExactSum& sum(int i) {
@@ -157,7 +166,9 @@ struct PixelSums {
 
     void add(Rgb value, float sampleWeight) { addSample(value, sampleWeight, nullptr); }
     // A sample with its first-hit AOVs.
-    void add(Rgb value, float sampleWeight, const FirstHitAovs& aovs) { addSample(value, sampleWeight, &aovs); }
+    void add(Rgb value, float sampleWeight, const FirstHitAovs& aovs) {
+        addSample(value, sampleWeight, &aovs);
+    }
     // Adds another film's sums for the same pixel (exact: the order of merges does not matter).
     // False, with this pixel unchanged, when a sum would overflow or the sample count would pass
     // 2^32 - 1 (only crafted or corrupt films get there).

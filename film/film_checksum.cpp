@@ -1,9 +1,9 @@
 #include "film/film_checksum.h"
 
-#include <vector>
-
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
+
+#include <vector>
 
 #include "core/hash.h"
 
@@ -40,7 +40,8 @@ uint64_t rowChecksum(const Film& film, const PixelWindow& window, int y) {
 uint64_t filmChecksum(const Film& film, const PixelWindow& window, const std::string& metadataText) {
     // Rows are hashed in parallel, then chained in order: the result does not depend on threads.
     std::vector<uint64_t> rows(size_t(std::max(window.height(), 0)));
-    tbb::parallel_for(0, int(rows.size()), [&](int r) { rows[size_t(r)] = rowChecksum(film, window, window.y0 + r); });
+    tbb::parallel_for(0, int(rows.size()),
+                      [&](int r) { rows[size_t(r)] = rowChecksum(film, window, window.y0 + r); });
     uint64_t h = mix64(fnv1a64(metadataText));
     for (uint64_t row : rows) h = hashCombine(h, row);
     return h;

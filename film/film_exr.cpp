@@ -12,27 +12,26 @@
 #include <OpenEXR/ImfOutputPart.h>
 #include <OpenEXR/ImfPartType.h>
 #include <OpenEXR/ImfStringAttribute.h>
-#include <OpenEXR/ImfThreading.h>
 #include <OpenEXR/ImfTestFile.h>
+#include <OpenEXR/ImfThreading.h>
 #include <OpenEXR/openexr.h>
+#include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <optional>
-#include <thread>
 #include <string>
+#include <thread>
 #include <vector>
 
-#include <fmt/format.h>
-#include <tbb/parallel_for.h>
-
 #include "core/error.h"
+#include "core/huge_page_allocator.h"
 #include "core/input_file.h"
 #include "core/input_limits.h"
 #include "core/system_memory.h"
-#include "core/huge_page_allocator.h"
 #include "film/adaptive_film.h"
 #include "film/atomic_file.h"
 #include "film/checked_file.h"
@@ -60,18 +59,18 @@ const char* const kNoisePart = "sums.noise";
 const char* const kContentsAttribute = "penumbra:contents";
 
 const std::vector<std::string>& beautyChannels() {
-    static const std::vector<std::string> names = {"R", "G", "B", "A", "albedo.R", "albedo.G", "albedo.B",
-                                                   "N.X", "N.Y", "N.Z", "Z", "variance.R", "variance.G",
-                                                   "variance.B"};
+    static const std::vector<std::string> names = {
+        "R",   "G",   "B",   "A", "albedo.R",   "albedo.G",   "albedo.B",
+        "N.X", "N.Y", "N.Z", "Z", "variance.R", "variance.G", "variance.B"};
     return names;
 }
 
 // The exact sums of PixelSums in a fixed order, each as UINT channels NAME.w0..w3 (the 128-bit
 // integer of an ExactSum, least significant word first), then "spp".
 constexpr int kSumCount = PixelSums::kSumCount;
-const char* const kSumNames[kSumCount] = {"sum.R", "sum.G", "sum.B", "sumsq.R", "sumsq.G", "sumsq.B",
-                                          "sum.weight", "sum.albedo.R", "sum.albedo.G", "sum.albedo.B",
-                                          "sum.N.X", "sum.N.Y", "sum.N.Z", "sum.Z", "sum.hits"};
+const char* const kSumNames[kSumCount] = {
+    "sum.R",        "sum.G",        "sum.B",   "sumsq.R", "sumsq.G", "sumsq.B", "sum.weight", "sum.albedo.R",
+    "sum.albedo.G", "sum.albedo.B", "sum.N.X", "sum.N.Y", "sum.N.Z", "sum.Z",   "sum.hits"};
 
 // Every word of every sum (channel 4 * sum + word), then "spp": the channels of layout version 1,
 // and the order of the in-memory words of both versions.
@@ -101,7 +100,9 @@ int wordsNeeded(const uint32_t words[4]) {
 std::string formatWindow(const PixelWindow& w) { return fmt::format("{},{},{},{}", w.x0, w.x1, w.y0, w.y1); }
 
 Imath::Box2i boxOf(const PixelWindow& w) { return Imath::Box2i({w.x0, w.y0}, {w.x1 - 1, w.y1 - 1}); }
-PixelWindow windowOf(const Imath::Box2i& b) { return PixelWindow{b.min.x, b.max.x + 1, b.min.y, b.max.y + 1}; }
+PixelWindow windowOf(const Imath::Box2i& b) {
+    return PixelWindow{b.min.x, b.max.x + 1, b.min.y, b.max.y + 1};
+}
 
 // A frame buffer over interleaved pixels of `names.size()` channels of `type`, covering `box`.
 template <class T>
@@ -145,13 +146,17 @@ const char* const kNotOurs = "is not a film written by penumbra (render or merge
 int linesPerChunk(Imf::Compression compression) {
     switch (compression) {
         case Imf::ZIP_COMPRESSION:
-        case Imf::PXR24_COMPRESSION: return 16;
+        case Imf::PXR24_COMPRESSION:
+            return 16;
         case Imf::PIZ_COMPRESSION:
         case Imf::B44_COMPRESSION:
         case Imf::B44A_COMPRESSION:
-        case Imf::DWAA_COMPRESSION: return 32;
-        case Imf::DWAB_COMPRESSION: return 256;
-        default: return 1;  // none, RLE, ZIPS
+        case Imf::DWAA_COMPRESSION:
+            return 32;
+        case Imf::DWAB_COMPRESSION:
+            return 256;
+        default:
+            return 1;  // none, RLE, ZIPS
     }
 }
 
@@ -168,9 +173,10 @@ void checkFileHoldsItsRows(const std::filesystem::path& path, Imf::MultiPartInpu
     std::error_code ec;
     const uintmax_t size = std::filesystem::file_size(path, ec);
     if (!ec && double(size) < minimumBytes)
-        throwFileError(path, fmt::format("the file is {} bytes, too small for the rows its windows declare (at least "
-                                         "{:.0f} bytes): it is truncated or its header is corrupt",
-                                         size, minimumBytes));
+        throwFileError(
+            path, fmt::format("the file is {} bytes, too small for the rows its windows declare (at least "
+                              "{:.0f} bytes): it is truncated or its header is corrupt",
+                              size, minimumBytes));
 }
 
 // OpenEXR 3.1's C++ reader allocates what a header attribute declares before reading it, and
@@ -183,7 +189,8 @@ void checkHeadersWithOpenExrCore(const std::filesystem::path& path) {
     init.user_data = &reason;
     init.error_handler_fn = [](exr_const_context_t context, exr_result_t code, const char* message) {
         void* user = nullptr;
-        if (exr_get_user_data(context, &user) == EXR_ERR_SUCCESS && user && static_cast<std::string*>(user)->empty())
+        if (exr_get_user_data(context, &user) == EXR_ERR_SUCCESS && user &&
+            static_cast<std::string*>(user)->empty())
             *static_cast<std::string*>(user) = message ? message : exr_get_error_code_as_string(code);
     };
     init.flags = EXR_CONTEXT_FLAG_STRICT_HEADER;  // otherwise it reports errors and goes on
@@ -201,11 +208,12 @@ void checkHeadersWithOpenExrCore(const std::filesystem::path& path) {
 // The attributes of the beauty part that say which samples the film holds, as the checksum covers
 // them (docs/exr-layout.md); an adaptive film's penumbra:adaptive last.
 std::string checksummedMetadata(const Imf::Header& beauty) {
-    std::string text = fmt::format("{}|{}|{}|{}|{}|{}|{}|{}", stringAttribute(beauty, "penumbra:resolution"),
-                                   stringAttribute(beauty, "penumbra:crop"), stringAttribute(beauty, "penumbra:samples"),
-                                   intAttribute(beauty, "penumbra:spp"), stringAttribute(beauty, "penumbra:seed"),
-                                   stringAttribute(beauty, "penumbra:sampler"), stringAttribute(beauty, "penumbra:accel"),
-                                   stringAttribute(beauty, "penumbra:sceneHash"));
+    std::string text =
+        fmt::format("{}|{}|{}|{}|{}|{}|{}|{}", stringAttribute(beauty, "penumbra:resolution"),
+                    stringAttribute(beauty, "penumbra:crop"), stringAttribute(beauty, "penumbra:samples"),
+                    intAttribute(beauty, "penumbra:spp"), stringAttribute(beauty, "penumbra:seed"),
+                    stringAttribute(beauty, "penumbra:sampler"), stringAttribute(beauty, "penumbra:accel"),
+                    stringAttribute(beauty, "penumbra:sceneHash"));
     if (intAttribute(beauty, "penumbra:film") >= kFirstAdaptiveLayout) {
         text += '|';  // appended in two steps: GCC 12 warns (-Wrestrict) of "|" + a temporary string
         text += stringAttribute(beauty, kAdaptiveAttribute);
@@ -230,12 +238,16 @@ FilmHeader readHeader(const std::filesystem::path& path, Imf::MultiPartInputFile
         throwFileError(path, fmt::format("{}: it has no penumbra:film attribute", kNotOurs));
     layout = intAttribute(beauty, "penumbra:film");
     if (layout < 1 || layout > kFilmLayoutVersion)
-        throwFileError(path, fmt::format("film layout version {} is not supported (this penumbra reads versions 1 to {})",
-                                         layout, kFilmLayoutVersion));
+        throwFileError(
+            path,
+            fmt::format("film layout version {} is not supported (this penumbra reads versions 1 to {})",
+                        layout, kFilmLayoutVersion));
 
     if (beauty.find(kContentsAttribute) != beauty.end())
-        throwFileError(path, "it holds the image and its AOVs only (written with --film beauty), not the film's sums: "
-                             "it cannot be resumed or merged (write films with --film full, the default)");
+        throwFileError(
+            path,
+            "it holds the image and its AOVs only (written with --film beauty), not the film's sums: "
+            "it cannot be resumed or merged (write films with --film full, the default)");
 
     const Imath::Box2i display = beauty.displayWindow();
     const int fullWidth = display.max.x - display.min.x + 1, fullHeight = display.max.y - display.min.y + 1;
@@ -244,8 +256,8 @@ FilmHeader readHeader(const std::filesystem::path& path, Imf::MultiPartInputFile
         throwFileError(path, "the display window does not match penumbra:resolution");
 
     if (fullWidth > limits::kMaxImageSide || fullHeight > limits::kMaxImageSide)
-        throwFileError(path, fmt::format("the image is {}x{}; penumbra's limit is {} pixels a side", fullWidth,
-                                         fullHeight, limits::kMaxImageSide));
+        throwFileError(path, fmt::format("the image is {}x{}; penumbra's limit is {} pixels a side",
+                                         fullWidth, fullHeight, limits::kMaxImageSide));
 
     RenderMetadata m;
     m.samplesPerPixel = intAttribute(beauty, "penumbra:spp");
@@ -271,7 +283,8 @@ FilmHeader readHeader(const std::filesystem::path& path, Imf::MultiPartInputFile
     ok = colon != std::string::npos;
     const int first = ok ? parseIntStrict(samples.substr(0, colon), ok) : 0;
     const int end = ok ? parseIntStrict(samples.substr(colon + 1), ok) : 0;
-    if (!ok || first < 0 || end < first) throwFileError(path, fmt::format("malformed penumbra:samples '{}'", samples));
+    if (!ok || first < 0 || end < first)
+        throwFileError(path, fmt::format("malformed penumbra:samples '{}'", samples));
     m.firstSample = uint32_t(first);
     m.endSample = uint32_t(end);
 
@@ -309,11 +322,13 @@ FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& fi
         const Imf::Header& h = file.header(p);
         if (h.hasName() && (h.name() == kSumsPart || (layout >= 2 && h.name() == kNoisePart))) {
             if (h.dataWindow() != data)
-                throwFileError(path, fmt::format("the \"{}\" part's data window differs from the beauty's", h.name()));
+                throwFileError(
+                    path, fmt::format("the \"{}\" part's data window differs from the beauty's", h.name()));
             sumParts.push_back(p);
         }
     }
-    if (std::none_of(sumParts.begin(), sumParts.end(), [&](int p) { return file.header(p).name() == kSumsPart; }))
+    if (std::none_of(sumParts.begin(), sumParts.end(),
+                     [&](int p) { return file.header(p).name() == kSumsPart; }))
         throwFileError(path, fmt::format("{}: it has no \"sums\" part", kNotOurs));
 
     // Where each word is stored: a part, and its index among the channels read from that part.
@@ -359,7 +374,8 @@ FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& fi
             part.setFrameBuffer(interleaved(Imf::UINT, buffers[p]->get(), namesOf[p], data));
             part.readPixels(data.min.y, data.max.y);
         } catch (const std::exception& e) {
-            throwFileError(path, fmt::format("cannot read the \"{}\" part: {}", file.header(p).name(), e.what()));
+            throwFileError(path,
+                           fmt::format("cannot read the \"{}\" part: {}", file.header(p).name(), e.what()));
         }
     }
     auto word = [&](int c, size_t pixel) {
@@ -394,18 +410,21 @@ FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& fi
                                                      x, y, kSumNames[s]));
         }
 
-    const Imf::Header& sumsHeader = file.header(
-        *std::find_if(sumParts.begin(), sumParts.end(), [&](int p) { return file.header(p).name() == kSumsPart; }));
+    const Imf::Header& sumsHeader = file.header(*std::find_if(
+        sumParts.begin(), sumParts.end(), [&](int p) { return file.header(p).name() == kSumsPart; }));
     const auto* stored = sumsHeader.findTypedAttribute<Imf::StringAttribute>(kChecksumAttribute);
     if (layout >= kFirstLayoutWithChecksum) {
         if (!stored)
-            throwFileError(path, fmt::format("the \"sums\" part has no {} attribute, which film layout {} requires",
-                                             kChecksumAttribute, layout));
-        const std::string computed = formatFilmChecksum(filmChecksum(result.film, window, checksummedMetadata(beauty)));
+            throwFileError(path,
+                           fmt::format("the \"sums\" part has no {} attribute, which film layout {} requires",
+                                       kChecksumAttribute, layout));
+        const std::string computed =
+            formatFilmChecksum(filmChecksum(result.film, window, checksummedMetadata(beauty)));
         if (stored->value() != computed)
-            throwFileError(path, fmt::format("the film's sums or metadata do not match their checksum ({} stored, {} "
-                                             "computed): the file is corrupt",
-                                             stored->value(), computed));
+            throwFileError(
+                path, fmt::format("the film's sums or metadata do not match their checksum ({} stored, {} "
+                                  "computed): the file is corrupt",
+                                  stored->value(), computed));
     } else {
         // Films written before the checksum still read (a render resumed after an update keeps
         // its hours), but nothing shows that their sums are intact.
@@ -452,8 +471,10 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
     const PixelWindow window = metadata.crop.value_or(full);
     if (window.x0 < 0 || window.y0 < 0 || window.x1 > film.width() || window.y1 > film.height() ||
         window.width() <= 0 || window.height() <= 0)
-        throwFileError(path, fmt::format("cannot write the EXR image: the crop window {} does not lie inside the {}x{} image",
-                                         formatWindow(window), film.width(), film.height()));
+        throwFileError(
+            path,
+            fmt::format("cannot write the EXR image: the crop window {} does not lie inside the {}x{} image",
+                        formatWindow(window), film.width(), film.height()));
     const Imath::Box2i data = boxOf(window);
 
     // Part 0, "beauty": what viewers and compositors read; it carries the metadata.
@@ -472,7 +493,8 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
     beauty.insert("penumbra:sceneHash", Imf::StringAttribute(metadata.sceneHash));
     beauty.insert("penumbra:renderTime", Imf::DoubleAttribute(metadata.renderSeconds));
     beauty.insert("penumbra:version", Imf::StringAttribute(metadata.version));
-    beauty.insert("penumbra:resolution", Imf::StringAttribute(fmt::format("{}x{}", film.width(), film.height())));
+    beauty.insert("penumbra:resolution",
+                  Imf::StringAttribute(fmt::format("{}x{}", film.width(), film.height())));
     beauty.insert("penumbra:samples",
                   Imf::StringAttribute(fmt::format("{}:{}", metadata.firstSample, metadata.endSample)));
     beauty.insert("penumbra:crop", Imf::StringAttribute(formatWindow(window)));
@@ -484,8 +506,9 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
     // Parts "sums" and "sums.noise": the film itself, losslessly, with the same windows and metadata.
     Imf::Header sums = beauty, noise = beauty;
     sums.setName(kSumsPart);
-    sums.insert(kChecksumAttribute,
-                Imf::StringAttribute(formatFilmChecksum(filmChecksum(film, window, checksummedMetadata(beauty)))));
+    sums.insert(
+        kChecksumAttribute,
+        Imf::StringAttribute(formatFilmChecksum(filmChecksum(film, window, checksummedMetadata(beauty)))));
     sums.compression() = Imf::ZIP_COMPRESSION;
     sums.zipCompressionLevel() = 1;
     noise.setName(kNoisePart);
@@ -526,9 +549,9 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
             const PixelSums& p = film.at(window.x0 + x, window.y0 + row);
             const Rgb mean = p.mean(), albedo = p.meanAlbedo(), variance = p.varianceOfMean();
             const Vec3f normal = p.meanNormal();
-            const float values[] = {mean.r,   mean.g,   mean.b,   p.sampleCount > 0 ? 1.0f : 0.0f,
-                                    albedo.r, albedo.g, albedo.b, normal.x,
-                                    normal.y, normal.z, p.meanDepth(), variance.r,
+            const float values[] = {mean.r,     mean.g,    mean.b,        p.sampleCount > 0 ? 1.0f : 0.0f,
+                                    albedo.r,   albedo.g,  albedo.b,      normal.x,
+                                    normal.y,   normal.z,  p.meanDepth(), variance.r,
                                     variance.g, variance.b};
             out = std::copy(std::begin(values), std::end(values), out);
             uint32_t* w = words[x & 1];
@@ -548,7 +571,8 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
     WordStats total = {};
     std::fill(std::begin(total.neededWords), std::end(total.neededWords), 1);
     for (const WordStats& row : rowStats) {
-        for (int s = 0; s < kSumCount; ++s) total.neededWords[s] = std::max(total.neededWords[s], row.neededWords[s]);
+        for (int s = 0; s < kSumCount; ++s)
+            total.neededWords[s] = std::max(total.neededWords[s], row.neededWords[s]);
         for (int c = 0; c < kSppChannel; ++c) {
             total.bits[c] |= row.bits[c];
             total.repeats[c] += row.repeats[c];
@@ -577,9 +601,9 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
     auto filmWord = [&](int c) {
         const size_t xStride = sizeof(PixelSums), yStride = xStride * size_t(film.width());
         const PixelSums& origin = film.at(0, 0);  // the slices address pixels by absolute (x, y)
-        const char* word = c == kSppChannel
-                               ? reinterpret_cast<const char*>(&origin.sampleCount)
-                               : reinterpret_cast<const char*>(&origin.sum(c / 4)) + ExactSum::wordOffset(c % 4);
+        const char* word = c == kSppChannel ? reinterpret_cast<const char*>(&origin.sampleCount)
+                                            : reinterpret_cast<const char*>(&origin.sum(c / 4)) +
+                                                  ExactSum::wordOffset(c % 4);
         // OpenEXR takes a char* for reading and writing alike; writing a file only reads it.
         return Imf::Slice(Imf::UINT, const_cast<char*>(word), xStride, yStride);
     };
@@ -600,7 +624,8 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
                 // each block of lines is compressed on its own.
                 Imf::MultiPartOutputFile file(stream, headers, parts, false, exrThreads());
                 Imf::OutputPart beautyPart(file, 0);
-                Imf::FrameBuffer beautyBuffer = interleaved(Imf::FLOAT, beautyPixels.get(), beautyNames, data);
+                Imf::FrameBuffer beautyBuffer =
+                    interleaved(Imf::FLOAT, beautyPixels.get(), beautyNames, data);
                 if (metadata.adaptive) beautyBuffer.insert(sumChannels()[kSppChannel], filmWord(kSppChannel));
                 beautyPart.setFrameBuffer(beautyBuffer);
                 beautyPart.writePixels(height);
@@ -626,7 +651,8 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
 
 FilmHeader readFilmHeader(const std::filesystem::path& path) {
     InputFile(path, "film", UINT64_MAX);
-    if (!Imf::isOpenExrFile(path.c_str())) throwFileError(path, fmt::format("{}: it is not an OpenEXR file", kNotOurs));
+    if (!Imf::isOpenExrFile(path.c_str()))
+        throwFileError(path, fmt::format("{}: it is not an OpenEXR file", kNotOurs));
     try {
         Imf::MultiPartInputFile file(path.c_str(), exrThreads());
         int layout = 0;
@@ -646,7 +672,8 @@ bool isPenumbraFilm(const std::filesystem::path& path) {
         checkHeadersWithOpenExrCore(path);
         Imf::MultiPartInputFile file(path.c_str(), exrThreads());
         const Imf::Header& header = file.header(0);
-        return header.find("penumbra:film") != header.end() && header.find(kContentsAttribute) == header.end();
+        return header.find("penumbra:film") != header.end() &&
+               header.find(kContentsAttribute) == header.end();
     } catch (const std::exception&) {
         return false;
     }
@@ -654,7 +681,8 @@ bool isPenumbraFilm(const std::filesystem::path& path) {
 
 FilmFile readFilmExr(const std::filesystem::path& path) {
     InputFile(path, "film", UINT64_MAX);  // a regular file, or an error that says what it is
-    if (!Imf::isOpenExrFile(path.c_str())) throwFileError(path, fmt::format("{}: it is not an OpenEXR file", kNotOurs));
+    if (!Imf::isOpenExrFile(path.c_str()))
+        throwFileError(path, fmt::format("{}: it is not an OpenEXR file", kNotOurs));
     checkHeadersWithOpenExrCore(path);
     try {
         Imf::MultiPartInputFile file(path.c_str(), exrThreads());

@@ -1,9 +1,9 @@
 #include "film/film_merge.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cstdio>
-
-#include <fmt/format.h>
 
 #include "core/error.h"
 #include "film/adaptive_film.h"
@@ -22,24 +22,31 @@ void checkSameRender(int width, int height, const FilmMerger::Seen& first, const
     const std::string& firstName = first.name;
     const RenderMetadata &a = first.metadata, &b = part.metadata;
     auto mismatch = [&](const char* what, const std::string& va, const std::string& vb) {
-        throw InputError(fmt::format("cannot merge {} and {}: they were rendered with different {} ({} and {})",
-                                     firstName, name, what, va, vb));
+        throw InputError(
+            fmt::format("cannot merge {} and {}: they were rendered with different {} ({} and {})", firstName,
+                        name, what, va, vb));
     };
     if (width != part.film.width() || height != part.film.height())
         mismatch("resolutions", fmt::format("{}x{}", width, height),
                  fmt::format("{}x{}", part.film.width(), part.film.height()));
     if (a.sceneHash != b.sceneHash)
-        mismatch("scenes", fmt::format("'{}' {}", a.sceneFile, a.sceneHash), fmt::format("'{}' {}", b.sceneFile, b.sceneHash));
+        mismatch("scenes", fmt::format("'{}' {}", a.sceneFile, a.sceneHash),
+                 fmt::format("'{}' {}", b.sceneFile, b.sceneHash));
     if (a.seed != b.seed) mismatch("seeds", std::to_string(a.seed), std::to_string(b.seed));
     if (a.sampler != b.sampler) mismatch("samplers", a.sampler, b.sampler);
-    if (a.accelerator != b.accelerator) mismatch("traversal backends (--accel)", a.accelerator, b.accelerator);
+    if (a.accelerator != b.accelerator)
+        mismatch("traversal backends (--accel)", a.accelerator, b.accelerator);
 }
 
 }  // namespace
 
-std::string describeWindow(const PixelWindow& w) { return fmt::format("{},{},{},{}", w.x0, w.x1, w.y0, w.y1); }
+std::string describeWindow(const PixelWindow& w) {
+    return fmt::format("{},{},{},{}", w.x0, w.x1, w.y0, w.y1);
+}
 
-std::string describeRange(const RenderMetadata& m) { return fmt::format("[{}, {})", m.firstSample, m.endSample); }
+std::string describeRange(const RenderMetadata& m) {
+    return fmt::format("[{}, {})", m.firstSample, m.endSample);
+}
 
 void FilmMerger::add(FilmFile part, const std::string& name) {
     if (merged_) checkSameRender(merged_->film.width(), merged_->film.height(), first_, part, name);
@@ -47,7 +54,8 @@ void FilmMerger::add(FilmFile part, const std::string& name) {
     // neighbours) says so: parts of one would not add up to the film of one render.
     if (part.metadata.adaptive)
         throw InputError(fmt::format(
-            "cannot merge {}: it is an adaptive render (penumbra:adaptive {}), whose pixels stop where the whole "
+            "cannot merge {}: it is an adaptive render (penumbra:adaptive {}), whose pixels stop where the "
+            "whole "
             "film decides; render it as one job instead (checkpoints and --resume continue it exactly)",
             name, formatAdaptiveAttribute(*part.metadata.adaptive)));
     // Two parts overlap when they share pixels and sample indices: those samples would count twice.
@@ -56,11 +64,12 @@ void FilmMerger::add(FilmFile part, const std::string& name) {
         const RenderMetadata &a = earlier.metadata, &b = part.metadata;
         const bool samplesOverlap = a.firstSample < b.endSample && b.firstSample < a.endSample;
         if (samplesOverlap && earlier.window.intersects(window))
-            throw InputError(fmt::format(
-                "cannot merge {} and {}: their sample ranges {} and {} overlap on shared pixels (windows {} and {}); "
-                "each sample of a pixel must come from one part",
-                earlier.name, name, describeRange(a), describeRange(b), describeWindow(earlier.window),
-                describeWindow(window)));
+            throw InputError(
+                fmt::format("cannot merge {} and {}: their sample ranges {} and {} overlap on shared pixels "
+                            "(windows {} and {}); "
+                            "each sample of a pixel must come from one part",
+                            earlier.name, name, describeRange(a), describeRange(b),
+                            describeWindow(earlier.window), describeWindow(window)));
     }
     seen_.push_back(Seen{part.metadata, window, name});
     if (!merged_) {
@@ -86,7 +95,8 @@ MergeResult FilmMerger::finish() {
     for (const Seen& part : seen_) {
         m.renderSeconds += part.metadata.renderSeconds;
         const PixelWindow& w = part.window;
-        box = {std::min(box.x0, w.x0), std::max(box.x1, w.x1), std::min(box.y0, w.y0), std::max(box.y1, w.y1)};
+        box = {std::min(box.x0, w.x0), std::max(box.x1, w.x1), std::min(box.y0, w.y0),
+               std::max(box.y1, w.y1)};
         first = std::min(first, part.metadata.firstSample);
         end = std::max(end, part.metadata.endSample);
     }
@@ -118,18 +128,21 @@ MergeResult FilmMerger::finish() {
             for (size_t k = 1; k < ranges.size(); ++k) contiguous &= ranges[k].first == ranges[k - 1].second;
             if (!contiguous) {
                 result.uniform = false;
-                result.note = ranges.empty()
-                                  ? fmt::format("pixel ({}, {}) lies in no part, though inside the merged window {}", x,
-                                                y, describeWindow(box))
-                                  : fmt::format("the sample ranges of pixel ({}, {}) leave a gap", x, y);
+                result.note =
+                    ranges.empty()
+                        ? fmt::format("pixel ({}, {}) lies in no part, though inside the merged window {}", x,
+                                      y, describeWindow(box))
+                        : fmt::format("the sample ranges of pixel ({}, {}) leave a gap", x, y);
                 break;
             }
             const std::pair<uint32_t, uint32_t> span{ranges.front().first, ranges.back().second};
-            if (!common) common = span;
+            if (!common)
+                common = span;
             else if (*common != span) {
                 result.uniform = false;
-                result.note = fmt::format("pixel ({}, {}) holds samples [{}, {}) but pixel ({}, {}) [{}, {})", box.x0,
-                                          box.y0, common->first, common->second, x, y, span.first, span.second);
+                result.note =
+                    fmt::format("pixel ({}, {}) holds samples [{}, {}) but pixel ({}, {}) [{}, {})", box.x0,
+                                box.y0, common->first, common->second, x, y, span.first, span.second);
             }
         }
     if (result.uniform && common) {
@@ -139,8 +152,9 @@ MergeResult FilmMerger::finish() {
     m.firstSample = first;
     m.endSample = end;
     m.samplesPerPixel = int(end - first);
-    m.crop = box == PixelWindow{0, result.merged.film.width(), 0, result.merged.film.height()} ? std::nullopt
-                                                                                              : std::optional(box);
+    m.crop = box == PixelWindow{0, result.merged.film.width(), 0, result.merged.film.height()}
+                 ? std::nullopt
+                 : std::optional(box);
     seen_.clear();
     return result;
 }
@@ -165,50 +179,61 @@ void checkResumable(const FilmFile& file, const std::string& path, const ResumeT
         throw InputError(where, "cannot resume this film: " + message);
     };
     if (m.sceneHash != target.sceneHash)
-        fail(fmt::format("it was rendered from a different scene ('{}' hashing to {}; the scene file now hashes to {})",
-                         m.sceneFile, m.sceneHash, target.sceneHash));
+        fail(fmt::format(
+            "it was rendered from a different scene ('{}' hashing to {}; the scene file now hashes to {})",
+            m.sceneFile, m.sceneHash, target.sceneHash));
     if (file.film.width() != target.width || file.film.height() != target.height)
-        fail(fmt::format("it is {}x{}, the render {}x{} (pass --res {}x{})", file.film.width(), file.film.height(),
-                         target.width, target.height, file.film.width(), file.film.height()));
-    if (m.seed != target.seed) fail(fmt::format("it was rendered with seed {}, not {} (pass --seed {})", m.seed, target.seed, m.seed));
+        fail(fmt::format("it is {}x{}, the render {}x{} (pass --res {}x{})", file.film.width(),
+                         file.film.height(), target.width, target.height, file.film.width(),
+                         file.film.height()));
+    if (m.seed != target.seed)
+        fail(fmt::format("it was rendered with seed {}, not {} (pass --seed {})", m.seed, target.seed,
+                         m.seed));
     if (m.sampler != target.sampler)
-        fail(fmt::format("it was rendered with the {} sampler, not {} (pass --sampler {})", m.sampler, target.sampler, m.sampler));
+        fail(fmt::format("it was rendered with the {} sampler, not {} (pass --sampler {})", m.sampler,
+                         target.sampler, m.sampler));
     if (m.accelerator != target.accelerator)
         fail(fmt::format("it was rendered with --accel {}, not {}", m.accelerator, target.accelerator));
     const PixelWindow full{0, target.width, 0, target.height};
     const PixelWindow fileWindow = m.crop.value_or(full), targetWindow = target.crop.value_or(full);
     if (fileWindow != targetWindow)
-        fail(fmt::format("it covers the pixels {}, the render {} (pass --crop {})", describeWindow(fileWindow),
-                         describeWindow(targetWindow), describeWindow(fileWindow)));
+        fail(fmt::format("it covers the pixels {}, the render {} (pass --crop {})",
+                         describeWindow(fileWindow), describeWindow(targetWindow),
+                         describeWindow(fileWindow)));
     auto describeAdaptive = [](const std::optional<AdaptiveSettings>& a) {
         return a ? fmt::format("adaptive sampling {} ([absolute:]THRESHOLD:MIN_SPP)",
                                formatAdaptiveAttribute(*a))
                  : std::string("no adaptive sampling");
     };
     if (m.adaptive != target.adaptive)
-        fail(fmt::format("it was rendered with {}, the render asks for {} (pass the same --adaptive and --min-spp)",
-                         describeAdaptive(m.adaptive), describeAdaptive(target.adaptive)));
+        fail(fmt::format(
+            "it was rendered with {}, the render asks for {} (pass the same --adaptive and --min-spp)",
+            describeAdaptive(m.adaptive), describeAdaptive(target.adaptive)));
     const uint32_t count = m.endSample - m.firstSample;
     if (m.adaptive) {
         // Each pixel of the window stopped at a decision point or holds every sample.
-        if (m.firstSample != 0) fail(fmt::format("an adaptive film starts at sample 0, not {}", m.firstSample));
+        if (m.firstSample != 0)
+            fail(fmt::format("an adaptive film starts at sample 0, not {}", m.firstSample));
         for (int y = 0; y < target.height; ++y)
             for (int x = 0; x < target.width; ++x) {
                 const uint32_t held = file.film.at(x, y).sampleCount;
-                const bool possible = fileWindow.contains(x, y) ? adaptiveCountPossible(*m.adaptive, held, count) : held == 0;
+                const bool possible =
+                    fileWindow.contains(x, y) ? adaptiveCountPossible(*m.adaptive, held, count) : held == 0;
                 if (!possible)
-                    fail(fmt::format("pixel ({}, {}) holds {} samples, which an adaptive render ({}) of samples {} "
-                                     "does not leave",
-                                     x, y, held, describeAdaptive(m.adaptive), describeRange(m)));
+                    fail(fmt::format(
+                        "pixel ({}, {}) holds {} samples, which an adaptive render ({}) of samples {} "
+                        "does not leave",
+                        x, y, held, describeAdaptive(m.adaptive), describeRange(m)));
             }
     }
     for (int y = 0; y < target.height && !m.adaptive; ++y)
         for (int x = 0; x < target.width; ++x) {
             const uint32_t expected = fileWindow.contains(x, y) ? count : 0;
             if (file.film.at(x, y).sampleCount != expected)
-                fail(fmt::format("pixel ({}, {}) holds {} samples where its samples {} say {} (a merge of parts that "
-                                 "do not cover the same samples everywhere?)",
-                                 x, y, file.film.at(x, y).sampleCount, describeRange(m), expected));
+                fail(fmt::format(
+                    "pixel ({}, {}) holds {} samples where its samples {} say {} (a merge of parts that "
+                    "do not cover the same samples everywhere?)",
+                    x, y, file.film.at(x, y).sampleCount, describeRange(m), expected));
         }
     if (target.firstSample && m.firstSample != *target.firstSample)
         fail(fmt::format("it holds samples {}, the render starts at sample {} (--samples)", describeRange(m),

@@ -1,7 +1,7 @@
 // Merging films and checking that a film can be continued (`penumbra merge`, `render --resume`):
 // films rendered from the same scene, resolution, seed, sampler and backend, over sample ranges
-// and pixel windows that do not overlap, are added pixel by pixel. The film's sums are exact (ExactSum, film/film.h), so a
-// merge gives the same bits as one render of the union, in whatever order the parts come.
+// and pixel windows that do not overlap, are added pixel by pixel. The film's sums are exact (ExactSum,
+// film/film.h), so a merge gives the same bits as one render of the union, in whatever order the parts come.
 #pragma once
 
 #include <filesystem>

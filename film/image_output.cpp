@@ -1,20 +1,18 @@
 #include "film/image_output.h"
 
 #include <OpenColorIO/OpenColorIO.h>
-
+#include <fmt/format.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <cerrno>
-#include <cstdint>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <functional>
 #include <utility>
 #include <vector>
-
-#include <fmt/format.h>
 
 #include "core/error.h"
 #include "core/input_file.h"
@@ -44,9 +42,8 @@ OCIO::ConstConfigRcPtr loadOcioConfig() {
     try {
         return fromEnv ? OCIO::Config::CreateFromEnv() : OCIO::Config::CreateFromFile(configPath.c_str());
     } catch (const OCIO::Exception& e) {
-        throw InputError(fileLocation(configPath),
-                         fmt::format("cannot load the OpenColorIO config{}: {}", fromEnv ? " named by $OCIO" : "",
-                                     e.what()));
+        throw InputError(fileLocation(configPath), fmt::format("cannot load the OpenColorIO config{}: {}",
+                                                               fromEnv ? " named by $OCIO" : "", e.what()));
     }
 }
 
@@ -91,17 +88,18 @@ std::pair<std::string, std::string> resolveView(const OCIO::Config& config, cons
     bool displayKnown = false;
     for (int i = 0; i < config.getNumDisplays(); ++i) displayKnown |= displayName == config.getDisplay(i);
     if (!displayKnown)
-        throw InputError(fmt::format("unknown OpenColorIO display '{}'; available displays: {}", displayName,
-                                     joinQuoted(config.getNumDisplays(), [&](int i) { return config.getDisplay(i); })));
+        throw InputError(
+            fmt::format("unknown OpenColorIO display '{}'; available displays: {}", displayName,
+                        joinQuoted(config.getNumDisplays(), [&](int i) { return config.getDisplay(i); })));
 
     const std::string viewName = view.empty() ? config.getDefaultView(displayName.c_str()) : view;
     bool viewKnown = false;
     const int numViews = config.getNumViews(displayName.c_str());
     for (int i = 0; i < numViews; ++i) viewKnown |= viewName == config.getView(displayName.c_str(), i);
     if (!viewKnown)
-        throw InputError(fmt::format("unknown OpenColorIO view '{}' of display '{}'; available views: {}", viewName,
-                                     displayName,
-                                     joinQuoted(numViews, [&](int i) { return config.getView(displayName.c_str(), i); })));
+        throw InputError(fmt::format(
+            "unknown OpenColorIO view '{}' of display '{}'; available views: {}", viewName, displayName,
+            joinQuoted(numViews, [&](int i) { return config.getView(displayName.c_str(), i); })));
 
     return {displayName, viewName};
 }
@@ -116,7 +114,8 @@ std::string hashFileContents(const std::filesystem::path& path) {
     return formatHash(hash);
 }
 
-std::string hashSceneFiles(const std::filesystem::path& sceneFile, const std::vector<std::filesystem::path>& meshFiles) {
+std::string hashSceneFiles(const std::filesystem::path& sceneFile,
+                           const std::vector<std::filesystem::path>& meshFiles) {
     uint64_t hash = kFnvOffsetBasis;
     hashBytesOf(sceneFile, hash);
     for (const std::filesystem::path& mesh : meshFiles) hashBytesOf(mesh, hash);
@@ -129,9 +128,12 @@ std::string penumbraSoftwareName() { return "penumbra " + penumbraVersion(); }
 
 void writeDisplayImage(const Film& film, const std::filesystem::path& path, const DisplayOptions& options) {
     std::string extension = path.extension().string();
-    std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
+    std::transform(extension.begin(), extension.end(), extension.begin(),
+                   [](unsigned char c) { return std::tolower(c); });
     if (extension != ".png" && extension != ".jpg" && extension != ".jpeg")
-        throwFileError(path, fmt::format("unsupported display image format '{}' (expected .png, .jpg or .jpeg)", extension));
+        throwFileError(
+            path,
+            fmt::format("unsupported display image format '{}' (expected .png, .jpg or .jpeg)", extension));
 
     const OCIO::ConstConfigRcPtr config = loadOcioConfig();
 
@@ -143,15 +145,16 @@ void writeDisplayImage(const Film& film, const std::filesystem::path& path, cons
         for (float& v : rgb) v *= scale;
     }
     try {
-        const auto processor = config->getProcessor(OCIO::ROLE_SCENE_LINEAR, displayName.c_str(), viewName.c_str(),
-                                                    OCIO::TRANSFORM_DIR_FORWARD);
+        const auto processor = config->getProcessor(OCIO::ROLE_SCENE_LINEAR, displayName.c_str(),
+                                                    viewName.c_str(), OCIO::TRANSFORM_DIR_FORWARD);
         if (!rgb.empty()) {
             OCIO::PackedImageDesc image(rgb.data(), film.width(), film.height(), 3);
             processor->getDefaultCPUProcessor()->apply(image);
         }
     } catch (const OCIO::Exception& e) {
-        throwFileError(path, fmt::format("OpenColorIO cannot convert scene_linear to display '{}', view '{}': {}", displayName,
-                                         viewName, e.what()));
+        throwFileError(path,
+                       fmt::format("OpenColorIO cannot convert scene_linear to display '{}', view '{}': {}",
+                                   displayName, viewName, e.what()));
     }
 
     std::vector<uint8_t> pixels(rgb.size());
@@ -162,10 +165,19 @@ void writeDisplayImage(const Film& film, const std::filesystem::path& path, cons
     const std::string software = penumbraSoftwareName();
     const std::string exposure = fmt::format("{:+g}", options.exposure);
     const std::string description =
-        fmt::format("scene-linear to display '{}', view '{}', exposure {} stops (OpenColorIO)", displayName, viewName, exposure);
-    const char* const attributes[] = {"Software",          software.c_str(),    "ImageDescription", description.c_str(),
-                                      "penumbra:display",  displayName.c_str(), "penumbra:view",    viewName.c_str(),
-                                      "penumbra:exposure", exposure.c_str(),    nullptr};
+        fmt::format("scene-linear to display '{}', view '{}', exposure {} stops (OpenColorIO)", displayName,
+                    viewName, exposure);
+    const char* const attributes[] = {"Software",
+                                      software.c_str(),
+                                      "ImageDescription",
+                                      description.c_str(),
+                                      "penumbra:display",
+                                      displayName.c_str(),
+                                      "penumbra:view",
+                                      viewName.c_str(),
+                                      "penumbra:exposure",
+                                      exposure.c_str(),
+                                      nullptr};
     writeFileAtomically(path, "display image", [&](const std::string& tmp, std::string& error) {
         char message[1024];
         if (plugin.writeRgb8(tmp.c_str(), film.width(), film.height(), pixels.data(), attributes,

@@ -25,9 +25,9 @@ struct RenderMetadata {
     std::string sampler;      // "stratified" / "independent"
     std::string accelerator;  // "embree" / "bvh"
     std::string sceneFile;
-    std::string sceneHash;    // hashSceneFiles() of the scene file and its mesh files
+    std::string sceneHash;  // hashSceneFiles() of the scene file and its mesh files
     double renderSeconds = 0.0;
-    std::string version;      // penumbra version string
+    std::string version;                      // penumbra version string
     uint32_t firstSample = 0, endSample = 0;  // every pixel of the window holds samples [first, end)
     std::optional<PixelWindow> crop;          // the pixels rendered; none: the whole image
     // An adaptive render's settings: each pixel of the window then holds samples [first, first + k)
@@ -79,7 +79,8 @@ std::string hashFileContents(const std::filesystem::path& path);
 // (Scene::meshFiles): identifies the scene a film was rendered from, so that a resume or a merge
 // refuses a film rendered before a mesh file changed. A scene without mesh files hashes as its
 // file alone (as films written before mesh files were hashed record it).
-std::string hashSceneFiles(const std::filesystem::path& sceneFile, const std::vector<std::filesystem::path>& meshFiles);
+std::string hashSceneFiles(const std::filesystem::path& sceneFile,
+                           const std::vector<std::filesystem::path>& meshFiles);
 
 // The project's version, as film files record it.
 std::string penumbraVersion();
@@ -100,7 +101,8 @@ struct DisplayOptions {
 // records them in its "ImageDescription" and "penumbra:display", "penumbra:view" and
 // "penumbra:exposure" attributes. Loads the image plugin, which encodes the file; throws
 // InputError naming the plugin's file when it cannot be loaded.
-void writeDisplayImage(const Film& film, const std::filesystem::path& path, const DisplayOptions& options = {});
+void writeDisplayImage(const Film& film, const std::filesystem::path& path,
+                       const DisplayOptions& options = {});
 // Checks, before a render, that the config loads and has the options' display and view; throws
 // InputError as writeDisplayImage would.
 void checkDisplayOptions(const DisplayOptions& options);

@@ -31,16 +31,18 @@ std::string writeWholeFile(const char* path, const std::vector<unsigned char>& b
     for (size_t done = 0; done < bytes.size() && failure.empty();) {
         const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
         if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) failure = std::string("write failed: ") + std::strerror(n == 0 ? ENOSPC : errno);
-        else done += size_t(n);
+        if (n <= 0)
+            failure = std::string("write failed: ") + std::strerror(n == 0 ? ENOSPC : errno);
+        else
+            done += size_t(n);
     }
     if (failure.empty() && ::fsync(fd) != 0) failure = std::string("fsync failed: ") + std::strerror(errno);
     if (::close(fd) != 0 && failure.empty()) failure = std::string("close failed: ") + std::strerror(errno);
     return failure;
 }
 
-int writeRgb8(const char* path, int width, int height, const unsigned char* rgb, const char* const* attributes, int quality,
-              char* error, size_t errorSize) {
+int writeRgb8(const char* path, int width, int height, const unsigned char* rgb,
+              const char* const* attributes, int quality, char* error, size_t errorSize) {
     try {
         // Encoded in memory, then written with every call checked: OpenImageIO's PNG writer ignores
         // the failure of its final fclose, so a full disk left an empty PNG and no error.
@@ -48,7 +50,8 @@ int writeRgb8(const char* path, int width, int height, const unsigned char* rgb,
         if (!out) return failWith(OIIO::geterror(), error, errorSize);
         std::vector<unsigned char> encoded;
         OIIO::Filesystem::IOVecOutput memory(encoded);
-        if (!out->set_ioproxy(&memory)) return failWith("the image writer cannot encode into memory", error, errorSize);
+        if (!out->set_ioproxy(&memory))
+            return failWith("the image writer cannot encode into memory", error, errorSize);
         OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
         for (const char* const* a = attributes; a && a[0] && a[1]; a += 2) spec.attribute(a[0], a[1]);
         if (quality > 0) spec.attribute("Compression", "jpeg:" + std::to_string(quality));
@@ -67,7 +70,8 @@ int readInfo(const char* path, PenumbraImageInfo* info, char* error, size_t erro
         auto in = OIIO::ImageInput::open(path);
         if (!in) return failWith(OIIO::geterror(), error, errorSize);
         const OIIO::ImageSpec& spec = in->spec();
-        *info = PenumbraImageInfo{spec.full_width, spec.full_height, spec.x, spec.y, spec.width, spec.height, {}};
+        *info =
+            PenumbraImageInfo{spec.full_width, spec.full_height, spec.x, spec.y, spec.width, spec.height, {}};
         const char* names[3] = {"R", "G", "B"};
         for (int c = 0; c < 3; ++c) info->rgbChannel[c] = spec.channelindex(names[c]);
         return 1;

@@ -25,8 +25,8 @@ struct PenumbraImagePlugin {
     // Writes 8-bit RGB pixels (width x height x 3, rows top to bottom) to `path`, in the format its
     // extension names, with the string attributes `attributes` (name, value, name, value, ...,
     // then NULL; e.g. "Software"); `quality` is the JPEG quality (0 for PNG).
-    int (*writeRgb8)(const char* path, int width, int height, const unsigned char* rgb, const char* const* attributes,
-                     int quality, char* error, size_t errorSize);
+    int (*writeRgb8)(const char* path, int width, int height, const unsigned char* rgb,
+                     const char* const* attributes, int quality, char* error, size_t errorSize);
     // Describes the image at `path`.
     int (*readInfo)(const char* path, PenumbraImageInfo* info, char* error, size_t errorSize);
     // Reads the R, G and B channels of the data window as floats (width x height x 3).

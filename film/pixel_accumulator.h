@@ -29,8 +29,10 @@ public:
         ++samples_;
         PixelSums::forEachAddend(value, sampleWeight, &aovs, [this](int i, double addend) {
             int64_t units;
-            if (ExactSum::smallAddendUnits(addend, units)) units_[i] += units;
-            else pixel_.sum(i).add(addend);
+            if (ExactSum::smallAddendUnits(addend, units))
+                units_[i] += units;
+            else
+                pixel_.sum(i).add(addend);
         });
     }
 

@@ -5,9 +5,9 @@
 
 #include "core/input_file.h"
 #include "core/input_limits.h"
+#include "formats/pbrt/pbrt_reader.h"
 #include "scenes/json_reader.h"
 #include "scenes/scene_loader.h"
-#include "formats/pbrt/pbrt_reader.h"
 
 namespace penumbra {
 
@@ -17,14 +17,17 @@ namespace {
 
 void emitWarnings(const std::vector<std::string>& lines, std::vector<std::string>* sink) {
     for (const std::string& line : lines) {
-        if (sink) sink->push_back(line);
-        else std::fprintf(stderr, "penumbra: warning: %s\n", line.c_str());
+        if (sink)
+            sink->push_back(line);
+        else
+            std::fprintf(stderr, "penumbra: warning: %s\n", line.c_str());
     }
 }
 
 void applyPatch(Json& document, const fs::path& patch) {
     if (patch.empty()) return;
-    const Json changes = parseJsonText(InputFile(patch, "patch file", limits::kMaxSceneFileBytes).readAll(), patch.string());
+    const Json changes =
+        parseJsonText(InputFile(patch, "patch file", limits::kMaxSceneFileBytes).readAll(), patch.string());
     if (!changes.is_object()) throwFileError(patch, "expected a JSON object (a merge patch of the scene)");
     document.merge_patch(changes);
 }
@@ -35,7 +38,9 @@ void writeJson(const Json& value, int indent, std::string& out) {
     auto flat = [](const Json& v) {
         if (!v.is_array()) return !v.is_structured();
         for (const Json& e : v)
-            if (e.is_object() || (e.is_array() && !std::all_of(e.begin(), e.end(), [](const Json& x) { return !x.is_structured(); })))
+            if (e.is_object() || (e.is_array() && !std::all_of(e.begin(), e.end(), [](const Json& x) {
+                                      return !x.is_structured();
+                                  })))
                 return false;
         return true;
     };
@@ -86,7 +91,8 @@ Scene loadSceneFile(const fs::path& file, const SceneFileOptions& options) {
     } else if (options.patch.empty()) {
         return loadScene(file);
     } else {
-        Json document = parseJsonText(InputFile(file, "scene file", limits::kMaxSceneFileBytes).readAll(), file.string());
+        Json document =
+            parseJsonText(InputFile(file, "scene file", limits::kMaxSceneFileBytes).readAll(), file.string());
         applyPatch(document, options.patch);
         scene = buildScene(document, file);
     }
@@ -119,7 +125,8 @@ void rebaseFileNames(Json& value, const fs::path& from, const fs::path& to) {
 
 }  // namespace
 
-std::string convertSceneToJson(const fs::path& file, const fs::path& output, std::vector<std::string>* warnings) {
+std::string convertSceneToJson(const fs::path& file, const fs::path& output,
+                               std::vector<std::string>* warnings) {
     if (!isPbrtScene(file)) throwFileError(file, "convert reads pbrt-v4 scenes (.pbrt)");
     pbrt::PbrtConversion conversion = pbrt::convertPbrtFile(file);
     emitWarnings(conversion.warnings, warnings);
@@ -134,7 +141,8 @@ std::string convertSceneToJson(const fs::path& file, const fs::path& output, std
                std::string text;
                writeJson(conversion.document, 0, text);
                return text;
-           }() + "\n";
+           }() +
+           "\n";
 }
 
 }  // namespace penumbra

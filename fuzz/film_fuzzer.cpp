@@ -13,8 +13,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         const std::filesystem::path& path = exr.write(data, size);
         const FilmFile film = readFilmExr(path);
         const RenderMetadata& m = film.metadata;
-        ResumeTarget target{m.sceneHash, film.film.width(), film.film.height(), m.seed, m.sampler, m.accelerator,
-                            m.crop, m.endSample};
+        ResumeTarget target{m.sceneHash, film.film.width(), film.film.height(),
+                            m.seed,      m.sampler,         m.accelerator,
+                            m.crop,      m.endSample};
         fuzz::expectReadOrInputError([&] { checkResumable(film, path.string(), target); });
         fuzz::expectReadOrInputError([&] { mergeFilms({film, film}, {path.string(), path.string()}); });
         mergeFilms({film}, {path.string()});

@@ -17,8 +17,8 @@ namespace {
 // Every line of a batch script starts with one of these (tools/slurm_batch.cpp).
 bool isScriptLine(std::string_view line) {
     for (std::string_view start : {"#!/bin/bash", "# penumbra submit: ", "#SBATCH ", "set -euo pipefail",
-                                   "case \"${SLURM_ARRAY_TASK_ID", "    ", "esac", "# A requeued", "resume=()",
-                                   "if [ -e \"$part\" ]", "echo \"penumbra: part ", "exec '"})
+                                   "case \"${SLURM_ARRAY_TASK_ID", "    ", "esac", "# A requeued",
+                                   "resume=()", "if [ -e \"$part\" ]", "echo \"penumbra: part ", "exec '"})
         if (line.starts_with(start)) return true;
     return line.empty();
 }
@@ -38,7 +38,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     for (size_t at = text.find("@DIR@"); at != std::string::npos; at = text.find("@DIR@", at + folder.size()))
         text.replace(at, 5, folder);
     return fuzz::expectReadOrInputError([&] {
-        const std::filesystem::path& path = manifest.write(reinterpret_cast<const uint8_t*>(text.data()), text.size());
+        const std::filesystem::path& path =
+            manifest.write(reinterpret_cast<const uint8_t*>(text.data()), text.size());
         const PartManifest m = readManifest(path);
         std::vector<int> all;
         for (size_t i = 0; i < m.parts.size(); ++i) all.push_back(int(i));

@@ -1,6 +1,6 @@
 // PLY import, ASCII and binary (importPly: the header validator, then our reader that checks the body
-// as it reads it), and gzip-compressed PLY: an input that starts with the gzip magic bytes is written to a .ply.gz
-// file and read through importMesh (zlib, the inflation limit, then the same PLY reader).
+// as it reads it), and gzip-compressed PLY: an input that starts with the gzip magic bytes is written to a
+// .ply.gz file and read through importMesh (zlib, the inflation limit, then the same PLY reader).
 #include "fuzz/fuzz_input.h"
 #include "scenes/mesh_import.h"
 

@@ -10,7 +10,8 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
 }
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-    static const std::filesystem::path scene = std::filesystem::path(PENUMBRA_TEST_DATA_DIR) / "scenes/fuzz.json";
+    static const std::filesystem::path scene =
+        std::filesystem::path(PENUMBRA_TEST_DATA_DIR) / "scenes/fuzz.json";
     return penumbra::fuzz::expectReadOrInputError(
         [&] { penumbra::parseScene(penumbra::fuzz::asText(data, size), scene); });
 }

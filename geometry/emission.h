@@ -13,7 +13,7 @@ struct Emission {
     // Without a texture, the radiance (black: the shape does not emit); with one, the radiance
     // averaged over the texture, which sets the light's power for next-event estimation.
     Rgb radiance;
-    bool twoSided = false;   // one-sided lights emit on the front side only
+    bool twoSided = false;                   // one-sided lights emit on the front side only
     std::shared_ptr<const Texture> texture;  // null: constant radiance
     bool emits() const { return !radiance.isBlack(); }
 };

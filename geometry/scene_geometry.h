@@ -47,32 +47,45 @@ struct SceneGeometry {
     Hit idsOf(ShapeRef shape) const {
         Hit hit;
         switch (shape.kind) {
-            case ShapeKind::Mesh: hit.geomId = meshGeomId(shape.index), hit.primId = shape.primitive; break;
-            case ShapeKind::Sphere: hit.geomId = sphereGeomId(), hit.primId = shape.index; break;
-            case ShapeKind::Instance: hit.geomId = instanceGeomId(shape.index), hit.primId = shape.primitive; break;
+            case ShapeKind::Mesh:
+                hit.geomId = meshGeomId(shape.index), hit.primId = shape.primitive;
+                break;
+            case ShapeKind::Sphere:
+                hit.geomId = sphereGeomId(), hit.primId = shape.index;
+                break;
+            case ShapeKind::Instance:
+                hit.geomId = instanceGeomId(shape.index), hit.primId = shape.primitive;
+                break;
         }
         return hit;
     }
     // The triangle mesh a mesh or instance hit lies on (an instance's in object space).
     const TriangleMesh& triangleMeshOf(ShapeRef shape) const {
-        return shape.kind == ShapeKind::Instance ? prototypes[instances[shape.index].prototype] : meshes[shape.index];
+        return shape.kind == ShapeKind::Instance ? prototypes[instances[shape.index].prototype]
+                                                 : meshes[shape.index];
     }
     // Object to world at `time` of a moving mesh or sphere or of any instance (identity otherwise:
     // still meshes and spheres are in world space).
     Transform toWorldOf(ShapeRef shape, float time) const {
         switch (shape.kind) {
-            case ShapeKind::Mesh: return meshes[shape.index].motion.at(time);
-            case ShapeKind::Sphere: return spheres[shape.index].motion.at(time);
-            case ShapeKind::Instance: return instances[shape.index].toWorld(time);
+            case ShapeKind::Mesh:
+                return meshes[shape.index].motion.at(time);
+            case ShapeKind::Sphere:
+                return spheres[shape.index].motion.at(time);
+            case ShapeKind::Instance:
+                return instances[shape.index].toWorld(time);
         }
         return {};
     }
     // Whether the shape's geometry is in a space of its own (toWorldOf is not the identity).
     bool inObjectSpace(ShapeRef shape) const {
         switch (shape.kind) {
-            case ShapeKind::Mesh: return meshes[shape.index].motion.moves();
-            case ShapeKind::Sphere: return spheres[shape.index].motion.moves();
-            case ShapeKind::Instance: return true;
+            case ShapeKind::Mesh:
+                return meshes[shape.index].motion.moves();
+            case ShapeKind::Sphere:
+                return spheres[shape.index].motion.moves();
+            case ShapeKind::Instance:
+                return true;
         }
         return false;
     }

@@ -18,7 +18,8 @@ struct SurfaceDerivatives {
 // World-space derivatives at `si` (found by a ray at shutter fraction `time`). A triangle's come
 // from its vertices' uvs (pbrt-v4's Triangle::InteractionFromIntersection; a mesh without uvs has
 // none and gets the normal's frame); a sphere's from its (phi / 2 pi, theta / pi) parameterisation.
-inline SurfaceDerivatives surfaceDerivatives(const SceneGeometry& scene, const SurfaceInteraction& si, float time) {
+inline SurfaceDerivatives surfaceDerivatives(const SceneGeometry& scene, const SurfaceInteraction& si,
+                                             float time) {
     const Frame fallback = Frame::fromNormal(si.geometricNormal);
     SurfaceDerivatives d{fallback.s, fallback.t};
     const ShapeRef shape = si.shape;
@@ -30,7 +31,8 @@ inline SurfaceDerivatives surfaceDerivatives(const SceneGeometry& scene, const S
         const uint32_t* index = &mesh.indices[3 * size_t(shape.primitive)];
         const Vec3f p0 = detail::vertexAt(mesh, index[0], time), p1 = detail::vertexAt(mesh, index[1], time),
                     p2 = detail::vertexAt(mesh, index[2], time);
-        const Vec2f duv02 = mesh.uvs[index[0]] - mesh.uvs[index[2]], duv12 = mesh.uvs[index[1]] - mesh.uvs[index[2]];
+        const Vec2f duv02 = mesh.uvs[index[0]] - mesh.uvs[index[2]],
+                    duv12 = mesh.uvs[index[1]] - mesh.uvs[index[2]];
         const Vec3f dp02 = p0 - p2, dp12 = p1 - p2;
         const float determinant = duv02.x * duv12.y - duv02.y * duv12.x;
         if (!(std::abs(determinant) > 1e-12f)) return d;
@@ -44,7 +46,8 @@ inline SurfaceDerivatives surfaceDerivatives(const SceneGeometry& scene, const S
         moves = sphere.motion.moves();
         if (moves) toWorld = sphere.motion.at(time);
         // The outward normal in the sphere's own space: (sin t cos p, sin t sin p, cos t).
-        const Vec3f n = moves ? normalize(toWorld.inverse().applyNormal(si.geometricNormal)) : si.geometricNormal;
+        const Vec3f n =
+            moves ? normalize(toWorld.inverse().applyNormal(si.geometricNormal)) : si.geometricNormal;
         const float r = sphere.radius;
         const float sinTheta = std::sqrt(std::max(0.0f, 1.0f - n.z * n.z));
         if (!(sinTheta > 1e-6f)) return d;

@@ -78,15 +78,17 @@ inline void placeInWorld(const Transform& toWorld, SurfaceInteraction& si) {
             for (int k = 0; k < 3; ++k) f += double(inv[row][k]) * double(m[k][column]);
             drift += std::abs(f) * (column == 3 ? 1.0 : double(q[column]));
         }
-        const float rounding = std::abs(inv[row][0]) * p.x + std::abs(inv[row][1]) * p.y + std::abs(inv[row][2]) * p.z +
-                               std::abs(inv[row][3]);
+        const float rounding = std::abs(inv[row][0]) * p.x + std::abs(inv[row][1]) * p.y +
+                               std::abs(inv[row][2]) * p.z + std::abs(inv[row][3]);
         wayBack[row] = float(drift) * (1.0f + gamma(2)) + gamma(3) * rounding;
     }
     for (int row = 0; row < 3; ++row) {
         const auto& r = m[row];
-        const float absSum = std::abs(r[0]) * q.x + std::abs(r[1]) * q.y + std::abs(r[2]) * q.z + std::abs(r[3]);
+        const float absSum =
+            std::abs(r[0]) * q.x + std::abs(r[1]) * q.y + std::abs(r[2]) * q.z + std::abs(r[3]);
         const float propagated = std::abs(r[0]) * e.x + std::abs(r[1]) * e.y + std::abs(r[2]) * e.z;
-        const float back = std::abs(r[0]) * wayBack[0] + std::abs(r[1]) * wayBack[1] + std::abs(r[2]) * wayBack[2];
+        const float back =
+            std::abs(r[0]) * wayBack[0] + std::abs(r[1]) * wayBack[1] + std::abs(r[2]) * wayBack[2];
         si.positionError[row] = (gamma(3) * absSum + propagated + back) * (1.0f + gamma(3));
     }
     si.position = world;
@@ -96,7 +98,8 @@ inline void placeInWorld(const Transform& toWorld, SurfaceInteraction& si) {
 
 // Replaces the hit's t and barycentrics with those of our watertight test on triangle (p0, p1, p2),
 // unless that test misses it (a ray along an edge), when the backend's values stay.
-inline void recomputeTriangleHit(Vec3f origin, Vec3f direction, Vec3f p0, Vec3f p1, Vec3f p2, const Ray& ray, Hit& hit) {
+inline void recomputeTriangleHit(Vec3f origin, Vec3f direction, Vec3f p0, Vec3f p1, Vec3f p2, const Ray& ray,
+                                 Hit& hit) {
     const float vertices[9] = {p0.x, p0.y, p0.z, p1.x, p1.y, p1.z, p2.x, p2.y, p2.z};
     TriangleHit th;
     if (intersectTriangleWatertight(WatertightRay(origin, direction), vertices, ray.tnear, ray.tfar, th)) {
@@ -130,8 +133,9 @@ inline void recomputeTriangleHit(Vec3f origin, Vec3f direction, Vec3f p0, Vec3f 
 // triangle's triangleNormal(). False for a degenerate triangle, which has no normal: the caller
 // then turns both normals towards the ray. Always inline: out of line, its call and its vectors
 // passed through memory cost more than it does.
-[[gnu::always_inline]] inline bool triangleInteraction(const TriangleMesh& mesh, const uint32_t* index, Vec3f p0,
-                                                       Vec3f p1, Vec3f p2, const Hit& hit, SurfaceInteraction& si,
+[[gnu::always_inline]] inline bool triangleInteraction(const TriangleMesh& mesh, const uint32_t* index,
+                                                       Vec3f p0, Vec3f p1, Vec3f p2, const Hit& hit,
+                                                       SurfaceInteraction& si,
                                                        const Frame* faceFrame = nullptr) {
     const float b1 = hit.u, b2 = hit.v, b0 = 1.0f - b1 - b2;
     setBarycentricPoint(p0, p1, p2, b0, b1, b2, si);
@@ -142,14 +146,16 @@ inline void recomputeTriangleHit(Vec3f origin, Vec3f direction, Vec3f p0, Vec3f 
     if (hasNormal) si.shadingFrame = faceFrame;
     // Vertex normals are only used for meshes that do not deform (they would need keys too).
     if (!mesh.normals.empty() && !mesh.deforms()) {
-        const Vec3f ns = mesh.normals[index[0]] * b0 + mesh.normals[index[1]] * b1 + mesh.normals[index[2]] * b2;
+        const Vec3f ns =
+            mesh.normals[index[0]] * b0 + mesh.normals[index[1]] * b1 + mesh.normals[index[2]] * b2;
         const float nsLength = length(ns);
         if (nsLength > 0.0f) {
             si.shadingNormal = faceForward(ns / nsLength, si.geometricNormal);
             si.shadingFrame = nullptr;
         }
     }
-    if (!mesh.uvs.empty()) si.uv = mesh.uvs[index[0]] * b0 + mesh.uvs[index[1]] * b1 + mesh.uvs[index[2]] * b2;
+    if (!mesh.uvs.empty())
+        si.uv = mesh.uvs[index[0]] * b0 + mesh.uvs[index[1]] * b1 + mesh.uvs[index[2]] * b2;
     si.material = mesh.material;
     return hasNormal;
 }
@@ -176,7 +182,8 @@ inline void canonicalizeShapeHit(const SceneGeometry& scene, ShapeRef shape,
     } else {
         const Sphere& sphere = scene.spheres[shape.index];
         float t;
-        if (intersectSphere(objectRay.origin, objectRay.direction, sphere.center, sphere.radius, ray.tnear, ray.tfar, t))
+        if (intersectSphere(objectRay.origin, objectRay.direction, sphere.center, sphere.radius, ray.tnear,
+                            ray.tfar, t))
             hit.t = t;
     }
 }
@@ -208,7 +215,8 @@ namespace detail {
     const uint32_t* index = &mesh.indices[3 * size_t(shape.primitive)];
     SurfaceInteraction si;
     si.shape = shape;
-    const Frame* faceFrame = faceFrames ? faceFrames->findPrototype(instance.prototype, shape.primitive) : nullptr;
+    const Frame* faceFrame =
+        faceFrames ? faceFrames->findPrototype(instance.prototype, shape.primitive) : nullptr;
     const bool hasNormal =
         triangleInteraction(mesh, index, mesh.positions[index[0]], mesh.positions[index[1]],
                             mesh.positions[index[2]], hit, si, faceFrame);
@@ -285,8 +293,9 @@ inline SurfaceInteraction makeSurfaceInteraction(const SceneGeometry& scene, con
 // makeSurfaceInteraction, with a still mesh's vertices loaded once for both and its triangle's
 // normal and shading frame taken from `faceFrames` when given (the same bits as computing them).
 template <bool kHitIsCanonical>
-[[gnu::always_inline]] inline SurfaceInteraction resolveHit(const SceneGeometry& scene, const Ray& ray, Hit& hit,
-                                     const FaceFrames* faceFrames = nullptr) {
+[[gnu::always_inline]] inline SurfaceInteraction resolveHit(const SceneGeometry& scene, const Ray& ray,
+                                                            Hit& hit,
+                                                            const FaceFrames* faceFrames = nullptr) {
     // One named result on every path, so that it is built in the caller's place (NRVO): a copy of
     // it on return cost 4% of the render (bench/README.md, "Speed tricks").
     SurfaceInteraction si;

@@ -17,14 +17,14 @@
 namespace penumbra {
 
 struct TriangleMesh {
-    std::string name;              // for messages: the scene's JSON pointer or the file name
-    std::vector<Vec3f> positions;  // world space, or object space when `motion` moves; the first
-                                   // deformation key when there are several
-    std::vector<Vec3f> normals;    // optional, per vertex, world space, unit length
-    std::vector<Vec2f> uvs;        // optional, per vertex
-    std::vector<uint32_t> indices; // three per triangle; front face is counter-clockwise,
-                                   // i.e. its normal is cross(p1 - p0, p2 - p0)
-    uint32_t material = 0;         // index into Scene::materials
+    std::string name;               // for messages: the scene's JSON pointer or the file name
+    std::vector<Vec3f> positions;   // world space, or object space when `motion` moves; the first
+                                    // deformation key when there are several
+    std::vector<Vec3f> normals;     // optional, per vertex, world space, unit length
+    std::vector<Vec2f> uvs;         // optional, per vertex
+    std::vector<uint32_t> indices;  // three per triangle; front face is counter-clockwise,
+                                    // i.e. its normal is cross(p1 - p0, p2 - p0)
+    uint32_t material = 0;          // index into Scene::materials
     Emission emission;
     // Deformation: empty, or >= 2 arrays of positions (the first equal to `positions`), evenly
     // spaced over the shutter and interpolated linearly per vertex.

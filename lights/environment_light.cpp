@@ -71,12 +71,14 @@ EnvironmentLight EnvironmentLight::fromImage(EnvironmentImage image, Rgb scale, 
         const double texelSolidAngle = rowSolidAngle(y, image.height, image.mapping);
         for (int x = 0; x < image.width; ++x) {
             const Rgb texel = image.at(x, y);
-            weights[size_t(y) * size_t(image.width) + size_t(x)] = float(double(texel.luminance()) * texelSolidAngle);
+            weights[size_t(y) * size_t(image.width) + size_t(x)] =
+                float(double(texel.luminance()) * texelSolidAngle);
             for (int c = 0; c < 3; ++c) sum[c] += double(texel[c]) * texelSolidAngle;
             solidAngle += texelSolidAngle;
         }
     }
-    data->average = solidAngle > 0.0 ? Rgb(float(sum[0] / solidAngle), float(sum[1] / solidAngle), float(sum[2] / solidAngle))
+    data->average = solidAngle > 0.0 ? Rgb(float(sum[0] / solidAngle), float(sum[1] / solidAngle),
+                                           float(sum[2] / solidAngle))
                                      : Rgb(0.0f);
     data->distribution = PiecewiseConstant2D(weights, size_t(image.width), size_t(image.height));
     light.black_ = data->distribution.empty();
@@ -123,8 +125,8 @@ std::optional<EnvironmentSample> EnvironmentLight::sample(Vec2f u) const {
     const Vec2f st = image_->distribution.sample(u, &imagePdf);
     const EnvironmentImage& image = image_->image;
     // d omega / ds dt; for the equirectangular map 2 pi^2 sin(theta), with theta from t.
-    const float jacobian = image.mapping == EnvironmentMapping::EqualArea ? 4.0f * kPi
-                                                                          : 2.0f * kPi * kPi * std::sin(kPi * st.y);
+    const float jacobian =
+        image.mapping == EnvironmentMapping::EqualArea ? 4.0f * kPi : 2.0f * kPi * kPi * std::sin(kPi * st.y);
     if (!(imagePdf > 0.0f) || !(jacobian > 0.0f)) return std::nullopt;
     const Vec3f local = imageToDirection(st, image.mapping);
     const int x = std::min(int(st.x * float(image.width)), image.width - 1);

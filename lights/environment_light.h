@@ -74,7 +74,8 @@ public:
     Rgb average() const;
 
     // The image coordinates (s, t) in [0, 1)^2 of a unit direction in the light's own frame, and back.
-    static Vec2f directionToImage(Vec3f local, EnvironmentMapping mapping = EnvironmentMapping::Equirectangular);
+    static Vec2f directionToImage(Vec3f local,
+                                  EnvironmentMapping mapping = EnvironmentMapping::Equirectangular);
     static Vec3f imageToDirection(Vec2f st, EnvironmentMapping mapping = EnvironmentMapping::Equirectangular);
 
 private:

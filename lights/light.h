@@ -29,8 +29,8 @@ inline float spotFalloff(float cosTheta, float cosFalloffStart, float cosFalloff
 // cosFalloffStart, 0 outside cosFalloffEnd and a smoothstep between them.
 struct SpotLight {
     Vec3f position;
-    Vec3f direction;  // unit, the cone's axis, the way the light travels
-    Rgb intensity;    // radiant intensity on the axis, W/sr per channel
+    Vec3f direction;                                     // unit, the cone's axis, the way the light travels
+    Rgb intensity;                                       // radiant intensity on the axis, W/sr per channel
     float cosFalloffStart = 1.0f, cosFalloffEnd = 1.0f;  // cosFalloffEnd <= cosFalloffStart
 
     float falloff(float cosTheta) const { return spotFalloff(cosTheta, cosFalloffStart, cosFalloffEnd); }
@@ -38,7 +38,8 @@ struct SpotLight {
     // 2 pi ((1 - cosFalloffStart) + (cosFalloffStart - cosFalloffEnd) / 2) (the smoothstep's
     // integral over its band is half the band).
     double solidAngle() const {
-        return 2.0 * std::numbers::pi * ((1.0 - double(cosFalloffStart)) + (double(cosFalloffStart) - double(cosFalloffEnd)) / 2.0);
+        return 2.0 * std::numbers::pi *
+               ((1.0 - double(cosFalloffStart)) + (double(cosFalloffStart) - double(cosFalloffEnd)) / 2.0);
     }
 };
 

@@ -14,7 +14,8 @@ namespace {
 
 // Radius of a sphere that bounds all geometry, for the environment's power estimate.
 float sceneBoundingRadius(const SceneGeometry& scene) {
-    Vec3f lo{std::numeric_limits<float>::max(), std::numeric_limits<float>::max(), std::numeric_limits<float>::max()};
+    Vec3f lo{std::numeric_limits<float>::max(), std::numeric_limits<float>::max(),
+             std::numeric_limits<float>::max()};
     Vec3f hi = -lo;
     bool any = false;
     for (const auto& mesh : scene.meshes)
@@ -34,7 +35,8 @@ float sceneBoundingRadius(const SceneGeometry& scene) {
 // A sphere's (u, v) at its outward normal, as geometry/surface_interaction.h computes it.
 Vec2f sphereUv(Vec3f outward) {
     const float phi = std::atan2(outward.y, outward.x);
-    return {phi < 0.0f ? phi / (2.0f * kPi) + 1.0f : phi / (2.0f * kPi), std::acos(std::clamp(outward.z, -1.0f, 1.0f)) / kPi};
+    return {phi < 0.0f ? phi / (2.0f * kPi) + 1.0f : phi / (2.0f * kPi),
+            std::acos(std::clamp(outward.z, -1.0f, 1.0f)) / kPi};
 }
 
 // Textured emission is looked up without a footprint (the finest level).
@@ -51,8 +53,9 @@ LightBounds lightBounds(const Light& light, float power) {
     switch (light.kind) {
         case LightKind::Triangle: {
             b.center = (light.p0 + light.p1 + light.p2) / 3.0f;
-            b.radius = std::sqrt(std::max({lengthSquared(light.p0 - b.center), lengthSquared(light.p1 - b.center),
-                                           lengthSquared(light.p2 - b.center)}));
+            b.radius =
+                std::sqrt(std::max({lengthSquared(light.p0 - b.center), lengthSquared(light.p1 - b.center),
+                                    lengthSquared(light.p2 - b.center)}));
             b.axis = light.normal;
             b.cosThetaO = 1.0f;  // one normal
             b.twoSided = light.twoSided;
@@ -62,7 +65,9 @@ LightBounds lightBounds(const Light& light, float power) {
             b.center = light.center;
             b.radius = light.radius;
             break;
-        case LightKind::Point: b.center = light.center; break;
+        case LightKind::Point:
+            b.center = light.center;
+            break;
         case LightKind::Spot:
             // The falloff's start bounds the full intensity; beyond it, to the cone's end, the
             // emission angle.
@@ -73,7 +78,8 @@ LightBounds lightBounds(const Light& light, float power) {
                                    std::acos(std::clamp(light.cosFalloffStart, -1.0f, 1.0f)));
             break;
         case LightKind::Directional:
-        case LightKind::Environment: break;  // infinite: chosen by their power share
+        case LightKind::Environment:
+            break;  // infinite: chosen by their power share
     }
     return b;
 }
@@ -111,7 +117,8 @@ LightBounds meshBounds(const Light* triangles, uint32_t count, float power) {
 }  // namespace
 
 LightSet::LightSet(const SceneGeometry& scene, const std::vector<PointLight>& pointLights,
-                   const std::vector<SpotLight>& spotLights, const std::vector<DirectionalLight>& directionalLights,
+                   const std::vector<SpotLight>& spotLights,
+                   const std::vector<DirectionalLight>& directionalLights,
                    const EnvironmentLight& environment)
     : environment_(environment) {
     std::vector<double> power;
@@ -201,7 +208,8 @@ LightSet::LightSet(const SceneGeometry& scene, const std::vector<PointLight>& po
         emitterSizes.push_back(1);
         // Power through a disk the size of the scene, from every direction (pbrt-v4's estimate),
         // with the radiance averaged over the sphere.
-        power.push_back(4.0 * kPi * kPi * sceneRadius * sceneRadius * double(environment_.average().luminance()));
+        power.push_back(4.0 * kPi * kPi * sceneRadius * sceneRadius *
+                        double(environment_.average().luminance()));
     }
     for (const Light& light : lights_)
         hasAreaLights_ |= light.kind == LightKind::Triangle || light.kind == LightKind::Sphere;
@@ -362,7 +370,8 @@ bool LightSet::sampleOtherInto(Choice choice, Vec3f reference, Vec2f u, LightSam
             const Vec2f b = sampleUniformTriangle(u);
             ls.point = light.p0 * (1.0f - b.x - b.y) + light.p1 * b.x + light.p2 * b.y;
             // As for a hit's barycentric interpolation (geometry/surface_interaction.h).
-            ls.pointError = (abs(light.p0 * (1.0f - b.x - b.y)) + abs(light.p1 * b.x) + abs(light.p2 * b.y)) * gamma(7);
+            ls.pointError =
+                (abs(light.p0 * (1.0f - b.x - b.y)) + abs(light.p1 * b.x) + abs(light.p2 * b.y)) * gamma(7);
             ls.lightNormal = light.normal;
             if (light.texture) uv = light.uv0 * (1.0f - b.x - b.y) + light.uv1 * b.x + light.uv2 * b.y;
             break;
@@ -395,7 +404,8 @@ bool LightSet::sampleOtherInto(Choice choice, Vec3f reference, Vec2f u, LightSam
                 const Vec2f azimuth = cosSinTurn(u.y);
                 const Frame frame = Frame::fromNormal(toCenter / distance);
                 // Angle alpha is measured at the centre, from the direction back to the reference.
-                const Vec3f fromCenter = frame.toWorld({sinAlpha * azimuth.x, sinAlpha * azimuth.y, -cosAlpha});
+                const Vec3f fromCenter =
+                    frame.toWorld({sinAlpha * azimuth.x, sinAlpha * azimuth.y, -cosAlpha});
                 ls.lightNormal = normalize(fromCenter);
                 ls.point = light.center + ls.lightNormal * light.radius;
                 ls.pointError = (abs(light.center) + abs(ls.lightNormal * light.radius)) * gamma(8);
@@ -447,7 +457,8 @@ float LightSet::solidAnglePdf(const Light& light, Vec3f reference, Vec3f point) 
         case LightKind::Point:
         case LightKind::Spot:
         case LightKind::Directional:
-        case LightKind::Environment: return 0.0f;  // not sampled by solid angle around a point
+        case LightKind::Environment:
+            return 0.0f;  // not sampled by solid angle around a point
     }
     return 0.0f;
 }
@@ -458,8 +469,10 @@ int32_t LightSet::lightIndexOf(ShapeRef shape) const {
             const int32_t first = meshFirstLight_[shape.index];
             return first < 0 ? -1 : first + int32_t(shape.primitive);
         }
-        case ShapeKind::Sphere: return sphereLight_[shape.index];
-        case ShapeKind::Instance: return -1;  // instances never emit (the scene loader refuses it)
+        case ShapeKind::Sphere:
+            return sphereLight_[shape.index];
+        case ShapeKind::Instance:
+            return -1;  // instances never emit (the scene loader refuses it)
     }
     return -1;
 }
@@ -482,7 +495,8 @@ float LightSet::pdfOfHit(Vec3f reference, Vec3f referenceNormal, const SurfaceIn
 
 float LightSet::pdfOfEnvironment(Vec3f reference, Vec3f referenceNormal, Vec3f direction) const {
     if (environmentLight_ < 0) return 0.0f;
-    return choiceProbability(uint32_t(environmentLight_), reference, referenceNormal) * environment_.pdf(direction);
+    return choiceProbability(uint32_t(environmentLight_), reference, referenceNormal) *
+           environment_.pdf(direction);
 }
 
 }  // namespace penumbra

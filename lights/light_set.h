@@ -16,8 +16,8 @@
 #include "geometry/scene_geometry.h"
 #include "geometry/surface_interaction.h"
 #include "lights/environment_light.h"
-#include "lights/light_bounds.h"
 #include "lights/light.h"
+#include "lights/light_bounds.h"
 
 namespace penumbra {
 
@@ -25,26 +25,26 @@ enum class LightKind : uint8_t { Triangle, Sphere, Point, Spot, Directional, Env
 
 struct Light {
     LightKind kind = LightKind::Point;
-    Rgb radiance;            // area lights: radiance; point, spot: intensity; directional: irradiance
-    bool twoSided = false;   // area lights
-    Vec3f p0, p1, p2;        // triangle vertices
-    Vec3f normal;            // triangle front normal (unit); directional: the direction light travels; spot: its axis
-    float area = 0;          // triangle area
+    Rgb radiance;           // area lights: radiance; point, spot: intensity; directional: irradiance
+    bool twoSided = false;  // area lights
+    Vec3f p0, p1, p2;       // triangle vertices
+    Vec3f normal;    // triangle front normal (unit); directional: the direction light travels; spot: its axis
+    float area = 0;  // triangle area
     float cosFalloffStart = 1, cosFalloffEnd = 1;  // spot lights (lights/light.h)
-    Vec3f center;            // sphere centre or point- or spot-light position
-    float radius = 0;        // sphere radius
+    Vec3f center;                                  // sphere centre or point- or spot-light position
+    float radius = 0;                              // sphere radius
     const Texture* texture = nullptr;  // textured emission (geometry/emission.h); radiance then its average
-    Vec2f uv0, uv1, uv2;     // textured triangles: the vertices' uvs
+    Vec2f uv0, uv1, uv2;               // textured triangles: the vertices' uvs
 };
 
 struct LightSample {
-    Vec3f direction;   // unit, from the reference point towards the light
-    float distance;    // to the sampled point; infinity for the environment
-    Vec3f point;       // sampled point on the light (for area lights)
-    Vec3f pointError;  // bound on each coordinate's absolute error of point (core/ray_offset.h)
-    Vec3f lightNormal; // front normal at the sampled point (area lights)
-    Rgb radiance;      // arriving along -direction (intensity / distance^2 for point lights)
-    float pdf;         // solid-angle density including the light choice; choice probability for deltas
+    Vec3f direction;    // unit, from the reference point towards the light
+    float distance;     // to the sampled point; infinity for the environment
+    Vec3f point;        // sampled point on the light (for area lights)
+    Vec3f pointError;   // bound on each coordinate's absolute error of point (core/ray_offset.h)
+    Vec3f lightNormal;  // front normal at the sampled point (area lights)
+    Rgb radiance;       // arriving along -direction (intensity / distance^2 for point lights)
+    float pdf;          // solid-angle density including the light choice; choice probability for deltas
     bool isDelta;
 };
 
@@ -167,7 +167,7 @@ private:
     }
 
     std::vector<Light> lights_;
-    DiscreteDistribution choice_;             // by power
+    DiscreteDistribution choice_;  // by power
     // The choice at a vertex (choosesLocally_): emitters, their bounds (finite ones), and each
     // light's emitter and probability within it.
     std::vector<Emitter> emitters_;
@@ -175,10 +175,10 @@ private:
     std::vector<uint32_t> emitterOfLight_;
     std::vector<float> probabilityWithinEmitter_;
     bool choosesLocally_ = false;
-    float finiteShare_ = 1.0f;                // the finite lights' share of the power
-    bool hasInfiniteLights_ = false;          // directional or environment
-    std::vector<int32_t> meshFirstLight_;    // per mesh: index of its first triangle light, or -1
-    std::vector<int32_t> sphereLight_;       // per sphere: its light index, or -1
+    float finiteShare_ = 1.0f;             // the finite lights' share of the power
+    bool hasInfiniteLights_ = false;       // directional or environment
+    std::vector<int32_t> meshFirstLight_;  // per mesh: index of its first triangle light, or -1
+    std::vector<int32_t> sphereLight_;     // per sphere: its light index, or -1
     int32_t environmentLight_ = -1;
     bool hasAreaLights_ = false;
     bool drawsSampleValues_ = false;  // more than one light, or one that is not a delta light

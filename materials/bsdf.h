@@ -18,7 +18,7 @@ enum class BsdfFlags : uint8_t {
     Transmission = 1 << 1,  // wi on the other side
     Diffuse = 1 << 2,
     Glossy = 1 << 3,
-    Specular = 1 << 4,      // a delta distribution: sampled, never evaluated
+    Specular = 1 << 4,  // a delta distribution: sampled, never evaluated
 };
 
 constexpr BsdfFlags operator|(BsdfFlags a, BsdfFlags b) { return BsdfFlags(uint8_t(a) | uint8_t(b)); }

@@ -29,8 +29,8 @@ namespace penumbra {
 
 template <bool kRough>
 struct CoatedDiffuseModel {
-    Rgb albedo{0.5f, 0.5f, 0.5f};  // the base's, each channel in [0, 1]
-    float eta = 1.5f;              // the coating's index over the outside's, > 0
+    Rgb albedo{0.5f, 0.5f, 0.5f};         // the base's, each channel in [0, 1]
+    float eta = 1.5f;                     // the coating's index over the outside's, > 0
     MicrofacetDistribution distribution;  // the coating's roughness (RoughCoatedDiffuse only)
     // diffuseFresnelReflectance(1 / eta): the diffuse light the coating reflects back inside.
     float internalReflectance = float(diffuseFresnelReflectance(1.0 / 1.5));
@@ -66,12 +66,14 @@ struct CoatedDiffuseModel {
         if (uLobe < pCoat) {
             if constexpr (!kRough) {
                 const float F = fresnelDielectric(std::abs(wo.z), eta);
-                return BsdfSample{reflectAboutZ(wo), Rgb(F / pCoat), pCoat, BsdfFlags::Specular | BsdfFlags::Reflection};
+                return BsdfSample{reflectAboutZ(wo), Rgb(F / pCoat), pCoat,
+                                  BsdfFlags::Specular | BsdfFlags::Reflection};
             } else {
                 const float side = wo.z > 0.0f ? 1.0f : -1.0f;
                 const Vec3f woUp{wo.x, wo.y, wo.z * side};
                 const Vec3f wm = distribution.sampleNormal(woUp, u);
-                if (!(dot(woUp, wm) > 0.0f)) return std::nullopt;  // a microfacet facing away (Beckmann's sampling)
+                if (!(dot(woUp, wm) > 0.0f))
+                    return std::nullopt;  // a microfacet facing away (Beckmann's sampling)
                 wi = reflectAbout(woUp, wm);
                 if (!(wi.z > 0.0f)) return std::nullopt;
                 wi.z *= side;
@@ -83,14 +85,16 @@ struct CoatedDiffuseModel {
         const float pdfValue = pdf(wo, wi, front);
         if (!(pdfValue > 0.0f)) return std::nullopt;
         const BsdfFlags lobe = uLobe < pCoat ? BsdfFlags::Glossy : BsdfFlags::Diffuse;
-        return BsdfSample{wi, eval(wo, wi, front) * (std::abs(wi.z) / pdfValue), pdfValue, lobe | BsdfFlags::Reflection};
+        return BsdfSample{wi, eval(wo, wi, front) * (std::abs(wi.z) / pdfValue), pdfValue,
+                          lobe | BsdfFlags::Reflection};
     }
 
     Rgb reflectanceForAov() const { return albedo; }
 
     // The base's albedo as seen through the coating, inter-reflections included: rho / (1 - rho F_int).
     Rgb base() const {
-        return {albedo.r / (1.0f - albedo.r * internalReflectance), albedo.g / (1.0f - albedo.g * internalReflectance),
+        return {albedo.r / (1.0f - albedo.r * internalReflectance),
+                albedo.g / (1.0f - albedo.g * internalReflectance),
                 albedo.b / (1.0f - albedo.b * internalReflectance)};
     }
 

@@ -38,9 +38,9 @@ constexpr BsdfFlags kSpecularReflection = BsdfFlags::Specular | BsdfFlags::Refle
 constexpr BsdfFlags kSpecularTransmission = BsdfFlags::Specular | BsdfFlags::Transmission;
 
 struct Dielectric {
-    float eta = 1.5f;                 // interior index over exterior index, > 0
+    float eta = 1.5f;  // interior index over exterior index, > 0
     FresnelModel fresnel = FresnelModel::Exact;
-    Rgb absorption{0.0f, 0.0f, 0.0f}; // sigma_a of the interior, per unit length (0: clear)
+    Rgb absorption{0.0f, 0.0f, 0.0f};  // sigma_a of the interior, per unit length (0: clear)
 
     static constexpr BsdfFlags kFlags = kSpecularReflection | kSpecularTransmission;
 
@@ -84,7 +84,8 @@ struct ThinDielectric {
     // Reflectance of the pane, inter-reflections included.
     float reflectance(Vec3f wo) const {
         const float cosTheta = std::abs(wo.z);
-        float r = fresnel == FresnelModel::Schlick ? fresnelSchlick(cosTheta, eta) : fresnelDielectric(cosTheta, eta);
+        float r = fresnel == FresnelModel::Schlick ? fresnelSchlick(cosTheta, eta)
+                                                   : fresnelDielectric(cosTheta, eta);
         if (r < 1.0f) {
             const float t = 1.0f - r;
             r += t * t * r / (1.0f - r * r);

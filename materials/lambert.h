@@ -18,8 +18,12 @@ struct Lambert {
 
     static bool sameHemisphere(Vec3f a, Vec3f b) { return a.z * b.z > 0.0f; }
 
-    Rgb eval(Vec3f wo, Vec3f wi, bool /*front*/) const { return sameHemisphere(wo, wi) ? albedo * kInvPi : Rgb(0.0f); }
-    float pdf(Vec3f wo, Vec3f wi, bool /*front*/) const { return sameHemisphere(wo, wi) ? cosineHemispherePdf(std::abs(wi.z)) : 0.0f; }
+    Rgb eval(Vec3f wo, Vec3f wi, bool /*front*/) const {
+        return sameHemisphere(wo, wi) ? albedo * kInvPi : Rgb(0.0f);
+    }
+    float pdf(Vec3f wo, Vec3f wi, bool /*front*/) const {
+        return sameHemisphere(wo, wi) ? cosineHemispherePdf(std::abs(wi.z)) : 0.0f;
+    }
     std::optional<BsdfSample> sample(Vec3f wo, Vec2f u) const {
         if (wo.z == 0.0f) return std::nullopt;
         Vec3f wi = sampleCosineHemisphere(u);
@@ -28,7 +32,9 @@ struct Lambert {
         if (!(pdfValue > 0.0f)) return std::nullopt;
         return BsdfSample{wi, albedo, pdfValue, kFlags};
     }
-    std::optional<BsdfSample> sample(Vec3f wo, float /*uLobe*/, Vec2f u, bool /*front*/) const { return sample(wo, u); }
+    std::optional<BsdfSample> sample(Vec3f wo, float /*uLobe*/, Vec2f u, bool /*front*/) const {
+        return sample(wo, u);
+    }
     Rgb reflectanceForAov() const { return albedo; }
 };
 

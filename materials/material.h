@@ -11,8 +11,8 @@
 // side its geometric normal points to; the shading normal, hence local +z, is turned to that side
 // too). Two-sided reflectors (the default for every reflector: Lambert, Phong, mirror, the
 // conductors, the coated diffuse) evaluate a direction pair on the side where wo lies; a
-// one-sided one is black seen from the back. A dielectric's front is its outside (smooth or rough): `front` decides whether light enters or
-// leaves it.
+// one-sided one is black seen from the back. A dielectric's front is its outside (smooth or rough): `front`
+// decides whether light enters or leaves it.
 //
 // Specular lobes (mirror, conductor, the smooth dielectrics, the smooth coating's reflection) are
 // never evaluated: eval() and pdf() leave them out and only sample() produces them, with
@@ -47,8 +47,8 @@
 
 namespace penumbra {
 
-using MaterialModel = std::variant<Lambert, Phong, Dielectric, ThinDielectric, Mirror, Conductor, RoughConductor,
-                                   RoughDielectric, CoatedDiffuse, RoughCoatedDiffuse>;
+using MaterialModel = std::variant<Lambert, Phong, Dielectric, ThinDielectric, Mirror, Conductor,
+                                   RoughConductor, RoughDielectric, CoatedDiffuse, RoughCoatedDiffuse>;
 
 // One textured parameter: its texture, and how a value of it is written into the model (the scene
 // loader's material table knows which member of which model a key names).
@@ -62,11 +62,14 @@ public:
     Material() : Material(Lambert{}) {}
     // `twoSided` applies to reflectors; false makes them black seen from the back.
     Material(MaterialModel model, bool twoSided = true)
-        : model_(std::move(model)), twoSided_(twoSided),
+        : model_(std::move(model)),
+          twoSided_(twoSided),
           flags_(std::visit([](const auto& m) { return m.kFlags; }, model_)),
-          usesLobeSample_(hasSeveralLobes(flags_)), purelySpecular_(penumbra::isPurelySpecular(flags_)) {}
+          usesLobeSample_(hasSeveralLobes(flags_)),
+          purelySpecular_(penumbra::isPurelySpecular(flags_)) {}
     // `model` holds the untextured parameters' values; each of `textures` overrides one parameter.
-    Material(MaterialModel model, bool twoSided, std::vector<TexturedParameter> textures) : Material(std::move(model), twoSided) {
+    Material(MaterialModel model, bool twoSided, std::vector<TexturedParameter> textures)
+        : Material(std::move(model), twoSided) {
         if (textures.empty()) return;
         for (const TexturedParameter& p : textures) needsFootprint_ |= p.texture.needsFootprint();
         textures_ = std::make_shared<const std::vector<TexturedParameter>>(std::move(textures));
@@ -137,7 +140,8 @@ private:
     [[gnu::noinline]] float pdfOutOfLine(Vec3f wo, Vec3f wi, bool front) const {
         return std::visit([&](const auto& m) { return m.pdf(wo, wi, front); }, model_);
     }
-    [[gnu::noinline]] std::optional<BsdfSample> sampleOutOfLine(Vec3f wo, float uLobe, Vec2f u, bool front) const {
+    [[gnu::noinline]] std::optional<BsdfSample> sampleOutOfLine(Vec3f wo, float uLobe, Vec2f u,
+                                                                bool front) const {
         if (!twoSided_ && !front) return std::nullopt;
         return std::visit([&](const auto& m) { return m.sample(wo, uLobe, u, front); }, model_);
     }

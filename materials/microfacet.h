@@ -102,7 +102,8 @@ private:
         const Vec3f wh = normalize(Vec3f{alphaX * w.x, alphaY * w.y, w.z});
         // An orthonormal basis (t1, t2, wh) around the stretched direction.
         const float lengthXY2 = wh.x * wh.x + wh.y * wh.y;
-        const Vec3f t1 = lengthXY2 > 0.0f ? Vec3f{-wh.y, wh.x, 0.0f} / std::sqrt(lengthXY2) : Vec3f{1.0f, 0.0f, 0.0f};
+        const Vec3f t1 =
+            lengthXY2 > 0.0f ? Vec3f{-wh.y, wh.x, 0.0f} / std::sqrt(lengthXY2) : Vec3f{1.0f, 0.0f, 0.0f};
         const Vec3f t2 = cross(wh, t1);
         // A uniform point on the unit disk; its t2 coordinate is moved into the visible part,
         // which is a half disk scaled by (1 + wh.z) / 2 in t2, above the ellipse's projection.

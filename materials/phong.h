@@ -57,8 +57,7 @@ struct Phong {
         if (!(wo.z * wi.z > 0.0f)) return Rgb(0.0f);
         const float cosAlpha = dot(reflectAboutZ(wo), wi);
         Rgb f = kd * kInvPi;
-        if (cosAlpha > 0.0f)
-            f += ks * ((exponent + 2.0f) * (0.5f * kInvPi) * std::pow(cosAlpha, exponent));
+        if (cosAlpha > 0.0f) f += ks * ((exponent + 2.0f) * (0.5f * kInvPi) * std::pow(cosAlpha, exponent));
         return f;
     }
 

@@ -3,9 +3,10 @@
 //
 //     f(wo, wi) = D(wm) G(wo, wi) F(wo.wm) / (4 |wo.z| |wi.z|),   wm = normalize(wo + wi).
 //
-// Directions are drawn from the distribution's normals (microfacet.h). Single scattering only: light that would bounce between microfacets is lost, so
-// even F = 1 reflects less than 1 at high roughness (tests/materials/microfacet_test.cpp measures
-// how much). Two-sided like Conductor: evaluated on the side where wo lies.
+// Directions are drawn from the distribution's normals (microfacet.h). Single scattering only: light that
+// would bounce between microfacets is lost, so even F = 1 reflects less than 1 at high roughness
+// (tests/materials/microfacet_test.cpp measures how much). Two-sided like Conductor: evaluated on the side
+// where wo lies.
 #pragma once
 
 #include <cmath>

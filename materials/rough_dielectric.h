@@ -1,6 +1,7 @@
 // A rough dielectric interface (frosted glass): reflection and refraction through a microsurface,
 // after Walter, Marschner, Li and Torrance 2007, "Microfacet models for refraction through rough
-// surfaces", with Smith's height-correlated G (as pbrt-v4's DielectricBxDF). With eta the relative index of the far side over wo's side:
+// surfaces", with Smith's height-correlated G (as pbrt-v4's DielectricBxDF). With eta the relative index of
+// the far side over wo's side:
 //
 //   reflection (wi on wo's side),   wm = normalize(wo + wi):
 //     f = D(wm) G(wo, wi) F(wo.wm) / (4 |wo.z| |wi.z|)
@@ -46,7 +47,8 @@ struct RoughDielectric {
         const float F = reflectance(g.cosO, g.eta);
         if (g.reflects) return Rgb(F * distribution.reflectionWithoutFresnel(g.wo, g.wi, g.wm));
         const float denominator = sqr(g.cosI + g.cosO / g.eta) * g.wi.z * g.wo.z;
-        return Rgb(distribution.D(g.wm) * distribution.G(g.wo, g.wi) * (1.0f - F) * std::abs(g.cosI * g.cosO / denominator) / (g.eta * g.eta));
+        return Rgb(distribution.D(g.wm) * distribution.G(g.wo, g.wi) * (1.0f - F) *
+                   std::abs(g.cosI * g.cosO / denominator) / (g.eta * g.eta));
     }
 
     float pdf(Vec3f wo, Vec3f wi, bool front) const {
@@ -55,7 +57,8 @@ struct RoughDielectric {
         const float F = reflectance(g.cosO, g.eta);
         if (g.reflects) return distribution.reflectionPdf(g.wo, g.wm) * F;
         // The Jacobian dwm / dwi of refraction.
-        return distribution.normalPdf(g.wo, g.wm) * std::abs(g.cosI) / sqr(g.cosI + g.cosO / g.eta) * (1.0f - F);
+        return distribution.normalPdf(g.wo, g.wm) * std::abs(g.cosI) / sqr(g.cosI + g.cosO / g.eta) *
+               (1.0f - F);
     }
 
     std::optional<BsdfSample> sample(Vec3f wo, float uLobe, Vec2f u, bool front) const {

@@ -13,8 +13,10 @@ namespace penumbra {
 // Offset of a sample from the pixel centre, drawn from the reconstruction filter.
 inline Vec2f sampleFilterOffset(const FilmSettings& film, Vec2f u) {
     switch (film.filter) {
-        case FilterKind::Box: return {(2.0f * u.x - 1.0f) * film.filterRadius, (2.0f * u.y - 1.0f) * film.filterRadius};
-        case FilterKind::Tent: return {sampleTent(u.x, film.filterRadius), sampleTent(u.y, film.filterRadius)};
+        case FilterKind::Box:
+            return {(2.0f * u.x - 1.0f) * film.filterRadius, (2.0f * u.y - 1.0f) * film.filterRadius};
+        case FilterKind::Tent:
+            return {sampleTent(u.x, film.filterRadius), sampleTent(u.y, film.filterRadius)};
     }
     return {0.0f, 0.0f};
 }

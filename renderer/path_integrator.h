@@ -68,14 +68,22 @@ struct IntegratorContext {
     int rouletteStartDepth = 3;
     bool canonicalHits = true;  // RenderSettings::canonicalHits
     LightStrategy strategy = LightStrategy::Mis;
-    const FaceFrames* faceFrames = nullptr;  // optional: the still meshes' normals and frames, computed beforehand
+    const FaceFrames* faceFrames =
+        nullptr;                // optional: the still meshes' normals and frames, computed beforehand
     CameraFootprint footprint;  // for textures that filter by footprint (textures/texture_footprint.h)
 
     // The context of a scene's render: its lights, and its integrator settings.
-    static IntegratorContext forScene(const Scene& scene, const LightSet& lights, const FaceFrames* faceFrames = nullptr,
+    static IntegratorContext forScene(const Scene& scene, const LightSet& lights,
+                                      const FaceFrames* faceFrames = nullptr,
                                       const CameraFootprint& footprint = {}) {
-        return {&scene, &lights, scene.integrator.maxDepth, scene.integrator.rouletteStartDepth,
-                scene.settings.canonicalHits, scene.integrator.strategy, faceFrames, footprint};
+        return {&scene,
+                &lights,
+                scene.integrator.maxDepth,
+                scene.integrator.rouletteStartDepth,
+                scene.settings.canonicalHits,
+                scene.integrator.strategy,
+                faceFrames,
+                footprint};
     }
 };
 
@@ -96,8 +104,8 @@ inline bool isUnit(Vec3f v) { return std::abs(length(v) - 1.0f) < 1e-3f; }
 // side by `leaveDistance` (offsetDistance at si, computed once for the vertex's rays), at the same
 // time (`cosGeometric`: dot(direction, si.geometricNormal), which the caller has computed already).
 // Written in place, field by field (bench/README.md, "Speed tricks").
-[[gnu::always_inline]] inline void continueRay(Ray& ray, const SurfaceInteraction& si, float leaveDistance, Vec3f direction,
-                                               float cosGeometric) {
+[[gnu::always_inline]] inline void continueRay(Ray& ray, const SurfaceInteraction& si, float leaveDistance,
+                                               Vec3f direction, float cosGeometric) {
     const Vec3f side = cosGeometric >= 0.0f ? si.geometricNormal : -si.geometricNormal;
     ray.origin = offsetAlong(si.position, side, leaveDistance);
     ray.direction = direction;
@@ -157,8 +165,8 @@ private:
 // A shadow ray from `si` to a point on a light; both ends are moved off their surfaces, so the
 // segment [0, 1) of the unnormalized direction may be tested in full. `leaveDistance` and
 // `cosGeometric` as for continueRay.
-[[gnu::always_inline]] inline Ray spawnShadowRay(const SurfaceInteraction& si, float leaveDistance, const LightSample& ls,
-                                                 float cosGeometric, float time) {
+[[gnu::always_inline]] inline Ray spawnShadowRay(const SurfaceInteraction& si, float leaveDistance,
+                                                 const LightSample& ls, float cosGeometric, float time) {
     const Vec3f side = cosGeometric >= 0.0f ? si.geometricNormal : -si.geometricNormal;
     Ray ray;
     ray.origin = offsetAlong(si.position, side, leaveDistance);
@@ -168,7 +176,8 @@ private:
         return ray;
     }
     Vec3f target = ls.point;
-    if (!ls.isDelta) target = offsetRayOrigin(ls.point, ls.pointError, faceForward(ls.lightNormal, -ls.direction));
+    if (!ls.isDelta)
+        target = offsetRayOrigin(ls.point, ls.pointError, faceForward(ls.lightNormal, -ls.direction));
     ray.direction = target - ray.origin;
     ray.tfar = 1.0f - 0x1p-20f;
     return ray;
@@ -216,10 +225,11 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
                 const Rgb environment = lights.environmentRadiance(ray.direction);
                 if (!environment.isBlack()) {
                     const float weight =
-                        previousWasDelta ? 1.0f
-                                         : detail::hitWeight(ctx.strategy, previousBsdfPdf,
-                                                             lights.pdfOfEnvironment(previousPosition, previousNormal,
-                                                                                     ray.direction));
+                        previousWasDelta
+                            ? 1.0f
+                            : detail::hitWeight(
+                                  ctx.strategy, previousBsdfPdf,
+                                  lights.pdfOfEnvironment(previousPosition, previousNormal, ray.direction));
                     radiance += throughput * environment * weight;
                 }
             }
@@ -237,7 +247,8 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
             shaded = &textured.fill(detail::texturedMaterial(*shaded, ctx, si, ray.time));
         const Material& material = *shaded;
         const bool woAbove = dot(wo, si.geometricNormal) > 0.0f;
-        if (bounce == 0 && firstHit) *firstHit = {true, hit.t * length(ray.direction), si.shadingNormal, material.albedo()};
+        if (bounce == 0 && firstHit)
+            *firstHit = {true, hit.t * length(ray.direction), si.shadingNormal, material.albedo()};
 
         // --- Absorption: Beer-Lambert along the segment that arrived at the back side.
         if (!woAbove) {
@@ -252,9 +263,10 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
         // --- Emission at the hit, found by the previous vertex's BSDF sample: weighted against NEE.
         const Rgb emitted = lights.emitted(si, wo);
         if (!emitted.isBlack()) {
-            const float weight = previousWasDelta ? 1.0f
-                                                  : detail::hitWeight(ctx.strategy, previousBsdfPdf,
-                                                                      lights.pdfOfHit(previousPosition, previousNormal, si));
+            const float weight =
+                previousWasDelta ? 1.0f
+                                 : detail::hitWeight(ctx.strategy, previousBsdfPdf,
+                                                     lights.pdfOfHit(previousPosition, previousNormal, si));
             radiance += throughput * emitted * weight;
         }
         if (int(bounce) >= ctx.maxDepth) break;
@@ -281,7 +293,8 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
             if (lights.drawsSampleValues()) {
                 uLight = sample.get2DUnfrozen(Dim::LightPosition, bounce);
                 light = lights.choose(uLight, si.position, si.geometricNormal);
-                if (sample.isFrozen(Dim::LightPosition)) [[unlikely]] uLight = {0.5f, 0.5f};
+                if (sample.isFrozen(Dim::LightPosition)) [[unlikely]]
+                    uLight = {0.5f, 0.5f};
             }
             const auto ls = lights.sample(light, si.position, uLight);
             const Vec3f wiLocal = ls ? lanes.toLocal(ls->direction) : Vec3f{};
@@ -294,9 +307,10 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
                     PENUMBRA_CHECK(ls->pdf > 0.0f, "a light sample has a positive density");
                     castsShadowRay = true;
                     shadowRay = detail::spawnShadowRay(si, leaveDistance, *ls, cosLight, ray.time);
-                    const float weight = ls->isDelta || ctx.strategy == LightStrategy::Light
-                                             ? 1.0f
-                                             : powerHeuristic(ls->pdf, material.pdf(woLocal, wiLocal, woAbove));
+                    const float weight =
+                        ls->isDelta || ctx.strategy == LightStrategy::Light
+                            ? 1.0f
+                            : powerHeuristic(ls->pdf, material.pdf(woLocal, wiLocal, woAbove));
                     shadowContribution = throughput * f * ls->radiance * (weight / ls->pdf);
                 }
             }
@@ -338,7 +352,8 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
             if (int(bounce) + 1 >= ctx.maxDepth && !lights.emitsAlongRays()) return false;
             detail::continueRay(ray, si, leaveDistance, wi, cosWi);
             return true;
-        }();
+        }
+        ();
 
         // --- The pending shadow ray.
         if (castsShadowRay) {

@@ -29,7 +29,8 @@ public:
     // Whether a ray's time matters (otherwise no time sample is drawn).
     bool moves() const { return moves_; }
     IntegratorContext integratorContext() const {
-        return IntegratorContext::forScene(scene_, lights_, &faceFrames_, camera_.footprint(scene_.film.samplesPerPixel));
+        return IntegratorContext::forScene(scene_, lights_, &faceFrames_,
+                                           camera_.footprint(scene_.film.samplesPerPixel));
     }
 
 private:

@@ -1,26 +1,26 @@
 #include "renderer/render.h"
 
+#include <fmt/format.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <mutex>
 #include <optional>
 
-#include <fmt/format.h>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
-
+#include "accel/bvh_accelerator.h"
+#include "accel/embree_accelerator.h"
 #include "cameras/camera.h"
 #include "core/error.h"
 #include "core/input_limits.h"
+#include "film/pixel_accumulator.h"
 #include "renderer/adaptive_sampling.h"
 #include "renderer/camera_samples.h"
-#include "film/pixel_accumulator.h"
 #include "renderer/prepared_scene.h"
 #include "textures/image_texture.h"
-#include "accel/bvh_accelerator.h"
-#include "accel/embree_accelerator.h"
 
 namespace penumbra {
 
@@ -75,11 +75,12 @@ TileResult renderTile(const Accel& accel, const Scene& scene, const ThinLensCame
                 for (int i = 0; i < count; ++i) {
                     const uint32_t s = groupStart + i;
                     FirstHitAovs aovs;
-                    Rgb radiance = estimateRadiance(accel, ctx, cameraRays[i], *samples[i], result.rays, &aovs,
-                                                    kPacket > 1 ? &traced[i] : nullptr);
+                    Rgb radiance = estimateRadiance(accel, ctx, cameraRays[i], *samples[i], result.rays,
+                                                    &aovs, kPacket > 1 ? &traced[i] : nullptr);
                     if (!radiance.isFinite()) {
                         ++result.nonFinite;
-                        if (result.examples.size() < kMaxNonFiniteExamples) result.examples.push_back({x, y, s});
+                        if (result.examples.size() < kMaxNonFiniteExamples)
+                            result.examples.push_back({x, y, s});
                         radiance = Rgb(0.0f);
                     }
                     pixel.add(radiance, 1.0f, aovs);
@@ -142,8 +143,8 @@ RenderStats renderWith(const Accel& accel, const Scene& scene, const RenderOptio
     uint32_t passBegin = firstSample, passEnd = firstSample;
     auto renderRange = [&](const tbb::blocked_range<size_t>& range) {
         for (size_t i = range.begin(); i != range.end(); ++i) {
-            TileResult r = renderTile(accel, scene, camera, ctx, tiles[i], passBegin, passEnd, options.frozenDims,
-                                      sceneMoves, active ? &*active : nullptr, film);
+            TileResult r = renderTile(accel, scene, camera, ctx, tiles[i], passBegin, passEnd,
+                                      options.frozenDims, sceneMoves, active ? &*active : nullptr, film);
             TileResult& total = results[i];
             total.rays += r.rays;
             total.samples += r.samples;
@@ -175,7 +176,8 @@ RenderStats renderWith(const Accel& accel, const Scene& scene, const RenderOptio
             break;
         }
         passEnd = passEndAfter(passBegin);
-        arena.execute([&] { tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), renderRange); });
+        arena.execute(
+            [&] { tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), renderRange); });
         // A texture that could not be read stops the render before this pass reaches the film's
         // checkpoints or output.
         throwIfTextureLookupsFailed();
@@ -203,12 +205,15 @@ RenderStats renderWith(const Accel& accel, const Scene& scene, const RenderOptio
 
 }  // namespace
 
-int renderThreads(int requested) { return requested > 0 ? requested : tbb::this_task_arena::max_concurrency(); }
+int renderThreads(int requested) {
+    return requested > 0 ? requested : tbb::this_task_arena::max_concurrency();
+}
 
 uint32_t defaultPassSize(uint64_t windowPixels) {
     constexpr uint64_t kAlignment = EmbreeAccelerator::kPacketSize;
     const uint64_t samples = std::max<uint64_t>(1, (uint64_t(1) << 20) / std::max<uint64_t>(1, windowPixels));
-    return uint32_t(std::min<uint64_t>((samples + kAlignment - 1) / kAlignment * kAlignment, uint64_t(1) << 20));
+    return uint32_t(
+        std::min<uint64_t>((samples + kAlignment - 1) / kAlignment * kAlignment, uint64_t(1) << 20));
 }
 
 RenderStats render(const Scene& scene, const RenderOptions& options, Film& film) {
@@ -216,7 +221,8 @@ RenderStats render(const Scene& scene, const RenderOptions& options, Film& film)
         throw InputError("render: the film's size does not match the scene's resolution");
     if (options.crop) {
         const PixelWindow& c = *options.crop;
-        if (c.x0 < 0 || c.y0 < 0 || c.x1 > scene.film.width || c.y1 > scene.film.height || c.x0 >= c.x1 || c.y0 >= c.y1)
+        if (c.x0 < 0 || c.y0 < 0 || c.x1 > scene.film.width || c.y1 > scene.film.height || c.x0 >= c.x1 ||
+            c.y0 >= c.y1)
             throw InputError("--crop: the window must lie inside the image and not be empty");
     }
     const auto buildStart = Clock::now();

@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "accel/traversal.h"
 #include "film/film.h"
 #include "renderer/path_integrator.h"
-#include "accel/traversal.h"
 #include "scenes/scene.h"
 
 namespace penumbra {
@@ -21,10 +21,10 @@ namespace penumbra {
 
 struct RenderOptions {
     AcceleratorKind accelerator = AcceleratorKind::Embree;
-    int threads = 0;                 // 0: all cores
-    uint32_t firstSample = 0;        // render sample indices [firstSample, endSample)
-    uint32_t endSample = 0;          // 0: the scene's samples per pixel
-    std::optional<PixelWindow> crop; // only these pixels
+    int threads = 0;                  // 0: all cores
+    uint32_t firstSample = 0;         // render sample indices [firstSample, endSample)
+    uint32_t endSample = 0;           // 0: the scene's samples per pixel
+    std::optional<PixelWindow> crop;  // only these pixels
     int tileSize = 16;
     // Called with (tiles done, tiles in all) as tiles finish, from whichever thread finished one.
     std::function<void(size_t, size_t)> progress;

@@ -1,9 +1,9 @@
 #include "renderer/render_job.h"
 
+#include <fmt/format.h>
+
 #include <chrono>
 #include <utility>
-
-#include <fmt/format.h>
 
 #include "core/check.h"
 #include "core/error.h"
@@ -18,14 +18,18 @@ SceneSource SceneSource::of(const std::filesystem::path& sceneFile, const Scene&
 }
 
 RenderJob::RenderJob(const Scene& scene, SceneSource source, RenderOptions options)
-    : scene_(scene), source_(std::move(source)), options_(std::move(options)), film_(scene.film.width, scene.film.height) {
+    : scene_(scene),
+      source_(std::move(source)),
+      options_(std::move(options)),
+      film_(scene.film.width, scene.film.height) {
     if (options_.endSample == 0) options_.endSample = uint32_t(scene.film.samplesPerPixel);
     // Adaptive decisions weigh all of a pixel's samples: a render of a later range alone would
     // decide from part of them.
     if (scene.film.adaptive && options_.firstSample != 0)
-        throw InputError(fmt::format("adaptive sampling renders from sample 0 (its pixels stop where all their samples "
-                                     "say so); it cannot render samples from {} alone (--samples)",
-                                     options_.firstSample));
+        throw InputError(
+            fmt::format("adaptive sampling renders from sample 0 (its pixels stop where all their samples "
+                        "say so); it cannot render samples from {} alone (--samples)",
+                        options_.firstSample));
     firstSample_ = options_.firstSample;
 }
 
@@ -35,7 +39,7 @@ void RenderJob::resumeFrom(const std::filesystem::path& path, std::optional<uint
                    ResumeTarget{source_.hash, scene_.film.width, scene_.film.height, scene_.settings.seed,
                                 std::string(samplerKindName(scene_.settings.sampler)),
                                 std::string(acceleratorKindName(options_.accelerator)), options_.crop,
-                                 options_.endSample, startingAt, scene_.film.adaptive});
+                                options_.endSample, startingAt, scene_.film.adaptive});
     firstSample_ = loaded.metadata.firstSample;
     options_.firstSample = loaded.metadata.endSample;
     previousSeconds_ = loaded.metadata.renderSeconds;
@@ -60,8 +64,10 @@ RenderStats RenderJob::run(const std::function<void(uint32_t)>& afterPass) {
         if (afterPass) afterPass(passEnd);
         if (!checkpoints_ || passEnd >= options_.endSample) return;
         const auto now = Clock::now();
-        if (std::chrono::duration<double>(now - lastCheckpoint).count() < checkpoints_->minutes * 60.0) return;
-        writeExr(film_, metadataAt(passEnd, previousSeconds_ + std::chrono::duration<double>(now - start).count()),
+        if (std::chrono::duration<double>(now - lastCheckpoint).count() < checkpoints_->minutes * 60.0)
+            return;
+        writeExr(film_,
+                 metadataAt(passEnd, previousSeconds_ + std::chrono::duration<double>(now - start).count()),
                  checkpoints_->path);
         lastCheckpoint = Clock::now();
         if (checkpoints_->written) checkpoints_->written(firstSample_, passEnd);

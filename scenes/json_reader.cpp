@@ -252,8 +252,9 @@ Vec3f JsonValue::vec3() const {
         const JsonValue e = element(i);
         v[i] = e.number();
         if (std::abs(v[i]) > limits::kMaxCoordinate)
-            e.fail(fmt::format("the coordinate {} is beyond penumbra's limit of {:g} in magnitude (docs/limits.md)",
-                               e.json().dump(), limits::kMaxCoordinate));
+            e.fail(fmt::format(
+                "the coordinate {} is beyond penumbra's limit of {:g} in magnitude (docs/limits.md)",
+                e.json().dump(), limits::kMaxCoordinate));
     }
     return {v[0], v[1], v[2]};
 }

@@ -25,8 +25,8 @@ using ApplyColor = void (*)(MaterialModel&, Rgb);
 
 // A colour parameter within [min, max]: its constant value, or (a texture object) the default
 // value, with the texture recorded to override it at each shading point through `apply`.
-Rgb readColorParameter(const JsonValue& value, float min, float max, Rgb defaultValue, MaterialContext& context,
-                       ApplyColor apply) {
+Rgb readColorParameter(const JsonValue& value, float min, float max, Rgb defaultValue,
+                       MaterialContext& context, ApplyColor apply) {
     if (!isTextureValue(value)) return value.rgb(min, max);
     context.textures.push_back({readTexture(value, context.folder, min, max), apply});
     return defaultValue;
@@ -68,9 +68,9 @@ bool readTwoSided(const JsonValue& material) {
 Material readLambert(const JsonValue& material, MaterialContext& context) {
     Lambert lambert;
     if (auto v = material.member("albedo"))
-        lambert.albedo = readColorParameter(*v, 0.0f, 1.0f, lambert.albedo, context, [](MaterialModel& m, Rgb c) {
-            std::get<Lambert>(m).albedo = clampedColor(c);
-        });
+        lambert.albedo = readColorParameter(
+            *v, 0.0f, 1.0f, lambert.albedo, context,
+            [](MaterialModel& m, Rgb c) { std::get<Lambert>(m).albedo = clampedColor(c); });
     return Material(lambert, readTwoSided(material), std::move(context.textures));
 }
 
@@ -115,7 +115,6 @@ Material readMirror(const JsonValue& material, MaterialContext& context) {
     return Material(mirror, readTwoSided(material), std::move(context.textures));
 }
 
-
 // A rough surface's microfacet distribution: "distribution" ("ggx" or "beckmann") and the slopes
 // from "roughness" r in [0, 1] (alpha = r^2) or "alpha" > 0, each a number or [along u, along v]
 // for an anisotropic surface; none when no roughness is given.
@@ -134,7 +133,8 @@ std::optional<MicrofacetDistribution> readDistribution(const JsonValue& material
         if (!textured) roughness->fail("this material's roughness cannot be a texture");
         *textured = true;
         MicrofacetDistribution d;
-        if (kind) d.kind = kind->choice({"ggx", "beckmann"}) == 0 ? MicrofacetKind::Ggx : MicrofacetKind::Beckmann;
+        if (kind)
+            d.kind = kind->choice({"ggx", "beckmann"}) == 0 ? MicrofacetKind::Ggx : MicrofacetKind::Beckmann;
         d.alphaX = d.alphaY = 0.25f;
         return d;
     }
@@ -146,11 +146,13 @@ std::optional<MicrofacetDistribution> readDistribution(const JsonValue& material
             return roughnessToAlpha(r);
         }
         const float a = v.number();
-        if (!(a > 0.0f && a <= 4.0f)) v.failExpected("an alpha in (0, 4] (0 is a smooth surface: use the smooth material)");
+        if (!(a > 0.0f && a <= 4.0f))
+            v.failExpected("an alpha in (0, 4] (0 is a smooth surface: use the smooth material)");
         return a;
     };
     MicrofacetDistribution d;
-    if (kind) d.kind = kind->choice({"ggx", "beckmann"}) == 0 ? MicrofacetKind::Ggx : MicrofacetKind::Beckmann;
+    if (kind)
+        d.kind = kind->choice({"ggx", "beckmann"}) == 0 ? MicrofacetKind::Ggx : MicrofacetKind::Beckmann;
     if (!value.json().is_array()) {
         d.alphaX = d.alphaY = read(value);
         return d;
@@ -190,16 +192,18 @@ Material readConductor(const JsonValue& material, MaterialContext& context) {
     const bool smooth = isSmooth(distribution) && !texturedRoughness;
     Rgb tint(1.0f);
     if (auto v = material.member("tint")) {
-        tint = smooth ? readColorParameter(*v, 0.0f, 1.0f, tint, context,
-                                           [](MaterialModel& m, Rgb c) { std::get<Conductor>(m).tint = clampedColor(c); })
+        tint = smooth ? readColorParameter(
+                            *v, 0.0f, 1.0f, tint, context,
+                            [](MaterialModel& m, Rgb c) { std::get<Conductor>(m).tint = clampedColor(c); })
                       : readColorParameter(*v, 0.0f, 1.0f, tint, context, [](MaterialModel& m, Rgb c) {
                             std::get<RoughConductor>(m).tint = clampedColor(c);
                         });
     }
     if (smooth) return Material(Conductor{eta, k, tint}, readTwoSided(material), std::move(context.textures));
     if (texturedRoughness)
-        context.textures.push_back({readTexture(*material.member("roughness"), context.folder, 0.0f, 1.0f),
-                                    [](MaterialModel& m, Rgb r) { setRoughness(std::get<RoughConductor>(m).distribution, r); }});
+        context.textures.push_back(
+            {readTexture(*material.member("roughness"), context.folder, 0.0f, 1.0f),
+             [](MaterialModel& m, Rgb r) { setRoughness(std::get<RoughConductor>(m).distribution, r); }});
     return Material(RoughConductor{eta, k, clampedForRendering(*distribution), tint}, readTwoSided(material),
                     std::move(context.textures));
 }
@@ -214,10 +218,12 @@ Material readDielectric(const JsonValue& material, MaterialContext& context) {
     const std::optional<MicrofacetDistribution> distribution = readDistribution(material, &texturedRoughness);
     if (isSmooth(distribution) && !texturedRoughness) return Material(smooth);
     if (texturedRoughness)
-        context.textures.push_back({readTexture(*material.member("roughness"), context.folder, 0.0f, 1.0f),
-                                    [](MaterialModel& m, Rgb r) { setRoughness(std::get<RoughDielectric>(m).distribution, r); }});
-    return Material(RoughDielectric{smooth.eta, smooth.fresnel, smooth.absorption, clampedForRendering(*distribution)},
-                    true, std::move(context.textures));
+        context.textures.push_back(
+            {readTexture(*material.member("roughness"), context.folder, 0.0f, 1.0f),
+             [](MaterialModel& m, Rgb r) { setRoughness(std::get<RoughDielectric>(m).distribution, r); }});
+    return Material(
+        RoughDielectric{smooth.eta, smooth.fresnel, smooth.absorption, clampedForRendering(*distribution)},
+        true, std::move(context.textures));
 }
 
 Material readCoatedDiffuse(const JsonValue& material, MaterialContext& context) {
@@ -229,16 +235,21 @@ Material readCoatedDiffuse(const JsonValue& material, MaterialContext& context) 
     Rgb albedo(0.5f);
     if (auto v = material.member("albedo"))
         albedo = smooth ? readColorParameter(*v, 0.0f, 1.0f, albedo, context,
-                                             [](MaterialModel& m, Rgb c) { std::get<CoatedDiffuse>(m).albedo = clampedColor(c); })
+                                             [](MaterialModel& m, Rgb c) {
+                                                 std::get<CoatedDiffuse>(m).albedo = clampedColor(c);
+                                             })
                         : readColorParameter(*v, 0.0f, 1.0f, albedo, context, [](MaterialModel& m, Rgb c) {
                               std::get<RoughCoatedDiffuse>(m).albedo = clampedColor(c);
                           });
-    if (smooth) return Material(CoatedDiffuse::make(albedo, eta), readTwoSided(material), std::move(context.textures));
+    if (smooth)
+        return Material(CoatedDiffuse::make(albedo, eta), readTwoSided(material),
+                        std::move(context.textures));
     if (texturedRoughness)
-        context.textures.push_back({readTexture(*material.member("roughness"), context.folder, 0.0f, 1.0f),
-                                    [](MaterialModel& m, Rgb r) { setRoughness(std::get<RoughCoatedDiffuse>(m).distribution, r); }});
-    return Material(RoughCoatedDiffuse::make(albedo, eta, clampedForRendering(*distribution)), readTwoSided(material),
-                    std::move(context.textures));
+        context.textures.push_back(
+            {readTexture(*material.member("roughness"), context.folder, 0.0f, 1.0f),
+             [](MaterialModel& m, Rgb r) { setRoughness(std::get<RoughCoatedDiffuse>(m).distribution, r); }});
+    return Material(RoughCoatedDiffuse::make(albedo, eta, clampedForRendering(*distribution)),
+                    readTwoSided(material), std::move(context.textures));
 }
 
 using MaterialReader = Material (*)(const JsonValue&, MaterialContext&);
@@ -250,15 +261,21 @@ const std::array<TypeRow<MaterialReader>, 9> kMaterialTypes{{
     {"thin_dielectric", {"type", "eta", "fresnel"}, readThinDielectric},
     {"mirror", {"type", "tint", "two_sided"}, readMirror},
     {"conductor", {"type", "eta", "k", "tint", "two_sided"}, readConductor},
-    {"rough_conductor", {"type", "eta", "k", "tint", "roughness", "alpha", "distribution", "two_sided"}, readConductor},
-    {"rough_dielectric", {"type", "eta", "fresnel", "absorption", "roughness", "alpha", "distribution"}, readDielectric},
-    {"coated_diffuse", {"type", "albedo", "eta", "roughness", "alpha", "distribution", "two_sided"}, readCoatedDiffuse},
+    {"rough_conductor",
+     {"type", "eta", "k", "tint", "roughness", "alpha", "distribution", "two_sided"},
+     readConductor},
+    {"rough_dielectric",
+     {"type", "eta", "fresnel", "absorption", "roughness", "alpha", "distribution"},
+     readDielectric},
+    {"coated_diffuse",
+     {"type", "albedo", "eta", "roughness", "alpha", "distribution", "two_sided"},
+     readCoatedDiffuse},
 }};
 
 }  // namespace
 
-void readMaterials(const JsonValue& section, const std::filesystem::path& folder, std::vector<Material>& materials,
-                   std::vector<std::string>& names) {
+void readMaterials(const JsonValue& section, const std::filesystem::path& folder,
+                   std::vector<Material>& materials, std::vector<std::string>& names) {
     for (const auto& [name, value] : section.members()) {
         MaterialContext context{folder, {}};
         materials.push_back(findTypeRow<MaterialReader>(value, kMaterialTypes).read(value, context));

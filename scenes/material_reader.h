@@ -14,8 +14,8 @@ namespace penumbra {
 
 // Appends the section's materials and their names, in file order. Image textures' relative paths
 // are relative to `folder` (the scene file's).
-void readMaterials(const JsonValue& section, const std::filesystem::path& folder, std::vector<Material>& materials,
-                   std::vector<std::string>& names);
+void readMaterials(const JsonValue& section, const std::filesystem::path& folder,
+                   std::vector<Material>& materials, std::vector<std::string>& names);
 
 // The index of the material a shape names; an unknown name fails with the names known.
 uint32_t readMaterialReference(const JsonValue& value, const std::vector<std::string>& names);

@@ -131,8 +131,9 @@ void checkImportedMesh(const TriangleMesh& mesh, const std::string& file) {
         fail(file, "the file contains no triangles");
     for (size_t i = 0; i < mesh.indices.size(); ++i)
         if (mesh.indices[i] >= mesh.positions.size())
-            fail(file, fmt::format("triangle {} (counting from 0) uses vertex {}, but the mesh has only {} vertices",
-                                   i / 3, mesh.indices[i], mesh.positions.size()));
+            fail(file, fmt::format(
+                           "triangle {} (counting from 0) uses vertex {}, but the mesh has only {} vertices",
+                           i / 3, mesh.indices[i], mesh.positions.size()));
     for (size_t i = 0; i < mesh.positions.size(); ++i)
         if (!isFinite(mesh.positions[i]))
             fail(file, fmt::format("vertex {} (counting from 0) has a non-finite coordinate", i));
@@ -196,10 +197,11 @@ void validateObj(std::string_view text, const std::string& file) {
                 failAt(file, lineNumber, tokens[0].column,
                        fmt::format("a face needs at least 3 vertices, found {}", tokens.size() - 1));
             if (tokens.size() - 1 > size_t(limits::kMaxObjFaceCorners))
-                failAt(file, lineNumber, tokens[0].column,
-                       fmt::format("a face with {} corners; penumbra takes at most {} (polygons are split into "
-                                   "triangles in time that grows with the square of their corners)",
-                                   tokens.size() - 1, limits::kMaxObjFaceCorners));
+                failAt(
+                    file, lineNumber, tokens[0].column,
+                    fmt::format("a face with {} corners; penumbra takes at most {} (polygons are split into "
+                                "triangles in time that grows with the square of their corners)",
+                                tokens.size() - 1, limits::kMaxObjFaceCorners));
             for (size_t c = 1; c < tokens.size(); ++c) {
                 const Token& corner = tokens[c];
                 // v, v/vt, v//vn or v/vt/vn
@@ -249,16 +251,19 @@ void validateObj(std::string_view text, const std::string& file) {
 // validator concluded, before any of them is used to read its arrays.
 void checkObjLoaderIndices(const tinyobj::attrib_t& attrib, const std::vector<tinyobj::index_t>& corners,
                            const std::string& file) {
-    const size_t counts[3] = {attrib.vertices.size() / 3, attrib.texcoords.size() / 2, attrib.normals.size() / 3};
+    const size_t counts[3] = {attrib.vertices.size() / 3, attrib.texcoords.size() / 2,
+                              attrib.normals.size() / 3};
     static const char* const kindPlural[] = {"vertices", "texture coordinates", "normals"};
     for (const tinyobj::index_t& c : corners) {
         const int indices[3] = {c.vertex_index, c.texcoord_index, c.normal_index};
         for (int k = 0; k < 3; ++k) {
             const bool optional = k > 0;  // a corner may lack a uv or a normal (-1)
-            if ((optional && indices[k] == -1) || (indices[k] >= 0 && size_t(indices[k]) < counts[k])) continue;
-            fail(file, fmt::format("the OBJ reader produced a face corner that refers to {} {} (counting from "
-                                   "1), but it read only {} {}; the file is malformed",
-                                   kindPlural[k], int64_t(indices[k]) + 1, counts[k], kindPlural[k]));
+            if ((optional && indices[k] == -1) || (indices[k] >= 0 && size_t(indices[k]) < counts[k]))
+                continue;
+            fail(file,
+                 fmt::format("the OBJ reader produced a face corner that refers to {} {} (counting from "
+                             "1), but it read only {} {}; the file is malformed",
+                             kindPlural[k], int64_t(indices[k]) + 1, counts[k], kindPlural[k]));
         }
     }
 }
@@ -355,7 +360,7 @@ enum class PlyFormat { Ascii, BinaryLittleEndian, BinaryBigEndian };
 
 struct PlyProperty {
     std::string name;
-    int size = 0;  // bytes of a value (of each item, for lists)
+    int size = 0;           // bytes of a value (of each item, for lists)
     bool isFloat = false;   // float or double (of each item, for lists)
     bool isSigned = false;  // integers: signed (of each item, for lists)
     bool isList = false;
@@ -451,9 +456,10 @@ PlyHeader parsePlyHeader(std::string_view bytes, const std::string& file) {
             // past their end (a heap overflow): each element may be declared once.
             for (const PlyElement& e : header.elements)
                 if (e.name == tokens[1].text)
-                    failHere(fmt::format("the element '{}' is declared a second time (a PLY header declares each "
-                                         "element once)",
-                                         e.name));
+                    failHere(
+                        fmt::format("the element '{}' is declared a second time (a PLY header declares each "
+                                    "element once)",
+                                    e.name));
             header.elements.push_back({std::string(tokens[1].text), uint64_t(count), {}});
         } else if (keyword == "property") {
             if (header.elements.empty()) failHere("a property must follow an 'element' line");
@@ -522,12 +528,14 @@ public:
             if (element.name == "vertex" && vertexElement_ < 0) {
                 vertexElement_ = int(e);
                 vertexCount_ = element.count;
-                static constexpr std::string_view kNames[][2] = {{"x", ""}, {"y", ""}, {"z", ""}, {"nx", ""}, {"ny", ""},
-                                                                 {"nz", ""}, {"u", "s"}, {"v", "t"}};
+                static constexpr std::string_view kNames[][2] = {{"x", ""},  {"y", ""},  {"z", ""},
+                                                                 {"nx", ""}, {"ny", ""}, {"nz", ""},
+                                                                 {"u", "s"}, {"v", "t"}};
                 for (size_t p = 0; p < element.properties.size(); ++p)
                     for (int slot = 0; slot < 8; ++slot)
                         if (!element.properties[p].isList &&
-                            (element.properties[p].name == kNames[slot][0] || element.properties[p].name == kNames[slot][1]) &&
+                            (element.properties[p].name == kNames[slot][0] ||
+                             element.properties[p].name == kNames[slot][1]) &&
                             !(present_ & (1u << slot))) {
                             slots[p] = slot;
                             present_ |= 1u << slot;
@@ -536,7 +544,8 @@ public:
                 faceElement_ = int(e);
                 for (size_t p = 0; p < element.properties.size(); ++p)
                     if (element.properties[p].isList && faceProperty_ < 0 &&
-                        (element.properties[p].name == "vertex_indices" || element.properties[p].name == "vertex_index"))
+                        (element.properties[p].name == "vertex_indices" ||
+                         element.properties[p].name == "vertex_index"))
                         faceProperty_ = int(p);
             }
             slots_.push_back(std::move(slots));
@@ -554,18 +563,22 @@ public:
         const int slot = slots_[e][p];
         if (slot < 0) return;
         const float f = float(v);
-        if (slot < 3) mesh_.positions[row][slot] = f;
-        else if (slot < 6) { if (hasNormals_) mesh_.normals[row][slot - 3] = f; }
-        else if (hasUvs_) (slot == 6 ? mesh_.uvs[row].x : mesh_.uvs[row].y) = f;
+        if (slot < 3)
+            mesh_.positions[row][slot] = f;
+        else if (slot < 6) {
+            if (hasNormals_) mesh_.normals[row][slot - 3] = f;
+        } else if (hasUvs_)
+            (slot == 6 ? mesh_.uvs[row].x : mesh_.uvs[row].y) = f;
     }
     bool wantsList(size_t e, size_t p) const { return int(e) == faceElement_ && int(p) == faceProperty_; }
     // The face list of one row: polygons become triangle fans; points and lines have no area.
     void faceList(uint64_t row, const std::vector<double>& items, const std::string& file) {
         for (double v : items)
             if (!(v >= 0.0 && v < double(vertexCount_)))
-                fail(file, fmt::format("face {} (counting from 0) uses vertex {}, but the file has only {} vertices "
-                                       "(indices count from 0)",
-                                       row, v, vertexCount_));  // v as read: it may not fit an integer
+                fail(file, fmt::format(
+                               "face {} (counting from 0) uses vertex {}, but the file has only {} vertices "
+                               "(indices count from 0)",
+                               row, v, vertexCount_));  // v as read: it may not fit an integer
         for (size_t k = 1; k + 1 < items.size(); ++k)
             for (size_t corner : {size_t(0), k, k + 1}) mesh_.indices.push_back(uint32_t(items[corner]));
     }
@@ -593,7 +606,8 @@ bool isPlySpace(char c) { return c == ' ' || c == '\n' || c == '\t' || c == '\r'
 
 // Walks the ASCII body, reading the mesh into `sink`: every value the header declares must be
 // there and be a number.
-void readPlyAsciiBody(const PlyHeader& header, std::string_view bytes, const std::string& file, PlyMeshSink& sink) {
+void readPlyAsciiBody(const PlyHeader& header, std::string_view bytes, const std::string& file,
+                      PlyMeshSink& sink) {
     size_t pos = header.bodyOffset, lineStart = pos;
     int line = header.bodyLine;
     auto next = [&]() -> std::optional<Token> {
@@ -666,7 +680,8 @@ double readPlyBinaryValue(const unsigned char* p, const PlyProperty& property, b
 
 // Walks the binary body, reading the mesh into `sink`: the file must hold every value the header
 // declares.
-void readPlyBinaryBody(const PlyHeader& header, std::string_view bytes, const std::string& file, PlyMeshSink& sink) {
+void readPlyBinaryBody(const PlyHeader& header, std::string_view bytes, const std::string& file,
+                       PlyMeshSink& sink) {
     const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
     const bool bigEndian = header.format == PlyFormat::BinaryBigEndian;
     uint64_t pos = header.bodyOffset;
@@ -707,10 +722,12 @@ void readPlyBinaryBody(const PlyHeader& header, std::string_view bytes, const st
                     fail(file, fmt::format("{} {} has a negative list length for property '{}'", element.name,
                                            i, p.name));
                 pos += uint64_t(p.countSize);
-                if (n > (bytes.size() - pos) / uint64_t(p.size)) truncated(i);  // n * size may not fit 64 bits
+                if (n > (bytes.size() - pos) / uint64_t(p.size))
+                    truncated(i);  // n * size may not fit 64 bits
                 if (sink.wantsList(e, q)) {
                     items.clear();
-                    for (uint64_t k = 0; k < n; ++k) items.push_back(readPlyBinaryValue(data + pos + k * uint64_t(p.size), p, bigEndian));
+                    for (uint64_t k = 0; k < n; ++k)
+                        items.push_back(readPlyBinaryValue(data + pos + k * uint64_t(p.size), p, bigEndian));
                     sink.faceList(i, items, file);
                 }
                 pos += n * uint64_t(p.size);

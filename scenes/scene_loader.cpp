@@ -3,16 +3,16 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cmath>
-#include <numbers>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <limits>
+#include <numbers>
 
 #include "core/error.h"
+#include "core/frame.h"
 #include "core/input_file.h"
 #include "core/input_limits.h"
-#include "core/frame.h"
 #include "core/motion.h"
 #include "core/transform.h"
 #include "scenes/json_reader.h"
@@ -52,9 +52,9 @@ CameraPose readCameraPose(const JsonValue& value, const CameraPose& defaults) {
 }
 
 ThinLensCameraParams readCamera(const JsonValue& value) {
-    const JsonObject object(value, {"look_from", "look_at", "up", "fov", "aperture_radius", "f_number", "focal_length",
-                                    "aperture_blades", "aperture_rotation", "focus_distance", "focus_on", "shutter",
-                                    "motion"});
+    const JsonObject object(
+        value, {"look_from", "look_at", "up", "fov", "aperture_radius", "f_number", "focal_length",
+                "aperture_blades", "aperture_rotation", "focus_distance", "focus_on", "shutter", "motion"});
     ThinLensCameraParams camera;
     const CameraPose pose = readCameraPose(value, {camera.lookFrom, camera.lookAt, camera.up});
     camera.lookFrom = pose.lookFrom;
@@ -76,9 +76,10 @@ ThinLensCameraParams readCamera(const JsonValue& value) {
         if (!focalLength) value.fail("f_number needs focal_length (in scene units) to define the aperture");
         camera.apertureRadius = focalLength->numberAbove(0.0f) / (2.0f * fNumber->numberAbove(0.0f));
         if (!(camera.apertureRadius <= limits::kMaxCoordinate))
-            fNumber->fail(fmt::format("focal_length / (2 f_number) gives an aperture radius of {}, beyond the limit "
-                                      "of {:g} (docs/limits.md)",
-                                      camera.apertureRadius, limits::kMaxCoordinate));
+            fNumber->fail(
+                fmt::format("focal_length / (2 f_number) gives an aperture radius of {}, beyond the limit "
+                            "of {:g} (docs/limits.md)",
+                            camera.apertureRadius, limits::kMaxCoordinate));
     }
     if (auto v = object.get("aperture_blades")) {
         camera.apertureBlades = int(v->integer(0, 64));
@@ -91,7 +92,8 @@ ThinLensCameraParams readCamera(const JsonValue& value) {
     if (auto v = object.get("focus_distance")) {
         if (object.get("focus_on")) v->fail("give either focus_distance or focus_on, not both");
         camera.focusDistance = v->numberAbove(0.0f);
-        if (camera.focusDistance > limits::kMaxCoordinate) v->failExpected(fmt::format("a number > 0 and <= {:g}", limits::kMaxCoordinate));
+        if (camera.focusDistance > limits::kMaxCoordinate)
+            v->failExpected(fmt::format("a number > 0 and <= {:g}", limits::kMaxCoordinate));
     } else if (auto v = object.get("focus_on")) {
         const Vec3f view = normalize(camera.lookAt - camera.lookFrom);
         camera.focusDistance = dot(v->vec3() - camera.lookFrom, view);
@@ -106,7 +108,8 @@ ThinLensCameraParams readCamera(const JsonValue& value) {
         if (camera.shutterClose < camera.shutterOpen) v->failExpected("[open, close] with close >= open");
     }
     if (auto v = object.get("motion")) {
-        if (v->arraySize() < 2) v->failExpected("an array of at least 2 camera poses, evenly spaced over the shutter");
+        if (v->arraySize() < 2)
+            v->failExpected("an array of at least 2 camera poses, evenly spaced over the shutter");
         // Each pose starts from the camera's own and changes what it names.
         for (const JsonValue& poseValue : v->elements()) {
             const JsonObject poseObject(poseValue, {"look_from", "look_at", "up"});
@@ -133,7 +136,8 @@ FilmSettings readFilm(const JsonValue& value) {
         if (auto radius = filter.get("radius")) {
             film.filterRadius = radius->numberAbove(0.0f);
             if (film.filterRadius > limits::kMaxFilterRadius)
-                radius->failExpected(fmt::format("a radius > 0 and <= {:g} pixels", limits::kMaxFilterRadius));
+                radius->failExpected(
+                    fmt::format("a radius > 0 and <= {:g} pixels", limits::kMaxFilterRadius));
         }
     }
     if (auto v = object.get("adaptive")) {
@@ -169,7 +173,8 @@ IntegratorSettings readIntegrator(const JsonValue& value) {
     if (auto v = object.get("max_depth")) integrator.maxDepth = int(v->integer(0, limits::kMaxPathDepth));
     if (auto v = object.get("roulette_start"))
         integrator.rouletteStartDepth = int(v->integer(0, limits::kMaxPathDepth));
-    if (auto v = object.get("strategy")) integrator.strategy = LightStrategy(v->choice({"mis", "bsdf", "light"}));
+    if (auto v = object.get("strategy"))
+        integrator.strategy = LightStrategy(v->choice({"mis", "bsdf", "light"}));
     return integrator;
 }
 
@@ -192,7 +197,8 @@ Emission readEmission(const JsonValue& value, const fs::path& folder) {
     Emission emission;
     const JsonValue radiance = object.require("radiance");
     if (isTextureValue(radiance)) {
-        emission.texture = std::make_shared<const Texture>(readTexture(radiance, folder, 0.0f, std::numeric_limits<float>::max()));
+        emission.texture = std::make_shared<const Texture>(
+            readTexture(radiance, folder, 0.0f, std::numeric_limits<float>::max()));
         const int n = 32;
         double sum[3] = {0.0, 0.0, 0.0};
         for (int j = 0; j < n; ++j)
@@ -204,7 +210,8 @@ Emission readEmission(const JsonValue& value, const fs::path& folder) {
             }
         emission.radiance = Rgb(float(sum[0] / (n * n)), float(sum[1] / (n * n)), float(sum[2] / (n * n)));
         if (emission.radiance.isBlack())
-            radiance.fail("the emission texture is black at every one of 32 x 32 points spread over [0, 1)^2");
+            radiance.fail(
+                "the emission texture is black at every one of 32 x 32 points spread over [0, 1)^2");
     } else {
         emission.radiance = radiance.rgb(0.0f);
     }
@@ -279,9 +286,11 @@ TransformKey readTransformKey(const JsonValue& value) {
     TransformKey key;
     if (auto v = object.get("scale")) {
         const bool isVector = v->json().is_array() && v->json().size() == 3;
-        if (!v->json().is_number() && !isVector) v->failExpected("a non-zero number or an array of 3 non-zero numbers");
+        if (!v->json().is_number() && !isVector)
+            v->failExpected("a non-zero number or an array of 3 non-zero numbers");
         key.scale = isVector ? v->vec3() : Vec3f(v->number(), v->number(), v->number());
-        if (key.scale.x == 0.0f || key.scale.y == 0.0f || key.scale.z == 0.0f) v->failExpected("non-zero scale factors");
+        if (key.scale.x == 0.0f || key.scale.y == 0.0f || key.scale.z == 0.0f)
+            v->failExpected("non-zero scale factors");
     }
     if (auto v = object.get("rotate")) {
         const JsonObject rotate(*v, {"axis", "degrees"});
@@ -297,18 +306,19 @@ TransformKey readTransformKey(const JsonValue& value) {
 // Key times, when a scene gives them, must be what penumbra assumes: evenly spaced from the
 // shutter opening to its closing.
 void checkKeyTimes(const JsonValue& times, size_t keyCount, const ThinLensCameraParams& camera) {
-    if (times.arraySize() != keyCount)
-        times.failExpected(fmt::format("{} times, one per key", keyCount));
+    if (times.arraySize() != keyCount) times.failExpected(fmt::format("{} times, one per key", keyCount));
     const float open = camera.shutterOpen, close = camera.shutterClose;
     const float tolerance = 1e-4f * std::max(1.0f, std::abs(close - open));
     for (size_t i = 0; i < keyCount; ++i) {
         const JsonValue t = times.element(i);
         const float time = t.number();
         if (time < open - tolerance || time > close + tolerance)
-            t.fail(fmt::format("key time {} is outside the shutter [{}, {}] (camera/shutter)", time, open, close));
+            t.fail(fmt::format("key time {} is outside the shutter [{}, {}] (camera/shutter)", time, open,
+                               close));
         const float expected = open + (close - open) * float(i) / float(keyCount - 1);
         if (std::abs(time - expected) > tolerance)
-            t.fail(fmt::format("key times must be evenly spaced from shutter open to close; expected {}", expected));
+            t.fail(fmt::format("key times must be evenly spaced from shutter open to close; expected {}",
+                               expected));
     }
 }
 
@@ -319,7 +329,8 @@ struct ShapeMotion {
 
 // "motion": {"times": [...], "transforms": [key, ...], "positions": [[p, ...], ...]}; keys are
 // evenly spaced over the shutter. Deformation ("positions") is for inline triangle meshes only.
-ShapeMotion readMotion(const JsonValue& value, const ThinLensCameraParams& camera, bool allowPositions, size_t vertexCount) {
+ShapeMotion readMotion(const JsonValue& value, const ThinLensCameraParams& camera, bool allowPositions,
+                       size_t vertexCount) {
     const JsonObject object(value, {"times", "transforms", "positions"});
     if (camera.shutterClose <= camera.shutterOpen)
         value.fail("motion needs an open shutter: set camera/shutter to [open, close] with close > open");
@@ -336,7 +347,8 @@ ShapeMotion readMotion(const JsonValue& value, const ThinLensCameraParams& camer
         for (const JsonValue& keyValue : v->elements()) {
             std::vector<Vec3f> key;
             for (const JsonValue& p : keyValue.elements()) key.push_back(p.vec3());
-            if (key.size() != vertexCount) keyValue.failExpected(fmt::format("{} positions, as many as the mesh has", vertexCount));
+            if (key.size() != vertexCount)
+                keyValue.failExpected(fmt::format("{} positions, as many as the mesh has", vertexCount));
             motion.positionKeys.push_back(std::move(key));
         }
         if (keyCount != 0 && keyCount != motion.positionKeys.size())
@@ -401,16 +413,18 @@ TriangleMesh readInlineMesh(const JsonValue& value) {
         for (const JsonValue& i : indices.elements()) {
             const int64_t index = i.integer(0);
             if (uint64_t(index) >= count)
-                i.fail(fmt::format("index {} is out of range: the mesh has {} positions (indices count from 0)",
-                                   index, count));
+                i.fail(
+                    fmt::format("index {} is out of range: the mesh has {} positions (indices count from 0)",
+                                index, count));
             mesh.indices.push_back(uint32_t(index));
         }
     }
     if (auto normals = value.member("normals")) {
         if (normals->arraySize() != count)
             normals->failExpected(fmt::format("an array of {} normals, one per position", count));
-        const bool direct = readVec3sDirectly(normals->json(), mesh.normals) &&
-                            std::all_of(mesh.normals.begin(), mesh.normals.end(), [](Vec3f n) { return length(n) > 0.0f; });
+        const bool direct =
+            readVec3sDirectly(normals->json(), mesh.normals) &&
+            std::all_of(mesh.normals.begin(), mesh.normals.end(), [](Vec3f n) { return length(n) > 0.0f; });
         if (direct) {
             for (Vec3f& n : mesh.normals) n = normalize(n);
         } else {
@@ -517,11 +531,13 @@ void readSphere(const JsonValue& value, ShapeContext& context) {
             v->fail("the transformed sphere does not fit a 32-bit float");
     }
     if (!withinCoordinateLimit(sphere.center) || !(sphere.radius <= limits::kMaxCoordinate))
-        value.fail(fmt::format("the sphere (centre ({}, {}, {}), radius {}) reaches beyond the coordinate limit of {:g} "
-                               "(docs/limits.md)",
-                               sphere.center.x, sphere.center.y, sphere.center.z, sphere.radius, limits::kMaxCoordinate));
+        value.fail(fmt::format(
+            "the sphere (centre ({}, {}, {}), radius {}) reaches beyond the coordinate limit of {:g} "
+            "(docs/limits.md)",
+            sphere.center.x, sphere.center.y, sphere.center.z, sphere.radius, limits::kMaxCoordinate));
     if (auto v = value.member("motion")) {
-        if (sphere.emission.emits()) v->fail("moving light sources are not supported: a sphere with motion cannot emit");
+        if (sphere.emission.emits())
+            v->fail("moving light sources are not supported: a sphere with motion cannot emit");
         sphere.motion = readMotion(*v, scene.camera, false, 0).transform;
     }
     scene.spheres.push_back(sphere);
@@ -531,7 +547,8 @@ void readSphere(const JsonValue& value, ShapeContext& context) {
 void checkTransformedVertices(const JsonValue& transform, const std::vector<Vec3f>& vertices) {
     for (size_t i = 0; i < vertices.size(); ++i)
         if (!isFinite(vertices[i]))
-            transform.fail(fmt::format("the transform moves vertex {} (counting from 0) beyond the range of a 32-bit float", i));
+            transform.fail(fmt::format(
+                "the transform moves vertex {} (counting from 0) beyond the range of a 32-bit float", i));
 }
 
 // Derived geometry too (corner + edge, a transform, a mesh file's vertices): a vertex at
@@ -539,18 +556,21 @@ void checkTransformedVertices(const JsonValue& transform, const std::vector<Vec3
 void checkVerticesWithinLimit(const JsonValue& shape, const std::vector<Vec3f>& vertices) {
     for (size_t i = 0; i < vertices.size(); ++i)
         if (!withinCoordinateLimit(vertices[i]))
-            shape.fail(fmt::format("vertex {} (counting from 0) lies at ({}, {}, {}), beyond the coordinate limit of "
-                                   "{:g} (docs/limits.md)",
-                                   i, vertices[i].x, vertices[i].y, vertices[i].z, limits::kMaxCoordinate));
+            shape.fail(fmt::format(
+                "vertex {} (counting from 0) lies at ({}, {}, {}), beyond the coordinate limit of "
+                "{:g} (docs/limits.md)",
+                i, vertices[i].x, vertices[i].y, vertices[i].z, limits::kMaxCoordinate));
 }
 
 // What all triangle-mesh shapes share, once their own reader has made the mesh: the material,
 // emission, motion and transform keys.
-void addMeshShape(TriangleMesh mesh, const JsonValue& value, bool allowPositionKeys, Scene& scene, const fs::path& folder) {
+void addMeshShape(TriangleMesh mesh, const JsonValue& value, bool allowPositionKeys, Scene& scene,
+                  const fs::path& folder) {
     mesh.material = readMaterialReference(value.requiredMember("material"), scene.materialNames);
     if (auto v = value.member("emission")) mesh.emission = readEmission(*v, folder);
     if (auto v = value.member("motion")) {
-        if (mesh.emission.emits()) v->fail("moving light sources are not supported: a shape with motion cannot emit");
+        if (mesh.emission.emits())
+            v->fail("moving light sources are not supported: a shape with motion cannot emit");
         ShapeMotion motion = readMotion(*v, scene.camera, allowPositionKeys, mesh.positions.size());
         mesh.motion = std::move(motion.transform);
         mesh.positionKeys = std::move(motion.positionKeys);
@@ -568,17 +588,20 @@ void addMeshShape(TriangleMesh mesh, const JsonValue& value, bool allowPositionK
     for (const auto& key : mesh.positionKeys)
         for (size_t i = 0; i < key.size(); ++i)
             if (!withinCoordinateLimit(key[i]))
-                value.fail(fmt::format("vertex {} (counting from 0) of a motion key lies beyond the coordinate limit "
-                                       "of {:g} (docs/limits.md)",
-                                       i, limits::kMaxCoordinate));
+                value.fail(fmt::format(
+                    "vertex {} (counting from 0) of a motion key lies beyond the coordinate limit "
+                    "of {:g} (docs/limits.md)",
+                    i, limits::kMaxCoordinate));
     if (mesh.emission.emits()) {
         double area = 0.0;
         for (size_t t = 0; t < mesh.triangleCount(); ++t) {
-            const Vec3f p0 = mesh.positions[mesh.indices[3 * t]], p1 = mesh.positions[mesh.indices[3 * t + 1]],
+            const Vec3f p0 = mesh.positions[mesh.indices[3 * t]],
+                        p1 = mesh.positions[mesh.indices[3 * t + 1]],
                         p2 = mesh.positions[mesh.indices[3 * t + 2]];
             area += 0.5 * length(cross(p1 - p0, p2 - p0));
         }
-        if (!(area > 0.0)) value.requiredMember("emission").fail("an emitting shape must have a non-zero area");
+        if (!(area > 0.0))
+            value.requiredMember("emission").fail("an emitting shape must have a non-zero area");
     }
     scene.meshes.push_back(std::move(mesh));
 }
@@ -590,7 +613,8 @@ void readTriangleMeshShape(const JsonValue& value, ShapeContext& context) {
 }
 
 void readMeshFileShape(const JsonValue& value, ShapeContext& context) {
-    addMeshShape(readMeshFile(value, context.folder, context.scene.meshFiles), value, false, context.scene, context.folder);
+    addMeshShape(readMeshFile(value, context.folder, context.scene.meshFiles), value, false, context.scene,
+                 context.folder);
 }
 
 void readQuadShape(const JsonValue& value, ShapeContext& context) {
@@ -633,43 +657,51 @@ void readInstance(const JsonValue& value, ShapeContext& context) {
     if (found == context.prototypeNames.end()) {
         std::string known;
         for (const std::string& n : context.prototypeNames) known += (known.empty() ? "" : ", ") + n;
-        prototypeValue.fail(fmt::format("unknown prototype \"{}\" ({})", name,
-                                        known.empty() ? "the scene defines no prototypes"
-                                                      : "known prototypes: " + known));
+        prototypeValue.fail(
+            fmt::format("unknown prototype \"{}\" ({})", name,
+                        known.empty() ? "the scene defines no prototypes" : "known prototypes: " + known));
     }
     instance.prototype = uint32_t(found - context.prototypeNames.begin());
     instance.material = readMaterialReference(value.requiredMember("material"), scene.materialNames);
     if (auto v = value.member("emission"))
-        v->fail("an instance cannot emit light: give the emitting mesh as a shape of its own (triangle_mesh, "
-                "mesh_file, quad or disk)");
+        v->fail(
+            "an instance cannot emit light: give the emitting mesh as a shape of its own (triangle_mesh, "
+            "mesh_file, quad or disk)");
     const auto transformValue = value.member("transform");
     if (transformValue) instance.placement = readTransform(*transformValue);
     if (auto v = value.member("motion")) {
         if (transformValue)
-            v->fail("an instance takes either transform or motion, not both: motion keys scale, rotate and "
-                    "translate the prototype themselves");
+            v->fail(
+                "an instance takes either transform or motion, not both: motion keys scale, rotate and "
+                "translate the prototype themselves");
         instance.motion = readMotion(*v, scene.camera, false, 0).transform;
     }
     const TriangleMesh& prototype = scene.prototypes[instance.prototype];
     const std::vector<TransformKey> keys = instance.motion.keys;
     bool within = keys.empty() ? placedWithinCoordinateLimit(prototype, instance.placement) : true;
-    for (const TransformKey& key : keys) within = within && placedWithinCoordinateLimit(prototype, key.toTransform());
+    for (const TransformKey& key : keys)
+        within = within && placedWithinCoordinateLimit(prototype, key.toTransform());
     if (!within)
-        value.fail(fmt::format("the placed prototype \"{}\" reaches beyond the coordinate limit of {:g} "
-                               "(docs/limits.md)",
-                               name, limits::kMaxCoordinate));
+        value.fail(
+            fmt::format("the placed prototype \"{}\" reaches beyond the coordinate limit of {:g} "
+                        "(docs/limits.md)",
+                        name, limits::kMaxCoordinate));
     scene.instances.push_back(std::move(instance));
 }
 
 using ShapeReader = void (*)(const JsonValue&, ShapeContext&);
 
 const std::array<TypeRow<ShapeReader>, 6> kShapeTypes{{
-    {"triangle_mesh", {"type", "positions", "indices", "normals", "uvs", "material", "emission", "transform", "motion"},
+    {"triangle_mesh",
+     {"type", "positions", "indices", "normals", "uvs", "material", "emission", "transform", "motion"},
      readTriangleMeshShape},
     {"mesh_file", {"type", "file", "material", "emission", "transform", "motion"}, readMeshFileShape},
-    {"quad", {"type", "corner", "edge1", "edge2", "material", "emission", "transform", "motion"}, readQuadShape},
+    {"quad",
+     {"type", "corner", "edge1", "edge2", "material", "emission", "transform", "motion"},
+     readQuadShape},
     {"sphere", {"type", "center", "radius", "material", "emission", "transform", "motion"}, readSphere},
-    {"disk", {"type", "center", "normal", "radius", "segments", "material", "emission", "transform", "motion"},
+    {"disk",
+     {"type", "center", "normal", "radius", "segments", "material", "emission", "transform", "motion"},
      readDiskShape},
     {"instance", {"type", "prototype", "material", "emission", "transform", "motion"}, readInstance},
 }};
@@ -727,7 +759,8 @@ void readSpotLight(const JsonValue& value, Scene& scene) {
     float coneAngle = 30.0f, coneDelta = 5.0f;
     if (auto v = value.member("cone_angle")) {
         coneAngle = v->number();
-        if (!(coneAngle > 0.0f && coneAngle <= 180.0f)) v->failExpected("an angle in degrees greater than 0 and at most 180");
+        if (!(coneAngle > 0.0f && coneAngle <= 180.0f))
+            v->failExpected("an angle in degrees greater than 0 and at most 180");
     }
     if (auto v = value.member("cone_delta")) {
         coneDelta = v->number();
@@ -760,7 +793,8 @@ EnvironmentLight readImageEnvironment(const JsonValue& value, const fs::path& fo
     if (path.is_relative()) path = folder / path;
     std::error_code ec;
     if (!fs::is_regular_file(path, ec))
-        fileValue.fail(fmt::format("the image {} {}", path.string(), fs::exists(path, ec) ? "is not a regular file" : "does not exist"));
+        fileValue.fail(fmt::format("the image {} {}", path.string(),
+                                   fs::exists(path, ec) ? "is not a regular file" : "does not exist"));
     Rgb scale(1.0f);
     if (auto v = value.member("scale")) scale = v->rgb(0.0f);
     Transform rotation;
@@ -773,7 +807,8 @@ EnvironmentLight readImageEnvironment(const JsonValue& value, const fs::path& fo
     }
     // A map made for the other handedness (pbrt's latitude-longitude maps): the image's columns
     // run the other way round, a reflection of the light's own x before `rotate`.
-    if (auto v = value.member("mirror"); v && v->boolean()) rotation = rotation * Transform::scale({-1.0f, 1.0f, 1.0f});
+    if (auto v = value.member("mirror"); v && v->boolean())
+        rotation = rotation * Transform::scale({-1.0f, 1.0f, 1.0f});
     SourceLocation where;
     where.file = fileValue.file();
     where.jsonPointer = fileValue.pointer();
@@ -782,10 +817,11 @@ EnvironmentLight readImageEnvironment(const JsonValue& value, const fs::path& fo
     if (auto v = value.member("mapping")) {
         if (v->choice({"equirectangular", "equal_area"}) == 1) mapping = EnvironmentMapping::EqualArea;
         if (mapping == EnvironmentMapping::EqualArea && image.width != image.height)
-            v->fail(fmt::format("an equal-area map is a square image; {} is {}x{}", path.string(), image.width, image.height));
+            v->fail(fmt::format("an equal-area map is a square image; {} is {}x{}", path.string(),
+                                image.width, image.height));
     }
-    return EnvironmentLight::fromImage(EnvironmentImage{image.width, image.height, std::move(image.texels), mapping}, scale,
-                                       rotation);
+    return EnvironmentLight::fromImage(
+        EnvironmentImage{image.width, image.height, std::move(image.texels), mapping}, scale, rotation);
 }
 
 using EnvironmentReader = EnvironmentLight (*)(const JsonValue&, const fs::path&);
@@ -815,8 +851,8 @@ Scene buildScene(const Json& document, const fs::path& file) {
     const std::string fileName = file.string();
     const JsonValue root(document, fileName, "");
     if (!document.is_object()) root.failExpected("a JSON object holding the scene's sections");
-    const JsonObject top(
-        root, {"camera", "film", "integrator", "render", "background", "environment", "materials", "prototypes", "shapes", "lights"});
+    const JsonObject top(root, {"camera", "film", "integrator", "render", "background", "environment",
+                                "materials", "prototypes", "shapes", "lights"});
 
     Scene scene;
     scene.sourcePath = file;
@@ -830,14 +866,17 @@ Scene buildScene(const Json& document, const fs::path& file) {
         scene.environment = readEnvironment(*v, file.parent_path());
     }
     if (auto v = top.get("materials"))
-        readMaterials(*v, file.parent_path(), scene.materials, scene.materialNames);  // before the shapes that name them
+        readMaterials(*v, file.parent_path(), scene.materials,
+                      scene.materialNames);  // before the shapes that name them
     const fs::path folder = file.parent_path();
     ShapeContext context{scene, folder, {}};
     if (auto v = top.get("prototypes")) readPrototypes(*v, context);  // before the instances that name them
     if (auto v = top.get("shapes"))
-        for (const JsonValue& shape : v->elements()) findTypeRow<ShapeReader>(shape, kShapeTypes).read(shape, context);
+        for (const JsonValue& shape : v->elements())
+            findTypeRow<ShapeReader>(shape, kShapeTypes).read(shape, context);
     if (auto v = top.get("lights"))
-        for (const JsonValue& light : v->elements()) findTypeRow<LightReader>(light, kLightTypes).read(light, scene);
+        for (const JsonValue& light : v->elements())
+            findTypeRow<LightReader>(light, kLightTypes).read(light, scene);
     for (Sphere& sphere : scene.spheres)
         sphere.needsUv = scene.materials[sphere.material].isTextured() || sphere.emission.texture != nullptr;
     return scene;

@@ -54,8 +54,9 @@ Texture readImage(const JsonValue& value, const TextureContext& context) {
     if (path.is_relative()) path = context.folder / path;
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec))
-        fileValue.fail(fmt::format("the image {} {}", path.string(),
-                                   std::filesystem::exists(path, ec) ? "is not a regular file" : "does not exist"));
+        fileValue.fail(
+            fmt::format("the image {} {}", path.string(),
+                        std::filesystem::exists(path, ec) ? "is not a regular file" : "does not exist"));
     ImageTextureSource source;
     if (auto v = value.member("wrap")) {
         if (v->json().is_array()) {
@@ -66,7 +67,8 @@ Texture readImage(const JsonValue& value, const TextureContext& context) {
             source.wrapS = source.wrapT = readWrap(*v);
         }
     }
-    if (auto v = value.member("filter")) source.filter = TextureFilter(v->choice({"closest", "bilinear", "trilinear", "anisotropic"}));
+    if (auto v = value.member("filter"))
+        source.filter = TextureFilter(v->choice({"closest", "bilinear", "trilinear", "anisotropic"}));
     int colorSpace = PENUMBRA_COLOR_AUTO;
     if (auto v = value.member("color_space")) colorSpace = int(v->choice({"auto", "srgb", "linear"}));
     Rgb scale(1.0f);

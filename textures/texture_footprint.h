@@ -30,7 +30,8 @@ struct CameraFootprint {
 };
 
 // The query at point p (normal n, uv) of a surface with partial derivatives dpdu, dpdv.
-inline TextureQuery textureQueryAt(const CameraFootprint& camera, Vec3f p, Vec3f n, Vec2f uv, Vec3f dpdu, Vec3f dpdv) {
+inline TextureQuery textureQueryAt(const CameraFootprint& camera, Vec3f p, Vec3f n, Vec2f uv, Vec3f dpdu,
+                                   Vec3f dpdv) {
     TextureQuery query;
     query.uv = uv;
     const Vec3f toPoint = p - camera.origin;

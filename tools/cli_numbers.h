@@ -13,7 +13,8 @@
 
 namespace penumbra {
 
-inline int64_t parseIntegerOption(const std::string& option, const std::string& text, int64_t low, int64_t high) {
+inline int64_t parseIntegerOption(const std::string& option, const std::string& text, int64_t low,
+                                  int64_t high) {
     size_t used = 0;
     long long value = 0;
     try {
@@ -22,7 +23,8 @@ inline int64_t parseIntegerOption(const std::string& option, const std::string& 
         used = 0;
     }
     if (text.empty() || used != text.size() || value < low || value > high)
-        throw InputError(fmt::format("{}: expected an integer in [{}, {}], got '{}'", option, low, high, text));
+        throw InputError(
+            fmt::format("{}: expected an integer in [{}, {}], got '{}'", option, low, high, text));
     return value;
 }
 

@@ -1,28 +1,28 @@
 #include "tools/converge.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <nlohmann/json.hpp>
 #include <numeric>
 
-#include <fmt/format.h>
-#include <nlohmann/json.hpp>
-
-#include "core/resource_paths.h"
 #include "core/error.h"
+#include "core/hash.h"
 #include "core/input_file.h"
 #include "core/input_limits.h"
-#include "core/hash.h"
+#include "core/resource_paths.h"
 #include "film/atomic_file.h"
 #include "film/image_output.h"
 #include "film/image_plugin_loader.h"
+#include "formats/scene_file.h"
 #include "renderer/render.h"
 #include "tools/cli_numbers.h"
 #include "tools/run_program.h"
 #include "tools/split_text.h"
-#include "formats/scene_file.h"
 
 namespace penumbra {
 
@@ -31,7 +31,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 double secondsOf(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
-
 
 // Error of a mean image against the reference, over all pixels and channels.
 RungError measure(const Film& film, const std::vector<float>& reference) {
@@ -63,9 +62,10 @@ void loadReference(const std::filesystem::path& path, int width, int height, Con
     InputFile(path, "reference image", UINT64_MAX);  // a regular file: a FIFO would block the readers
     auto checkSize = [&](int fileWidth, int fileHeight) {
         if (fileWidth != width || fileHeight != height)
-            throw InputError(where, fmt::format("the reference is {}x{} but the study renders {}x{} (set --res to the "
-                                                "reference's size, or render a reference at this size)",
-                                                fileWidth, fileHeight, width, height));
+            throw InputError(
+                where, fmt::format("the reference is {}x{} but the study renders {}x{} (set --res to the "
+                                   "reference's size, or render a reference at this size)",
+                                   fileWidth, fileHeight, width, height));
     };
     report.referenceSource = path.string();
     report.reference.assign(size_t(width) * height * 3, 0.0f);
@@ -73,7 +73,8 @@ void loadReference(const std::filesystem::path& path, int width, int height, Con
         const FilmFile file = readFilmExr(path);
         checkSize(file.film.width(), file.film.height());
         if (file.metadata.crop)
-            throw InputError(where, "the reference covers only a crop of the image; a reference must cover it all");
+            throw InputError(where,
+                             "the reference covers only a crop of the image; a reference must cover it all");
         report.referenceSpp = file.metadata.endSample - file.metadata.firstSample;
         report.referenceSeed = file.metadata.seed;
         report.referenceSeconds = file.metadata.renderSeconds;
@@ -105,7 +106,9 @@ void loadReference(const std::filesystem::path& path, int width, int height, Con
         throw InputError(where, fmt::format("cannot read the reference image: {}", error));
 }
 
-double meanOf(const std::vector<double>& v) { return std::accumulate(v.begin(), v.end(), 0.0) / double(v.size()); }
+double meanOf(const std::vector<double>& v) {
+    return std::accumulate(v.begin(), v.end(), 0.0) / double(v.size());
+}
 double stdOf(const std::vector<double>& v) {
     if (v.size() < 2) return 0.0;
     const double m = meanOf(v);
@@ -138,14 +141,17 @@ std::vector<uint32_t> parseRungs(const std::string& text) {
     const std::vector<std::string> parts = splitText(text, ',');
     for (size_t i = 0; i < parts.size(); ++i) {
         if (parts[i] == "...") {
-            if (rungs.size() < 2 || i + 1 >= parts.size() || rungs[rungs.size() - 1] % rungs[rungs.size() - 2] != 0 ||
+            if (rungs.size() < 2 || i + 1 >= parts.size() ||
+                rungs[rungs.size() - 1] % rungs[rungs.size() - 2] != 0 ||
                 rungs[rungs.size() - 1] <= rungs[rungs.size() - 2])
-                throw InputError(fmt::format("--spp: '...' must follow two numbers of which the second is a multiple "
-                                             "of the first, and come before a last number, as in 1,2,4,...,1024; got '{}'",
-                                             text));
+                throw InputError(
+                    fmt::format("--spp: '...' must follow two numbers of which the second is a multiple "
+                                "of the first, and come before a last number, as in 1,2,4,...,1024; got '{}'",
+                                text));
             const uint32_t ratio = rungs[rungs.size() - 1] / rungs[rungs.size() - 2];
             const uint32_t last = uint32_t(parseIntegerOption("--spp", parts[i + 1], 1, 1 << 24));
-            for (uint64_t v = uint64_t(rungs.back()) * ratio; v < last; v *= ratio) rungs.push_back(uint32_t(v));
+            for (uint64_t v = uint64_t(rungs.back()) * ratio; v < last; v *= ratio)
+                rungs.push_back(uint32_t(v));
             continue;
         }
         rungs.push_back(uint32_t(parseIntegerOption("--spp", parts[i], 1, 1 << 24)));
@@ -177,7 +183,8 @@ uint32_t parseFrozenDims(const std::string& text) {
                 known = true;
             }
         if (!known)
-            throw InputError(fmt::format("--freeze: unknown dimension '{}' (expected lens, time, light or pixel)", name));
+            throw InputError(
+                fmt::format("--freeze: unknown dimension '{}' (expected lens, time, light or pixel)", name));
     }
     return mask;
 }
@@ -211,12 +218,12 @@ ConvergenceReport runConvergence(const Scene& scene, const ConvergenceOptions& o
     report.frozenDims = options.frozenDims;
 
     const int side = std::min({64, width, height});
-    report.stripWindow = options.stripWindow.value_or(
-        PixelWindow{(width - side) / 2, (width - side) / 2 + side, (height - side) / 2, (height - side) / 2 + side});
+    report.stripWindow = options.stripWindow.value_or(PixelWindow{
+        (width - side) / 2, (width - side) / 2 + side, (height - side) / 2, (height - side) / 2 + side});
     const PixelWindow& sw = report.stripWindow;
     if (sw.x0 < 0 || sw.y0 < 0 || sw.x1 > width || sw.y1 > height || sw.width() <= 0 || sw.height() <= 0)
-        throw InputError(fmt::format("--strip: the window {},{},{},{} must lie inside the {}x{} image", sw.x0, sw.x1,
-                                     sw.y0, sw.y1, width, height));
+        throw InputError(fmt::format("--strip: the window {},{},{},{} must lie inside the {}x{} image", sw.x0,
+                                     sw.x1, sw.y0, sw.y1, width, height));
 
     RenderOptions base;
     base.threads = options.threads;
@@ -259,8 +266,9 @@ ConvergenceReport runConvergence(const Scene& scene, const ConvergenceOptions& o
     }
 
     // Every sampler with every strategy, in that order.
-    const std::vector<LightStrategy> strategies =
-        options.strategies.empty() ? std::vector<LightStrategy>{scene.integrator.strategy} : options.strategies;
+    const std::vector<LightStrategy> strategies = options.strategies.empty()
+                                                      ? std::vector<LightStrategy>{scene.integrator.strategy}
+                                                      : options.strategies;
     std::vector<std::pair<SamplerKind, LightStrategy>> combinations;
     for (SamplerKind sampler : options.samplers)
         for (LightStrategy strategy : strategies) combinations.emplace_back(sampler, strategy);
@@ -392,8 +400,9 @@ void writeConvergenceReport(const ConvergenceReport& report, const std::string& 
         for (const SamplerStudy& study : report.studies)
             for (const SeedRun& run : study.runs)
                 for (const RungError& e : run.rungs)
-                    csv += fmt::format("{},{},{},{},{:.9g},{:.9g},{:.9g},{:.6f}\n", samplerKindName(study.sampler),
-                                       lightStrategyName(study.strategy), run.seed, e.spp, e.mse, e.relMse, e.rmse, e.seconds);
+                    csv += fmt::format("{},{},{},{},{:.9g},{:.9g},{:.9g},{:.6f}\n",
+                                       samplerKindName(study.sampler), lightStrategyName(study.strategy),
+                                       run.seed, e.spp, e.mse, e.relMse, e.rmse, e.seconds);
         writeTextFileAtomically(dir / "convergence.csv", "convergence table", csv);
     }
 
@@ -403,8 +412,10 @@ void writeConvergenceReport(const ConvergenceReport& report, const std::string& 
     j["resolution"] = {report.width, report.height};
     j["rungs"] = report.rungs;
     j["frozen"] = frozenDimsName(report.frozenDims);
-    j["reference"] = {{"source", report.referenceSource},     {"spp", report.referenceSpp},
-                      {"seed", std::to_string(report.referenceSeed)}, {"seconds", report.referenceSeconds},
+    j["reference"] = {{"source", report.referenceSource},
+                      {"spp", report.referenceSpp},
+                      {"seed", std::to_string(report.referenceSeed)},
+                      {"seconds", report.referenceSeconds},
                       {"mse_floor", report.referenceMseFloor}};
     j["samplers"] = json::array();
     for (const SamplerStudy& study : report.studies) {
@@ -489,7 +500,8 @@ void writeConvergenceReport(const ConvergenceReport& report, const std::string& 
                 const int sx = x / scale, sy = y / scale;
                 const size_t i = fullImage ? (size_t(sw.y0 + sy) * report.width + sw.x0 + sx) * 3
                                            : (size_t(sy) * sw.width() + sx) * 3;
-                strip.at(column * (tileW + gap) + x, row * (tileH + gap) + y).add(Rgb(rgb[i], rgb[i + 1], rgb[i + 2]), 1.0f);
+                strip.at(column * (tileW + gap) + x, row * (tileH + gap) + y)
+                    .add(Rgb(rgb[i], rgb[i + 1], rgb[i + 2]), 1.0f);
             }
     };
     for (int row = 0; row < int(report.studies.size()); ++row) {
@@ -506,7 +518,8 @@ int runConvergeCommand(const ConvergeCommand& cmd) {
     Scene scene = loadSceneFile(cmd.scenePath, sceneOptions);
     if (!cmd.resolution.empty()) {
         const auto parts = splitText(cmd.resolution, 'x');
-        if (parts.size() != 2) throw InputError(fmt::format("--res: expected WIDTHxHEIGHT, got '{}'", cmd.resolution));
+        if (parts.size() != 2)
+            throw InputError(fmt::format("--res: expected WIDTHxHEIGHT, got '{}'", cmd.resolution));
         scene.film.width = int(parseIntegerOption("--res", parts[0], 1, limits::kMaxImageSide));
         scene.film.height = int(parseIntegerOption("--res", parts[1], 1, limits::kMaxImageSide));
     }
@@ -517,9 +530,13 @@ int runConvergeCommand(const ConvergeCommand& cmd) {
     options.rungs = parseRungs(cmd.spp);
     options.samplers.clear();
     for (const std::string& name : splitText(cmd.samplers, ',')) {
-        if (name == "stratified") options.samplers.push_back(SamplerKind::Stratified);
-        else if (name == "independent") options.samplers.push_back(SamplerKind::Independent);
-        else throw InputError(fmt::format("--sampler: expected stratified and/or independent, got '{}'", name));
+        if (name == "stratified")
+            options.samplers.push_back(SamplerKind::Stratified);
+        else if (name == "independent")
+            options.samplers.push_back(SamplerKind::Independent);
+        else
+            throw InputError(
+                fmt::format("--sampler: expected stratified and/or independent, got '{}'", name));
     }
     if (!cmd.strategies.empty())
         for (const std::string& name : splitText(cmd.strategies, ',')) {
@@ -530,7 +547,8 @@ int runConvergeCommand(const ConvergeCommand& cmd) {
                 throw InputError(fmt::format("--strategy: expected mis, bsdf and/or light, got '{}'", name));
             options.strategies.push_back(*found);
         }
-    if (cmd.seeds < 1 || cmd.seeds > 1000) throw InputError(fmt::format("--seeds: expected 1 to 1000, got {}", cmd.seeds));
+    if (cmd.seeds < 1 || cmd.seeds > 1000)
+        throw InputError(fmt::format("--seeds: expected 1 to 1000, got {}", cmd.seeds));
     options.seeds = cmd.seeds;
     options.frozenDims = parseFrozenDims(cmd.freeze);
     if (!cmd.reference.empty() && cmd.referenceSpp)
@@ -542,7 +560,8 @@ int runConvergeCommand(const ConvergeCommand& cmd) {
     }
     if (!cmd.strip.empty()) {
         const auto parts = splitText(cmd.strip, ',');
-        if (parts.size() != 4) throw InputError(fmt::format("--strip: expected x0,x1,y0,y1, got '{}'", cmd.strip));
+        if (parts.size() != 4)
+            throw InputError(fmt::format("--strip: expected x0,x1,y0,y1, got '{}'", cmd.strip));
         options.stripWindow = PixelWindow{int(parseIntegerOption("--strip", parts[0], 0, 1 << 16)),
                                           int(parseIntegerOption("--strip", parts[1], 0, 1 << 16)),
                                           int(parseIntegerOption("--strip", parts[2], 0, 1 << 16)),
@@ -550,10 +569,11 @@ int runConvergeCommand(const ConvergeCommand& cmd) {
     }
     options.threads = cmd.threads;
     options.accelerator = cmd.accel == "bvh" ? AcceleratorKind::Bvh : AcceleratorKind::Embree;
-    if (!cmd.quiet) options.log = [](const std::string& line) {
-        std::printf("%s\n", line.c_str());
-        std::fflush(stdout);
-    };
+    if (!cmd.quiet)
+        options.log = [](const std::string& line) {
+            std::printf("%s\n", line.c_str());
+            std::fflush(stdout);
+        };
     options.source = SceneSource::of(cmd.scenePath, scene);
     if (cmd.minSpp && !cmd.adaptive) throw InputError("--min-spp: only with --adaptive");
     if (!cmd.adaptiveError.empty() && !cmd.adaptive)
@@ -579,35 +599,38 @@ int runConvergeCommand(const ConvergeCommand& cmd) {
         writeExr(report.referenceFilm->film, report.referenceFilm->metadata, dir / "reference.exr");
 
     if (!cmd.noPlot) {
-        const std::string python = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+        const std::string python =
+            std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
         const std::vector<std::string> command = {python, sharedDataPath("plot_convergence.py").string(),
                                                   (dir / "convergence.json").string(),
                                                   (dir / "convergence.png").string()};
         const ProgramResult plot = runProgram(command);
         if (plot.exitStatus != 0)
-            std::fprintf(stderr, "penumbra: warning: the plot was not made (needs python3 with matplotlib): %s\nrun: %s\n",
-                         plot.output.c_str(), commandLineFor(command).c_str());
+            std::fprintf(
+                stderr,
+                "penumbra: warning: the plot was not made (needs python3 with matplotlib): %s\nrun: %s\n",
+                plot.output.c_str(), commandLineFor(command).c_str());
     }
     if (!cmd.quiet) {
         std::printf("%-18s %8s %10s %12s %10s\n", "sampler", "slope", "spp", "RMSE", "seconds");
         for (const SamplerStudy& s : report.studies)
-            std::printf("%-18s %8.3f %10u %12.5g %10.2f\n", s.name.c_str(), s.slope,
-                        s.mean.back().spp, s.mean.back().rmse, s.mean.back().seconds);
+            std::printf("%-18s %8.3f %10u %12.5g %10.2f\n", s.name.c_str(), s.slope, s.mean.back().spp,
+                        s.mean.back().rmse, s.mean.back().seconds);
         for (const SamplerStudy& s : report.studies) {
             if (!s.adaptive) continue;
             std::printf("%s: adaptive against fixed at equal RMSE (seed %s)\n", s.name.c_str(),
                         std::to_string(s.runs.front().seed).c_str());
-            std::printf("%8s %12s %10s %10s %8s %14s %14s %8s\n", "spp", "RMSE", "fixed s", "adapt. s", "time",
-                        "fixed samples", "adapt. samples", "samples");
+            std::printf("%8s %12s %10s %10s %8s %14s %14s %8s\n", "spp", "RMSE", "fixed s", "adapt. s",
+                        "time", "fixed samples", "adapt. samples", "samples");
             for (const EqualErrorPoint& p : s.adaptive->equalError) {
                 if (!std::isfinite(p.adaptiveSeconds)) {
-                    std::printf("%8u %12.5g %10.2f %10s %8s %14.0f %14s %8s\n", p.spp, p.rmse, p.fixedSeconds, "-", "-",
-                                p.fixedSamples, "-", "-");
+                    std::printf("%8u %12.5g %10.2f %10s %8s %14.0f %14s %8s\n", p.spp, p.rmse, p.fixedSeconds,
+                                "-", "-", p.fixedSamples, "-", "-");
                     continue;
                 }
-                std::printf("%8u %12.5g %10.2f %10.2f %7.2fx %14.0f %14.0f %7.2fx\n", p.spp, p.rmse, p.fixedSeconds,
-                            p.adaptiveSeconds, p.adaptiveSeconds / p.fixedSeconds, p.fixedSamples, p.adaptiveSamples,
-                            p.adaptiveSamples / p.fixedSamples);
+                std::printf("%8u %12.5g %10.2f %10.2f %7.2fx %14.0f %14.0f %7.2fx\n", p.spp, p.rmse,
+                            p.fixedSeconds, p.adaptiveSeconds, p.adaptiveSeconds / p.fixedSeconds,
+                            p.fixedSamples, p.adaptiveSamples, p.adaptiveSamples / p.fixedSamples);
             }
         }
         std::printf("wrote %s\n", dir.string().c_str());

@@ -14,10 +14,10 @@
 #include <string>
 #include <vector>
 
+#include "accel/traversal.h"
 #include "core/sampler.h"
 #include "film/film.h"
 #include "film/image_output.h"
-#include "accel/traversal.h"
 #include "renderer/render_job.h"
 #include "scenes/scene.h"
 #include "tools/adaptive_study.h"
@@ -30,15 +30,15 @@ struct ConvergenceOptions {
     // Light strategies to compare (integrator "strategy"); empty: the scene's own. Each sampler is
     // studied with each strategy; the reference always uses MIS.
     std::vector<LightStrategy> strategies;
-    int seeds = 1;                // seeds scene seed, +1, ... (K > 1 gives error bars)
-    uint32_t frozenDims = 0;      // PixelSample::dimBit mask (--freeze), for the study and the reference
+    int seeds = 1;            // seeds scene seed, +1, ... (K > 1 gives error bars)
+    uint32_t frozenDims = 0;  // PixelSample::dimBit mask (--freeze), for the study and the reference
     std::optional<std::filesystem::path> referencePath;  // else a reference is rendered:
-    uint32_t referenceSpp = 0;    // 0: 8 x the top rung, at most kMaxReferenceSpp (and at least the top rung)
+    uint32_t referenceSpp = 0;  // 0: 8 x the top rung, at most kMaxReferenceSpp (and at least the top rung)
     int threads = 0;
     AcceleratorKind accelerator = AcceleratorKind::Embree;
-    std::optional<PixelWindow> stripWindow;  // the crop shown in strip.png; default: a centred square
+    std::optional<PixelWindow> stripWindow;       // the crop shown in strip.png; default: a centred square
     std::function<void(const std::string&)> log;  // progress lines; may be empty
-    SceneSource source;  // recorded in the rendered reference's film
+    SceneSource source;                           // recorded in the rendered reference's film
     // --adaptive: adaptive renders at thresholds mapped to the rungs (tools/adaptive_study.h),
     // for each sampler and strategy with the first seed.
     bool adaptive = false;
@@ -65,12 +65,12 @@ struct SeedRun {
 struct SamplerStudy {
     SamplerKind sampler = SamplerKind::Stratified;
     LightStrategy strategy = LightStrategy::Mis;
-    std::string name;  // "stratified", or "stratified mis" when strategies are compared
-    std::vector<SeedRun> runs;         // one per seed
-    std::vector<RungError> mean;       // per rung: averages over the seeds
+    std::string name;                       // "stratified", or "stratified mis" when strategies are compared
+    std::vector<SeedRun> runs;              // one per seed
+    std::vector<RungError> mean;            // per rung: averages over the seeds
     std::vector<double> mseStd, relMseStd;  // per rung: standard deviation over the seeds (0 for one seed)
-    double slope = 0;                  // least squares of log(mean MSE) against log(spp)
-    double slopeStd = 0;               // standard deviation of the per-seed slopes (0 for one seed)
+    double slope = 0;                       // least squares of log(mean MSE) against log(spp)
+    double slopeStd = 0;                    // standard deviation of the per-seed slopes (0 for one seed)
     std::vector<std::vector<float>> strip;  // seed 0's mean RGB in the strip window at each rung
     std::vector<float>
         adaptiveThresholds;  // --adaptive: seed 0's median relative error (or RMSE) at each rung
@@ -82,14 +82,14 @@ struct ConvergenceReport {
     std::vector<uint32_t> rungs;
     uint32_t frozenDims = 0;
     // The reference: a file, or a render (stratified sampler).
-    std::string referenceSource;   // the file, or "rendered"
-    uint32_t referenceSpp = 0;     // 0 for a file without penumbra metadata
+    std::string referenceSource;  // the file, or "rendered"
+    uint32_t referenceSpp = 0;    // 0 for a file without penumbra metadata
     uint64_t referenceSeed = 0;
     double referenceSeconds = 0;
     // Mean variance of the reference's mean per pixel and channel (0 when unknown): its own
     // contribution to every measured MSE, the floor of the curves.
     double referenceMseFloor = 0;
-    std::vector<float> reference;  // mean RGB, row-major
+    std::vector<float> reference;           // mean RGB, row-major
     std::optional<FilmFile> referenceFilm;  // when the reference was rendered
     PixelWindow stripWindow;
     std::vector<SamplerStudy> studies;
@@ -133,7 +133,7 @@ struct ConvergeCommand {
     std::string accel = "embree";
     bool noPlot = false;
     bool quiet = false;
-    bool adaptive = false;         // --adaptive
+    bool adaptive = false;          // --adaptive
     std::optional<int64_t> minSpp;  // --min-spp
     std::string adaptiveError;      // --adaptive-error (empty: relative)
 };

@@ -1,24 +1,24 @@
 #include "tools/crosscheck.h"
 
+#include <fmt/core.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <nlohmann/json.hpp>
 #include <optional>
 
-#include <fmt/core.h>
-#include <nlohmann/json.hpp>
-
+#include "accel/bvh_accelerator.h"
+#include "accel/embree_accelerator.h"
 #include "cameras/camera.h"
 #include "core/frame.h"
 #include "core/hash.h"
 #include "core/ray_offset.h"
 #include "core/sampling.h"
+#include "formats/scene_file.h"
 #include "geometry/ray_triangle.h"
 #include "geometry/surface_interaction.h"
-#include "accel/bvh_accelerator.h"
-#include "accel/embree_accelerator.h"
-#include "formats/scene_file.h"
 
 namespace penumbra {
 
@@ -113,7 +113,8 @@ public:
     // A uniformly chosen point on primitive `g`.
     Point sample(uint64_t g, Vec2f u) const {
         Point point;
-        if (g >= triangles_ + scene_.spheres.size()) return sampleInstance(g - triangles_ - scene_.spheres.size(), u);
+        if (g >= triangles_ + scene_.spheres.size())
+            return sampleInstance(g - triangles_ - scene_.spheres.size(), u);
         if (g >= triangles_) {
             const Sphere& s = scene_.spheres[g - triangles_];
             point.normal = sampleUniformSphere(u);
@@ -145,7 +146,9 @@ private:
     // A point on instance triangle `g` (counted over all instances), placed where the instance is
     // at the shutter's opening.
     Point sampleInstance(uint64_t g, Vec2f u) const {
-        const size_t k = size_t(std::upper_bound(instanceFirst_.begin(), instanceFirst_.end(), g) - instanceFirst_.begin()) - 1;
+        const size_t k = size_t(std::upper_bound(instanceFirst_.begin(), instanceFirst_.end(), g) -
+                                instanceFirst_.begin()) -
+                         1;
         const TriangleMesh& mesh = scene_.prototypes[scene_.instances[k].prototype];
         const size_t j = size_t(g - instanceFirst_[k]);
         const Vec3f p0 = mesh.positions[mesh.indices[3 * j]], p1 = mesh.positions[mesh.indices[3 * j + 1]],
@@ -192,7 +195,8 @@ Ray makeCameraRay(const Scene& scene, const ThinLensCamera& camera, RayRandom& r
 
 // A segment from a surface point to a point on another surface, both ends moved off their
 // surfaces, as the integrator's shadow rays are (renderer/path_integrator.h).
-Ray makeShadowRay(Vec3f from, Vec3f fromError, Vec3f fromNormal, const PrimitiveIndex::Point& to, float time) {
+Ray makeShadowRay(Vec3f from, Vec3f fromError, Vec3f fromNormal, const PrimitiveIndex::Point& to,
+                  float time) {
     const Vec3f toTarget = to.position - from;
     const Vec3f side = dot(toTarget, fromNormal) >= 0.0f ? fromNormal : -fromNormal;
     Ray ray;
@@ -220,7 +224,9 @@ double relativeDifference(double a, double b) {
     return scale > 0.0 ? std::abs(a - b) / scale : 0.0;
 }
 
-bool isTriangleHit(const Scene& scene, const Hit& hit) { return scene.shapeOf(hit).kind != ShapeKind::Sphere; }
+bool isTriangleHit(const Scene& scene, const Hit& hit) {
+    return scene.shapeOf(hit).kind != ShapeKind::Sphere;
+}
 
 // The triangle `ray` leaves, if it leaves one.
 TriangleLeft triangleLeft(const Scene& scene, const CrosscheckRay& ray) {
@@ -243,7 +249,8 @@ float incidenceCosine(const Scene& scene, const Ray& ray, const Hit& hit) {
     if (shape.kind != ShapeKind::Sphere) {
         const TriangleMesh& mesh = scene.triangleMeshOf(shape);
         const uint32_t* index = &mesh.indices[3 * size_t(shape.primitive)];
-        const Vec3f p0 = mesh.positions[index[0]], p1 = mesh.positions[index[1]], p2 = mesh.positions[index[2]];
+        const Vec3f p0 = mesh.positions[index[0]], p1 = mesh.positions[index[1]],
+                    p2 = mesh.positions[index[2]];
         normal = cross(p1 - p0, p2 - p0);
         if (shape.kind == ShapeKind::Instance) normal = scene.toWorldOf(shape, ray.time).applyNormal(normal);
     } else {
@@ -293,22 +300,32 @@ double measureRaysPerSecond(const Accel& accel, const std::vector<CrosscheckRay>
 
 const char* crosscheckRayKindName(CrosscheckRayKind kind) {
     switch (kind) {
-        case CrosscheckRayKind::Camera: return "camera";
-        case CrosscheckRayKind::Bounce: return "bounce";
-        case CrosscheckRayKind::Shadow: return "shadow";
-        case CrosscheckRayKind::Random: return "random";
+        case CrosscheckRayKind::Camera:
+            return "camera";
+        case CrosscheckRayKind::Bounce:
+            return "bounce";
+        case CrosscheckRayKind::Shadow:
+            return "shadow";
+        case CrosscheckRayKind::Random:
+            return "random";
     }
     return "?";
 }
 
 const char* mismatchKindName(MismatchKind kind) {
     switch (kind) {
-        case MismatchKind::EdgeOrVertex: return "edge or vertex";
-        case MismatchKind::Tie: return "tie";
-        case MismatchKind::Grazing: return "grazing";
-        case MismatchKind::RangeBoundary: return "range boundary";
-        case MismatchKind::SelfIntersection: return "self-intersection";
-        case MismatchKind::Unexplained: return "unexplained";
+        case MismatchKind::EdgeOrVertex:
+            return "edge or vertex";
+        case MismatchKind::Tie:
+            return "tie";
+        case MismatchKind::Grazing:
+            return "grazing";
+        case MismatchKind::RangeBoundary:
+            return "range boundary";
+        case MismatchKind::SelfIntersection:
+            return "self-intersection";
+        case MismatchKind::Unexplained:
+            return "unexplained";
     }
     return "?";
 }
@@ -351,9 +368,10 @@ std::vector<CrosscheckRay> generateCrosscheckRays(const Scene& scene, const Embr
                     std::min(uint64_t(pick * double(primitives.count())), primitives.count() - 1);
                 const PrimitiveIndex::Point point = primitives.sample(target, random.next2());
                 if (point.geomId != hit.geomId || point.primId != hit.primId)
-                    shadows.push_back(leaving(hit, si, {makeShadowRay(si.position, si.positionError, si.geometricNormal,
-                                                                      point, ray.time),
-                                                        CrosscheckRayKind::Shadow, shadows.size()}));
+                    shadows.push_back(leaving(
+                        hit, si,
+                        {makeShadowRay(si.position, si.positionError, si.geometricNormal, point, ray.time),
+                         CrosscheckRayKind::Shadow, shadows.size()}));
             }
             Ray next;
             next.origin = offsetRayOrigin(si.position, si.positionError, normal);
@@ -425,7 +443,8 @@ bool MismatchClassifier::crossesItsTriangleAtAGlance(const Ray& ray, const Hit& 
     const TriangleMesh& mesh = scene_.triangleMeshOf(shape);
     if (mesh.moves()) return false;
     detail::ObjectSpaceRay objectRay{ray.origin, ray.direction};
-    if (shape.kind == ShapeKind::Instance) objectRay = detail::toObjectSpace(scene_.toWorldOf(shape, ray.time), ray);
+    if (shape.kind == ShapeKind::Instance)
+        objectRay = detail::toObjectSpace(scene_.toWorldOf(shape, ray.time), ray);
     using V = std::array<double, 3>;
     const auto point = [&](int k) {
         const Vec3f p = mesh.positions[mesh.indices[3 * size_t(shape.primitive) + k]];
@@ -456,14 +475,17 @@ bool MismatchClassifier::withinTriangleTestError(const Ray& ray, const Hit& hit)
     }
     // An instance's triangle is tested in its prototype's space, as both backends test it.
     detail::ObjectSpaceRay objectRay{ray.origin, ray.direction};
-    if (shape.kind == ShapeKind::Instance) objectRay = detail::toObjectSpace(scene_.toWorldOf(shape, ray.time), ray);
-    return hit.t - ray.tnear <= watertightTErrorBound(WatertightRay(objectRay.origin, objectRay.direction), vertices);
+    if (shape.kind == ShapeKind::Instance)
+        objectRay = detail::toObjectSpace(scene_.toWorldOf(shape, ray.time), ray);
+    return hit.t - ray.tnear <=
+           watertightTErrorBound(WatertightRay(objectRay.origin, objectRay.direction), vertices);
 }
 
 MismatchKind MismatchClassifier::classify(const CrosscheckRay& cray, const BackendAnswer& ours,
                                           const BackendAnswer& embree) const {
     const Ray& ray = cray.ray;
-    if (isSelfIntersection(cray, ours) || isSelfIntersection(cray, embree)) return MismatchKind::SelfIntersection;
+    if (isSelfIntersection(cray, ours) || isSelfIntersection(cray, embree))
+        return MismatchKind::SelfIntersection;
     if (ours.hitSomething && embree.hitSomething && !cray.isSegment()) {
         const Hit& a = ours.hit;
         const Hit& b = embree.hit;
@@ -701,8 +723,8 @@ std::string formatCrosscheckJson(const CrosscheckReport& report, size_t maxListe
     return j.dump(2) + "\n";
 }
 
-int runCrosscheckCommand(const std::string& scenePath, const std::string& patch, const CrosscheckOptions& options,
-                         bool json) {
+int runCrosscheckCommand(const std::string& scenePath, const std::string& patch,
+                         const CrosscheckOptions& options, bool json) {
     SceneFileOptions sceneOptions;
     sceneOptions.patch = patch;
     const Scene scene = loadSceneFile(scenePath, sceneOptions);
@@ -710,10 +732,11 @@ int runCrosscheckCommand(const std::string& scenePath, const std::string& patch,
     const std::string text = json ? formatCrosscheckJson(report) : formatCrosscheckText(report);
     std::fwrite(text.data(), 1, text.size(), stdout);
     if (report.failures() > 0) {
-        std::fprintf(stderr,
-                     "penumbra: crosscheck: %llu unexplained mismatches and %llu self-intersections between bvh "
-                     "and embree\n",
-                     (unsigned long long)report.unexplained(), (unsigned long long)report.selfIntersections());
+        std::fprintf(
+            stderr,
+            "penumbra: crosscheck: %llu unexplained mismatches and %llu self-intersections between bvh "
+            "and embree\n",
+            (unsigned long long)report.unexplained(), (unsigned long long)report.selfIntersections());
         return kCrosscheckFailed;
     }
     return 0;

@@ -33,9 +33,9 @@
 #include <string>
 #include <vector>
 
-#include "core/ray.h"
 #include "accel/embree_accelerator.h"
 #include "accel/traversal.h"
+#include "core/ray.h"
 #include "scenes/scene.h"
 
 namespace penumbra {
@@ -47,7 +47,14 @@ enum class CrosscheckRayKind : uint8_t { Camera, Bounce, Shadow, Random };
 inline constexpr int kCrosscheckRayKindCount = 4;
 const char* crosscheckRayKindName(CrosscheckRayKind kind);
 
-enum class MismatchKind : uint8_t { EdgeOrVertex, Tie, Grazing, RangeBoundary, SelfIntersection, Unexplained };
+enum class MismatchKind : uint8_t {
+    EdgeOrVertex,
+    Tie,
+    Grazing,
+    RangeBoundary,
+    SelfIntersection,
+    Unexplained
+};
 inline constexpr int kMismatchKindCount = 6;
 const char* mismatchKindName(MismatchKind kind);
 
@@ -58,7 +65,7 @@ inline constexpr float kGrazingCosine = 1e-3f;      // |cos| between the ray and
 struct CrosscheckRay {
     Ray ray;
     CrosscheckRayKind kind = CrosscheckRayKind::Random;
-    uint64_t index = 0;                                                   // within its kind
+    uint64_t index = 0;  // within its kind
     // Rays leaving a surface: the primitive left, and how far the origin was moved off the hit
     // point plus that point's error bound (core/ray_offset.h).
     bool leavesSurface = false;
@@ -171,7 +178,7 @@ std::string formatCrosscheckJson(const CrosscheckReport& report, size_t maxListe
 // self-intersection, kCrosscheckFailed otherwise. `patch` (empty: none) as SceneFileOptions::patch.
 // Throws InputError for a bad scene.
 inline constexpr int kCrosscheckFailed = 3;
-int runCrosscheckCommand(const std::string& scenePath, const std::string& patch, const CrosscheckOptions& options,
-                         bool json);
+int runCrosscheckCommand(const std::string& scenePath, const std::string& patch,
+                         const CrosscheckOptions& options, bool json);
 
 }  // namespace penumbra

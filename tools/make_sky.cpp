@@ -8,11 +8,11 @@
 // a glow around the sun (forward scattering), a dark ground, and the sun itself as a disk of
 // 1.5 degrees radius (five times the real one, so that it covers several texels) whose radiance
 // makes it give about four times the sky's irradiance on a surface facing it.
+#include <Imath/half.h>
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfOutputFile.h>
-#include <Imath/half.h>
 
 #include <algorithm>
 #include <cmath>
@@ -30,7 +30,9 @@ struct Color {
     double r, g, b;
 };
 
-Color mix(Color a, Color b, double t) { return {a.r + (b.r - a.r) * t, a.g + (b.g - a.g) * t, a.b + (b.b - a.b) * t}; }
+Color mix(Color a, Color b, double t) {
+    return {a.r + (b.r - a.r) * t, a.g + (b.g - a.g) * t, a.b + (b.b - a.b) * t};
+}
 
 // Radiance arriving from unit direction (x, y, z), y up; `sun` is the unit direction to the sun.
 Color skyRadiance(double x, double y, double z, const double sun[3]) {
@@ -56,7 +58,8 @@ Color skyRadiance(double x, double y, double z, const double sun[3]) {
 
 int main(int argc, char** argv) {
     if (argc < 2 || argc > 5) {
-        std::fprintf(stderr, "usage: make_sky OUTPUT.exr [WIDTH [SUN_ELEVATION_DEGREES [SUN_AZIMUTH_DEGREES]]]\n");
+        std::fprintf(stderr,
+                     "usage: make_sky OUTPUT.exr [WIDTH [SUN_ELEVATION_DEGREES [SUN_AZIMUTH_DEGREES]]]\n");
         return 2;
     }
     const int width = argc > 2 ? std::atoi(argv[2]) : 512;
@@ -101,8 +104,9 @@ int main(int argc, char** argv) {
         std::vector<Imath::half> halves(pixels.begin(), pixels.end());
         Imf::FrameBuffer buffer;
         for (int c = 0; c < 3; ++c)
-            buffer.insert(names[c], Imf::Slice(Imf::HALF, reinterpret_cast<char*>(halves.data() + c),
-                                               3 * sizeof(Imath::half), 3 * sizeof(Imath::half) * size_t(width)));
+            buffer.insert(names[c],
+                          Imf::Slice(Imf::HALF, reinterpret_cast<char*>(halves.data() + c),
+                                     3 * sizeof(Imath::half), 3 * sizeof(Imath::half) * size_t(width)));
         file.setFrameBuffer(buffer);
         file.writePixels(height);
     } catch (const std::exception& e) {

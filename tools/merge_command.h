@@ -11,7 +11,8 @@ namespace penumbra {
 
 // Writes OUT.exr (and OUT.png unless noDisplay); returns the exit status. Nothing is written
 // when a check fails.
-int runMergeCommand(const std::vector<std::string>& parts, const std::string& output, bool noDisplay, bool quiet);
+int runMergeCommand(const std::vector<std::string>& parts, const std::string& output, bool noDisplay,
+                    bool quiet);
 
 // Merges the parts the manifest lists into its output (or `output` when not empty), or with
 // `group` only that merge group's parts into the group's file. Throws InputError, writing

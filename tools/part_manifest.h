@@ -31,9 +31,9 @@ struct MergeGroup {
 enum class SplitKind { Samples, Rows };
 
 struct PartManifest {
-    std::filesystem::path scene;    // absolute
-    std::filesystem::path output;   // the merged EXR, absolute
-    std::filesystem::path penumbra; // the program the jobs run, absolute
+    std::filesystem::path scene;     // absolute
+    std::filesystem::path output;    // the merged EXR, absolute
+    std::filesystem::path penumbra;  // the program the jobs run, absolute
     // What decides every sample, which each part's film must record: hashSceneFiles() of the
     // scene and its meshes, the seed, the sampler and the traversal backend.
     std::string sceneHash;
@@ -44,8 +44,8 @@ struct PartManifest {
     SplitKind split = SplitKind::Samples;
     std::vector<std::string> renderArguments;  // passed to every part's render (--seed, --res, ...)
     std::vector<RenderPart> parts;
-    std::vector<MergeGroup> groups;            // empty: one merge of every part
-    std::vector<std::string> jobs;             // the Slurm jobs submitted for it, latest last
+    std::vector<MergeGroup> groups;  // empty: one merge of every part
+    std::vector<std::string> jobs;   // the Slurm jobs submitted for it, latest last
 };
 
 // OUT.parts.json and the folder OUT.parts/ (part films, batch scripts, logs) of OUT.exr.

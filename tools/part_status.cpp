@@ -1,8 +1,8 @@
 #include "tools/part_status.h"
 
-#include <chrono>
-
 #include <fmt/format.h>
+
+#include <chrono>
 
 #include "core/error.h"
 #include "film/film_merge.h"
@@ -52,21 +52,24 @@ PartStatus partStatus(const PartManifest& manifest, const RenderPart& part) {
     const PixelWindow window = m.crop.value_or(full), expected = part.crop.value_or(full);
     status.state = PartState::Foreign;
     if (header.width != manifest.width || header.height != manifest.height)
-        status.problem = fmt::format("it is {}x{}, the render {}x{}", header.width, header.height, manifest.width,
-                                     manifest.height);
+        status.problem = fmt::format("it is {}x{}, the render {}x{}", header.width, header.height,
+                                     manifest.width, manifest.height);
     else if (m.sceneHash != manifest.sceneHash)
-        status.problem = fmt::format("it was rendered from another scene ('{}' hashing to {}, the render's {})",
-                                     m.sceneFile, m.sceneHash, manifest.sceneHash);
-    else if (m.seed != manifest.seed || m.sampler != manifest.sampler || m.accelerator != manifest.accelerator)
-        status.problem = fmt::format("it was rendered with seed {}, the {} sampler and --accel {}, the render with "
-                                     "seed {}, {} and {}",
-                                     m.seed, m.sampler, m.accelerator, manifest.seed, manifest.sampler,
-                                     manifest.accelerator);
+        status.problem =
+            fmt::format("it was rendered from another scene ('{}' hashing to {}, the render's {})",
+                        m.sceneFile, m.sceneHash, manifest.sceneHash);
+    else if (m.seed != manifest.seed || m.sampler != manifest.sampler ||
+             m.accelerator != manifest.accelerator)
+        status.problem = fmt::format(
+            "it was rendered with seed {}, the {} sampler and --accel {}, the render with "
+            "seed {}, {} and {}",
+            m.seed, m.sampler, m.accelerator, manifest.seed, manifest.sampler, manifest.accelerator);
     else if (window != expected)
-        status.problem = fmt::format("it covers the pixels {}, the part {}", describeWindow(window), describeWindow(expected));
+        status.problem = fmt::format("it covers the pixels {}, the part {}", describeWindow(window),
+                                     describeWindow(expected));
     else if (m.firstSample != part.firstSample || m.endSample > part.endSample)
-        status.problem = fmt::format("it holds samples {}, the part [{}, {})", describeRange(m), part.firstSample,
-                                     part.endSample);
+        status.problem = fmt::format("it holds samples {}, the part [{}, {})", describeRange(m),
+                                     part.firstSample, part.endSample);
     else {
         status.state = m.endSample == part.endSample ? PartState::Done : PartState::Partial;
         status.heldEnd = m.endSample;
@@ -76,16 +79,20 @@ PartStatus partStatus(const PartManifest& manifest, const RenderPart& part) {
 
 std::string describeStatus(const RenderPart& part, const PartStatus& status) {
     switch (status.state) {
-        case PartState::Done: return "done";
+        case PartState::Done:
+            return "done";
         case PartState::Partial:
-            return fmt::format("partial: a checkpoint holds samples [{}, {}) of [{}, {}), written {:.0f} s ago "
-                               "(running, or stopped and resumable)",
-                               part.firstSample, status.heldEnd, part.firstSample, part.endSample,
-                               status.secondsSinceWrite);
+            return fmt::format(
+                "partial: a checkpoint holds samples [{}, {}) of [{}, {}), written {:.0f} s ago "
+                "(running, or stopped and resumable)",
+                part.firstSample, status.heldEnd, part.firstSample, part.endSample, status.secondsSinceWrite);
         case PartState::Started:
-            return fmt::format("started: its log was written {:.0f} s ago, no checkpoint yet", status.secondsSinceWrite);
-        case PartState::Missing: return "missing";
-        case PartState::Foreign: return "not this part's film: " + status.problem;
+            return fmt::format("started: its log was written {:.0f} s ago, no checkpoint yet",
+                               status.secondsSinceWrite);
+        case PartState::Missing:
+            return "missing";
+        case PartState::Foreign:
+            return "not this part's film: " + status.problem;
     }
     return "";
 }
@@ -102,10 +109,11 @@ void requireAllPartsDone(const PartManifest& manifest, const fs::path& manifestP
                             describeStatus(part, status));
     }
     if (notDone == 0) return;
-    throwFileError(manifestPath,
-                   fmt::format("{} of {} parts are not done; nothing merged:{}\nrender them with: penumbra submit {} "
-                               "--resume (the same options as the first submit)",
-                               notDone, manifest.parts.size(), list, manifest.scene.string()));
+    throwFileError(
+        manifestPath,
+        fmt::format("{} of {} parts are not done; nothing merged:{}\nrender them with: penumbra submit {} "
+                    "--resume (the same options as the first submit)",
+                    notDone, manifest.parts.size(), list, manifest.scene.string()));
 }
 
 }  // namespace penumbra

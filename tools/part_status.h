@@ -19,9 +19,9 @@ enum class PartState {
 
 struct PartStatus {
     PartState state = PartState::Missing;
-    uint32_t heldEnd = 0;       // Partial: the film holds samples [part.firstSample, heldEnd)
+    uint32_t heldEnd = 0;          // Partial: the film holds samples [part.firstSample, heldEnd)
     double secondsSinceWrite = 0;  // Done, Partial, Started: since the film (or log) was last written
-    std::string problem;        // Foreign: why
+    std::string problem;           // Foreign: why
 };
 
 // OUT.parts/logs/part-0003.log: where the batch script's output goes.

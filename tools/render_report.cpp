@@ -1,8 +1,8 @@
 #include "tools/render_report.h"
 
-#include <cstdio>
-
 #include <fmt/format.h>
+
+#include <cstdio>
 
 namespace penumbra {
 
@@ -27,20 +27,21 @@ std::string describeRender(const RenderDescription& d) {
     std::string text = fmt::format("rendering {}: {}x{}", d.scene, d.width, d.height);
     if (d.crop) text += fmt::format(", pixels {},{},{},{}", d.crop->x0, d.crop->x1, d.crop->y0, d.crop->y1);
     if (!d.resumedFrom.empty()) text += fmt::format(", continuing {}", d.resumedFrom);
-    text += fmt::format(", {}, {} sampler, seed {}, {} thread{}, {}, film {}", samplesText(d, d.endSample), d.sampler,
-                        d.seed, d.threads, d.threads == 1 ? "" : "s", d.accelerator, d.film);
+    text += fmt::format(", {}, {} sampler, seed {}, {} thread{}, {}, film {}", samplesText(d, d.endSample),
+                        d.sampler, d.seed, d.threads, d.threads == 1 ? "" : "s", d.accelerator, d.film);
     return text;
 }
 
 std::string describeRendered(const RenderDescription& d, uint32_t endReached, double renderSeconds,
                              double buildSeconds) {
-    return fmt::format("rendered {}x{}, {}, {} sampler, seed {}, in {:.2f} s (scene build {:.2f} s)", d.width, d.height,
-                       samplesText(d, endReached), d.sampler, d.seed, renderSeconds, buildSeconds);
+    return fmt::format("rendered {}x{}, {}, {} sampler, seed {}, in {:.2f} s (scene build {:.2f} s)", d.width,
+                       d.height, samplesText(d, endReached), d.sampler, d.seed, renderSeconds, buildSeconds);
 }
 
 std::string shellWord(const std::string& word) {
-    const bool plain = !word.empty() && word.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
-                                                               "0123456789_-+./:,=@%") == std::string::npos;
+    const bool plain = !word.empty() && word.find_first_not_of(
+                                            "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                            "0123456789_-+./:,=@%") == std::string::npos;
     if (plain) return word;
     std::string quoted = "'";
     for (char c : word) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
@@ -60,7 +61,8 @@ void ProgressLine::update(size_t done, size_t total) {
     const double fraction = total ? double(done) / double(total) : 1.0;
     std::string eta = "ETA estimating";
     const double sinceFirst = std::chrono::duration<double>(now - *firstTile_).count();
-    if (done == total) eta = "done";
+    if (done == total)
+        eta = "done";
     else if (fraction >= 0.02 && sinceFirst >= 1.0 && done > firstDone_)
         eta = "ETA " + formatDuration(sinceFirst / double(done - firstDone_) * double(total - done));
     constexpr int kWidth = 30;

@@ -18,8 +18,8 @@ struct SubmitCommand {
     std::string by = "samples";  // "samples" (ranges of sample indices) or "rows" (bands of rows)
     std::optional<int> spp;
     std::string output;
-    bool dryRun = false;   // print the batch scripts; write and submit nothing
-    bool resume = false;   // submit only the parts that are not done
+    bool dryRun = false;  // print the batch scripts; write and submit nothing
+    bool resume = false;  // submit only the parts that are not done
     // Passed to every part's render.
     std::optional<std::string> seed;
     std::string resolution, sampler, accel;

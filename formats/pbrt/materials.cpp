@@ -26,7 +26,8 @@ Rgb clamp01(Rgb c, const Parameter* p, WarningLog& log, std::string_view what) {
 // pbrt-v4's roughness parameters: "roughness", or "uroughness" and "vroughness"; remapped to the
 // microfacet alpha with pbrt-v4's RoughnessToAlpha (sqrt) unless "remaproughness" is false.
 // Returns {alpha along u, alpha along v}.
-std::pair<double, double> readAlpha(const ParameterList& params, const TextureTable& textures, WarningLog& log) {
+std::pair<double, double> readAlpha(const ParameterList& params, const TextureTable& textures,
+                                    WarningLog& log) {
     const double r = readScalar(params, "roughness", 0.0, textures, log);
     double u = readScalar(params, "uroughness", r, textures, log);
     double v = readScalar(params, "vroughness", r, textures, log);
@@ -48,19 +49,24 @@ std::pair<double, double> readAlpha(const ParameterList& params, const TextureTa
 void addAlpha(Json& material, std::pair<double, double> alpha) {
     if (alpha.first <= 0.0 && alpha.second <= 0.0) return;
     const auto bounded = [](double a) { return std::clamp(a, 1e-4, 4.0); };
-    if (alpha.first == alpha.second) material["alpha"] = bounded(alpha.first);
-    else material["alpha"] = Json::array({bounded(alpha.first), bounded(alpha.second)});
+    if (alpha.first == alpha.second)
+        material["alpha"] = bounded(alpha.first);
+    else
+        material["alpha"] = Json::array({bounded(alpha.first), bounded(alpha.second)});
 }
 
 // An index of refraction given as a float, a spectrum or a texture: its value (the spectrum's
 // green channel, near 550 nm; dispersion is not rendered).
 double readEta(const ParameterList& params, const TextureTable& textures, WarningLog& log) {
-    const Parameter* p = params.find("eta", {ParamType::Float, ParamType::Spectrum, ParamType::Rgb, ParamType::Texture});
+    const Parameter* p =
+        params.find("eta", {ParamType::Float, ParamType::Spectrum, ParamType::Rgb, ParamType::Texture});
     if (!p) return 1.5;
     if (p->type == ParamType::Float) return p->numbers.at(0);
     const Rgb eta = readColor(params, "eta", Rgb(1.5f), SpectrumUse::Unbounded, textures, log);
     if (eta.r != eta.g || eta.g != eta.b)
-        log.warn(p->where, "a spectrally varying index of refraction is rendered with its value at 550 nm (no dispersion)");
+        log.warn(
+            p->where,
+            "a spectrally varying index of refraction is rendered with its value at 550 nm (no dispersion)");
     return eta.g;
 }
 
@@ -74,63 +80,81 @@ Rgb readColor(const ParameterList& params, std::string_view name, Rgb fallback, 
     switch (p->type) {
         case ParamType::Rgb:
             if (p->numbers.size() != 3)
-                failAt(p->where, fmt::format("parameter \"{}\" takes one colour (3 numbers), found {} numbers",
-                                             p->declaration(), p->numbers.size()));
+                failAt(p->where,
+                       fmt::format("parameter \"{}\" takes one colour (3 numbers), found {} numbers",
+                                   p->declaration(), p->numbers.size()));
             if (use != SpectrumUse::Unbounded)
                 for (double v : p->numbers)
-                    if (v < 0.0) failAt(p->where, fmt::format("parameter \"{}\" must not be negative", p->declaration()));
+                    if (v < 0.0)
+                        failAt(p->where,
+                               fmt::format("parameter \"{}\" must not be negative", p->declaration()));
             return {float(p->numbers[0]), float(p->numbers[1]), float(p->numbers[2])};
         case ParamType::Float:
-            if (p->numbers.size() != 1) failAt(p->where, fmt::format("parameter \"{}\" takes one value", p->declaration()));
+            if (p->numbers.size() != 1)
+                failAt(p->where, fmt::format("parameter \"{}\" takes one value", p->declaration()));
             return Rgb(float(p->numbers[0]));
         case ParamType::Blackbody:
             if (p->numbers.empty() || !(p->numbers[0] > 0.0))
-                failAt(p->where, fmt::format("parameter \"{}\" needs a temperature in kelvin > 0", p->declaration()));
+                failAt(p->where,
+                       fmt::format("parameter \"{}\" needs a temperature in kelvin > 0", p->declaration()));
             if (use == SpectrumUse::Reflectance)
-                failAt(p->where, fmt::format("parameter \"{}\": a blackbody is an emission spectrum, not a reflectance",
-                                             p->declaration()));
+                failAt(p->where,
+                       fmt::format("parameter \"{}\": a blackbody is an emission spectrum, not a reflectance",
+                                   p->declaration()));
             return blackbodyRgb(p->numbers[0]);
         case ParamType::Spectrum: {
             if (!p->strings.empty()) {
                 if (auto named = namedSpectrumRgb(p->strings[0])) return *named;
-                failAt(p->where, fmt::format("parameter \"{}\": unknown named spectrum \"{}\" (penumbra knows the "
-                                             "metal-{{Cu,Au,Ag,Al}}-{{eta,k}}, glass-{{BK7,BAF10,FK51A,LASF9,F5}}, "
-                                             "stdillum-D65 and stdillum-A spectra; spectrum files are not read)",
-                                             p->declaration(), p->strings[0]));
+                failAt(p->where,
+                       fmt::format("parameter \"{}\": unknown named spectrum \"{}\" (penumbra knows the "
+                                   "metal-{{Cu,Au,Ag,Al}}-{{eta,k}}, glass-{{BK7,BAF10,FK51A,LASF9,F5}}, "
+                                   "stdillum-D65 and stdillum-A spectra; spectrum files are not read)",
+                                   p->declaration(), p->strings[0]));
             }
             for (size_t i = 2; i < p->numbers.size(); i += 2)
                 if (!(p->numbers[i] > p->numbers[i - 2]))
-                    failAt(p->where, fmt::format("parameter \"{}\": wavelengths must increase", p->declaration()));
-            return use == SpectrumUse::Emission ? emissionSpectrumRgb(p->numbers) : reflectanceSpectrumRgb(p->numbers);
+                    failAt(p->where,
+                           fmt::format("parameter \"{}\": wavelengths must increase", p->declaration()));
+            return use == SpectrumUse::Emission ? emissionSpectrumRgb(p->numbers)
+                                                : reflectanceSpectrumRgb(p->numbers);
         }
         case ParamType::Texture: {
-            if (p->strings.size() != 1) failAt(p->where, fmt::format("parameter \"{}\" takes one texture name", p->declaration()));
+            if (p->strings.size() != 1)
+                failAt(p->where, fmt::format("parameter \"{}\" takes one texture name", p->declaration()));
             const TextureTable::Texture* t = textures.spectrum(p->strings[0]);
             if (!t) t = textures.scalar(p->strings[0]);
-            if (!t) failAt(p->where, fmt::format("parameter \"{}\": unknown texture \"{}\"", p->declaration(), p->strings[0]));
+            if (!t)
+                failAt(p->where, fmt::format("parameter \"{}\": unknown texture \"{}\"", p->declaration(),
+                                             p->strings[0]));
             if (t->object)
-                log.warn(p->where, fmt::format("a texture where penumbra takes none (parameter \"{}\"): {}", p->declaration(),
-                                               t->standIn));
+                log.warn(p->where, fmt::format("a texture where penumbra takes none (parameter \"{}\"): {}",
+                                               p->declaration(), t->standIn));
             return t->constant;
         }
-        default: break;
+        default:
+            break;
     }
     return fallback;
 }
 
-double readScalar(const ParameterList& params, std::string_view name, double fallback, const TextureTable& textures,
-                  WarningLog& log) {
+double readScalar(const ParameterList& params, std::string_view name, double fallback,
+                  const TextureTable& textures, WarningLog& log) {
     const Parameter* p = params.find(name, {ParamType::Float, ParamType::Texture});
     if (!p) return fallback;
     if (p->type == ParamType::Float) {
-        if (p->numbers.size() != 1) failAt(p->where, fmt::format("parameter \"{}\" takes one value", p->declaration()));
+        if (p->numbers.size() != 1)
+            failAt(p->where, fmt::format("parameter \"{}\" takes one value", p->declaration()));
         return p->numbers[0];
     }
-    if (p->strings.size() != 1) failAt(p->where, fmt::format("parameter \"{}\" takes one texture name", p->declaration()));
+    if (p->strings.size() != 1)
+        failAt(p->where, fmt::format("parameter \"{}\" takes one texture name", p->declaration()));
     const TextureTable::Texture* t = textures.scalar(p->strings[0]);
-    if (!t) failAt(p->where, fmt::format("parameter \"{}\": unknown float texture \"{}\"", p->declaration(), p->strings[0]));
+    if (!t)
+        failAt(p->where, fmt::format("parameter \"{}\": unknown float texture \"{}\"", p->declaration(),
+                                     p->strings[0]));
     if (t->object)
-        log.warn(p->where, fmt::format("a texture where penumbra takes none (parameter \"{}\"): {}", p->declaration(), t->standIn));
+        log.warn(p->where, fmt::format("a texture where penumbra takes none (parameter \"{}\"): {}",
+                                       p->declaration(), t->standIn));
     return t->constant.r;
 }
 
@@ -140,7 +164,8 @@ namespace {
 void addUvMapping(Json& texture, const ParameterList& params, const SourceLocation& where, WarningLog& log) {
     const std::string mapping = params.getString("mapping").value_or("uv");
     if (mapping != "uv")
-        log.warn(where, fmt::format("texture mapping \"{}\" is not supported: the surface's (u, v) are used", mapping));
+        log.warn(where, fmt::format("texture mapping \"{}\" is not supported: the surface's (u, v) are used",
+                                    mapping));
     const double us = params.getFloat("uscale").value_or(1.0), vs = params.getFloat("vscale").value_or(1.0);
     const double ud = params.getFloat("udelta").value_or(0.0), vd = params.getFloat("vdelta").value_or(0.0);
     if (us != 1.0 || vs != 1.0) texture["uv_scale"] = Json::array({us, vs});
@@ -153,12 +178,15 @@ Json scaled(Json texture, Rgb s) {
     if (texture["type"] == "image") {
         Rgb old(1.0f);
         if (const auto it = texture.find("scale"); it != texture.end())
-            old = it->is_array() ? Rgb((*it)[0].get<float>(), (*it)[1].get<float>(), (*it)[2].get<float>()) : Rgb(it->get<float>());
+            old = it->is_array() ? Rgb((*it)[0].get<float>(), (*it)[1].get<float>(), (*it)[2].get<float>())
+                                 : Rgb(it->get<float>());
         const Rgb product = old * s;
-        texture["scale"] = product.r == product.g && product.g == product.b ? Json(shortest(product.r)) : rgbJson(product);
+        texture["scale"] =
+            product.r == product.g && product.g == product.b ? Json(shortest(product.r)) : rgbJson(product);
     } else {
         for (Json& c : texture["colors"]) {
-            const Rgb v = c.is_array() ? Rgb(c[0].get<float>(), c[1].get<float>(), c[2].get<float>()) : Rgb(c.get<float>());
+            const Rgb v = c.is_array() ? Rgb(c[0].get<float>(), c[1].get<float>(), c[2].get<float>())
+                                       : Rgb(c.get<float>());
             c = rgbJson(v * s);
         }
     }
@@ -171,16 +199,20 @@ void TextureTable::define(const std::string& name, const std::string& kind, cons
                           const ParameterList& params, const SourceLocation& where, WarningLog& log) {
     const bool isFloat = kind == "float";
     if (!isFloat && kind != "spectrum")
-        failAt(where, fmt::format("texture \"{}\": expected the type \"float\" or \"spectrum\", found \"{}\"", name, kind));
+        failAt(where, fmt::format("texture \"{}\": expected the type \"float\" or \"spectrum\", found \"{}\"",
+                                  name, kind));
     // A texture parameter: a constant, or another texture of the same kind.
     auto input = [&](std::string_view param, Rgb fallback) -> Texture {
-        const Parameter* p = params.find(param, isFloat ? std::initializer_list<ParamType>{ParamType::Float, ParamType::Texture}
-                                                        : std::initializer_list<ParamType>{ParamType::Rgb, ParamType::Spectrum,
-                                                                                           ParamType::Blackbody, ParamType::Texture,
-                                                                                           ParamType::Float});
+        const Parameter* p = params.find(
+            param, isFloat ? std::initializer_list<ParamType>{ParamType::Float, ParamType::Texture}
+                           : std::initializer_list<ParamType>{ParamType::Rgb, ParamType::Spectrum,
+                                                              ParamType::Blackbody, ParamType::Texture,
+                                                              ParamType::Float});
         if (p && p->type == ParamType::Texture && p->strings.size() == 1) {
             const Texture* t = isFloat ? scalar(p->strings[0]) : spectrum(p->strings[0]);
-            if (!t) failAt(p->where, fmt::format("parameter \"{}\": unknown {} texture \"{}\"", p->declaration(), kind, p->strings[0]));
+            if (!t)
+                failAt(p->where, fmt::format("parameter \"{}\": unknown {} texture \"{}\"", p->declaration(),
+                                             kind, p->strings[0]));
             return *t;
         }
         if (isFloat) return {Rgb(float(readScalar(params, param, fallback.r, *this, log))), std::nullopt, {}};
@@ -193,10 +225,13 @@ void TextureTable::define(const std::string& name, const std::string& kind, cons
         const Texture tex = input("tex", Rgb(1.0f));
         const Parameter* sp = params.find("scale", {ParamType::Float, ParamType::Texture});
         if (sp && sp->type != ParamType::Texture) sp = nullptr;
-        Texture factor = sp ? Texture{} : Texture{Rgb(float(readScalar(params, "scale", 1.0, *this, log))), std::nullopt, {}};
+        Texture factor =
+            sp ? Texture{}
+               : Texture{Rgb(float(readScalar(params, "scale", 1.0, *this, log))), std::nullopt, {}};
         if (sp) {
             const Texture* t = sp->strings.size() == 1 ? scalar(sp->strings[0]) : nullptr;
-            if (!t) failAt(sp->where, fmt::format("parameter \"{}\": unknown float texture", sp->declaration()));
+            if (!t)
+                failAt(sp->where, fmt::format("parameter \"{}\": unknown float texture", sp->declaration()));
             factor = *t;
         }
         texture.constant = tex.constant * factor.constant.r;
@@ -204,22 +239,28 @@ void TextureTable::define(const std::string& name, const std::string& kind, cons
             texture.object = scaled(*tex.object, Rgb(factor.constant.r));
             texture.standIn = tex.standIn;
         } else if (tex.object || factor.object) {
-            log.warn(where, "a scale texture of two textures is not supported: the first one's stand-in constant instead");
+            log.warn(where,
+                     "a scale texture of two textures is not supported: the first one's stand-in constant "
+                     "instead");
             texture.constant = tex.constant;
         }
     } else if (textureClass == "mix") {
         const float amount = float(readScalar(params, "amount", 0.5, *this, log));
         const Texture a = input("tex1", Rgb(0.0f)), b = input("tex2", Rgb(1.0f));
         texture.constant = a.constant * (1.0f - amount) + b.constant * amount;
-        if (a.object || b.object) log.warn(where, "mix textures of textures are not supported: their stand-in constants are mixed");
+        if (a.object || b.object)
+            log.warn(where, "mix textures of textures are not supported: their stand-in constants are mixed");
     } else if (textureClass == "checkerboard") {
         const Texture a = input("tex1", Rgb(1.0f)), b = input("tex2", Rgb(0.0f));
         texture.constant = (a.constant + b.constant) * 0.5f;
         texture.standIn = "the mean of the checkerboard's two values";
         const int64_t dimension = params.getInt("dimension").value_or(2);
         if (dimension != 2 || a.object || b.object) {
-            log.warn(where, dimension != 2 ? "3D checkerboards are not supported: the mean of their two values instead"
-                                           : "checkerboards of textures are not supported: the mean of their two stand-ins instead");
+            log.warn(
+                where,
+                dimension != 2
+                    ? "3D checkerboards are not supported: the mean of their two values instead"
+                    : "checkerboards of textures are not supported: the mean of their two stand-ins instead");
         } else {
             Json object{{"type", "checkerboard"}};
             object["colors"] = isFloat ? Json::array({shortest(a.constant.r), shortest(b.constant.r)})
@@ -232,31 +273,45 @@ void TextureTable::define(const std::string& name, const std::string& kind, cons
         if (!file || file->empty()) failAt(where, "imagemap needs a \"string filename\"");
         Json object{{"type", "image"}, {"file", *file}};
         const std::string wrap = params.getString("wrap").value_or("repeat");
-        if (wrap == "black" || wrap == "clamp") object["wrap"] = wrap;
+        if (wrap == "black" || wrap == "clamp")
+            object["wrap"] = wrap;
         else if (wrap != "repeat")
-            log.warn(where, fmt::format("texture wrap mode \"{}\" is not supported: \"repeat\" instead", wrap));
+            log.warn(where,
+                     fmt::format("texture wrap mode \"{}\" is not supported: \"repeat\" instead", wrap));
         const std::string filter = params.getString("filter").value_or("bilinear");
-        static const std::map<std::string, std::string> kFilters{
-            {"point", "closest"}, {"bilinear", "bilinear"}, {"trilinear", "trilinear"}, {"ewa", "anisotropic"}};
-        if (auto f = kFilters.find(filter); f != kFilters.end()) object["filter"] = f->second;
+        static const std::map<std::string, std::string> kFilters{{"point", "closest"},
+                                                                 {"bilinear", "bilinear"},
+                                                                 {"trilinear", "trilinear"},
+                                                                 {"ewa", "anisotropic"}};
+        if (auto f = kFilters.find(filter); f != kFilters.end())
+            object["filter"] = f->second;
         else {
             log.warn(where, fmt::format("texture filter \"{}\" is not supported: bilinear instead", filter));
             object["filter"] = "bilinear";
         }
         params.getFloat("maxanisotropy");
         if (auto encoding = params.getString("encoding")) {
-            if (*encoding == "sRGB") object["color_space"] = "srgb";
-            else if (*encoding == "linear") object["color_space"] = "linear";
-            else log.warn(where, fmt::format("texture encoding \"{}\" is not supported: the file's own (sRGB for 8-bit images)", *encoding));
+            if (*encoding == "sRGB")
+                object["color_space"] = "srgb";
+            else if (*encoding == "linear")
+                object["color_space"] = "linear";
+            else
+                log.warn(
+                    where,
+                    fmt::format(
+                        "texture encoding \"{}\" is not supported: the file's own (sRGB for 8-bit images)",
+                        *encoding));
         }
         const double scale = params.getFloat("scale").value_or(1.0);
         if (scale != 1.0) object["scale"] = scale;
-        if (params.getBool("invert").value_or(false)) log.warn(where, "imagemap \"invert\" is not supported: the image is used as it is");
+        if (params.getBool("invert").value_or(false))
+            log.warn(where, "imagemap \"invert\" is not supported: the image is used as it is");
         addUvMapping(object, params, where, log);
         texture = {Rgb(0.5f), std::move(object), "the constant 0.5 instead of the image"};
     } else {
         params.markAllUsed();
-        log.warn(where, fmt::format("texture class \"{}\" is not supported: replaced by the constant 0.5", textureClass));
+        log.warn(where, fmt::format("texture class \"{}\" is not supported: replaced by the constant 0.5",
+                                    textureClass));
     }
     params.reportUnused(log, fmt::format("Texture \"{}\"", textureClass));
     if (isFloat) texture.constant = Rgb(texture.constant.r);
@@ -277,16 +332,18 @@ Json mapMaterial(const std::string& type, const ParameterList& params, const Tex
                  const SourceLocation& where, WarningLog& log) {
     auto reflectance = [&](std::string_view name, Rgb fallback) {
         const Rgb c = readColor(params, name, fallback, SpectrumUse::Reflectance, textures, log);
-        return clamp01(c, params.find(name, {ParamType::Rgb, ParamType::Spectrum, ParamType::Texture, ParamType::Float,
-                                             ParamType::Blackbody}),
+        return clamp01(c,
+                       params.find(name, {ParamType::Rgb, ParamType::Spectrum, ParamType::Texture,
+                                          ParamType::Float, ParamType::Blackbody}),
                        log, "a reflectance");
     };
     // A reflectance that penumbra may texture: the texture object itself when it is one.
     auto texturable = [&](std::string_view name, Rgb fallback) -> Json {
-        const Parameter* p = params.find(name, {ParamType::Rgb, ParamType::Spectrum, ParamType::Texture, ParamType::Float,
-                                                ParamType::Blackbody});
+        const Parameter* p = params.find(name, {ParamType::Rgb, ParamType::Spectrum, ParamType::Texture,
+                                                ParamType::Float, ParamType::Blackbody});
         if (p && p->type == ParamType::Texture && p->strings.size() == 1)
-            if (const TextureTable::Texture* t = textures.spectrum(p->strings[0]); t && t->object) return *t->object;
+            if (const TextureTable::Texture* t = textures.spectrum(p->strings[0]); t && t->object)
+                return *t->object;
         return rgbJson(reflectance(name, fallback));
     };
     Json m = Json::object();
@@ -320,8 +377,10 @@ Json mapMaterial(const std::string& type, const ParameterList& params, const Tex
                 (c == 0 ? k.r : c == 1 ? k.g : k.b) = 2.0f * std::sqrt(rc) / std::sqrt(1.0f - rc);
             }
         } else {
-            eta = readColor(params, prefix + "eta", *namedSpectrumRgb("metal-Cu-eta"), SpectrumUse::Unbounded, textures, log);
-            k = readColor(params, prefix + "k", *namedSpectrumRgb("metal-Cu-k"), SpectrumUse::Unbounded, textures, log);
+            eta = readColor(params, prefix + "eta", *namedSpectrumRgb("metal-Cu-eta"), SpectrumUse::Unbounded,
+                            textures, log);
+            k = readColor(params, prefix + "k", *namedSpectrumRgb("metal-Cu-k"), SpectrumUse::Unbounded,
+                          textures, log);
         }
         m["eta"] = rgbJson({std::max(eta.r, 1e-4f), std::max(eta.g, 1e-4f), std::max(eta.b, 1e-4f)});
         m["k"] = rgbJson({std::max(k.r, 0.0f), std::max(k.g, 0.0f), std::max(k.b, 0.0f)});
@@ -338,7 +397,10 @@ Json mapMaterial(const std::string& type, const ParameterList& params, const Tex
         // every ray through unchanged.
         m["type"] = "thin_dielectric";
         m["eta"] = 1.0;
-        if (type == "interface") log.warn(where, "interface material: rendered as an invisible surface (participating media are not supported)");
+        if (type == "interface")
+            log.warn(where,
+                     "interface material: rendered as an invisible surface (participating media are not "
+                     "supported)");
     } else if (type == "diffusetransmission") {
         m["type"] = "lambert";
         m["albedo"] = texturable("reflectance", Rgb(0.25f));
@@ -347,12 +409,14 @@ Json mapMaterial(const std::string& type, const ParameterList& params, const Tex
         params.markAllUsed();
         m["type"] = "lambert";
         m["albedo"] = 0.5;
-        log.warn(where, fmt::format("material \"{}\" is not supported: rendered as grey diffuse (0.5)", type));
+        log.warn(where,
+                 fmt::format("material \"{}\" is not supported: rendered as grey diffuse (0.5)", type));
     } else {
-        failAt(where, fmt::format("unknown material type \"{}\" (expected diffuse, coateddiffuse, coatedconductor, "
-                                  "conductor, dielectric, thindielectric, diffusetransmission, interface, measured, "
-                                  "hair, subsurface or mix)",
-                                  type));
+        failAt(where,
+               fmt::format("unknown material type \"{}\" (expected diffuse, coateddiffuse, coatedconductor, "
+                           "conductor, dielectric, thindielectric, diffusetransmission, interface, measured, "
+                           "hair, subsurface or mix)",
+                           type));
     }
     return m;
 }

@@ -8,9 +8,9 @@
 #include <string>
 
 #include "core/rgb.h"
-#include "scenes/json_reader.h"
 #include "formats/pbrt/parameter_list.h"
 #include "formats/pbrt/warning_log.h"
+#include "scenes/json_reader.h"
 
 namespace penumbra::pbrt {
 
@@ -23,9 +23,9 @@ enum class SpectrumUse : uint8_t { Reflectance, Emission, Unbounded };
 class TextureTable {
 public:
     struct Texture {
-        Rgb constant;               // the value itself, or a stand-in for `object`
+        Rgb constant;                // the value itself, or a stand-in for `object`
         std::optional<Json> object;  // penumbra's texture object (scenes/README.md, "Textures")
-        std::string standIn;        // for `object`: what `constant` is, for warnings
+        std::string standIn;         // for `object`: what `constant` is, for warnings
     };
     // Texture "name" "float"|"spectrum" "class" params.
     void define(const std::string& name, const std::string& kind, const std::string& textureClass,
@@ -44,8 +44,8 @@ private:
 Rgb readColor(const ParameterList& params, std::string_view name, Rgb fallback, SpectrumUse use,
               const TextureTable& textures, WarningLog& log);
 // A float parameter given as a float or a float texture's name.
-double readScalar(const ParameterList& params, std::string_view name, double fallback, const TextureTable& textures,
-                  WarningLog& log);
+double readScalar(const ParameterList& params, std::string_view name, double fallback,
+                  const TextureTable& textures, WarningLog& log);
 
 // The penumbra material standing for a pbrt material of `type` with `params` (penumbra's JSON
 // material object). "mix" is not handled here: the builder resolves it to one of its materials.

@@ -17,13 +17,23 @@ struct TypeName {
 };
 
 constexpr std::array<TypeName, 17> kTypeNames{{
-    {"integer", ParamType::Integer}, {"float", ParamType::Float}, {"point2", ParamType::Point2},
-    {"vector2", ParamType::Vector2}, {"point3", ParamType::Point3}, {"vector3", ParamType::Vector3},
-    {"normal", ParamType::Normal}, {"bool", ParamType::Bool}, {"string", ParamType::String},
-    {"texture", ParamType::Texture}, {"rgb", ParamType::Rgb}, {"blackbody", ParamType::Blackbody},
+    {"integer", ParamType::Integer},
+    {"float", ParamType::Float},
+    {"point2", ParamType::Point2},
+    {"vector2", ParamType::Vector2},
+    {"point3", ParamType::Point3},
+    {"vector3", ParamType::Vector3},
+    {"normal", ParamType::Normal},
+    {"bool", ParamType::Bool},
+    {"string", ParamType::String},
+    {"texture", ParamType::Texture},
+    {"rgb", ParamType::Rgb},
+    {"blackbody", ParamType::Blackbody},
     {"spectrum", ParamType::Spectrum},
     // The format's aliases.
-    {"point", ParamType::Point3}, {"vector", ParamType::Vector3}, {"normal3", ParamType::Normal},
+    {"point", ParamType::Point3},
+    {"vector", ParamType::Vector3},
+    {"normal3", ParamType::Normal},
     {"color", ParamType::Rgb},
 }};
 
@@ -57,14 +67,18 @@ int valuesPerElement(ParamType type) {
     switch (type) {
         case ParamType::Integer:
         case ParamType::Float:
-        case ParamType::Blackbody: return 1;
+        case ParamType::Blackbody:
+            return 1;
         case ParamType::Point2:
-        case ParamType::Vector2: return 2;
+        case ParamType::Vector2:
+            return 2;
         case ParamType::Point3:
         case ParamType::Vector3:
         case ParamType::Normal:
-        case ParamType::Rgb: return 3;
-        default: return 0;
+        case ParamType::Rgb:
+            return 3;
+        default:
+            return 0;
     }
 }
 
@@ -148,22 +162,27 @@ std::vector<Vec3d> triples(const Parameter* p) {
     std::vector<Vec3d> out;
     if (!p) return out;
     out.reserve(p->numbers.size() / 3);
-    for (size_t i = 0; i + 2 < p->numbers.size(); i += 3) out.push_back({p->numbers[i], p->numbers[i + 1], p->numbers[i + 2]});
+    for (size_t i = 0; i + 2 < p->numbers.size(); i += 3)
+        out.push_back({p->numbers[i], p->numbers[i + 1], p->numbers[i + 2]});
     return out;
 }
 
 }  // namespace
 
-std::vector<Vec3d> ParameterList::getPoint3s(std::string_view name) const { return triples(find(name, {ParamType::Point3})); }
-std::vector<Vec3d> ParameterList::getNormals(std::string_view name) const { return triples(find(name, {ParamType::Normal})); }
+std::vector<Vec3d> ParameterList::getPoint3s(std::string_view name) const {
+    return triples(find(name, {ParamType::Point3}));
+}
+std::vector<Vec3d> ParameterList::getNormals(std::string_view name) const {
+    return triples(find(name, {ParamType::Normal}));
+}
 
 std::vector<Vec2d> ParameterList::getPoint2s(std::string_view name) const {
     const Parameter* p = find(name, {ParamType::Point2, ParamType::Float});
     std::vector<Vec2d> out;
     if (!p) return out;
     if (p->numbers.size() % 2 != 0)
-        failAt(p->where, fmt::format("parameter \"{}\" needs pairs of numbers, found {} numbers", p->declaration(),
-                                     p->numbers.size()));
+        failAt(p->where, fmt::format("parameter \"{}\" needs pairs of numbers, found {} numbers",
+                                     p->declaration(), p->numbers.size()));
     for (size_t i = 0; i + 1 < p->numbers.size(); i += 2) out.push_back({p->numbers[i], p->numbers[i + 1]});
     return out;
 }
@@ -174,7 +193,9 @@ void ParameterList::markAllUsed() const {
 
 void ParameterList::reportUnused(WarningLog& log, std::string_view owner) const {
     for (const Parameter& p : parameters_)
-        if (!p.used) log.warn(p.where, fmt::format("parameter \"{}\" of {} is not supported and was ignored", p.declaration(), owner));
+        if (!p.used)
+            log.warn(p.where, fmt::format("parameter \"{}\" of {} is not supported and was ignored",
+                                          p.declaration(), owner));
 }
 
 }  // namespace penumbra::pbrt

@@ -18,7 +18,19 @@ namespace penumbra::pbrt {
 class WarningLog;
 
 enum class ParamType : uint8_t {
-    Integer, Float, Point2, Vector2, Point3, Vector3, Normal, Bool, String, Texture, Rgb, Blackbody, Spectrum
+    Integer,
+    Float,
+    Point2,
+    Vector2,
+    Point3,
+    Vector3,
+    Normal,
+    Bool,
+    String,
+    Texture,
+    Rgb,
+    Blackbody,
+    Spectrum
 };
 
 // The type's name as the format spells it ("point3", "normal", ...).
@@ -31,8 +43,8 @@ int valuesPerElement(ParamType type);
 struct Parameter {
     ParamType type = ParamType::Float;
     std::string name;
-    SourceLocation where;            // of the declaration string
-    std::vector<double> numbers;     // numeric types, and spectra given as (wavelength, value) pairs
+    SourceLocation where;              // of the declaration string
+    std::vector<double> numbers;       // numeric types, and spectra given as (wavelength, value) pairs
     std::vector<std::string> strings;  // string, texture, and spectra given by name or file
     std::vector<uint8_t> bools;
     mutable bool used = false;

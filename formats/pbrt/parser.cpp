@@ -28,15 +28,15 @@ constexpr int kMaxIncludeDepth = 64;
 // What follows a directive's name.
 enum class Arguments : uint8_t {
     None,
-    Numbers,          // a fixed count of numbers
-    Matrix,           // 16 numbers, in brackets or not
-    Word,             // one bare word (ActiveTransform StartTime)
-    String,           // one quoted string
-    StringParams,     // a quoted string and a parameter list (Shape "sphere" ...)
+    Numbers,             // a fixed count of numbers
+    Matrix,              // 16 numbers, in brackets or not
+    Word,                // one bare word (ActiveTransform StartTime)
+    String,              // one quoted string
+    StringParams,        // a quoted string and a parameter list (Shape "sphere" ...)
     ThreeStringsParams,  // Texture "name" "spectrum" "imagemap" ...
-    Params,           // a parameter list alone (Option)
-    OneOrTwoStrings,  // MediumInterface "inside" ["outside"]
-    Include,          // Include / Import "file"
+    Params,              // a parameter list alone (Option)
+    OneOrTwoStrings,     // MediumInterface "inside" ["outside"]
+    Include,             // Include / Import "file"
 };
 
 struct DirectiveShape {
@@ -46,25 +46,46 @@ struct DirectiveShape {
 };
 
 constexpr std::array<DirectiveShape, 40> kDirectives{{
-    {"Translate", Arguments::Numbers, 3}, {"Scale", Arguments::Numbers, 3}, {"Rotate", Arguments::Numbers, 4},
-    {"LookAt", Arguments::Numbers, 9}, {"TransformTimes", Arguments::Numbers, 2},
-    {"Transform", Arguments::Matrix}, {"ConcatTransform", Arguments::Matrix},
-    {"Identity", Arguments::None}, {"ReverseOrientation", Arguments::None},
-    {"AttributeBegin", Arguments::None}, {"AttributeEnd", Arguments::None},
-    {"TransformBegin", Arguments::None}, {"TransformEnd", Arguments::None},
-    {"WorldBegin", Arguments::None}, {"WorldEnd", Arguments::None}, {"ObjectEnd", Arguments::None},
+    {"Translate", Arguments::Numbers, 3},
+    {"Scale", Arguments::Numbers, 3},
+    {"Rotate", Arguments::Numbers, 4},
+    {"LookAt", Arguments::Numbers, 9},
+    {"TransformTimes", Arguments::Numbers, 2},
+    {"Transform", Arguments::Matrix},
+    {"ConcatTransform", Arguments::Matrix},
+    {"Identity", Arguments::None},
+    {"ReverseOrientation", Arguments::None},
+    {"AttributeBegin", Arguments::None},
+    {"AttributeEnd", Arguments::None},
+    {"TransformBegin", Arguments::None},
+    {"TransformEnd", Arguments::None},
+    {"WorldBegin", Arguments::None},
+    {"WorldEnd", Arguments::None},
+    {"ObjectEnd", Arguments::None},
     {"ActiveTransform", Arguments::Word},
-    {"CoordinateSystem", Arguments::String}, {"CoordSysTransform", Arguments::String},
-    {"ObjectBegin", Arguments::String}, {"ObjectInstance", Arguments::String}, {"NamedMaterial", Arguments::String},
+    {"CoordinateSystem", Arguments::String},
+    {"CoordSysTransform", Arguments::String},
+    {"ObjectBegin", Arguments::String},
+    {"ObjectInstance", Arguments::String},
+    {"NamedMaterial", Arguments::String},
     {"ColorSpace", Arguments::String},
-    {"Camera", Arguments::StringParams}, {"Film", Arguments::StringParams}, {"Sampler", Arguments::StringParams},
-    {"PixelFilter", Arguments::StringParams}, {"Integrator", Arguments::StringParams},
-    {"Accelerator", Arguments::StringParams}, {"Shape", Arguments::StringParams},
-    {"LightSource", Arguments::StringParams}, {"AreaLightSource", Arguments::StringParams},
-    {"Material", Arguments::StringParams}, {"MakeNamedMaterial", Arguments::StringParams},
-    {"MakeNamedMedium", Arguments::StringParams}, {"Attribute", Arguments::StringParams},
-    {"Texture", Arguments::ThreeStringsParams}, {"Option", Arguments::Params},
-    {"MediumInterface", Arguments::OneOrTwoStrings}, {"Include", Arguments::Include},
+    {"Camera", Arguments::StringParams},
+    {"Film", Arguments::StringParams},
+    {"Sampler", Arguments::StringParams},
+    {"PixelFilter", Arguments::StringParams},
+    {"Integrator", Arguments::StringParams},
+    {"Accelerator", Arguments::StringParams},
+    {"Shape", Arguments::StringParams},
+    {"LightSource", Arguments::StringParams},
+    {"AreaLightSource", Arguments::StringParams},
+    {"Material", Arguments::StringParams},
+    {"MakeNamedMaterial", Arguments::StringParams},
+    {"MakeNamedMedium", Arguments::StringParams},
+    {"Attribute", Arguments::StringParams},
+    {"Texture", Arguments::ThreeStringsParams},
+    {"Option", Arguments::Params},
+    {"MediumInterface", Arguments::OneOrTwoStrings},
+    {"Include", Arguments::Include},
 }};
 
 const DirectiveShape* findDirective(std::string_view name) {
@@ -76,11 +97,16 @@ const DirectiveShape* findDirective(std::string_view name) {
 
 std::string describe(const Token& t) {
     switch (t.kind) {
-        case Token::Kind::End: return "the end of the file";
-        case Token::Kind::OpenBracket: return "'['";
-        case Token::Kind::CloseBracket: return "']'";
-        case Token::Kind::String: return fmt::format("the string \"{}\"", t.text);
-        case Token::Kind::Word: return fmt::format("'{}'", t.text);
+        case Token::Kind::End:
+            return "the end of the file";
+        case Token::Kind::OpenBracket:
+            return "'['";
+        case Token::Kind::CloseBracket:
+            return "']'";
+        case Token::Kind::String:
+            return fmt::format("the string \"{}\"", t.text);
+        case Token::Kind::Word:
+            return fmt::format("'{}'", t.text);
     }
     return "?";
 }
@@ -111,7 +137,8 @@ public:
             const Token t = tokens.next();
             if (t.kind == Token::Kind::End) return;
             if (t.kind != Token::Kind::Word)
-                tokens.fail(t, fmt::format("expected a directive (such as Shape or AttributeBegin), found {}", describe(t)));
+                tokens.fail(t, fmt::format("expected a directive (such as Shape or AttributeBegin), found {}",
+                                           describe(t)));
             const DirectiveShape* shape = findDirective(t.text);
             if (!shape) tokens.fail(t, fmt::format("unknown directive '{}'", t.text));
             Directive d;
@@ -132,10 +159,12 @@ private:
         if (name.empty()) tokens.fail(at, fmt::format("{} needs a file name", d.name));
         const fs::path path = name.is_absolute() ? name : baseFolder_ / name;
         if (depth + 1 > kMaxIncludeDepth)
-            tokens.fail(at, fmt::format("{} nests deeper than {} files (does a file include itself?)", d.name, kMaxIncludeDepth));
+            tokens.fail(at, fmt::format("{} nests deeper than {} files (does a file include itself?)", d.name,
+                                        kMaxIncludeDepth));
         std::error_code error;
         if (!fs::exists(path, error))
-            tokens.fail(at, fmt::format("{}: file \"{}\" not found (looked for {})", d.name, name.string(), path.string()));
+            tokens.fail(at, fmt::format("{}: file \"{}\" not found (looked for {})", d.name, name.string(),
+                                        path.string()));
         // A file may include another many times, and each of those many more: without these
         // bounds a few small files could ask for 10^12 readings.
         if (fileReads_ >= limits::kMaxPbrtFileReads)
@@ -189,7 +218,8 @@ private:
     }
 
     double number(Tokenizer& tokens, const Token& t) {
-        if (t.kind != Token::Kind::Word) tokens.fail(t, fmt::format("expected a number, found {}", describe(t)));
+        if (t.kind != Token::Kind::Word)
+            tokens.fail(t, fmt::format("expected a number, found {}", describe(t)));
         double value = 0.0;
         const char* first = t.text.data();
         const char* last = first + t.text.size();
@@ -208,9 +238,11 @@ private:
 
     void readArguments(Tokenizer& tokens, const DirectiveShape& shape, Directive& d) {
         switch (shape.arguments) {
-            case Arguments::None: return;
+            case Arguments::None:
+                return;
             case Arguments::Numbers:
-                for (int i = 0; i < shape.numberCount; ++i) d.numbers.push_back(number(tokens, tokens.next()));
+                for (int i = 0; i < shape.numberCount; ++i)
+                    d.numbers.push_back(number(tokens, tokens.next()));
                 return;
             case Arguments::Matrix: {
                 const bool bracketed = tokens.peek().kind == Token::Kind::OpenBracket;
@@ -224,21 +256,26 @@ private:
                 if (bracketed) {
                     const Token t = tokens.next();
                     if (t.kind != Token::Kind::CloseBracket)
-                        tokens.fail(t, fmt::format("{} needs 16 numbers and then ']', found {}", d.name, describe(t)));
+                        tokens.fail(t, fmt::format("{} needs 16 numbers and then ']', found {}", d.name,
+                                                   describe(t)));
                 }
                 return;
             }
             case Arguments::Word: {
                 const Token t = tokens.next();
-                if (t.kind != Token::Kind::Word) tokens.fail(t, fmt::format("{} expected a word, found {}", d.name, describe(t)));
+                if (t.kind != Token::Kind::Word)
+                    tokens.fail(t, fmt::format("{} expected a word, found {}", d.name, describe(t)));
                 d.strings.emplace_back(t.text);
                 return;
             }
             case Arguments::String:
-            case Arguments::Include: d.strings.push_back(string(tokens, tokens.next(), "a name")); return;
+            case Arguments::Include:
+                d.strings.push_back(string(tokens, tokens.next(), "a name"));
+                return;
             case Arguments::OneOrTwoStrings:
                 d.strings.push_back(string(tokens, tokens.next(), "a medium name"));
-                if (tokens.peek().kind == Token::Kind::String) d.strings.push_back(tokens.stringValue(tokens.next()));
+                if (tokens.peek().kind == Token::Kind::String)
+                    d.strings.push_back(tokens.stringValue(tokens.next()));
                 return;
             case Arguments::StringParams:
                 d.strings.push_back(string(tokens, tokens.next(), "a type name"));
@@ -246,11 +283,14 @@ private:
                 return;
             case Arguments::ThreeStringsParams:
                 d.strings.push_back(string(tokens, tokens.next(), "a texture name"));
-                d.strings.push_back(string(tokens, tokens.next(), "the texture's type (\"float\" or \"spectrum\")"));
+                d.strings.push_back(
+                    string(tokens, tokens.next(), "the texture's type (\"float\" or \"spectrum\")"));
                 d.strings.push_back(string(tokens, tokens.next(), "the texture's class"));
                 d.parameters = readParameters(tokens);
                 return;
-            case Arguments::Params: d.parameters = readParameters(tokens); return;
+            case Arguments::Params:
+                d.parameters = readParameters(tokens);
+                return;
         }
     }
 
@@ -263,16 +303,21 @@ private:
             Parameter p;
             p.where = tokens.locationOf(declaration);
             const size_t space = text.find_first_of(" \t");
-            const size_t nameStart = space == std::string::npos ? std::string::npos : text.find_first_not_of(" \t", space);
+            const size_t nameStart =
+                space == std::string::npos ? std::string::npos : text.find_first_not_of(" \t", space);
             if (nameStart == std::string::npos || text.find_first_of(" \t", nameStart) != std::string::npos)
-                tokens.fail(declaration, fmt::format("expected a parameter declaration \"TYPE NAME\", found \"{}\"", text));
+                tokens.fail(
+                    declaration,
+                    fmt::format("expected a parameter declaration \"TYPE NAME\", found \"{}\"", text));
             const std::string typeName = text.substr(0, space);
             const std::optional<ParamType> type = paramTypeFromName(typeName);
             if (!type)
-                tokens.fail(declaration, fmt::format("unknown parameter type '{}' in \"{}\" (expected integer, float, point2, "
-                                                     "vector2, point3, vector3, normal, bool, string, texture, rgb, "
-                                                     "blackbody or spectrum)",
-                                                     typeName, text));
+                tokens.fail(
+                    declaration,
+                    fmt::format("unknown parameter type '{}' in \"{}\" (expected integer, float, point2, "
+                                "vector2, point3, vector3, normal, bool, string, texture, rgb, "
+                                "blackbody or spectrum)",
+                                typeName, text));
             p.type = *type;
             p.name = text.substr(nameStart);
             readValues(tokens, declaration, p);
@@ -284,27 +329,36 @@ private:
     void readValue(Tokenizer& tokens, const Token& t, const Token& declaration, Parameter& p) {
         switch (p.type) {
             case ParamType::Bool:
-                if (t.text == "true") p.bools.push_back(1);
-                else if (t.text == "false") p.bools.push_back(0);
-                else tokens.fail(t, fmt::format("parameter \"{}\" expects true or false, found {}", p.declaration(), describe(t)));
+                if (t.text == "true")
+                    p.bools.push_back(1);
+                else if (t.text == "false")
+                    p.bools.push_back(0);
+                else
+                    tokens.fail(t, fmt::format("parameter \"{}\" expects true or false, found {}",
+                                               p.declaration(), describe(t)));
                 return;
             case ParamType::String:
             case ParamType::Texture:
                 if (t.kind != Token::Kind::String)
-                    tokens.fail(t, fmt::format("parameter \"{}\" expects a string in quotes, found {}", p.declaration(), describe(t)));
+                    tokens.fail(t, fmt::format("parameter \"{}\" expects a string in quotes, found {}",
+                                               p.declaration(), describe(t)));
                 p.strings.push_back(tokens.stringValue(t));
                 return;
             case ParamType::Spectrum:
                 // Either (wavelength, value) pairs or the name of a named spectrum or a file.
-                if (t.kind == Token::Kind::String) p.strings.push_back(tokens.stringValue(t));
-                else p.numbers.push_back(number(tokens, t));
+                if (t.kind == Token::Kind::String)
+                    p.strings.push_back(tokens.stringValue(t));
+                else
+                    p.numbers.push_back(number(tokens, t));
                 return;
             default:
                 if (t.kind != Token::Kind::Word)
-                    tokens.fail(t, fmt::format("parameter \"{}\" expects numbers, found {}", p.declaration(), describe(t)));
+                    tokens.fail(t, fmt::format("parameter \"{}\" expects numbers, found {}", p.declaration(),
+                                               describe(t)));
                 p.numbers.push_back(number(tokens, t));
                 if (p.type == ParamType::Integer && p.numbers.back() != std::floor(p.numbers.back()))
-                    tokens.fail(t, fmt::format("parameter \"{}\" expects integers, found '{}'", p.declaration(), t.text));
+                    tokens.fail(t, fmt::format("parameter \"{}\" expects integers, found '{}'",
+                                               p.declaration(), t.text));
                 // pbrt-v4 stores integer parameters as int: beyond its range a value has no meaning
                 // (and would not convert to an integer type exactly).
                 if (p.type == ParamType::Integer && std::abs(p.numbers.back()) > double(INT32_MAX))
@@ -323,9 +377,12 @@ private:
                 // A directive's name inside the brackets: the ']' was forgotten.
                 const bool directive = t.kind == Token::Kind::Word && findDirective(t.text);
                 if (t.kind == Token::Kind::End || t.kind == Token::Kind::OpenBracket || directive)
-                    tokens.fail(t, fmt::format("the values of parameter \"{}\" (opened with '[' at line {}) need a closing ']', "
-                                               "found {}",
-                                               p.declaration(), first.line, describe(t)));
+                    tokens.fail(
+                        t,
+                        fmt::format(
+                            "the values of parameter \"{}\" (opened with '[' at line {}) need a closing ']', "
+                            "found {}",
+                            p.declaration(), first.line, describe(t)));
                 readValue(tokens, t, declaration, p);
             }
         } else if (first.kind == Token::Kind::End || first.kind == Token::Kind::CloseBracket) {
@@ -334,16 +391,19 @@ private:
             readValue(tokens, first, declaration, p);
         }
         const size_t count = p.numbers.size() + p.strings.size() + p.bools.size();
-        if (count == 0) tokens.fail(declaration, fmt::format("parameter \"{}\" has no value", p.declaration()));
+        if (count == 0)
+            tokens.fail(declaration, fmt::format("parameter \"{}\" has no value", p.declaration()));
         const int per = valuesPerElement(p.type);
         if (per > 1 && p.numbers.size() % size_t(per) != 0)
-            tokens.fail(declaration, fmt::format("parameter \"{}\" needs a multiple of {} numbers, found {}", p.declaration(),
-                                                 per, p.numbers.size()));
+            tokens.fail(declaration, fmt::format("parameter \"{}\" needs a multiple of {} numbers, found {}",
+                                                 p.declaration(), per, p.numbers.size()));
         if (p.type == ParamType::Spectrum && !p.strings.empty() && !p.numbers.empty())
-            tokens.fail(declaration, fmt::format("parameter \"{}\" mixes a name and numbers", p.declaration()));
+            tokens.fail(declaration,
+                        fmt::format("parameter \"{}\" mixes a name and numbers", p.declaration()));
         if (p.type == ParamType::Spectrum && p.numbers.size() % 2 != 0)
-            tokens.fail(declaration, fmt::format("parameter \"{}\" needs (wavelength, value) pairs, found {} numbers",
-                                                 p.declaration(), p.numbers.size()));
+            tokens.fail(declaration,
+                        fmt::format("parameter \"{}\" needs (wavelength, value) pairs, found {} numbers",
+                                    p.declaration(), p.numbers.size()));
     }
 
     DirectiveTarget& target_;
@@ -362,7 +422,8 @@ void parseSceneFile(const fs::path& file, DirectiveTarget& target, std::vector<f
     parser.parseFile(file);
 }
 
-void parseSceneText(std::string_view text, const fs::path& file, DirectiveTarget& target, std::vector<fs::path>& filesRead) {
+void parseSceneText(std::string_view text, const fs::path& file, DirectiveTarget& target,
+                    std::vector<fs::path>& filesRead) {
     Parser parser(target, filesRead, file.parent_path());
     parser.parseTextOnce(text, file);
 }

@@ -38,7 +38,8 @@ public:
 // syntax errors, unknown directives, malformed parameter lists and missing Include files, and at
 // the Include or Import that would pass the limits on the files and text one scene may read
 // (core/input_limits.h).
-void parseSceneFile(const std::filesystem::path& file, DirectiveTarget& target, std::vector<std::filesystem::path>& filesRead);
+void parseSceneFile(const std::filesystem::path& file, DirectiveTarget& target,
+                    std::vector<std::filesystem::path>& filesRead);
 
 // The same for scene text in memory; `file` names it in messages and gives the base folder.
 void parseSceneText(std::string_view text, const std::filesystem::path& file, DirectiveTarget& target,

@@ -52,20 +52,23 @@ PbrtConversion convertPbrtText(std::string_view text, const fs::path& file) {
 Scene buildPbrtScene(const PbrtConversion& conversion, const fs::path& file) {
     try {
         Scene scene = buildScene(conversion.document, file);
-        scene.includedFiles.assign(conversion.files.begin() + (conversion.files.empty() ? 0 : 1), conversion.files.end());
+        scene.includedFiles.assign(conversion.files.begin() + (conversion.files.empty() ? 0 : 1),
+                                   conversion.files.end());
         return scene;
     } catch (const InputError& e) {
         const SourceLocation& where = e.where();
         if (where.file == file.string() && !where.jsonPointer.empty()) {
             if (const Origin* origin = originOf(conversion.origins, where.jsonPointer))
-                throw InputError(origin->where, fmt::format("{} (at {} of the scene as penumbra reads it)", e.message(), where.jsonPointer));
+                throw InputError(origin->where, fmt::format("{} (at {} of the scene as penumbra reads it)",
+                                                            e.message(), where.jsonPointer));
         }
         // A mesh file's error names the shape by its pointer: name the directive instead.
         std::string message = e.message();
         const std::string marker = file.string() + ": /shapes/";
         if (const size_t at = message.find(marker); at != std::string::npos) {
             const size_t end = message.find_first_of(")", at);
-            const std::string pointer = message.substr(at + file.string().size() + 2, end - at - file.string().size() - 2);
+            const std::string pointer =
+                message.substr(at + file.string().size() + 2, end - at - file.string().size() - 2);
             if (const Origin* origin = originOf(conversion.origins, pointer))
                 message.replace(at, end - at, "Shape at " + origin->where.describe());
             throw InputError(where, message);

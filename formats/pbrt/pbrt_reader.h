@@ -8,17 +8,17 @@
 #include <string_view>
 #include <vector>
 
+#include "formats/pbrt/scene_builder.h"
 #include "scenes/json_reader.h"
 #include "scenes/scene.h"
-#include "formats/pbrt/scene_builder.h"
 
 namespace penumbra::pbrt {
 
 struct PbrtConversion {
-    Json document;                            // the scene in penumbra's format
-    std::vector<Origin> origins;              // which directive each part comes from
-    std::vector<std::filesystem::path> files; // the scene file and every file it includes
-    std::vector<std::string> warnings;        // one line each, with its count
+    Json document;                             // the scene in penumbra's format
+    std::vector<Origin> origins;               // which directive each part comes from
+    std::vector<std::filesystem::path> files;  // the scene file and every file it includes
+    std::vector<std::string> warnings;         // one line each, with its count
 };
 
 // Reads a .pbrt file and what it includes. Throws InputError at FILE:LINE:COLUMN.

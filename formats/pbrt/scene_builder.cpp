@@ -71,13 +71,16 @@ Json matrixJson(const Matrix4d& m) {
 // A rigid motion key (scale, then rotate, then translate) of an affine matrix without shear;
 // `sheared` is set when the matrix has shear, which such a key cannot hold.
 Json motionKey(const Matrix4d& m, bool& sheared) {
-    Vec3d c[3] = {{m.m[0][0], m.m[1][0], m.m[2][0]}, {m.m[0][1], m.m[1][1], m.m[2][1]}, {m.m[0][2], m.m[1][2], m.m[2][2]}};
+    Vec3d c[3] = {{m.m[0][0], m.m[1][0], m.m[2][0]},
+                  {m.m[0][1], m.m[1][1], m.m[2][1]},
+                  {m.m[0][2], m.m[1][2], m.m[2][2]}};
     Vec3d scale{length(c[0]), length(c[1]), length(c[2])};
     if (m.determinant3() < 0) {  // a mirror: a negative x scale
         scale.x = -scale.x;
     }
     Vec3d r[3] = {c[0] * (1.0 / scale.x), c[1] * (1.0 / scale.y), c[2] * (1.0 / scale.z)};
-    if (std::abs(dot(r[0], r[1])) > 1e-4 || std::abs(dot(r[0], r[2])) > 1e-4 || std::abs(dot(r[1], r[2])) > 1e-4)
+    if (std::abs(dot(r[0], r[1])) > 1e-4 || std::abs(dot(r[0], r[2])) > 1e-4 ||
+        std::abs(dot(r[1], r[2])) > 1e-4)
         sheared = true;
     // Rotation matrix (columns r) to a quaternion, then to axis and angle.
     const double trace = r[0].x + r[1].y + r[2].z;
@@ -105,7 +108,8 @@ Json motionKey(const Matrix4d& m, bool& sheared) {
 
 void requireNumberCount(const Parameter* p, size_t count) {
     if (p && p->numbers.size() != count)
-        failAt(p->where, fmt::format("parameter \"{}\" takes {} numbers, found {}", p->declaration(), count, p->numbers.size()));
+        failAt(p->where, fmt::format("parameter \"{}\" takes {} numbers, found {}", p->declaration(), count,
+                                     p->numbers.size()));
 }
 
 }  // namespace
@@ -140,13 +144,16 @@ void SceneBuilder::directive(Directive&& d) {
         push(d, n == "AttributeBegin");
     } else if (n == "AttributeEnd" || n == "TransformEnd") {
         const bool attributes = n == "AttributeEnd";
-        if (stack_.empty()) failAt(d.where, fmt::format("{} without a matching {}", n, attributes ? "AttributeBegin" : "TransformBegin"));
+        if (stack_.empty())
+            failAt(d.where, fmt::format("{} without a matching {}", n,
+                                        attributes ? "AttributeBegin" : "TransformBegin"));
         if (stack_.back().attributes != attributes)
-            failAt(d.where, fmt::format("{} closes the {} at {}", n, stack_.back().attributes ? "AttributeBegin" : "TransformBegin",
+            failAt(d.where, fmt::format("{} closes the {} at {}", n,
+                                        stack_.back().attributes ? "AttributeBegin" : "TransformBegin",
                                         stack_.back().where.describe()));
         if (currentObject_ && stack_.size() == 1 && attributes)
-            failAt(d.where, fmt::format("AttributeEnd closes the ObjectBegin \"{}\" at {} (use ObjectEnd)", currentObject_->first,
-                                        currentObject_->second.describe()));
+            failAt(d.where, fmt::format("AttributeEnd closes the ObjectBegin \"{}\" at {} (use ObjectEnd)",
+                                        currentObject_->first, currentObject_->second.describe()));
         if (attributes) {
             state_ = stack_.back().state;
         } else {
@@ -226,7 +233,8 @@ void SceneBuilder::transformDirective(const Directive& d) {
     } else if (n == "LookAt") {
         // pbrt's LookAt: a world-to-camera transform of a left-handed camera frame.
         const Vec3d eye{v[0], v[1], v[2]}, look{v[3], v[4], v[5]}, up{v[6], v[7], v[8]};
-        if (!(length(look - eye) > 0.0)) failAt(d.where, "LookAt: the eye and the point looked at are the same");
+        if (!(length(look - eye) > 0.0))
+            failAt(d.where, "LookAt: the eye and the point looked at are the same");
         const Vec3d dir = normalize(look - eye);
         if (!(length(up) > 0.0) || !(length(cross(normalize(up), dir)) > 1e-9))
             failAt(d.where, "LookAt: the up vector is zero or parallel to the viewing direction");
@@ -254,19 +262,26 @@ void SceneBuilder::transformDirective(const Directive& d) {
     } else if (n == "CoordSysTransform") {
         auto it = namedCoordinateSystems_.find(d.strings[0]);
         if (it == namedCoordinateSystems_.end()) {
-            log_.warn(d.where, fmt::format("CoordSysTransform: unknown coordinate system \"{}\"; ignored", d.strings[0]));
+            log_.warn(d.where, fmt::format("CoordSysTransform: unknown coordinate system \"{}\"; ignored",
+                                           d.strings[0]));
             return;
         }
         for (int i = 0; i < 2; ++i)
             if (state_.activeTransforms & (1u << i)) state_.ctm[size_t(i)] = it->second[size_t(i)];
     } else if (n == "ActiveTransform") {
         const std::string& which = d.strings[0];
-        if (which == "StartTime") state_.activeTransforms = 1;
-        else if (which == "EndTime") state_.activeTransforms = 2;
-        else if (which == "All") state_.activeTransforms = 3;
-        else failAt(d.where, fmt::format("ActiveTransform expects StartTime, EndTime or All, found '{}'", which));
+        if (which == "StartTime")
+            state_.activeTransforms = 1;
+        else if (which == "EndTime")
+            state_.activeTransforms = 2;
+        else if (which == "All")
+            state_.activeTransforms = 3;
+        else
+            failAt(d.where,
+                   fmt::format("ActiveTransform expects StartTime, EndTime or All, found '{}'", which));
     } else if (n == "TransformTimes") {
-        if (!(v[1] >= v[0])) failAt(d.where, "TransformTimes: the end time must not be before the start time");
+        if (!(v[1] >= v[0]))
+            failAt(d.where, "TransformTimes: the end time must not be before the start time");
         transformTimes_[0] = v[0];
         transformTimes_[1] = v[1];
     }
@@ -295,7 +310,8 @@ void SceneBuilder::optionDirective(const Directive& d) {
     Json& film = scene_["film"];
     if (n == "Film") {
         if (d.strings[0] != "rgb" && d.strings[0] != "gbuffer" && d.strings[0] != "spectral")
-            log_.warn(d.where, fmt::format("Film \"{}\" is not supported: rendered as an rgb film", d.strings[0]));
+            log_.warn(d.where,
+                      fmt::format("Film \"{}\" is not supported: rendered as an rgb film", d.strings[0]));
         const int64_t w = p.getInt("xresolution").value_or(1280), h = p.getInt("yresolution").value_or(720);
         if (w < 1 || h < 1 || w > 65536 || h > 65536)
             failAt(d.where, fmt::format("Film: resolution {}x{} is outside 1 to 65536 pixels a side", w, h));
@@ -303,8 +319,9 @@ void SceneBuilder::optionDirective(const Directive& d) {
         film["resolution"] = {w, h};
         origins_.push_back({"/film/resolution", d.where});
         if (auto f = p.getString("filename"))
-            log_.warn(p.find("filename", {ParamType::String})->where,
-                      fmt::format("Film filename \"{}\" is not used: penumbra writes the EXR that -o names", *f));
+            log_.warn(
+                p.find("filename", {ParamType::String})->where,
+                fmt::format("Film filename \"{}\" is not used: penumbra writes the EXR that -o names", *f));
         if (const Parameter* crop = p.find("cropwindow", {ParamType::Float})) {
             requireNumberCount(crop, 4);
             const auto& c = crop->numbers;
@@ -335,7 +352,8 @@ void SceneBuilder::optionDirective(const Directive& d) {
             spp = xs * ys;
             p.getBool("jitter");
         }
-        if (spp < 1) failAt(d.where, fmt::format("Sampler: expected at least 1 sample per pixel, found {}", spp));
+        if (spp < 1)
+            failAt(d.where, fmt::format("Sampler: expected at least 1 sample per pixel, found {}", spp));
         film["spp"] = spp;
         origins_.push_back({"/film/spp", d.where});
         // pbrt-v4's seed is any int: a negative one stays distinct from every other seed.
@@ -345,16 +363,24 @@ void SceneBuilder::optionDirective(const Directive& d) {
             scene_["render"]["sampler"] = "independent";
         } else if (type != "stratified") {
             p.getString("randomization");
-            log_.warn(d.where, fmt::format("Sampler \"{}\" is rendered with penumbra's stratified sampler (the same image "
-                                           "in expectation, different noise)",
-                                           type));
+            log_.warn(
+                d.where,
+                fmt::format("Sampler \"{}\" is rendered with penumbra's stratified sampler (the same image "
+                            "in expectation, different noise)",
+                            type));
         }
     } else if (n == "PixelFilter") {
         filterGiven_ = true;
         const std::string& type = d.strings[0];
-        const double defaultRadius = type == "box" ? 0.5 : type == "gaussian" ? 1.5 : type == "sinc" ? 4.0 : 2.0;
-        const double xr = p.getFloat("xradius").value_or(defaultRadius), yr = p.getFloat("yradius").value_or(defaultRadius);
-        if (xr != yr) log_.warn(d.where, fmt::format("PixelFilter: xradius {} and yradius {} differ; both use {}", xr, yr, std::max(xr, yr)));
+        const double defaultRadius = type == "box"        ? 0.5
+                                     : type == "gaussian" ? 1.5
+                                     : type == "sinc"     ? 4.0
+                                                          : 2.0;
+        const double xr = p.getFloat("xradius").value_or(defaultRadius),
+                     yr = p.getFloat("yradius").value_or(defaultRadius);
+        if (xr != yr)
+            log_.warn(d.where, fmt::format("PixelFilter: xradius {} and yradius {} differ; both use {}", xr,
+                                           yr, std::max(xr, yr)));
         double radius = std::max(xr, yr);
         std::string kind = "tent";
         if (type == "box") {
@@ -363,12 +389,15 @@ void SceneBuilder::optionDirective(const Directive& d) {
             // The tent with the Gaussian's standard deviation (a tent of radius r has r / sqrt(6)).
             const double sigma = p.getFloat("sigma").value_or(0.5);
             radius = std::min(radius, sigma * std::sqrt(6.0));
-            log_.warn(d.where, fmt::format("PixelFilter \"gaussian\" is rendered as a tent of the same standard deviation "
-                                           "(radius {:.3g})",
-                                           radius));
+            log_.warn(
+                d.where,
+                fmt::format("PixelFilter \"gaussian\" is rendered as a tent of the same standard deviation "
+                            "(radius {:.3g})",
+                            radius));
         } else if (type != "triangle") {
             p.markAllUsed();
-            log_.warn(d.where, fmt::format("PixelFilter \"{}\" is rendered as a tent of radius {}", type, radius));
+            log_.warn(d.where,
+                      fmt::format("PixelFilter \"{}\" is rendered as a tent of radius {}", type, radius));
         }
         if (!(radius > 0.0)) failAt(d.where, "PixelFilter: the radius must be > 0");
         film["filter"] = Json{{"type", kind}, {"radius", radius}};
@@ -382,19 +411,24 @@ void SceneBuilder::optionDirective(const Directive& d) {
         if (const Parameter* r = p.find("regularize", {ParamType::Bool}))
             log_.warn(r->where, "Integrator \"regularize\" is not supported and was ignored");
         if (type != "path" && type != "volpath")
-            log_.warn(d.where, fmt::format("Integrator \"{}\" is rendered with penumbra's path tracer (next-event estimation "
-                                           "with MIS)",
-                                           type));
+            log_.warn(d.where,
+                      fmt::format(
+                          "Integrator \"{}\" is rendered with penumbra's path tracer (next-event estimation "
+                          "with MIS)",
+                          type));
     } else if (n == "Accelerator") {
         p.markAllUsed();
         log_.warn(d.where, "Accelerator is ignored: penumbra chooses its own (--accel)");
     } else if (n == "ColorSpace") {
         if (d.strings[0] != "srgb")
-            log_.warn(d.where, fmt::format("ColorSpace \"{}\" is not supported: colours are read as sRGB (Rec.709)", d.strings[0]));
+            log_.warn(d.where,
+                      fmt::format("ColorSpace \"{}\" is not supported: colours are read as sRGB (Rec.709)",
+                                  d.strings[0]));
     } else if (n == "Option") {
         p.markAllUsed();
         for (const Parameter& option : p.parameters())
-            log_.warn(option.where, fmt::format("Option \"{}\" is not supported and was ignored", option.declaration()));
+            log_.warn(option.where,
+                      fmt::format("Option \"{}\" is not supported and was ignored", option.declaration()));
     }
     p.reportUnused(log_, fmt::format("{} \"{}\"", n, d.strings.empty() ? "" : d.strings[0]));
 }
@@ -404,7 +438,8 @@ void SceneBuilder::finishCamera(Json& scene) {
     const SourceLocation& where = camera_.where;
     if (camera_.type != "perspective") {
         p.markAllUsed();
-        log_.warn(where, fmt::format("Camera \"{}\" is not supported: rendered as a perspective camera", camera_.type));
+        log_.warn(where, fmt::format("Camera \"{}\" is not supported: rendered as a perspective camera",
+                                     camera_.type));
     }
     std::array<Matrix4d, 2> worldFromCamera;
     for (size_t i = 0; i < 2; ++i) worldFromCamera[i] = *camera_.cameraFromWorld[i].inverse();
@@ -439,23 +474,31 @@ void SceneBuilder::finishCamera(Json& scene) {
 
     // fov is the shorter image axis's; penumbra's is the vertical one.
     const double fov = p.getFloat("fov").value_or(90.0);
-    if (!(fov > 0.0 && fov < 180.0)) failAt(where, fmt::format("Camera: fov must be between 0 and 180 degrees, found {}", fov));
+    if (!(fov > 0.0 && fov < 180.0))
+        failAt(where, fmt::format("Camera: fov must be between 0 and 180 degrees, found {}", fov));
     const double aspect = double(filmWidth_) / double(filmHeight_);
     double frame = aspect;
     if (auto f = p.getFloat("frameaspectratio")) {
         frame = *f;
         if (std::abs(frame - aspect) > 1e-3 * aspect)
-            log_.warn(where, fmt::format("Camera frameaspectratio {} differs from the film's {}: the film's is used", frame, aspect));
+            log_.warn(where,
+                      fmt::format("Camera frameaspectratio {} differs from the film's {}: the film's is used",
+                                  frame, aspect));
         frame = aspect;
     }
     double halfHeight = frame >= 1.0 ? 1.0 : 1.0 / frame;  // the screen window's, in units of tan(fov / 2)
     if (const Parameter* window = p.find("screenwindow", {ParamType::Float})) {
         requireNumberCount(window, 4);
         const auto& s = window->numbers;
-        const bool centred = std::abs(s[0] + s[1]) <= 1e-6 * std::abs(s[1]) && std::abs(s[2] + s[3]) <= 1e-6 * std::abs(s[3]);
+        const bool centred =
+            std::abs(s[0] + s[1]) <= 1e-6 * std::abs(s[1]) && std::abs(s[2] + s[3]) <= 1e-6 * std::abs(s[3]);
         const bool matching = s[3] > 0.0 && std::abs(s[1] / s[3] - aspect) <= 1e-3 * aspect;
-        if (centred && matching) halfHeight = s[3];
-        else log_.warn(window->where, "Camera screenwindow that is off-centre or of another aspect ratio is not supported: the default one is used");
+        if (centred && matching)
+            halfHeight = s[3];
+        else
+            log_.warn(window->where,
+                      "Camera screenwindow that is off-centre or of another aspect ratio is not supported: "
+                      "the default one is used");
     }
     const double verticalFov = 2.0 * std::atan(std::tan(fov / 2.0 / kDegrees) * halfHeight) * kDegrees;
     camera["fov"] = verticalFov;
@@ -467,7 +510,8 @@ void SceneBuilder::finishCamera(Json& scene) {
         camera["aperture_radius"] = lensRadius;
         camera["focus_distance"] = focus;
     }
-    const double open = p.getFloat("shutteropen").value_or(0.0), close = p.getFloat("shutterclose").value_or(1.0);
+    const double open = p.getFloat("shutteropen").value_or(0.0),
+                 close = p.getFloat("shutterclose").value_or(1.0);
     if (close < open) failAt(where, "Camera: shutterclose must not be before shutteropen");
     if (!(camera_.cameraFromWorld[0] == camera_.cameraFromWorld[1])) {
         Json second = Json::object();
@@ -482,7 +526,8 @@ void SceneBuilder::finishCamera(Json& scene) {
     p.reportUnused(log_, fmt::format("Camera \"{}\"", camera_.type));
     if (!filterGiven_)
         log_.warn({mainFile_.string(), 0, 0, {}},
-                  "no PixelFilter: pbrt-v4's default Gaussian filter is rendered as a tent of the same standard deviation "
+                  "no PixelFilter: pbrt-v4's default Gaussian filter is rendered as a tent of the same "
+                  "standard deviation "
                   "(radius 1.22)");
     if (!filterGiven_) scene_["film"]["filter"] = Json{{"type", "tent"}, {"radius", 0.5 * std::sqrt(6.0)}};
 }
@@ -506,7 +551,8 @@ void SceneBuilder::materialDirective(const Directive& d) {
     }
     if (n == "NamedMaterial") {
         auto it = namedMaterials_.find(d.strings[0]);
-        if (it == namedMaterials_.end()) failAt(d.where, fmt::format("NamedMaterial: no material named \"{}\"", d.strings[0]));
+        if (it == namedMaterials_.end())
+            failAt(d.where, fmt::format("NamedMaterial: no material named \"{}\"", d.strings[0]));
         state_.material = it->second;
         return;
     }
@@ -516,29 +562,37 @@ void SceneBuilder::materialDirective(const Directive& d) {
         name = fmt::format("Material at {}", d.where.describe());
     } else {
         name = d.strings[0];
-        if (namedMaterials_.count(name)) failAt(d.where, fmt::format("MakeNamedMaterial: \"{}\" is defined twice", name));
+        if (namedMaterials_.count(name))
+            failAt(d.where, fmt::format("MakeNamedMaterial: \"{}\" is defined twice", name));
         const auto t = p.getString("type");
-        if (!t) failAt(d.where, fmt::format("MakeNamedMaterial \"{}\" needs a \"string type\" parameter", name));
+        if (!t)
+            failAt(d.where, fmt::format("MakeNamedMaterial \"{}\" needs a \"string type\" parameter", name));
         type = *t;
     }
     std::string jsonName = unusedName("materials", name);
     if (type == "mix") {
         // No mixed materials yet: the one of the two with the larger weight.
         const Parameter* materials = p.find("materials", {ParamType::String});
-        if (!materials || materials->strings.size() != 2) failAt(d.where, "mix needs \"string materials\" with two names");
+        if (!materials || materials->strings.size() != 2)
+            failAt(d.where, "mix needs \"string materials\" with two names");
         const double amount = readScalar(p, "amount", 0.5, textures_, log_);
         const std::string& chosen = materials->strings[amount <= 0.5 ? 0 : 1];
         auto it = namedMaterials_.find(chosen);
-        if (it == namedMaterials_.end()) failAt(materials->where, fmt::format("mix: no material named \"{}\"", chosen));
+        if (it == namedMaterials_.end())
+            failAt(materials->where, fmt::format("mix: no material named \"{}\"", chosen));
         jsonName = it->second;
-        log_.warn(d.where, "mix materials are not supported yet: rendered as the one of the two with the larger weight");
+        log_.warn(
+            d.where,
+            "mix materials are not supported yet: rendered as the one of the two with the larger weight");
     } else {
         scene_["materials"][jsonName] = mapMaterial(type, p, textures_, d.where, log_);
         origins_.push_back({"/materials/" + escapeJsonPointerToken(jsonName), d.where});
     }
     p.reportUnused(log_, fmt::format("material \"{}\"", type));
-    if (n == "Material") state_.material = jsonName;
-    else namedMaterials_[name] = jsonName;
+    if (n == "Material")
+        state_.material = jsonName;
+    else
+        namedMaterials_[name] = jsonName;
 }
 
 void SceneBuilder::areaLightSource(const Directive& d) {
@@ -546,14 +600,18 @@ void SceneBuilder::areaLightSource(const Directive& d) {
     const ParameterList& p = d.parameters;
     if (d.strings[0] != "diffuse") {
         p.markAllUsed();
-        log_.warn(d.where, fmt::format("AreaLightSource \"{}\" is not supported (only \"diffuse\"): the shapes do not emit", d.strings[0]));
+        log_.warn(
+            d.where,
+            fmt::format("AreaLightSource \"{}\" is not supported (only \"diffuse\"): the shapes do not emit",
+                        d.strings[0]));
         state_.areaLight.reset();
         return;
     }
     Rgb radiance = readColor(p, "L", Rgb(1.0f), SpectrumUse::Emission, textures_, log_);
     radiance *= float(p.getFloat("scale").value_or(1.0));
     if (const Parameter* f = p.find("filename", {ParamType::String})) {
-        log_.warn(f->where, "image area lights are not supported: the light emits its L (times scale) instead");
+        log_.warn(f->where,
+                  "image area lights are not supported: the light emits its L (times scale) instead");
     }
     if (const Parameter* power = p.find("power", {ParamType::Float}))
         log_.warn(power->where, "area light \"power\" is not supported: the light emits its L (times scale)");
@@ -573,18 +631,24 @@ void SceneBuilder::lightSource(const Directive& d) {
         // pbrt-v4 scales by power / (4 pi) without dividing by the RGB's own luminance.
         if (auto power = p.getFloat("power"); power && *power > 0.0) intensity *= float(*power / (4.0 * kPi));
         const Vec3d from = p.getPoint3("from").value_or(Vec3d{0, 0, 0});
-        light = Json{{"type", "point"}, {"position", vec3Json(world.applyPoint(from))}, {"intensity", rgbJson(intensity)}};
+        light = Json{{"type", "point"},
+                     {"position", vec3Json(world.applyPoint(from))},
+                     {"intensity", rgbJson(intensity)}};
     } else if (type == "spot") {
         Rgb intensity = readColor(p, "I", Rgb(1.0f), SpectrumUse::Emission, textures_, log_) * scale;
-        const Vec3d from = p.getPoint3("from").value_or(Vec3d{0, 0, 0}), to = p.getPoint3("to").value_or(Vec3d{0, 0, 1});
-        const double coneAngle = p.getFloat("coneangle").value_or(30.0), coneDelta = p.getFloat("conedelta").value_or(5.0);
-        if (!(coneAngle > 0.0 && coneAngle <= 180.0)) failAt(d.where, "spot light: \"coneangle\" must be in (0, 180] degrees");
+        const Vec3d from = p.getPoint3("from").value_or(Vec3d{0, 0, 0}),
+                    to = p.getPoint3("to").value_or(Vec3d{0, 0, 1});
+        const double coneAngle = p.getFloat("coneangle").value_or(30.0),
+                     coneDelta = p.getFloat("conedelta").value_or(5.0);
+        if (!(coneAngle > 0.0 && coneAngle <= 180.0))
+            failAt(d.where, "spot light: \"coneangle\" must be in (0, 180] degrees");
         if (!(coneDelta >= 0.0 && coneDelta <= coneAngle))
             failAt(d.where, "spot light: \"conedelta\" must be from 0 to \"coneangle\" degrees");
         // pbrt-v4's SpotLight::Create: power / (2 pi ((1 - cosStart) + (cosStart - cosEnd) / 2)),
         // without dividing by the RGB's own luminance (as for point lights).
         if (auto power = p.getFloat("power"); power && *power > 0.0) {
-            const double cosEnd = std::cos(coneAngle * kPi / 180.0), cosStart = std::cos((coneAngle - coneDelta) * kPi / 180.0);
+            const double cosEnd = std::cos(coneAngle * kPi / 180.0),
+                         cosStart = std::cos((coneAngle - coneDelta) * kPi / 180.0);
             intensity *= float(*power / (2.0 * kPi * ((1.0 - cosStart) + (cosStart - cosEnd) / 2.0)));
         }
         const Vec3d direction = world.applyVector(to - from);
@@ -598,14 +662,18 @@ void SceneBuilder::lightSource(const Directive& d) {
     } else if (type == "distant") {
         Rgb irradiance = readColor(p, "L", Rgb(1.0f), SpectrumUse::Emission, textures_, log_) * scale;
         if (auto e = p.getFloat("illuminance"); e && *e > 0.0) irradiance *= float(*e);
-        const Vec3d from = p.getPoint3("from").value_or(Vec3d{0, 0, 0}), to = p.getPoint3("to").value_or(Vec3d{0, 0, 1});
+        const Vec3d from = p.getPoint3("from").value_or(Vec3d{0, 0, 0}),
+                    to = p.getPoint3("to").value_or(Vec3d{0, 0, 1});
         const Vec3d direction = world.applyVector(to - from);
         if (!(length(direction) > 0.0)) failAt(d.where, "distant light: from and to must differ");
-        light = Json{{"type", "directional"}, {"direction", vec3Json(normalize(direction))}, {"irradiance", rgbJson(irradiance)}};
+        light = Json{{"type", "directional"},
+                     {"direction", vec3Json(normalize(direction))},
+                     {"irradiance", rgbJson(irradiance)}};
     } else if (type == "infinite") {
         if (const Parameter* f = p.find("filename", {ParamType::String})) {
             if (const Parameter* l = p.find("L", {ParamType::Rgb, ParamType::Spectrum, ParamType::Blackbody}))
-                failAt(l->where, "LightSource \"infinite\": give either \"L\" or \"filename\", not both (as pbrt-v4)");
+                failAt(l->where,
+                       "LightSource \"infinite\": give either \"L\" or \"filename\", not both (as pbrt-v4)");
             imageEnvironment(*f, scale, d.where);
         } else {
             Rgb radiance = readColor(p, "L", Rgb(1.0f), SpectrumUse::Emission, textures_, log_) * scale;
@@ -627,7 +695,9 @@ void SceneBuilder::lightSource(const Directive& d) {
 
 void SceneBuilder::addBackground(Rgb radiance, const SourceLocation& where) {
     if (scene_.contains("environment")) {
-        log_.warn(where, "a constant infinite light besides an image one is left out (penumbra has one environment)");
+        log_.warn(
+            where,
+            "a constant infinite light besides an image one is left out (penumbra has one environment)");
         return;
     }
     Rgb background = radiance;
@@ -639,12 +709,14 @@ void SceneBuilder::addBackground(Rgb radiance, const SourceLocation& where) {
 }
 
 void SceneBuilder::imageEnvironment(const Parameter& filename, float scale, const SourceLocation& where) {
-    if (filename.strings.size() != 1) failAt(filename.where, "parameter \"string filename\" takes one file name");
+    if (filename.strings.size() != 1)
+        failAt(filename.where, "parameter \"string filename\" takes one file name");
     const std::string& file = filename.strings[0];
     const fs::path path = fs::path(file).is_absolute() ? fs::path(file) : folder_ / file;
     std::error_code error;
     if (!fs::is_regular_file(path, error))
-        failAt(filename.where, fmt::format("LightSource \"infinite\": image \"{}\" not found (looked for {})", file, path.string()));
+        failAt(filename.where, fmt::format("LightSource \"infinite\": image \"{}\" not found (looked for {})",
+                                           file, path.string()));
     const LinearRgbImage image = readLinearRgbImage(path, filename.where);
     // Square: pbrt-v4's own maps (the only ones it takes), equal-area octahedral; otherwise
     // latitude-longitude (pbrt-v3's maps).
@@ -654,7 +726,9 @@ void SceneBuilder::imageEnvironment(const Parameter& filename, float scale, cons
         return;
     }
     if (scene_.contains("background")) {
-        log_.warn(where, "constant infinite lights besides an image one are left out (penumbra has one environment)");
+        log_.warn(
+            where,
+            "constant infinite lights besides an image one are left out (penumbra has one environment)");
         scene_.erase("background");
     }
     // pbrt's direction in the light's space is R times penumbra's in its light frame:
@@ -680,10 +754,14 @@ void SceneBuilder::imageEnvironment(const Parameter& filename, float scale, cons
         lengths[j] = length(c[j]);
         c[j] = normalize(c[j]);
     }
-    const bool uniform = std::abs(lengths[0] - lengths[1]) <= 1e-4 * lengths[0] && std::abs(lengths[0] - lengths[2]) <= 1e-4 * lengths[0];
-    if (!uniform || std::abs(dot(c[0], c[1])) > 1e-4 || std::abs(dot(c[0], c[2])) > 1e-4 || std::abs(dot(c[1], c[2])) > 1e-4)
-        failAt(where, "LightSource \"infinite\": the transform of an image light must rotate (and may mirror and scale "
-                      "uniformly), not shear or scale unevenly");
+    const bool uniform = std::abs(lengths[0] - lengths[1]) <= 1e-4 * lengths[0] &&
+                         std::abs(lengths[0] - lengths[2]) <= 1e-4 * lengths[0];
+    if (!uniform || std::abs(dot(c[0], c[1])) > 1e-4 || std::abs(dot(c[0], c[2])) > 1e-4 ||
+        std::abs(dot(c[1], c[2])) > 1e-4)
+        failAt(
+            where,
+            "LightSource \"infinite\": the transform of an image light must rotate (and may mirror and scale "
+            "uniformly), not shear or scale unevenly");
     const bool mirrored = m.determinant3() < 0.0;
     if (mirrored) c[0] = c[0] * -1.0;  // penumbra's "mirror" reflects the light's x before the rotation
     Matrix4d rotation = Matrix4d::identity();
@@ -703,9 +781,10 @@ void SceneBuilder::objectDirective(const Directive& d) {
     requireWorld(d, true);
     if (d.name == "ObjectBegin") {
         if (currentObject_)
-            failAt(d.where, fmt::format("ObjectBegin inside the definition of \"{}\" (started at {})", currentObject_->first,
-                                        currentObject_->second.describe()));
-        if (objects_.count(d.strings[0])) failAt(d.where, fmt::format("ObjectBegin: object \"{}\" is defined twice", d.strings[0]));
+            failAt(d.where, fmt::format("ObjectBegin inside the definition of \"{}\" (started at {})",
+                                        currentObject_->first, currentObject_->second.describe()));
+        if (objects_.count(d.strings[0]))
+            failAt(d.where, fmt::format("ObjectBegin: object \"{}\" is defined twice", d.strings[0]));
         push(d, true);  // ObjectBegin opens attributes, as in pbrt-v4
         currentObject_ = {d.strings[0], d.where};
         objects_[d.strings[0]];
@@ -713,21 +792,24 @@ void SceneBuilder::objectDirective(const Directive& d) {
         if (!currentObject_) failAt(d.where, "ObjectEnd without a matching ObjectBegin");
         if (stack_.empty() || stack_.back().where.line != currentObject_->second.line ||
             stack_.back().where.file != currentObject_->second.file)
-            failAt(d.where, fmt::format("ObjectEnd while the AttributeBegin at {} is open", stack_.back().where.describe()));
+            failAt(d.where, fmt::format("ObjectEnd while the AttributeBegin at {} is open",
+                                        stack_.back().where.describe()));
         state_ = stack_.back().state;
         stack_.pop_back();
         currentObject_.reset();
     } else {
         if (currentObject_) failAt(d.where, "ObjectInstance inside an object definition");
         auto it = objects_.find(d.strings[0]);
-        if (it == objects_.end()) failAt(d.where, fmt::format("ObjectInstance: no object named \"{}\"", d.strings[0]));
+        if (it == objects_.end())
+            failAt(d.where, fmt::format("ObjectInstance: no object named \"{}\"", d.strings[0]));
         instantiate(it->first, state_.ctm, d.where);
     }
 }
 
 std::string SceneBuilder::copyReason(const ShapeRecord& shape) const {
     if (shape.type == "sphere") return "spheres (penumbra's prototypes are meshes)";
-    if (shape.state.areaLight && !shape.state.areaLight->radiance.isBlack()) return "area lights (instances do not emit)";
+    if (shape.state.areaLight && !shape.state.areaLight->radiance.isBlack())
+        return "area lights (instances do not emit)";
     if (!(shape.state.ctm[0] == shape.state.ctm[1])) return "shapes that move inside the object definition";
     return {};
 }
@@ -771,11 +853,13 @@ void SceneBuilder::instantiate(const std::string& object, const std::array<Matri
             // The prototype: the shape in the object's space (its own transform baked in).
             std::string name;
             if (copyReason(shape).empty()) {
-                if (std::optional<Json> geometry = shapeGeometry(shape, shape.state.ctm[0].determinant3() < 0.0)) {
+                if (std::optional<Json> geometry =
+                        shapeGeometry(shape, shape.state.ctm[0].determinant3() < 0.0)) {
                     name = unusedName("prototypes",
                                       shapes.size() == 1 ? object : fmt::format("{}/{}", object, i));
                     if (!(shape.state.ctm[0] == Matrix4d::identity()))
-                        (*geometry)["transform"] = Json::array({Json{{"matrix", matrixJson(shape.state.ctm[0])}}});
+                        (*geometry)["transform"] =
+                            Json::array({Json{{"matrix", matrixJson(shape.state.ctm[0])}}});
                     origins_.push_back({"/prototypes/" + escapeJsonPointerToken(name), shape.where});
                     scene_["prototypes"][name] = std::move(*geometry);
                 }
@@ -796,18 +880,24 @@ void SceneBuilder::instantiate(const std::string& object, const std::array<Matri
     }
 }
 
-void SceneBuilder::addPlacement(Json& shape, const std::array<Matrix4d, 2>& ctm, const SourceLocation& where) {
+void SceneBuilder::addPlacement(Json& shape, const std::array<Matrix4d, 2>& ctm,
+                                const SourceLocation& where) {
     if (ctm[0] == ctm[1]) {
         const Matrix4d world = toWorld(ctm[0]);
-        if (!(world == Matrix4d::identity())) shape["transform"] = Json::array({Json{{"matrix", matrixJson(world)}}});
+        if (!(world == Matrix4d::identity()))
+            shape["transform"] = Json::array({Json{{"matrix", matrixJson(world)}}});
         return;
     }
     bool sheared = false;
-    shape["motion"] = Json{{"transforms", Json::array({motionKey(toWorld(ctm[0]), sheared), motionKey(toWorld(ctm[1]), sheared)})}};
+    shape["motion"] =
+        Json{{"transforms",
+              Json::array({motionKey(toWorld(ctm[0]), sheared), motionKey(toWorld(ctm[1]), sheared)})}};
     if (sheared) log_.warn(where, "a moving transform with shear is rendered without the shear");
     const Json& shutter = scene_["camera"]["shutter"];
     if (shutter[0].get<double>() != transformTimes_[0] || shutter[1].get<double>() != transformTimes_[1])
-        log_.warn(where, "TransformTimes differ from the camera's shutter: penumbra spreads motion keys over the shutter");
+        log_.warn(
+            where,
+            "TransformTimes differ from the camera's shutter: penumbra spreads motion keys over the shutter");
 }
 
 void SceneBuilder::addShape(const ShapeRecord& record, const std::array<Matrix4d, 2>* worldFromInstance) {
@@ -840,29 +930,35 @@ std::optional<Json> SceneBuilder::shapeGeometry(const ShapeRecord& record, bool 
         const size_t corners = bilinear ? 4 : 3;
         if (indices.empty()) {
             if (positions.size() != corners)
-                failAt(where, fmt::format("{} needs \"integer indices\" unless it has exactly {} vertices", type, corners));
+                failAt(where, fmt::format("{} needs \"integer indices\" unless it has exactly {} vertices",
+                                          type, corners));
             for (size_t i = 0; i < corners; ++i) indices.push_back(int64_t(i));
         }
         const Parameter* indexParam = p.find("indices", {ParamType::Integer});
         const SourceLocation& indexPlace = indexParam ? indexParam->where : where;
         if (indices.size() % corners != 0)
-            failAt(indexPlace, fmt::format("{}: the number of indices ({}) is not a multiple of {}", type, indices.size(), corners));
+            failAt(indexPlace, fmt::format("{}: the number of indices ({}) is not a multiple of {}", type,
+                                           indices.size(), corners));
         for (int64_t i : indices)
             if (i < 0 || uint64_t(i) >= positions.size())
-                failAt(indexPlace, fmt::format("{}: index {} is out of range: the mesh has {} vertices (counting from 0)", type,
-                                               i, positions.size()));
+                failAt(indexPlace,
+                       fmt::format("{}: index {} is out of range: the mesh has {} vertices (counting from 0)",
+                                   type, i, positions.size()));
         const std::vector<Vec3d> normals = p.getNormals("N");
         if (!normals.empty() && normals.size() != positions.size())
             failAt(p.find("N", {ParamType::Normal})->where,
-                   fmt::format("{}: {} normals for {} vertices (one per vertex expected)", type, normals.size(), positions.size()));
+                   fmt::format("{}: {} normals for {} vertices (one per vertex expected)", type,
+                               normals.size(), positions.size()));
         const std::vector<Vec2d> uvs = p.getPoint2s(p.has("uv") ? "uv" : "st");
         if (!uvs.empty() && uvs.size() != positions.size())
-            failAt(where, fmt::format("{}: {} uvs for {} vertices (one per vertex expected)", type, uvs.size(), positions.size()));
+            failAt(where, fmt::format("{}: {} uvs for {} vertices (one per vertex expected)", type,
+                                      uvs.size(), positions.size()));
         // Triangles: a bilinear patch (p00, p10, p01, p11) becomes (p00, p10, p11) and (p00, p11, p01).
         std::vector<int64_t> triangles;
         if (bilinear) {
             for (size_t i = 0; i < indices.size(); i += 4)
-                triangles.insert(triangles.end(), {indices[i], indices[i + 1], indices[i + 3], indices[i], indices[i + 3], indices[i + 2]});
+                triangles.insert(triangles.end(), {indices[i], indices[i + 1], indices[i + 3], indices[i],
+                                                   indices[i + 3], indices[i + 2]});
             log_.warn(where, "bilinear patches are rendered as two triangles each (exact for flat patches)");
         } else {
             triangles = std::move(indices);
@@ -876,7 +972,8 @@ std::optional<Json> SceneBuilder::shapeGeometry(const ShapeRecord& record, bool 
             const Vec3d front = cross(p1 - p0, p2 - p0);
             bool flip = reverse;
             if (!normals.empty()) {
-                const Vec3d n = normals[size_t(triangles[t])] + normals[size_t(triangles[t + 1])] + normals[size_t(triangles[t + 2])];
+                const Vec3d n = normals[size_t(triangles[t])] + normals[size_t(triangles[t + 1])] +
+                                normals[size_t(triangles[t + 2])];
                 flip = (dot(front, n) < 0.0) != reverse;
             }
             if (flip) {
@@ -893,7 +990,9 @@ std::optional<Json> SceneBuilder::shapeGeometry(const ShapeRecord& record, bool 
         if (!normals.empty()) {
             Json jn = Json::array();
             for (const Vec3d& v : normals) {
-                if (!(length(v) > 0.0)) failAt(p.find("N", {ParamType::Normal})->where, fmt::format("{}: a normal is zero", type));
+                if (!(length(v) > 0.0))
+                    failAt(p.find("N", {ParamType::Normal})->where,
+                           fmt::format("{}: a normal is zero", type));
                 jn.push_back(vec3Json(v));
             }
             shape["normals"] = std::move(jn);
@@ -919,7 +1018,9 @@ std::optional<Json> SceneBuilder::shapeGeometry(const ShapeRecord& record, bool 
         shape["type"] = "mesh_file";
         shape["file"] = *file;
         if (reverse)
-            log_.warn(where, "ReverseOrientation on a plymesh is not supported: its faces keep the winding of the file");
+            log_.warn(
+                where,
+                "ReverseOrientation on a plymesh is not supported: its faces keep the winding of the file");
         if (p.has("displacement")) log_.warn(where, "plymesh displacement is not supported");
         p.markAllUsed();
     } else if (type == "sphere") {
@@ -928,10 +1029,14 @@ std::optional<Json> SceneBuilder::shapeGeometry(const ShapeRecord& record, bool 
         const double zmin = p.getFloat("zmin").value_or(-radius), zmax = p.getFloat("zmax").value_or(radius);
         const double phimax = p.getFloat("phimax").value_or(360.0);
         if (zmin > -radius || zmax < radius || phimax < 360.0)
-            failAt(where, "partial spheres (zmin, zmax, phimax) are not supported: penumbra renders whole spheres only");
+            failAt(where,
+                   "partial spheres (zmin, zmax, phimax) are not supported: penumbra renders whole spheres "
+                   "only");
         if (reverse != swaps)
-            log_.warn(where, "a sphere whose normals face inward (ReverseOrientation or a mirroring transform) is rendered "
-                             "facing outward");
+            log_.warn(where,
+                      "a sphere whose normals face inward (ReverseOrientation or a mirroring transform) is "
+                      "rendered "
+                      "facing outward");
         shape["type"] = "sphere";
         shape["center"] = Json::array({0.0, 0.0, 0.0});
         shape["radius"] = radius;
@@ -941,7 +1046,9 @@ std::optional<Json> SceneBuilder::shapeGeometry(const ShapeRecord& record, bool 
         if (const double inner = p.getFloat("innerradius").value_or(0.0); inner < 0.0)
             failAt(where, fmt::format("disk: the inner radius must be >= 0, found {}", inner));
         if (p.getFloat("innerradius").value_or(0.0) > 0.0 || p.getFloat("phimax").value_or(360.0) < 360.0)
-            failAt(where, "partial disks (innerradius, phimax) are not supported: penumbra renders whole disks only");
+            failAt(
+                where,
+                "partial disks (innerradius, phimax) are not supported: penumbra renders whole disks only");
         shape["type"] = "disk";
         shape["center"] = Json::array({0.0, 0.0, height});
         // pbrt's disk faces +z, flipped by ReverseOrientation and by a mirroring transform.
@@ -960,9 +1067,12 @@ std::optional<Json> SceneBuilder::shapeGeometry(const ShapeRecord& record, bool 
 
 Json SceneBuilder::finish() {
     if (currentObject_)
-        failAt(currentObject_->second, fmt::format("ObjectBegin \"{}\" is never closed by ObjectEnd", currentObject_->first));
+        failAt(currentObject_->second,
+               fmt::format("ObjectBegin \"{}\" is never closed by ObjectEnd", currentObject_->first));
     if (!stack_.empty())
-        failAt(stack_.back().where, fmt::format("{} is never closed", stack_.back().attributes ? "AttributeBegin" : "TransformBegin"));
+        failAt(stack_.back().where,
+               fmt::format("{} is never closed",
+                           stack_.back().attributes ? "AttributeBegin" : "TransformBegin"));
     if (!inWorld_) finishCamera(scene_);
     return std::move(scene_);
 }

@@ -54,8 +54,9 @@ private:
         SourceLocation where;
     };
     struct GraphicsState {
-        std::array<Matrix4d, 2> ctm = {Matrix4d::identity(), Matrix4d::identity()};  // at the start and end time
-        unsigned activeTransforms = 3;                                   // bit 0: start, bit 1: end
+        std::array<Matrix4d, 2> ctm = {Matrix4d::identity(),
+                                       Matrix4d::identity()};  // at the start and end time
+        unsigned activeTransforms = 3;                         // bit 0: start, bit 1: end
         bool reverseOrientation = false;
         std::string material;  // the JSON name of the current material; empty: pbrt's default
         std::optional<AreaLight> areaLight;

@@ -79,7 +79,8 @@ Rgb emissionSpectrumRgb(const std::vector<double>& pairs) {
 
 Rgb reflectanceSpectrumRgb(const std::vector<double>& pairs) {
     constexpr double kWhite = 6504.0;
-    const Rgb lit = xyzToRgb(integrateXyz([&](double l) { return piecewiseLinear(pairs, l) * planck(l, kWhite); }));
+    const Rgb lit =
+        xyzToRgb(integrateXyz([&](double l) { return piecewiseLinear(pairs, l) * planck(l, kWhite); }));
     const Rgb white = xyzToRgb(integrateXyz([&](double l) { return planck(l, kWhite); }));
     return {lit.r / white.r, lit.g / white.g, lit.b / white.b};
 }
@@ -90,12 +91,19 @@ std::optional<Rgb> namedSpectrumRgb(std::string_view name) {
         Rgb rgb;
     };
     static const std::array<Named, 13> kNamed{{
-        {"metal-Cu-eta", {0.200438f, 0.924033f, 1.102212f}}, {"metal-Cu-k", {3.912949f, 2.452848f, 2.142188f}},
-        {"metal-Au-eta", {0.143119f, 0.374957f, 1.442479f}}, {"metal-Au-k", {3.983160f, 2.385721f, 1.603215f}},
-        {"metal-Ag-eta", {0.155265f, 0.116723f, 0.138342f}}, {"metal-Ag-k", {4.828180f, 3.122250f, 2.146960f}},
-        {"metal-Al-eta", {1.657460f, 0.880369f, 0.521229f}}, {"metal-Al-k", {9.223869f, 6.269523f, 4.837001f}},
-        {"glass-BK7", Rgb(1.5168f)}, {"glass-BAF10", Rgb(1.6700f)}, {"glass-FK51A", Rgb(1.4866f)},
-        {"glass-LASF9", Rgb(1.8503f)}, {"glass-F5", Rgb(1.6034f)},
+        {"metal-Cu-eta", {0.200438f, 0.924033f, 1.102212f}},
+        {"metal-Cu-k", {3.912949f, 2.452848f, 2.142188f}},
+        {"metal-Au-eta", {0.143119f, 0.374957f, 1.442479f}},
+        {"metal-Au-k", {3.983160f, 2.385721f, 1.603215f}},
+        {"metal-Ag-eta", {0.155265f, 0.116723f, 0.138342f}},
+        {"metal-Ag-k", {4.828180f, 3.122250f, 2.146960f}},
+        {"metal-Al-eta", {1.657460f, 0.880369f, 0.521229f}},
+        {"metal-Al-k", {9.223869f, 6.269523f, 4.837001f}},
+        {"glass-BK7", Rgb(1.5168f)},
+        {"glass-BAF10", Rgb(1.6700f)},
+        {"glass-FK51A", Rgb(1.4866f)},
+        {"glass-LASF9", Rgb(1.8503f)},
+        {"glass-F5", Rgb(1.6034f)},
     }};
     for (const Named& n : kNamed)
         if (n.name == name) return n.rgb;

@@ -95,15 +95,32 @@ std::string Tokenizer::stringValue(const Token& token) const {
         char c = token.text[i];
         if (c == '\\' && i + 1 < token.text.size()) {
             switch (token.text[++i]) {
-                case 'b': c = '\b'; break;
-                case 'f': c = '\f'; break;
-                case 'n': c = '\n'; break;
-                case 'r': c = '\r'; break;
-                case 't': c = '\t'; break;
-                case '\\': c = '\\'; break;
-                case '\'': c = '\''; break;
-                case '"': c = '"'; break;
-                default: fail(token, fmt::format("unknown escape sequence \\{} in a string", token.text[i]));
+                case 'b':
+                    c = '\b';
+                    break;
+                case 'f':
+                    c = '\f';
+                    break;
+                case 'n':
+                    c = '\n';
+                    break;
+                case 'r':
+                    c = '\r';
+                    break;
+                case 't':
+                    c = '\t';
+                    break;
+                case '\\':
+                    c = '\\';
+                    break;
+                case '\'':
+                    c = '\'';
+                    break;
+                case '"':
+                    c = '"';
+                    break;
+                default:
+                    fail(token, fmt::format("unknown escape sequence \\{} in a string", token.text[i]));
             }
         }
         out += c;

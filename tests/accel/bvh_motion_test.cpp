@@ -7,10 +7,10 @@
 #include <cstdio>
 #include <memory>
 
-#include "core/hash.h"
-#include "core/sampling.h"
 #include "accel/bvh_accelerator.h"
 #include "accel/embree_accelerator.h"
+#include "core/hash.h"
+#include "core/sampling.h"
 #include "tests/support/scene_builders.h"
 
 namespace penumbra {
@@ -92,7 +92,9 @@ Scene makeMovingScene() {
     TriangleMesh wave = makeGrid(24, [](float, float) { return 0.0f; });
     for (float amplitude : {0.0f, 0.8f, -0.6f, 0.3f}) {
         std::vector<Vec3f> key = wave.positions;
-        for (Vec3f& p : key) p = {p.x * 2.0f, p.z + amplitude * std::sin(3.0f * p.x) * std::cos(2.0f * p.y) - 1.5f, p.y * 2.0f + amplitude};
+        for (Vec3f& p : key)
+            p = {p.x * 2.0f, p.z + amplitude * std::sin(3.0f * p.x) * std::cos(2.0f * p.y) - 1.5f,
+                 p.y * 2.0f + amplitude};
         wave.positionKeys.push_back(key);
     }
     wave.positions = wave.positionKeys.front();
@@ -101,15 +103,18 @@ Scene makeMovingScene() {
     TriangleMesh both = makeGrid(8, [](float x, float y) { return 0.2f * x * y; });
     both.positionKeys = {both.positions, both.positions};
     for (Vec3f& p : both.positionKeys[1]) p.z += 0.5f * p.x;
-    both.motion.keys = {key({0.5f, 0.5f, 0.5f}, {1, 0, 0}, -30.0f, {0, 2, 2}), key({0.6f, 0.5f, 0.4f}, {1, 0, 0}, 60.0f, {1, 2, 1})};
+    both.motion.keys = {key({0.5f, 0.5f, 0.5f}, {1, 0, 0}, -30.0f, {0, 2, 2}),
+                        key({0.6f, 0.5f, 0.4f}, {1, 0, 0}, 60.0f, {1, 2, 1})};
     scene.meshes.push_back(both);
     // Moving spheres: one translating, one scaled non-uniformly (an ellipsoid) and turning.
     Sphere moving = makeSphere({0, 0, 0}, 0.6f);
-    moving.motion.keys = {key({1, 1, 1}, {0, 1, 0}, 0.0f, {-3, 1, 2}), key({1, 1, 1}, {0, 1, 0}, 0.0f, {0, -1, 2}),
+    moving.motion.keys = {key({1, 1, 1}, {0, 1, 0}, 0.0f, {-3, 1, 2}),
+                          key({1, 1, 1}, {0, 1, 0}, 0.0f, {0, -1, 2}),
                           key({1, 1, 1}, {0, 1, 0}, 0.0f, {3, 1, 2})};
     scene.spheres.push_back(moving);
     Sphere ellipsoid = makeSphere({0.5f, 0, 0}, 0.5f);
-    ellipsoid.motion.keys = {key({2, 0.5f, 1}, {0, 0, 1}, 0.0f, {0, 0, -3}), key({1, 1.5f, 0.5f}, {0, 0, 1}, 170.0f, {0, 1, -3})};
+    ellipsoid.motion.keys = {key({2, 0.5f, 1}, {0, 0, 1}, 0.0f, {0, 0, -3}),
+                             key({1, 1.5f, 0.5f}, {0, 0, 1}, 170.0f, {0, 1, -3})};
     scene.spheres.push_back(ellipsoid);
     return scene;
 }
@@ -122,8 +127,10 @@ TEST(BvhMotion, AgreesWithEmbreeOnRandomRaysAtRandomTimes) {
     int hits = 0, movingHits = 0, hitMiss = 0, primitive = 0, distance = 0, occlusion = 0;
     for (int i = 0; i < kRays; ++i) {
         Ray ray;
-        ray.origin = {-7.0f + 14.0f * uniform(i, 0), -3.0f + 8.0f * uniform(i, 1), -7.0f + 14.0f * uniform(i, 2)};
-        const Vec3f target{-3.5f + 7.0f * uniform(i, 3), -2.5f + 5.0f * uniform(i, 4), -4.0f + 7.0f * uniform(i, 5)};
+        ray.origin = {-7.0f + 14.0f * uniform(i, 0), -3.0f + 8.0f * uniform(i, 1),
+                      -7.0f + 14.0f * uniform(i, 2)};
+        const Vec3f target{-3.5f + 7.0f * uniform(i, 3), -2.5f + 5.0f * uniform(i, 4),
+                           -4.0f + 7.0f * uniform(i, 5)};
         ray.direction = target - ray.origin;
         ray.tnear = 0.0f;
         ray.tfar = kInf;
@@ -148,7 +155,8 @@ TEST(BvhMotion, AgreesWithEmbreeOnRandomRaysAtRandomTimes) {
     std::printf(
         "moving scene, %d rays at random times: %d hits (%d on moving shapes); %d hit/miss, %d primitive, %d "
         "distance disagreements (agreement %.4f%%); %d occlusion disagreements\n",
-        kRays, hits, movingHits, hitMiss, primitive, distance, 100.0 * (1.0 - double(disagreements) / kRays), occlusion);
+        kRays, hits, movingHits, hitMiss, primitive, distance, 100.0 * (1.0 - double(disagreements) / kRays),
+        occlusion);
     EXPECT_GT(hits, kRays / 3);
     EXPECT_GT(movingHits, kRays / 10);
     // Embree interpolates its instance transforms and vertices with its own roundings, so rays

@@ -3,6 +3,7 @@
 // backends against each other on a million random rays per scene (tools/crosscheck.h) and on a
 // whole render.
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include <cmath>
 #include <cstring>
@@ -11,23 +12,21 @@
 #include <memory>
 #include <optional>
 
-#include <tbb/task_arena.h>
-
+#include "accel/bvh_accelerator.h"
+#include "accel/bvh_build.h"
+#include "accel/bvh_wide.h"
+#include "accel/embree_accelerator.h"
 #include "core/error.h"
 #include "core/hash.h"
 #include "core/sampling.h"
 #include "film/film.h"
 #include "renderer/render.h"
-#include "accel/bvh_accelerator.h"
-#include "accel/bvh_build.h"
-#include "accel/bvh_wide.h"
-#include "accel/embree_accelerator.h"
 #include "scenes/mesh_import.h"
 #include "tests/support/any_backend.h"
 #include "tests/support/film_comparison.h"
 #include "tests/support/scene_builders.h"
-#include "tools/crosscheck.h"
 #include "tests/support/shared_data.h"
+#include "tools/crosscheck.h"
 
 namespace penumbra {
 namespace {
@@ -72,7 +71,9 @@ const char* kindName(AcceleratorKind kind) { return kind == AcceleratorKind::Bvh
 // Every hard case runs on both backends.
 class BothBackends : public ::testing::TestWithParam<AcceleratorKind> {
 protected:
-    std::unique_ptr<testing::AnyBackend> build(const Scene& scene) { return testing::makeBackend(GetParam(), scene); }
+    std::unique_ptr<testing::AnyBackend> build(const Scene& scene) {
+        return testing::makeBackend(GetParam(), scene);
+    }
 };
 
 INSTANTIATE_TEST_SUITE_P(Backends, BothBackends,
@@ -444,7 +445,8 @@ TEST(BvhBuild, TheTreeDoesNotDependOnTheThreadCount) {
 // The 4-wide tree: every primitive in exactly one leaf, inside its leaf's box; every interior
 // child's boxes inside the box its parent holds for it; 2 to 4 children a node (1 for a tree that
 // is a single leaf); no deeper than the binary tree.
-void expectWellFormedWide(const Bvh4& wide, const BvhBuildResult& binary, const std::vector<Bounds3f>& input) {
+void expectWellFormedWide(const Bvh4& wide, const BvhBuildResult& binary,
+                          const std::vector<Bounds3f>& input) {
     ASSERT_FALSE(wide.nodes.empty());
     EXPECT_EQ(reinterpret_cast<uintptr_t>(wide.nodes.data()) % 64, 0u) << "nodes start on a cache line";
     EXPECT_LE(wide.maxDepth, binary.maxDepth);
@@ -595,14 +597,16 @@ TEST(BvhAgainstEmbree, BoxSceneOnAMillionRays) {
 TEST(BvhAgainstEmbree, StanfordBunnyOnAMillionRays) {
     const auto scene = loadMeshScene("stanford-bunny.obj");
     if (!scene)
-        GTEST_SKIP() << testing::sharedDataMissing(std::string(PENUMBRA_DATA_DIR) + "/meshes/stanford-bunny.obj");
+        GTEST_SKIP() << testing::sharedDataMissing(std::string(PENUMBRA_DATA_DIR) +
+                                                   "/meshes/stanford-bunny.obj");
     expectAgreement(*scene, "stanford bunny");
 }
 
 TEST(BvhAgainstEmbree, StanfordDragonOnAMillionRays) {
     const auto scene = loadMeshScene("dragon_vrip_res2.ply.gz");
     if (!scene)
-        GTEST_SKIP() << testing::sharedDataMissing(std::string(PENUMBRA_DATA_DIR) + "/meshes/dragon_vrip_res2.ply.gz");
+        GTEST_SKIP() << testing::sharedDataMissing(std::string(PENUMBRA_DATA_DIR) +
+                                                   "/meshes/dragon_vrip_res2.ply.gz");
     // This mesh has overlapping triangles (about 1 ray in 5000 meets two at the same distance).
     expectAgreement(*scene, "stanford dragon (res2)", /*countTies=*/true);
 }
@@ -613,7 +617,8 @@ struct BackendFilms {
     testing::FilmComparison comparison;
 };
 BackendFilms renderOnBothBackends(const Scene& scene) {
-    BackendFilms films{Film(scene.film.width, scene.film.height), Film(scene.film.width, scene.film.height), {}};
+    BackendFilms films{
+        Film(scene.film.width, scene.film.height), Film(scene.film.width, scene.film.height), {}};
     RenderOptions options;
     options.accelerator = AcceleratorKind::Embree;
     render(scene, options, films.embree);

@@ -3,6 +3,8 @@
 // triangles, on rays through their edges and vertices (where edge functions round to zero and the
 // scalar test recomputes them in double: those lanes must be reported for the scalar test), on
 // degenerate triangles, and on rays along axes (zero direction components).
+#include "accel/bvh_triangle4.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,7 +12,6 @@
 #include <limits>
 
 #include "core/hash.h"
-#include "accel/bvh_triangle4.h"
 
 namespace penumbra {
 namespace {

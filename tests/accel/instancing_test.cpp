@@ -4,8 +4,8 @@
 // scene; a moving instance is traced bit for bit as the same mesh given as a moving shape (both in
 // object space through the same transform); and a thousand instances of a large mesh cost next
 // to nothing in memory.
+#include <fcntl.h>
 #include <gtest/gtest.h>
-
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -14,8 +14,6 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-
-#include <fcntl.h>
 #include <nlohmann/json.hpp>
 
 #include "accel/bvh_accelerator.h"
@@ -49,8 +47,8 @@ TriangleMesh makeLumpyBall(int rings, int segments) {
         for (int i = 0; i < segments; ++i) {
             const float theta = kPi * float(j) / float(rings), phi = 2.0f * kPi * float(i) / float(segments);
             const float r = 1.0f + 0.15f * std::sin(3.0f * phi) * std::sin(2.0f * theta);
-            mesh.positions.push_back(
-                {r * std::sin(theta) * std::cos(phi), r * std::cos(theta), r * std::sin(theta) * std::sin(phi)});
+            mesh.positions.push_back({r * std::sin(theta) * std::cos(phi), r * std::cos(theta),
+                                      r * std::sin(theta) * std::sin(phi)});
             if (j == 0 || j == rings) break;  // one vertex at each pole
         }
     auto vertex = [&](int j, int i) -> uint32_t {
@@ -61,7 +59,8 @@ TriangleMesh makeLumpyBall(int rings, int segments) {
     for (int j = 0; j < rings; ++j)
         for (int i = 0; i < segments; ++i) {
             // Counter-clockwise seen from outside.
-            const uint32_t a = vertex(j, i), b = vertex(j, i + 1), c = vertex(j + 1, i), d = vertex(j + 1, i + 1);
+            const uint32_t a = vertex(j, i), b = vertex(j, i + 1), c = vertex(j + 1, i),
+                           d = vertex(j + 1, i + 1);
             if (j != 0) mesh.indices.insert(mesh.indices.end(), {a, b, c});
             if (j != rings - 1) mesh.indices.insert(mesh.indices.end(), {b, d, c});
         }
@@ -73,10 +72,13 @@ std::vector<Transform> stillPlacements() {
     Matrix4 shear = Matrix4::identity();
     shear.m[0][1] = 0.4f;
     return {
-        Transform::translate({-1.6f, 0.9f, 0.0f}) * Transform::rotate(30.0f, {0, 1, 0}) * Transform::scale({0.8f, 0.8f, 0.8f}),
-        Transform::translate({0.9f, 0.7f, -0.5f}) * Transform::rotate(-50.0f, {1, 1, 0}) * Transform::scale({1.0f, 0.6f, 0.7f}),
+        Transform::translate({-1.6f, 0.9f, 0.0f}) * Transform::rotate(30.0f, {0, 1, 0}) *
+            Transform::scale({0.8f, 0.8f, 0.8f}),
+        Transform::translate({0.9f, 0.7f, -0.5f}) * Transform::rotate(-50.0f, {1, 1, 0}) *
+            Transform::scale({1.0f, 0.6f, 0.7f}),
         Transform::translate({0.2f, 0.5f, 1.4f}) * Transform::scale({0.5f, -0.5f, 0.5f}),  // mirrored
-        Transform::translate({2.2f, 1.0f, 1.0f}) * *Transform::fromMatrix(shear) * Transform::scale({0.6f, 0.9f, 0.6f}),
+        Transform::translate({2.2f, 1.0f, 1.0f}) * *Transform::fromMatrix(shear) *
+            Transform::scale({0.6f, 0.9f, 0.6f}),
         Transform::translate({-0.4f, 2.4f, -2.0f}) * Transform::rotate(75.0f, {0, 0, 1}),
     };
 }
@@ -134,7 +136,8 @@ Scene copyInstances(const Scene& instanced) {
 Ray randomRay(uint64_t i) {
     Ray ray;
     ray.origin = {-5.0f + 10.0f * uniform(i, 0), 0.2f + 5.0f * uniform(i, 1), -5.0f + 10.0f * uniform(i, 2)};
-    const Vec3f target{-2.5f + 5.0f * uniform(i, 3), 0.0f + 3.0f * uniform(i, 4), -2.5f + 5.0f * uniform(i, 5)};
+    const Vec3f target{-2.5f + 5.0f * uniform(i, 3), 0.0f + 3.0f * uniform(i, 4),
+                       -2.5f + 5.0f * uniform(i, 5)};
     ray.direction = target - ray.origin;
     ray.time = uniform(i, 6);
     return ray;
@@ -172,17 +175,21 @@ void checkBackendsAgree(const Scene& scene, int rays) {
         Hit ours = a, theirs = b;
         const SurfaceInteraction siA = resolveHit<true>(scene, ray, ours, &frames);
         const SurfaceInteraction siB = resolveHit<false>(scene, ray, theirs, &frames);
-        ASSERT_TRUE(sameBits(&ours.t, &theirs.t, 4) && sameBits(&ours.u, &theirs.u, 4) && sameBits(&ours.v, &theirs.v, 4))
+        ASSERT_TRUE(sameBits(&ours.t, &theirs.t, 4) && sameBits(&ours.u, &theirs.u, 4) &&
+                    sameBits(&ours.v, &theirs.v, 4))
             << "ray " << i << ": t " << ours.t << " vs " << theirs.t;
         expectSameInteraction(siA, siB, uint64_t(i));
         expectSameInteraction(siA, makeSurfaceInteraction(scene, ray, a), uint64_t(i));
     }
-    std::printf("%d rays: %d on the same primitive (%d on instances), %d differ\n", rays, same, instanceHits, differ);
+    std::printf("%d rays: %d on the same primitive (%d on instances), %d differ\n", rays, same, instanceHits,
+                differ);
     EXPECT_GT(instanceHits, rays / 10);
     EXPECT_LE(differ, rays / 10000 + 2);  // rays along edges and ties only
 }
 
-TEST(InstancingBackends, SameHitsAndShadingPointsBitForBit) { checkBackendsAgree(makeInstancedScene(), 100000); }
+TEST(InstancingBackends, SameHitsAndShadingPointsBitForBit) {
+    checkBackendsAgree(makeInstancedScene(), 100000);
+}
 
 // Moving instances: translation, rotation and scale keys.
 Scene makeMovingScene() {
@@ -241,7 +248,8 @@ TEST(InstancingRender, InstancesRenderLikeTheMeshesCopied) {
     const Scene copied = copyInstances(instanced);
     const Film a = renderScene(instanced), b = renderScene(copied);
     const testing::FilmComparison c = testing::compareWithinNoise(a, b);
-    std::printf("means: instanced %.6f, copied %.6f; %d identical pixels\n", c.meanA, c.meanB, c.identicalPixels);
+    std::printf("means: instanced %.6f, copied %.6f; %d identical pixels\n", c.meanA, c.meanB,
+                c.identicalPixels);
     EXPECT_EQ(c.outlierChannels, 0);
     EXPECT_NEAR(c.meanA, c.meanB, 0.01 * c.meanB);
     EXPECT_GT(c.meanA, 0.01);
@@ -297,7 +305,8 @@ TEST(InstancingRender, MovingInstanceTracesLikeTheMovingMesh) {
             if (onInstance) {
                 ++onTheMesh;
                 EXPECT_EQ(x.primId, y.primId) << "ray " << i;
-                EXPECT_TRUE(sameBits(&x.t, &y.t, 4) && sameBits(&x.u, &y.u, 4) && sameBits(&x.v, &y.v, 4)) << "ray " << i;
+                EXPECT_TRUE(sameBits(&x.t, &y.t, 4) && sameBits(&x.u, &y.u, 4) && sameBits(&x.v, &y.v, 4))
+                    << "ray " << i;
             }
         }
         if (fu && instanced.shapeOf(u).kind == ShapeKind::Instance) {
@@ -305,7 +314,8 @@ TEST(InstancingRender, MovingInstanceTracesLikeTheMovingMesh) {
             canonicalizeHit(instanced, ray, cu);
             canonicalizeHit(shape, ray, cv);
             EXPECT_EQ(u.primId, v.primId) << "ray " << i;
-            EXPECT_TRUE(sameBits(&cu.t, &cv.t, 4) && sameBits(&cu.u, &cv.u, 4) && sameBits(&cu.v, &cv.v, 4)) << "ray " << i;
+            EXPECT_TRUE(sameBits(&cu.t, &cv.t, 4) && sameBits(&cu.u, &cv.u, 4) && sameBits(&cu.v, &cv.v, 4))
+                << "ray " << i;
         }
     }
     EXPECT_GT(onTheMesh, 1000);
@@ -325,14 +335,17 @@ long peakKilobytesOfRender(const fs::path& scene, const char* accel) {
         const int null = open("/dev/null", O_WRONLY);
         dup2(null, 1);
         dup2(null, 2);
-        const std::string output = (fs::temp_directory_path() / ("penumbra_instancing_" + std::to_string(getpid()) + ".exr")).string();
-        execl(PENUMBRA_BINARY, PENUMBRA_BINARY, "render", scene.c_str(), "--accel", accel, "--threads", "2", "-q",
-              "--no-display", "-o", output.c_str(), static_cast<char*>(nullptr));
+        const std::string output =
+            (fs::temp_directory_path() / ("penumbra_instancing_" + std::to_string(getpid()) + ".exr"))
+                .string();
+        execl(PENUMBRA_BINARY, PENUMBRA_BINARY, "render", scene.c_str(), "--accel", accel, "--threads", "2",
+              "-q", "--no-display", "-o", output.c_str(), static_cast<char*>(nullptr));
         _exit(127);
     }
     int status = 0;
     rusage usage{};
-    if (pid < 0 || wait4(pid, &status, 0, &usage) != pid || !WIFEXITED(status) || WEXITSTATUS(status) != 0) return -1;
+    if (pid < 0 || wait4(pid, &status, 0, &usage) != pid || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
+        return -1;
     return usage.ru_maxrss;
 }
 
@@ -340,7 +353,7 @@ long peakKilobytesOfRender(const fs::path& scene, const char* accel) {
 // given one of three materials, over a floor.
 fs::path writeDragonScene(const fs::path& dragon, int count) {
     const fs::path path = fs::temp_directory_path() / ("penumbra_dragons_" + std::to_string(count) + "_" +
-                                                        std::to_string(getpid()) + ".json");
+                                                       std::to_string(getpid()) + ".json");
     std::ofstream out(path);
     out << R"({"camera": {"look_from": [0, 4, 8], "look_at": [0, 0, -6], "fov": 50},
         "film": {"resolution": [64, 48], "spp": 1}, "background": 0.5,
@@ -350,9 +363,10 @@ fs::path writeDragonScene(const fs::path& dragon, int count) {
         << nlohmann::json(dragon.string()).dump() << R"(}},
         "shapes": [{"type": "quad", "corner": [-30, -0.2, 10], "edge1": [60, 0, 0], "edge2": [0, 0, -60], "material": "a"})";
     for (int i = 0; i < count; ++i)
-        out << R"(, {"type": "instance", "prototype": "dragon", "material": ")" << "abc"[i % 3]
-            << R"(", "transform": [{"scale": 3}, {"rotate": {"axis": [0, 1, 0], "degrees": )" << (i * 37) % 360
-            << R"(}}, {"translate": [)" << 0.6 * (i % 32 - 16) << ", 0, " << -0.6 * (i / 32) << "]}]}";
+        out << R"(, {"type": "instance", "prototype": "dragon", "material": ")"
+            << "abc"[i % 3] << R"(", "transform": [{"scale": 3}, {"rotate": {"axis": [0, 1, 0], "degrees": )"
+            << (i * 37) % 360 << R"(}}, {"translate": [)" << 0.6 * (i % 32 - 16) << ", 0, " << -0.6 * (i / 32)
+            << "]}]}";
     out << "]}\n";
     return path;
 }
@@ -368,7 +382,8 @@ TEST(InstancingMemory, ThousandDragonsCostLessThanOneAndAFifthDragons) {
         const long a = peakKilobytesOfRender(one, accel), b = peakKilobytesOfRender(thousand, accel);
         ASSERT_GT(a, 0) << accel;
         ASSERT_GT(b, 0) << accel;
-        std::printf("%s: peak RSS one dragon %ld kB, 1000 dragons %ld kB, ratio %.3f\n", accel, a, b, double(b) / double(a));
+        std::printf("%s: peak RSS one dragon %ld kB, 1000 dragons %ld kB, ratio %.3f\n", accel, a, b,
+                    double(b) / double(a));
         EXPECT_LT(double(b), 1.2 * double(a)) << accel;
     }
     fs::remove(one);

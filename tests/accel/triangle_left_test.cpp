@@ -89,15 +89,60 @@ struct RecordedRay {
 };
 constexpr float kInf = std::numeric_limits<float>::infinity();
 const RecordedRay kRays[] = {
-    {1.0f, {0x1.08cd0ep-3, 0x1.bc157ap-2, 0x1.2e446cp-8}, {0x1.cf852p-1, -0x1.85ac7ap-2, 0x1.826786p-3}, kInf, 0x1.1f7042p-1, false},
-    {1e-6f, {0x1.461a52p-23, 0x1.1e4178p-21, 0x1.861b9p-27}, {0x1.6a00d4p-3, -0x1.4b33bep-2, -0x1.dbf394p-1}, kInf, 0x1.3e9eaep-1, false},
-    {1e-6f, {0x1.4083a2p-23, 0x1.162eeap-21, 0x1.6b621p-27}, {-0x1.3a4b8ap-2, 0x1.7593c8p-4, -0x1.e50b58p-1}, kInf, 0x1.7ba99p-3, false},
-    {1e-6f, {0x1.418832p-23, 0x1.cbf38ep-23, 0x1.70400ep-27}, {0x1.64e84p-6, -0x1.113e2cp-2, -0x1.ed4f34p-1}, kInf, 0x1.74884p-1, false},
-    {1e-6f, {0x1.252a22p-23, 0x1.3d4f08p-21, 0x1.d13268p-28}, {0x1.30f784p-1, 0x1.5c744p-1, -0x1.b4e4b8p-2}, kInf, 0x1.423644p-2, false},
-    {1e2f, {0x1.9399f8p+3, 0x1.411e48p+2, 0x1.7738aep-2}, {-0x1.5a5d3ap+2, 0x1.d71954p+3, 0x1.16ce84p+4}, 0x1.ffffep-1, 0x1.99f714p-1, true},
-    {1e5f, {0x1.891aeap+13, 0x1.5af05ap+15, 0x1.6482bep+8}, {-0x1.de12ep+10, 0x1.fef88p+10, 0x1.6ccdaap+12}, 0x1.ffffep-1, 0x1.9f3c0cp-1, true},
-    {1e5f, {0x1.8773c2p+13, 0x1.559738p+14, 0x1.54b3bap+8}, {0x1.2ca8b8p+11, 0x1.29f456p+15, 0x1.6ca0ap+13}, 0x1.ffffep-1, 0x1.1b7538p-1, true},
-    {1e7f, {0x1.45a914p+20, 0x1.865d6ep+21, 0x1.c7e75p+15}, {-0x1.e195f8p-3, 0x1.9b4962p-5, -0x1.f0fa92p-1}, kInf, 0x1.f043b8p-2, false},
+    {1.0f,
+     {0x1.08cd0ep-3, 0x1.bc157ap-2, 0x1.2e446cp-8},
+     {0x1.cf852p-1, -0x1.85ac7ap-2, 0x1.826786p-3},
+     kInf,
+     0x1.1f7042p-1,
+     false},
+    {1e-6f,
+     {0x1.461a52p-23, 0x1.1e4178p-21, 0x1.861b9p-27},
+     {0x1.6a00d4p-3, -0x1.4b33bep-2, -0x1.dbf394p-1},
+     kInf,
+     0x1.3e9eaep-1,
+     false},
+    {1e-6f,
+     {0x1.4083a2p-23, 0x1.162eeap-21, 0x1.6b621p-27},
+     {-0x1.3a4b8ap-2, 0x1.7593c8p-4, -0x1.e50b58p-1},
+     kInf,
+     0x1.7ba99p-3,
+     false},
+    {1e-6f,
+     {0x1.418832p-23, 0x1.cbf38ep-23, 0x1.70400ep-27},
+     {0x1.64e84p-6, -0x1.113e2cp-2, -0x1.ed4f34p-1},
+     kInf,
+     0x1.74884p-1,
+     false},
+    {1e-6f,
+     {0x1.252a22p-23, 0x1.3d4f08p-21, 0x1.d13268p-28},
+     {0x1.30f784p-1, 0x1.5c744p-1, -0x1.b4e4b8p-2},
+     kInf,
+     0x1.423644p-2,
+     false},
+    {1e2f,
+     {0x1.9399f8p+3, 0x1.411e48p+2, 0x1.7738aep-2},
+     {-0x1.5a5d3ap+2, 0x1.d71954p+3, 0x1.16ce84p+4},
+     0x1.ffffep-1,
+     0x1.99f714p-1,
+     true},
+    {1e5f,
+     {0x1.891aeap+13, 0x1.5af05ap+15, 0x1.6482bep+8},
+     {-0x1.de12ep+10, 0x1.fef88p+10, 0x1.6ccdaap+12},
+     0x1.ffffep-1,
+     0x1.9f3c0cp-1,
+     true},
+    {1e5f,
+     {0x1.8773c2p+13, 0x1.559738p+14, 0x1.54b3bap+8},
+     {0x1.2ca8b8p+11, 0x1.29f456p+15, 0x1.6ca0ap+13},
+     0x1.ffffep-1,
+     0x1.1b7538p-1,
+     true},
+    {1e7f,
+     {0x1.45a914p+20, 0x1.865d6ep+21, 0x1.c7e75p+15},
+     {-0x1.e195f8p-3, 0x1.9b4962p-5, -0x1.f0fa92p-1},
+     kInf,
+     0x1.f043b8p-2,
+     false},
 };
 
 // The Cornell box with every length times `factor`, as coordinate_scale_test scales it.
@@ -143,8 +188,8 @@ TEST(TriangleLeft, EmbreeNoLongerMeetsTheTriangleARayLeavesOnTheScaledCornellBox
         EXPECT_EQ(theirs.geomId, ours.geomId) << "scale " << r.scale;
         EXPECT_EQ(theirs.primId, ours.primId) << "scale " << r.scale;
     }
-    std::printf("Embree met the triangle left again on %d of %zu rays when it was not named\n", metAgainUnnamed,
-                std::size(kRays));
+    std::printf("Embree met the triangle left again on %d of %zu rays when it was not named\n",
+                metAgainUnnamed, std::size(kRays));
 }
 
 }  // namespace

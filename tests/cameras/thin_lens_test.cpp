@@ -24,9 +24,9 @@ constexpr float kFov = 30.0f;
 const float kPixelsPerUnit = 0.5f * kSize / std::tan(0.5f * kFov * kPi / 180.0f);
 
 struct Moments {
-    double cx = 0, cy = 0;    // centroid, pixels
-    double r2 = 0;            // E[r^2] about the centroid
-    double total = 0;         // sum of pixel values
+    double cx = 0, cy = 0;  // centroid, pixels
+    double r2 = 0;          // E[r^2] about the centroid
+    double total = 0;       // sum of pixel values
 };
 
 Scene pointSourceScene(float depth, float sphereRadius, float aperture, float focus, int blades, int spp) {
@@ -84,7 +84,8 @@ TEST(ThinLens, CircleOfConfusionMatchesThinLensFormula) {
     const double rho = sphereImageRadius(sphereRadius, depth);
     const double measured = std::sqrt(2.0 * (m.r2 - rho * rho / 2.0 - 1.0 / 6.0));
     const double expected = aperture * std::abs(1.0 / focus - 1.0 / depth) * kPixelsPerUnit;
-    EXPECT_NEAR(measured / expected, 1.0, 0.03) << "measured " << measured << " px, expected " << expected << " px";
+    EXPECT_NEAR(measured / expected, 1.0, 0.03)
+        << "measured " << measured << " px, expected " << expected << " px";
     EXPECT_NEAR(m.cx, kSize / 2.0, 0.5);
     EXPECT_NEAR(m.cy, kSize / 2.0, 0.5);
 }
@@ -96,7 +97,8 @@ TEST(ThinLens, PointInFrontOfTheFocusPlaneBlursByTheSameFormula) {
     const double rho = sphereImageRadius(sphereRadius, depth);
     const double measured = std::sqrt(2.0 * (m.r2 - rho * rho / 2.0 - 1.0 / 6.0));
     const double expected = aperture * std::abs(1.0 / focus - 1.0 / depth) * kPixelsPerUnit;
-    EXPECT_NEAR(measured / expected, 1.0, 0.03) << "measured " << measured << " px, expected " << expected << " px";
+    EXPECT_NEAR(measured / expected, 1.0, 0.03)
+        << "measured " << measured << " px, expected " << expected << " px";
 }
 
 TEST(ThinLens, PointOnTheFocusPlaneStaysSharp) {
@@ -107,7 +109,8 @@ TEST(ThinLens, PointOnTheFocusPlaneStaysSharp) {
     // at r^2 = 1/2; the sphere's image adds under 0.1 px^2. One pixel of rms radius is sharp (the
     // same point 10% further away, out of focus, measures about 4 px).
     EXPECT_LT(std::sqrt(m.r2), 1.0) << "E[r^2] = " << m.r2;
-    const Moments defocused = momentsOf(renderScene(pointSourceScene(depth * 1.1f, sphereRadius, 0.5f, depth, 0, 256)));
+    const Moments defocused =
+        momentsOf(renderScene(pointSourceScene(depth * 1.1f, sphereRadius, 0.5f, depth, 0, 256)));
     EXPECT_GT(std::sqrt(defocused.r2), 2.0) << "E[r^2] = " << defocused.r2;
 }
 
@@ -134,9 +137,11 @@ double polygonAngularMoment(int n) {
     const double apothem = std::cos(kPi / n);
     for (uint64_t i = 0; i < 2000000; ++i) {
         const uint64_t h = hashWords(12345, i);
-        const double x = 2.0 * bitsToUnitFloat(uint32_t(h)) - 1.0, y = 2.0 * bitsToUnitFloat(uint32_t(h >> 32)) - 1.0;
+        const double x = 2.0 * bitsToUnitFloat(uint32_t(h)) - 1.0,
+                     y = 2.0 * bitsToUnitFloat(uint32_t(h >> 32)) - 1.0;
         const double theta = std::atan2(y, x), r2 = x * x + y * y;
-        const double sector = std::fmod(theta + 2 * kPi, 2 * kPi / n) - kPi / n;  // angle from the edge normal
+        const double sector =
+            std::fmod(theta + 2 * kPi, 2 * kPi / n) - kPi / n;  // angle from the edge normal
         if (std::sqrt(r2) * std::cos(sector) > apothem) continue;
         sum += r2 * std::cos(n * theta);
         norm += r2;

@@ -1,8 +1,8 @@
 // PENUMBRA_CHECK: with the checks on (Debug, or PENUMBRA_CHECKS=ON) a false condition aborts with
 // its place and meaning; with them off it compiles to nothing, not even the condition.
-#include <gtest/gtest.h>
-
 #include "core/check.h"
+
+#include <gtest/gtest.h>
 
 namespace penumbra {
 namespace {

@@ -37,7 +37,8 @@ TEST(DiscreteDistribution, ChoosesItemsInProportionToTheirWeights) {
 TEST(DiscreteDistribution, NeverChoosesAnItemOfZeroWeight) {
     const DiscreteDistribution d({0.0, 2.0, 0.0, 0.0, 1.0, 0.0});
     // The ends of [0, 1) and the boundaries between the items included.
-    for (float u : {0.0f, 1e-7f, 2.0f / 3.0f, std::nextafter(2.0f / 3.0f, 0.0f), std::nextafter(1.0f, 0.0f)}) {
+    for (float u :
+         {0.0f, 1e-7f, 2.0f / 3.0f, std::nextafter(2.0f / 3.0f, 0.0f), std::nextafter(1.0f, 0.0f)}) {
         const uint32_t item = d.sample(u);
         EXPECT_TRUE(item == 1 || item == 4) << "u = " << u << " chose " << item;
     }
@@ -77,7 +78,8 @@ TEST(DiscreteDistribution, RemapsUWithinTheChosenItem) {
     for (uint32_t item : {0u, 2u, 3u}) {
         double count = 0.0;
         for (double o : observed[item]) count += o;
-        const test::ChiSquareResult r = test::chiSquareTest(observed[item], std::vector<double>(bins, count / bins));
+        const test::ChiSquareResult r =
+            test::chiSquareTest(observed[item], std::vector<double>(bins, count / bins));
         EXPECT_GT(r.pValue, 1e-4) << "item " << item << ": " << r.describe();
     }
     // The end of [0, 1) stays below 1.
@@ -110,9 +112,11 @@ TEST(DiscreteDistribution, RemappedStratifiedValuesStayStratifiedForEachItem) {
             for (int xBits = 0; (1 << xBits) <= m; ++xBits) {
                 const int nx = 1 << xBits, ny = m / nx;
                 std::vector<int> cells(m, 0);
-                for (Vec2f p : points[item]) ++cells[std::min(ny - 1, int(p.y * ny)) * nx + std::min(nx - 1, int(p.x * nx))];
+                for (Vec2f p : points[item])
+                    ++cells[std::min(ny - 1, int(p.y * ny)) * nx + std::min(nx - 1, int(p.x * nx))];
                 for (int c = 0; c < m; ++c)
-                    ASSERT_EQ(cells[c], 1) << "pixel " << pixel << " item " << item << ", " << nx << "x" << ny << " cells";
+                    ASSERT_EQ(cells[c], 1)
+                        << "pixel " << pixel << " item " << item << ", " << nx << "x" << ny << " cells";
             }
         }
     }

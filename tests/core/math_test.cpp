@@ -24,14 +24,16 @@ using test::UniformRng;
 
 // Component-wise closeness with an absolute tolerance, reporting both vectors on failure.
 ::testing::AssertionResult near(Vec3f a, Vec3f b, float tolerance) {
-    if (std::abs(a.x - b.x) <= tolerance && std::abs(a.y - b.y) <= tolerance && std::abs(a.z - b.z) <= tolerance)
+    if (std::abs(a.x - b.x) <= tolerance && std::abs(a.y - b.y) <= tolerance &&
+        std::abs(a.z - b.z) <= tolerance)
         return ::testing::AssertionSuccess();
-    return ::testing::AssertionFailure() << "(" << a.x << ", " << a.y << ", " << a.z << ") vs (" << b.x << ", " << b.y
-                                         << ", " << b.z << "), tolerance " << tolerance;
+    return ::testing::AssertionFailure() << "(" << a.x << ", " << a.y << ", " << a.z << ") vs (" << b.x
+                                         << ", " << b.y << ", " << b.z << "), tolerance " << tolerance;
 }
 
 Vec3f randomVector(UniformRng& rng, float scale = 4.0f) {
-    return {scale * (2.0f * rng.next() - 1.0f), scale * (2.0f * rng.next() - 1.0f), scale * (2.0f * rng.next() - 1.0f)};
+    return {scale * (2.0f * rng.next() - 1.0f), scale * (2.0f * rng.next() - 1.0f),
+            scale * (2.0f * rng.next() - 1.0f)};
 }
 
 Vec3f randomUnitVector(UniformRng& rng) {
@@ -99,9 +101,17 @@ void expectOrthonormalRightHanded(const Frame& f, Vec3f n) {
 TEST(Frame, FromNormalIsOrthonormalAndRightHanded) {
     // The branch points of the construction: exactly +-z, the equator (with z = +0 and -0), and
     // normals just off -z, where a naive construction divides by ~0.
-    std::vector<Vec3f> normals = {{0, 0, 1},  {0, 0, -1}, {1, 0, 0},  {-1, 0, 0},      {0, 1, 0},
-                                  {0, -1, 0}, {1, 0, -0.0f}, {0, 1, -0.0f}, normalize(Vec3f(1e-4f, -2e-4f, -1)),
-                                  normalize(Vec3f(-3e-7f, 1e-7f, -1)), normalize(Vec3f(1e-4f, 1e-4f, 1))};
+    std::vector<Vec3f> normals = {{0, 0, 1},
+                                  {0, 0, -1},
+                                  {1, 0, 0},
+                                  {-1, 0, 0},
+                                  {0, 1, 0},
+                                  {0, -1, 0},
+                                  {1, 0, -0.0f},
+                                  {0, 1, -0.0f},
+                                  normalize(Vec3f(1e-4f, -2e-4f, -1)),
+                                  normalize(Vec3f(-3e-7f, 1e-7f, -1)),
+                                  normalize(Vec3f(1e-4f, 1e-4f, 1))};
     UniformRng rng(2);
     for (int i = 0; i < 20000; ++i) normals.push_back(randomUnitVector(rng));
     for (Vec3f n : normals) {
@@ -198,8 +208,8 @@ TEST(Transform, CompositionAppliesTheRightOperandFirst) {
 
 Transform randomTransform(UniformRng& rng) {
     const Vec3f factors{0.2f + 3 * rng.next(), 0.2f + 3 * rng.next(), 0.2f + 3 * rng.next()};
-    return Transform::translate(randomVector(rng)) * Transform::rotate(360 * rng.next(), randomUnitVector(rng)) *
-           Transform::scale(factors);
+    return Transform::translate(randomVector(rng)) *
+           Transform::rotate(360 * rng.next(), randomUnitVector(rng)) * Transform::scale(factors);
 }
 
 TEST(Transform, InverseRoundTripsPointsVectorsAndMatrices) {
@@ -212,7 +222,8 @@ TEST(Transform, InverseRoundTripsPointsVectorsAndMatrices) {
         EXPECT_TRUE(near(a.inverse().applyVector(a.applyVector(p)), p, 1e-4f));
         // The composite keeps its inverse in the opposite order: (ab)^-1 = b^-1 a^-1.
         EXPECT_TRUE(near((a * b).inverse().applyPoint((a * b).applyPoint(p)), p, 2e-4f));
-        EXPECT_TRUE(near((a * b).inverse().applyPoint(p), b.inverse().applyPoint(a.inverse().applyPoint(p)), 1e-4f));
+        EXPECT_TRUE(
+            near((a * b).inverse().applyPoint(p), b.inverse().applyPoint(a.inverse().applyPoint(p)), 1e-4f));
         // The stored inverse agrees with the Gauss-Jordan inverse of the matrix.
         const auto inv = a.matrix().inverse();
         ASSERT_TRUE(inv.has_value());
@@ -317,8 +328,9 @@ TEST(Transform, SwapsHandedness) {
     EXPECT_TRUE(Transform::scale({-1, 1, 1}).swapsHandedness());
     EXPECT_FALSE(Transform::scale({-1, -1, 1}).swapsHandedness());
     EXPECT_TRUE(Transform::scale({-2, -3, -0.5f}).swapsHandedness());
-    EXPECT_TRUE((Transform::rotate(40, {0, 1, 0}) * Transform::scale({1, 1, -1}) * Transform::translate({3, 0, 0}))
-                    .swapsHandedness());
+    EXPECT_TRUE(
+        (Transform::rotate(40, {0, 1, 0}) * Transform::scale({1, 1, -1}) * Transform::translate({3, 0, 0}))
+            .swapsHandedness());
 }
 
 // The polynomials against double-precision libm over their whole range, 2^20 + 1 angles: within
@@ -361,8 +373,10 @@ TEST(Trig, CosSinQuarterPiMatchesLibmWithinTwoUlps) {
         const float a = float(-M_PI / 4 + (M_PI / 2) * i / n);
         const Vec2f cs = cosSinQuarterPi(a);
         worstCos = std::max(worstCos, std::abs(double(cs.x) - std::cos(double(a))));
-        if (a != 0.0f) worstSinRelative = std::max(worstSinRelative, std::abs(double(cs.y) / std::sin(double(a)) - 1.0));
-        else EXPECT_EQ(cs.y, 0.0f);
+        if (a != 0.0f)
+            worstSinRelative = std::max(worstSinRelative, std::abs(double(cs.y) / std::sin(double(a)) - 1.0));
+        else
+            EXPECT_EQ(cs.y, 0.0f);
     }
     EXPECT_LE(worstCos, 0x1p-23);
     EXPECT_LE(worstSinRelative, 0x1p-22);
@@ -377,7 +391,8 @@ TEST(Trig, CosSinTurnMatchesLibmOverAWholeTurn) {
         const float u = float(double(i) / n);
         const Vec2f cs = cosSinTurn(u);
         const double angle = 2.0 * M_PI * double(u);
-        worst = std::max({worst, std::abs(double(cs.x) - std::cos(angle)), std::abs(double(cs.y) - std::sin(angle))});
+        worst = std::max(
+            {worst, std::abs(double(cs.x) - std::cos(angle)), std::abs(double(cs.y) - std::sin(angle))});
     }
     EXPECT_LE(worst, 0x1p-22);
     for (const float u : {0.0f, 0.25f, 0.5f, 0.75f, 1.0f}) {

@@ -1,6 +1,8 @@
 // The samplers: determinism, range, the stratification promised in core/sampler.h (1D strata and
 // 2D elementary intervals of every power-of-two block of a pixel's samples), decorrelation of the
 // named dimensions, and uniformity (moments and chi-square) over many pixels.
+#include "core/sampler.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,7 +10,6 @@
 #include <functional>
 #include <vector>
 
-#include "core/sampler.h"
 #include "tests/support/test_statistics.h"
 
 namespace penumbra {
@@ -29,8 +30,9 @@ const std::vector<Dim> k2DDims = {Dim::Pixel, Dim::Lens, Dim::LightPosition, Dim
     for (float v : values) ++counts[std::min(n - 1, int(v * float(n)))];
     for (int i = 0; i < n; ++i)
         if (counts[i] != perInterval)
-            return ::testing::AssertionFailure() << "interval " << i << " of " << n << " holds " << counts[i]
-                                                 << " of " << values.size() << " values, expected " << perInterval;
+            return ::testing::AssertionFailure()
+                   << "interval " << i << " of " << n << " holds " << counts[i] << " of " << values.size()
+                   << " values, expected " << perInterval;
     return ::testing::AssertionSuccess();
 }
 
@@ -42,27 +44,30 @@ const std::vector<Dim> k2DDims = {Dim::Pixel, Dim::Lens, Dim::LightPosition, Dim
         const int nx = 1 << k, ny = 1 << (m - k);
         std::vector<int> counts(size_t(nx) * ny, 0);
         for (Vec2f p : points) {
-            const int cx = std::min(nx - 1, int(p.x * float(nx))), cy = std::min(ny - 1, int(p.y * float(ny)));
+            const int cx = std::min(nx - 1, int(p.x * float(nx))),
+                      cy = std::min(ny - 1, int(p.y * float(ny)));
             if (++counts[size_t(cy) * nx + cx] > 1)
-                return ::testing::AssertionFailure() << "elementary interval (" << cx << ", " << cy << ") of the " << nx
-                                                     << " x " << ny << " grid holds more than one of " << points.size()
-                                                     << " points";
+                return ::testing::AssertionFailure()
+                       << "elementary interval (" << cx << ", " << cy << ") of the " << nx << " x " << ny
+                       << " grid holds more than one of " << points.size() << " points";
         }
     }
     return ::testing::AssertionSuccess();
 }
 
-std::vector<float> values1D(SamplerKind kind, uint64_t seed, uint64_t pixel, Dim dim, uint32_t bounce, uint32_t first,
-                            uint32_t count) {
+std::vector<float> values1D(SamplerKind kind, uint64_t seed, uint64_t pixel, Dim dim, uint32_t bounce,
+                            uint32_t first, uint32_t count) {
     std::vector<float> out;
-    for (uint32_t i = first; i < first + count; ++i) out.push_back(PixelSample(kind, seed, pixel, i).get1D(dim, bounce));
+    for (uint32_t i = first; i < first + count; ++i)
+        out.push_back(PixelSample(kind, seed, pixel, i).get1D(dim, bounce));
     return out;
 }
 
-std::vector<Vec2f> values2D(SamplerKind kind, uint64_t seed, uint64_t pixel, Dim dim, uint32_t bounce, uint32_t first,
-                            uint32_t count) {
+std::vector<Vec2f> values2D(SamplerKind kind, uint64_t seed, uint64_t pixel, Dim dim, uint32_t bounce,
+                            uint32_t first, uint32_t count) {
     std::vector<Vec2f> out;
-    for (uint32_t i = first; i < first + count; ++i) out.push_back(PixelSample(kind, seed, pixel, i).get2D(dim, bounce));
+    for (uint32_t i = first; i < first + count; ++i)
+        out.push_back(PixelSample(kind, seed, pixel, i).get2D(dim, bounce));
     return out;
 }
 
@@ -94,9 +99,10 @@ TEST(Sampler, ValuesDependOnlyOnTheirIdentity) {
                         EXPECT_EQ(a.get2D(d, bounce).y, b.get2D(d, bounce).y);
                     }
                     // Changing the seed or the pixel changes (almost) every value.
-                    sameAcrossSeeds += a.get1D(Dim::Time, bounce) == PixelSample(kind, 43, pixel, i).get1D(Dim::Time, bounce);
-                    sameAcrossPixels +=
-                        a.get1D(Dim::Time, bounce) == PixelSample(kind, 42, pixel + 1, i).get1D(Dim::Time, bounce);
+                    sameAcrossSeeds += a.get1D(Dim::Time, bounce) ==
+                                       PixelSample(kind, 43, pixel, i).get1D(Dim::Time, bounce);
+                    sameAcrossPixels += a.get1D(Dim::Time, bounce) ==
+                                        PixelSample(kind, 42, pixel + 1, i).get1D(Dim::Time, bounce);
                     ++total;
                 }
             }
@@ -154,8 +160,10 @@ TEST(StratifiedSampler, EveryPowerOfTwoCountIsStratified) {
                             << where(seed, pixel, d, bounce, 0, n);
                     for (Dim d : k2DDims) {
                         const auto points = values2D(kind, seed, pixel, d, bounce, 0, n);
-                        ASSERT_TRUE(stratified1D(component(points, 0), int(n))) << where(seed, pixel, d, bounce, 0, n);
-                        ASSERT_TRUE(stratified1D(component(points, 1), int(n))) << where(seed, pixel, d, bounce, 0, n);
+                        ASSERT_TRUE(stratified1D(component(points, 0), int(n)))
+                            << where(seed, pixel, d, bounce, 0, n);
+                        ASSERT_TRUE(stratified1D(component(points, 1), int(n)))
+                            << where(seed, pixel, d, bounce, 0, n);
                         ASSERT_TRUE(stratified2D(points, m)) << where(seed, pixel, d, bounce, 0, n);
                     }
                 }
@@ -250,7 +258,8 @@ TEST(StratifiedSampler, TheShutterTimeIsStratifiedJointlyWithThePositionInThePix
 TEST(StratifiedSampler, StratificationCheckRejectsIidValues) {
     int stratifiedByChance = 0;
     for (uint64_t pixel : kPixels)
-        stratifiedByChance += bool(stratified1D(values1D(SamplerKind::Independent, 1, pixel, Dim::Time, 0, 0, 16), 16));
+        stratifiedByChance +=
+            bool(stratified1D(values1D(SamplerKind::Independent, 1, pixel, Dim::Time, 0, 0, 16), 16));
     EXPECT_EQ(stratifiedByChance, 0);
 }
 
@@ -378,13 +387,17 @@ TEST(Sampler, ChiSquareUniformityOverManyPixels) {
                     const PixelSample s(kind, 2024, p, i);
                     ++observed1D[std::min(bins1D - 1, int(s.get1D(Dim::BsdfLobe, 2) * bins1D))];
                     const Vec2f v = s.get2D(Dim::LightPosition, 2);
-                    ++observed2D[std::min(bins2D - 1, int(v.y * bins2D)) * bins2D + std::min(bins2D - 1, int(v.x * bins2D))];
+                    ++observed2D[std::min(bins2D - 1, int(v.y * bins2D)) * bins2D +
+                                 std::min(bins2D - 1, int(v.x * bins2D))];
                 }
             const double n = double(pixels) * spp;
             const auto r1 = test::chiSquareTest(observed1D, std::vector<double>(bins1D, n / bins1D));
-            const auto r2 = test::chiSquareTest(observed2D, std::vector<double>(bins2D * bins2D, n / (bins2D * bins2D)));
-            EXPECT_GT(r1.pValue, alpha) << samplerKindName(kind) << ", " << spp << " spp, 1D: " << r1.describe();
-            EXPECT_GT(r2.pValue, alpha) << samplerKindName(kind) << ", " << spp << " spp, 2D: " << r2.describe();
+            const auto r2 =
+                test::chiSquareTest(observed2D, std::vector<double>(bins2D * bins2D, n / (bins2D * bins2D)));
+            EXPECT_GT(r1.pValue, alpha)
+                << samplerKindName(kind) << ", " << spp << " spp, 1D: " << r1.describe();
+            EXPECT_GT(r2.pValue, alpha)
+                << samplerKindName(kind) << ", " << spp << " spp, 2D: " << r2.describe();
         }
 }
 

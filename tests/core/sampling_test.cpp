@@ -2,6 +2,8 @@
 // hemisphere against its pdf. Inputs are iid uniform numbers from a fixed seed; see
 // test_statistics.h for how the 5-sigma tolerances follow from the analytic variances given
 // next to each check.
+#include "core/sampling.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,7 +11,6 @@
 #include <numbers>
 #include <vector>
 
-#include "core/sampling.h"
 #include "tests/support/test_statistics.h"
 
 namespace penumbra {
@@ -74,8 +75,10 @@ TEST(Sampling, CosineHemisphereChiSquare) {
 
     std::vector<double> expected(thetaBins * phiBins);
     for (int t = 0; t < thetaBins; ++t) {
-        const double s0 = std::sin(0.5 * kPiD * t / thetaBins), s1 = std::sin(0.5 * kPiD * (t + 1) / thetaBins);
-        for (int p = 0; p < phiBins; ++p) expected[t * phiBins + p] = double(kSamples) / phiBins * (s1 * s1 - s0 * s0);
+        const double s0 = std::sin(0.5 * kPiD * t / thetaBins),
+                     s1 = std::sin(0.5 * kPiD * (t + 1) / thetaBins);
+        for (int p = 0; p < phiBins; ++p)
+            expected[t * phiBins + p] = double(kSamples) / phiBins * (s1 * s1 - s0 * s0);
     }
 
     for (int run = 0; run < runs; ++run) {
@@ -153,7 +156,8 @@ TEST(Sampling, ConcentricDiskIsUniform) {
         const int a = std::min(angularBins - 1, int(phi / (2 * kPiD) * angularBins));
         observed[r * angularBins + a] += 1;
     }
-    const auto chi2 = test::chiSquareTest(observed, std::vector<double>(observed.size(), double(kSamples) / observed.size()));
+    const auto chi2 = test::chiSquareTest(
+        observed, std::vector<double>(observed.size(), double(kSamples) / observed.size()));
     EXPECT_GT(chi2.pValue, 1e-3) << chi2.describe();
 
     // Fixed points of the map: the centre, and square edges onto the circle.
@@ -183,7 +187,8 @@ TEST(Sampling, UniformConeStaysInsideWithTheRightMean) {
         }
         // cos(theta) is uniform on [cosMax, 1]: E = (1 + cosMax) / 2, Var = (1 - cosMax)^2 / 12.
         const double width = 1.0 - cosMax;
-        EXPECT_TRUE(withinSigmas(cosTheta.value(), (1.0 + cosMax) / 2.0, cosTheta.standardError(width * width / 12.0)));
+        EXPECT_TRUE(withinSigmas(cosTheta.value(), (1.0 + cosMax) / 2.0,
+                                 cosTheta.standardError(width * width / 12.0)));
         // E[x] = 0; Var = E[sin^2] / 2 <= 1/2 is a safe bound.
         EXPECT_TRUE(withinSigmas(x.value(), 0.0, x.standardError(0.5)));
 

@@ -90,7 +90,8 @@ TEST(Film, ImpossibleSizeIsAClearError) {
         Film film(1 << 30, 1 << 30);
         FAIL() << "a 2^30 x 2^30 film was made";
     } catch (const InputError& e) {
-        EXPECT_NE(std::string(e.what()).find("1073741824x1073741824 film needs"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("1073741824x1073741824 film needs"), std::string::npos)
+            << e.what();
     }
 }
 
@@ -373,8 +374,9 @@ TEST_F(FilmFiles, ExrLayoutAsOpenImageIoReadsIt) {
     EXPECT_TRUE(beauty.channelformats.empty());  // all FLOAT
     std::vector<std::string> names(beauty.channelnames.begin(), beauty.channelnames.end());
     std::sort(names.begin(), names.end());
-    EXPECT_EQ(names, (std::vector<std::string>{"A", "B", "G", "N.X", "N.Y", "N.Z", "R", "Z", "albedo.B", "albedo.G",
-                                               "albedo.R", "variance.B", "variance.G", "variance.R"}));
+    EXPECT_EQ(names,
+              (std::vector<std::string>{"A", "B", "G", "N.X", "N.Y", "N.Z", "R", "Z", "albedo.B", "albedo.G",
+                                        "albedo.R", "variance.B", "variance.G", "variance.R"}));
     EXPECT_EQ(beauty.full_x, 0);
     EXPECT_EQ(beauty.full_y, 0);
     EXPECT_EQ(beauty.full_width, 8);
@@ -409,7 +411,8 @@ TEST_F(FilmFiles, ExrLayoutAsOpenImageIoReadsIt) {
         const std::string part = sums.get_string_attribute("oiio:subimagename");
         ASSERT_TRUE(part == "sums" || part == "sums.noise") << part;
         EXPECT_EQ(sums.get_string_attribute("compression"), part == "sums" ? "zip" : "rle");
-        for (int c = 0; c < sums.nchannels; ++c) EXPECT_EQ(sums.channelformat(c), OIIO::TypeDesc::UINT32) << c;
+        for (int c = 0; c < sums.nchannels; ++c)
+            EXPECT_EQ(sums.channelformat(c), OIIO::TypeDesc::UINT32) << c;
         EXPECT_EQ(sums.x, 1);
         EXPECT_EQ(sums.width, 6);
         EXPECT_EQ(sums.full_width, 8);
@@ -419,13 +422,15 @@ TEST_F(FilmFiles, ExrLayoutAsOpenImageIoReadsIt) {
         std::vector<uint32_t> pixels(size_t(sums.width) * sums.height * sums.nchannels);
         ASSERT_TRUE(in->read_image(subimage, 0, 0, sums.nchannels, OIIO::TypeDesc::UINT32, pixels.data()));
         const uint32_t* px = pixels.data() + (size_t(3 - 2) * 6 + (3 - 1)) * sums.nchannels;
-        for (int c = 0; c < sums.nchannels; ++c) EXPECT_TRUE(words.emplace(sums.channelnames[c], px[c]).second);
+        for (int c = 0; c < sums.nchannels; ++c)
+            EXPECT_TRUE(words.emplace(sums.channelnames[c], px[c]).second);
     }
     std::map<std::string, uint32_t> expected = {{"spp", 1u}};
     const std::pair<const char*, const ExactSum*> nonzero[] = {
-        {"sum.R", &sample.radiance[0]},        {"sum.G", &sample.radiance[1]},        {"sum.B", &sample.radiance[2]},
-        {"sumsq.R", &sample.radianceSquared[0]}, {"sumsq.G", &sample.radianceSquared[1]},
-        {"sumsq.B", &sample.radianceSquared[2]}, {"sum.weight", &sample.weight}};
+        {"sum.R", &sample.radiance[0]},          {"sum.G", &sample.radiance[1]},
+        {"sum.B", &sample.radiance[2]},          {"sumsq.R", &sample.radianceSquared[0]},
+        {"sumsq.G", &sample.radianceSquared[1]}, {"sumsq.B", &sample.radianceSquared[2]},
+        {"sum.weight", &sample.weight}};
     for (const auto& [name, sum] : nonzero) {
         uint32_t w[4];
         sum->toWords(w);
@@ -439,9 +444,21 @@ TEST_F(FilmFiles, ExrLayoutAsOpenImageIoReadsIt) {
 
 // A film's sums in the order of docs/exr-layout.md.
 std::vector<const ExactSum*> sumsInLayoutOrder(const PixelSums& p) {
-    return {&p.radiance[0], &p.radiance[1], &p.radiance[2], &p.radianceSquared[0], &p.radianceSquared[1],
-            &p.radianceSquared[2], &p.weight, &p.albedo[0], &p.albedo[1], &p.albedo[2], &p.normal[0],
-            &p.normal[1], &p.normal[2], &p.depth, &p.hitWeight};
+    return {&p.radiance[0],
+            &p.radiance[1],
+            &p.radiance[2],
+            &p.radianceSquared[0],
+            &p.radianceSquared[1],
+            &p.radianceSquared[2],
+            &p.weight,
+            &p.albedo[0],
+            &p.albedo[1],
+            &p.albedo[2],
+            &p.normal[0],
+            &p.normal[1],
+            &p.normal[2],
+            &p.depth,
+            &p.hitWeight};
 }
 
 // A film in layout version 1 as its writer stored it (every sum as four words w0..w3 in part
@@ -461,8 +478,9 @@ void writeLayout1(const fs::path& path, const Film& film, bool withSums, const s
     OIIO::ImageSpec sums(width, height, 0, OIIO::TypeDesc::UINT32);
     sums.channelnames.clear();
     std::vector<bool> keep;
-    for (const char* sum : {"sum.R", "sum.G", "sum.B", "sumsq.R", "sumsq.G", "sumsq.B", "sum.weight", "sum.albedo.R",
-                            "sum.albedo.G", "sum.albedo.B", "sum.N.X", "sum.N.Y", "sum.N.Z", "sum.Z", "sum.hits"})
+    for (const char* sum :
+         {"sum.R", "sum.G", "sum.B", "sumsq.R", "sumsq.G", "sumsq.B", "sum.weight", "sum.albedo.R",
+          "sum.albedo.G", "sum.albedo.B", "sum.N.X", "sum.N.Y", "sum.N.Z", "sum.Z", "sum.hits"})
         for (int w = 0; w < 4; ++w) {
             const std::string name = std::string(sum) + ".w" + std::to_string(w);
             keep.push_back(name != dropChannel);
@@ -547,7 +565,7 @@ TEST_F(FilmFiles, Layout2StoresOnlyTheWordsItNeedsAndRestoresTheRest) {
     EXPECT_FALSE(stored("sum.albedo.R.w2"));
     EXPECT_TRUE(stored("sum.N.Y.w0"));
     EXPECT_FALSE(stored("sum.N.Y.w1"));
-    EXPECT_FALSE(stored("sum.weight.w0"));  // whole numbers of samples of weight 1
+    EXPECT_FALSE(stored("sum.weight.w0"));                         // whole numbers of samples of weight 1
     EXPECT_FALSE(stored("sum.hits.w0") || stored("sum.hits.w1"));  // no sample hit anything
     // The same weight everywhere repeats; a random radiance changes.
     EXPECT_EQ(partOf["sum.weight.w1"], "sums");
@@ -619,7 +637,8 @@ TEST_F(FilmFiles, ForeignFilesAreRefusedClearly) {
     try {
         readFilmExr(plain);
     } catch (const InputError& e) {
-        EXPECT_NE(std::string(e.what()).find("not a film written by penumbra"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("not a film written by penumbra"), std::string::npos)
+            << e.what();
     }
 }
 

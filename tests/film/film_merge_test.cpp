@@ -1,6 +1,8 @@
 // The checks of `penumbra merge` and `render --resume` through the C++ API: parts of different
 // renders, overlapping samples, holes, and films a render cannot continue are refused with a
 // message that says what differs; exact merges are order-independent.
+#include "film/film_merge.h"
+
 #include <gtest/gtest.h>
 
 #include <string>
@@ -9,12 +11,12 @@
 #include "core/error.h"
 #include "renderer/render.h"
 #include "tests/support/scene_builders.h"
-#include "film/film_merge.h"
 
 namespace penumbra {
 namespace {
 
-FilmFile part(const Scene& scene, uint32_t first, uint32_t end, std::optional<PixelWindow> crop = std::nullopt) {
+FilmFile part(const Scene& scene, uint32_t first, uint32_t end,
+              std::optional<PixelWindow> crop = std::nullopt) {
     FilmFile f{Film(scene.film.width, scene.film.height), {}};
     RenderOptions options;
     options.firstSample = first;
@@ -45,7 +47,9 @@ std::string mergeError(const std::vector<FilmFile>& parts) {
     return "";
 }
 
-bool mentions(const std::string& text, const std::string& what) { return text.find(what) != std::string::npos; }
+bool mentions(const std::string& text, const std::string& what) {
+    return text.find(what) != std::string::npos;
+}
 
 TEST(Merge, ExactInAnyOrderWithTheRangeAndWindowOfTheUnion) {
     const Scene scene = testing::makeSmallBoxScene(16, 12, 6);
@@ -65,7 +69,8 @@ TEST(Merge, ExactInAnyOrderWithTheRangeAndWindowOfTheUnion) {
     EXPECT_FALSE(holes.note.empty());
     // Crops of the same samples side by side: a uniform film over their union.
     const MergeResult sides =
-        mergeFilms({part(scene, 0, 2, PixelWindow{2, 8, 1, 9}), part(scene, 0, 2, PixelWindow{8, 14, 1, 9})}, {"l", "r"});
+        mergeFilms({part(scene, 0, 2, PixelWindow{2, 8, 1, 9}), part(scene, 0, 2, PixelWindow{8, 14, 1, 9})},
+                   {"l", "r"});
     EXPECT_TRUE(sides.uniform) << sides.note;
     ASSERT_TRUE(sides.merged.metadata.crop.has_value());
     EXPECT_TRUE((*sides.merged.metadata.crop == PixelWindow{2, 14, 1, 9}));
@@ -96,16 +101,20 @@ TEST(Merge, PartsOfDifferentRendersOrOverlappingSamplesAreRefused) {
     const std::string overlap = mergeError({a, b, part(scene, 1, 3)});
     EXPECT_TRUE(mentions(overlap, "overlap")) << overlap;
     EXPECT_TRUE(mentions(overlap, "[1, 3)")) << overlap;
-    EXPECT_EQ(mergeError({part(scene, 0, 2, PixelWindow{0, 4, 0, 6}), part(scene, 0, 2, PixelWindow{4, 8, 0, 6})}), "");
-    EXPECT_TRUE(mentions(mergeError({part(scene, 0, 2, PixelWindow{0, 5, 0, 6}), part(scene, 1, 2, PixelWindow{4, 8, 0, 6})}),
-                         "overlap"));
+    EXPECT_EQ(
+        mergeError({part(scene, 0, 2, PixelWindow{0, 4, 0, 6}), part(scene, 0, 2, PixelWindow{4, 8, 0, 6})}),
+        "");
+    EXPECT_TRUE(mentions(
+        mergeError({part(scene, 0, 2, PixelWindow{0, 5, 0, 6}), part(scene, 1, 2, PixelWindow{4, 8, 0, 6})}),
+        "overlap"));
     EXPECT_THROW(mergeFilms({}, {}), InputError);
 }
 
 TEST(Resume, OnlyAFilmOfTheSameRenderCanBeContinued) {
     const Scene scene = testing::makeSmallBoxScene(8, 6, 4);
     const FilmFile f = part(scene, 0, 3, PixelWindow{1, 7, 0, 6});
-    const ResumeTarget good{"fnv1a64:0000000000000001", 8, 6, 0, "stratified", "embree", PixelWindow{1, 7, 0, 6}, 8, {}};
+    const ResumeTarget good{"fnv1a64:0000000000000001", 8, 6, 0, "stratified", "embree",
+                            PixelWindow{1, 7, 0, 6},    8, {}};
     EXPECT_NO_THROW(checkResumable(f, "f.exr", good));
 
     auto error = [&](ResumeTarget t) -> std::string {

@@ -6,9 +6,8 @@
 #include <unistd.h>
 
 #include <chrono>
-#include <fstream>
-
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -48,7 +47,8 @@ class HostileFilm : public ::testing::Test {
 protected:
     void SetUp() override {
         dir_ = fs::temp_directory_path() /
-               ("penumbra-hostile-film-" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+               ("penumbra-hostile-film-" +
+                std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
         fs::remove_all(dir_);
         fs::create_directories(dir_);
     }
@@ -102,8 +102,9 @@ TEST_F(HostileFilm, MergeRefusesSumsThatWouldOverflow128Bits) {
 // in 151 KB, none of whose rows are there. It once allocated a 19.3 GiB film before any check.
 TEST_F(HostileFilm, DeclaredSizeIsCheckedAgainstTheFileBeforeAllocating) {
     const InputError e = catchInputError([] { readFilmExr(kHostile / "declared_9000x9000.exr"); });
-    EXPECT_CONTAINS(e.what(), "declared_9000x9000.exr: the file is 151752 bytes, too small for the rows its windows "
-                              "declare (at least 371260 bytes)");
+    EXPECT_CONTAINS(e.what(),
+                    "declared_9000x9000.exr: the file is 151752 bytes, too small for the rows its windows "
+                    "declare (at least 371260 bytes)");
 }
 
 // OpenEXR 3.1's C++ reader allocates (and clears) what a header attribute declares before reading
@@ -118,7 +119,8 @@ TEST_F(HostileFilm, HeadersAreCheckedBeforeOpenExrAllocatesWhatTheyDeclare) {
     const std::pair<const char*, const char*> cases[] = {
         {"attribute_declares_1_8_gib.exr", "Invalid empty string encountered parsing attribute type"},
         {"channel_list_beyond_its_size.exr", "Invalid pixel type specified"},
-        {"unknown_attribute_1_8_gib.exr", "Attribute 'penumbra:scene', type 'strinX': Invalid size 1879048192"}};
+        {"unknown_attribute_1_8_gib.exr",
+         "Attribute 'penumbra:scene', type 'strinX': Invalid size 1879048192"}};
     for (const auto& [name, reason] : cases) {
         const fs::path file = kHostile / name;
         const InputError e = catchInputError([&] { readFilmExr(file); });

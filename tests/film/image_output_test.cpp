@@ -91,8 +91,10 @@ protected:
         ::unsetenv("OCIO");
     }
     void TearDown() override {
-        if (savedOcio_) ::setenv("OCIO", savedOcio_->c_str(), 1);
-        else ::unsetenv("OCIO");
+        if (savedOcio_)
+            ::setenv("OCIO", savedOcio_->c_str(), 1);
+        else
+            ::unsetenv("OCIO");
         std::error_code ec;
         fs::remove_all(dir_, ec);
     }
@@ -155,7 +157,8 @@ TEST_F(ImageOutputTest, ExrRoundTripsMeansAndMetadata) {
     EXPECT_TRUE(spec.getattribute("penumbra:renderTime", OIIO::TypeDesc::DOUBLE, &seconds));
     EXPECT_EQ(seconds, 12.375);
     EXPECT_EQ(spec.get_string_attribute("penumbra:version"), "0.1.0");
-    EXPECT_EQ(std::string(spec.get_string_attribute("Software")), std::string("penumbra ") + PENUMBRA_VERSION);
+    EXPECT_EQ(std::string(spec.get_string_attribute("Software")),
+              std::string("penumbra ") + PENUMBRA_VERSION);
 }
 
 TEST_F(ImageOutputTest, ExrOverwritesAnExistingFile) {
@@ -181,7 +184,8 @@ TEST_F(ImageOutputTest, PngIsTheSrgbEncodingOfTheMeans) {
     EXPECT_EQ(image.spec.format, OIIO::TypeDesc::UINT8);
     for (size_t i = 0; i < linear.size(); ++i)
         for (int c = 0; c < 3; ++c)
-            EXPECT_NEAR(image.pixels[3 * i + c], srgbEncode(linear[i]), 1.0 / 255.0) << "linear " << linear[i];
+            EXPECT_NEAR(image.pixels[3 * i + c], srgbEncode(linear[i]), 1.0 / 255.0)
+                << "linear " << linear[i];
     // Exact ends: black stays 0 and anything at or above 1 is full white.
     EXPECT_EQ(image.pixels[0], 0.0f);
     EXPECT_EQ(image.pixels[3 * 4], 1.0f);
@@ -253,11 +257,11 @@ TEST_F(ImageOutputTest, FalseColorViewShowsStopsAroundMiddleGrey) {
         EXPECT_NEAR(image.pixels[3 * i + 1], g, 1.0 / 255.0) << i;
         EXPECT_NEAR(image.pixels[3 * i + 2], b, 1.0 / 255.0) << i;
     };
-    expectColour(0, 0.5f, 0.5f, 0.5f);     // middle grey
-    expectColour(1, 0.95f, 0.85f, 0.0f);   // 3 stops over: yellow (2 to 4)
-    expectColour(2, 1.0f, 0.0f, 0.0f);     // 10 stops over: red
-    expectColour(3, 0.0f, 0.0f, 0.0f);     // 10 stops under: black
-    expectColour(4, 0.25f, 0.75f, 0.2f);   // 1 stop over: green (0.5 to 2)
+    expectColour(0, 0.5f, 0.5f, 0.5f);    // middle grey
+    expectColour(1, 0.95f, 0.85f, 0.0f);  // 3 stops over: yellow (2 to 4)
+    expectColour(2, 1.0f, 0.0f, 0.0f);    // 10 stops over: red
+    expectColour(3, 0.0f, 0.0f, 0.0f);    // 10 stops under: black
+    expectColour(4, 0.25f, 0.75f, 0.2f);  // 1 stop over: green (0.5 to 2)
     EXPECT_EQ(image.spec.get_string_attribute("penumbra:view"), "False Color");
 }
 
@@ -355,8 +359,10 @@ TEST_F(ImageOutputTest, UnwritablePathThrowsAndLeavesNoTemporaryFile) {
     // A path under a regular file: the folder cannot be created.
     for (const fs::path& path : {blocker / "out.exr", blocker / "sub" / "out.png"}) {
         try {
-            if (path.extension() == ".exr") writeExr(film, RenderMetadata{}, path);
-            else writeDisplayImage(film, path);
+            if (path.extension() == ".exr")
+                writeExr(film, RenderMetadata{}, path);
+            else
+                writeDisplayImage(film, path);
             FAIL() << "expected InputError for " << path;
         } catch (const InputError& e) {
             EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();

@@ -1,5 +1,7 @@
 // The 64-bit pre-summing of a pixel's samples must leave the film's sums exactly as direct adds
 // would.
+#include "film/pixel_accumulator.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,7 +11,6 @@
 #include <vector>
 
 #include "film/film.h"
-#include "film/pixel_accumulator.h"
 
 namespace penumbra {
 namespace {
@@ -21,8 +22,15 @@ bool sameBits(const PixelSums& a, const PixelSums& b) { return std::memcmp(&a, &
 std::vector<std::pair<Rgb, FirstHitAovs>> mixedSamples(int count, uint32_t seed) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-    const float specials[] = {255.99f, 256.0f, 256.01f, 1.0e6f, 3.0e7f, std::numeric_limits<float>::infinity(),
-                              std::numeric_limits<float>::quiet_NaN(), -1.0e9f, 0x1p-50f};
+    const float specials[] = {255.99f,
+                              256.0f,
+                              256.01f,
+                              1.0e6f,
+                              3.0e7f,
+                              std::numeric_limits<float>::infinity(),
+                              std::numeric_limits<float>::quiet_NaN(),
+                              -1.0e9f,
+                              0x1p-50f};
     std::vector<std::pair<Rgb, FirstHitAovs>> samples;
     for (int i = 0; i < count; ++i) {
         Rgb radiance(unit(rng) * 4.0f, unit(rng), unit(rng) * 20.0f);  // squares up to 400: both paths
@@ -75,10 +83,21 @@ TEST(PixelAccumulator, FlushesAtMostEveryKMaxSamples) {
 
 TEST(PixelAccumulator, SumsAreAddressedInTheDeclaredOrder) {
     PixelSums p;
-    const ExactSum* declared[] = {&p.radiance[0], &p.radiance[1], &p.radiance[2], &p.radianceSquared[0],
-                                  &p.radianceSquared[1], &p.radianceSquared[2], &p.weight, &p.albedo[0],
-                                  &p.albedo[1], &p.albedo[2], &p.normal[0], &p.normal[1], &p.normal[2],
-                                  &p.depth, &p.hitWeight};
+    const ExactSum* declared[] = {&p.radiance[0],
+                                  &p.radiance[1],
+                                  &p.radiance[2],
+                                  &p.radianceSquared[0],
+                                  &p.radianceSquared[1],
+                                  &p.radianceSquared[2],
+                                  &p.weight,
+                                  &p.albedo[0],
+                                  &p.albedo[1],
+                                  &p.albedo[2],
+                                  &p.normal[0],
+                                  &p.normal[1],
+                                  &p.normal[2],
+                                  &p.depth,
+                                  &p.hitWeight};
     ASSERT_EQ(std::size(declared), size_t(PixelSums::kSumCount));
     for (int i = 0; i < PixelSums::kSumCount; ++i) EXPECT_EQ(&p.sum(i), declared[i]) << i;
 }

@@ -34,8 +34,8 @@ TEST(PbrtMalformed, EveryFileIsAClearErrorAtItsPlace) {
             ADD_FAILURE() << entry.path().filename() << ": loaded without an error";
         } catch (const InputError& e) {
             const std::string what = e.what();
-            EXPECT_EQ(what.rfind(expected, 0), 0u) << entry.path().filename() << "\n  expected: " << expected
-                                                   << "\n  got:      " << what;
+            EXPECT_EQ(what.rfind(expected, 0), 0u)
+                << entry.path().filename() << "\n  expected: " << expected << "\n  got:      " << what;
         }
     }
     EXPECT_GE(files, 15);

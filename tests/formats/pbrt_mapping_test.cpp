@@ -2,10 +2,9 @@
 // materials.h, spectrum.h), checked on the converted document and on the built Scene. Expected
 // values come from pbrt-v4's definitions (cameras.cpp, lights.cpp, materials.cpp), worked out by
 // hand in the comments.
+#include <OpenEXR/ImfRgbaFile.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
-
-#include <OpenEXR/ImfRgbaFile.h>
 
 #include <algorithm>
 #include <cmath>
@@ -16,10 +15,10 @@
 #include <vector>
 
 #include "core/error.h"
-#include "scenes/scene_loader.h"
 #include "formats/pbrt/pbrt_reader.h"
 #include "formats/pbrt/spectrum.h"
 #include "formats/scene_file.h"
+#include "scenes/scene_loader.h"
 
 namespace penumbra::pbrt {
 namespace {
@@ -28,7 +27,8 @@ namespace fs = std::filesystem;
 
 // A camera that needs no mirroring: pbrt's LookAt frame mirrored by Scale -1 1 1 is the
 // right-handed frame penumbra's camera uses.
-const std::string kCamera = "Scale -1 1 1\nLookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 40\n";
+const std::string kCamera =
+    "Scale -1 1 1\nLookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 40\n";
 
 PbrtConversion convert(const std::string& text) { return convertPbrtText(text, "test.pbrt"); }
 
@@ -50,14 +50,20 @@ TEST(PbrtMapping, DefaultsArePbrtV4s) {
 }
 
 TEST(PbrtMapping, FovIsTheShorterAxisAndTheScreenWindowScalesIt) {
-    auto portrait = convert(kCamera + "Film \"rgb\" \"integer xresolution\" 100 \"integer yresolution\" 200\nWorldBegin\n");
-    const double expected = 2.0 * std::atan(std::tan(20.0 * std::numbers::pi / 180.0) * 2.0) * 180.0 / std::numbers::pi;
+    auto portrait = convert(
+        kCamera + "Film \"rgb\" \"integer xresolution\" 100 \"integer yresolution\" 200\nWorldBegin\n");
+    const double expected =
+        2.0 * std::atan(std::tan(20.0 * std::numbers::pi / 180.0) * 2.0) * 180.0 / std::numbers::pi;
     EXPECT_NEAR(portrait.document["camera"]["fov"].get<double>(), expected, 1e-9);
-    auto window = convert(kCamera + "Camera \"perspective\" \"float fov\" 40 \"float screenwindow\" [-0.5 0.5 -0.5 0.5]\n"
-                                    "Film \"rgb\" \"integer xresolution\" 100 \"integer yresolution\" 100\nWorldBegin\n");
-    const double halved = 2.0 * std::atan(std::tan(20.0 * std::numbers::pi / 180.0) * 0.5) * 180.0 / std::numbers::pi;
+    auto window =
+        convert(kCamera +
+                "Camera \"perspective\" \"float fov\" 40 \"float screenwindow\" [-0.5 0.5 -0.5 0.5]\n"
+                "Film \"rgb\" \"integer xresolution\" 100 \"integer yresolution\" 100\nWorldBegin\n");
+    const double halved =
+        2.0 * std::atan(std::tan(20.0 * std::numbers::pi / 180.0) * 0.5) * 180.0 / std::numbers::pi;
     EXPECT_NEAR(window.document["camera"]["fov"].get<double>(), halved, 1e-9);
-    auto lens = convert("Camera \"perspective\" \"float lensradius\" 0.1 \"float focaldistance\" 7\nWorldBegin\n");
+    auto lens =
+        convert("Camera \"perspective\" \"float lensradius\" 0.1 \"float focaldistance\" 7\nWorldBegin\n");
     EXPECT_DOUBLE_EQ(lens.document["camera"]["aperture_radius"].get<double>(), 0.1);
     EXPECT_DOUBLE_EQ(lens.document["camera"]["focus_distance"].get<double>(), 7.0);
 }
@@ -65,7 +71,9 @@ TEST(PbrtMapping, FovIsTheShorterAxisAndTheScreenWindowScalesIt) {
 TEST(PbrtMapping, LookAtIsLeftHandedSoTheWorldIsMirrored) {
     // pbrt's LookAt from +z: camera +x (the image's right) is world -x. penumbra's camera looking
     // the same way has world +x on the right, so the world is mirrored across the plane x = 0.
-    auto c = convert("LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\"\nWorldBegin\nTranslate 1 0 0\nShape \"sphere\"\n");
+    auto c = convert(
+        "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\"\nWorldBegin\nTranslate 1 0 0\nShape "
+        "\"sphere\"\n");
     EXPECT_EQ(c.document["camera"]["look_from"], Json::array({0.0, 0.0, 5.0}));
     EXPECT_DOUBLE_EQ(matrixOf(c.document["shapes"][0])[3].get<double>(), -1.0);
     // With the Scale -1 1 1 idiom nothing is mirrored.
@@ -76,25 +84,31 @@ TEST(PbrtMapping, LookAtIsLeftHandedSoTheWorldIsMirrored) {
 
 TEST(PbrtMapping, TransformsComposeInPbrtsOrder) {
     // Translate then Scale: points are scaled first, then moved.
-    auto c = convert(kCamera + "WorldBegin\nTranslate 1 0 0\nScale 2 2 2\nShape \"sphere\"\n"
-                               "Identity\nRotate 90 0 0 1\nShape \"sphere\"\n"
-                               "Transform [1 0 0 0  0 1 0 0  0 0 1 0  4 5 6 1]\nConcatTransform [2 0 0 0  0 2 0 0  0 0 2 0  0 0 0 1]\n"
-                               "Shape \"sphere\"\n");
+    auto c = convert(kCamera +
+                     "WorldBegin\nTranslate 1 0 0\nScale 2 2 2\nShape \"sphere\"\n"
+                     "Identity\nRotate 90 0 0 1\nShape \"sphere\"\n"
+                     "Transform [1 0 0 0  0 1 0 0  0 0 1 0  4 5 6 1]\nConcatTransform [2 0 0 0  0 2 0 0  0 0 "
+                     "2 0  0 0 0 1]\n"
+                     "Shape \"sphere\"\n");
     const Json m0 = matrixOf(c.document["shapes"][0]);
-    EXPECT_EQ(m0, Json::array({2.0, 0.0, 0.0, 1.0, 0.0, 2.0, 0.0, 0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0, 0.0, 1.0}));
+    EXPECT_EQ(m0,
+              Json::array({2.0, 0.0, 0.0, 1.0, 0.0, 2.0, 0.0, 0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0, 0.0, 1.0}));
     const Json m1 = matrixOf(c.document["shapes"][1]);  // x -> y
     EXPECT_NEAR(m1[4].get<double>(), 1.0, 1e-12);
     EXPECT_NEAR(m1[1].get<double>(), -1.0, 1e-12);
     const Json m2 = matrixOf(c.document["shapes"][2]);  // the matrix's last four numbers are the translation
-    EXPECT_EQ(m2, Json::array({2.0, 0.0, 0.0, 4.0, 0.0, 2.0, 0.0, 5.0, 0.0, 0.0, 2.0, 6.0, 0.0, 0.0, 0.0, 1.0}));
+    EXPECT_EQ(m2,
+              Json::array({2.0, 0.0, 0.0, 4.0, 0.0, 2.0, 0.0, 5.0, 0.0, 0.0, 2.0, 6.0, 0.0, 0.0, 0.0, 1.0}));
 }
 
 TEST(PbrtMapping, AttributesTransformBlocksAndCoordinateSystems) {
-    auto c = convert(kCamera + "WorldBegin\nMaterial \"diffuse\" \"rgb reflectance\" [0.1 0.2 0.3]\n"
-                               "AttributeBegin\nTranslate 1 0 0\nMaterial \"conductor\"\nCoordinateSystem \"moved\"\nAttributeEnd\n"
-                               "Shape \"sphere\"\n"
-                               "TransformBegin\nTranslate 0 2 0\nMaterial \"dielectric\"\nTransformEnd\nShape \"sphere\"\n"
-                               "CoordSysTransform \"moved\"\nShape \"sphere\"\n");
+    auto c = convert(
+        kCamera +
+        "WorldBegin\nMaterial \"diffuse\" \"rgb reflectance\" [0.1 0.2 0.3]\n"
+        "AttributeBegin\nTranslate 1 0 0\nMaterial \"conductor\"\nCoordinateSystem \"moved\"\nAttributeEnd\n"
+        "Shape \"sphere\"\n"
+        "TransformBegin\nTranslate 0 2 0\nMaterial \"dielectric\"\nTransformEnd\nShape \"sphere\"\n"
+        "CoordSysTransform \"moved\"\nShape \"sphere\"\n");
     const Json& shapes = c.document["shapes"];
     EXPECT_FALSE(shapes[0].contains("transform"));
     EXPECT_EQ(c.document["materials"][shapes[0]["material"].get<std::string>()]["type"], "lambert");
@@ -102,11 +116,13 @@ TEST(PbrtMapping, AttributesTransformBlocksAndCoordinateSystems) {
     EXPECT_FALSE(shapes[1].contains("transform"));
     EXPECT_EQ(c.document["materials"][shapes[1]["material"].get<std::string>()]["type"], "dielectric");
     EXPECT_DOUBLE_EQ(matrixOf(shapes[2])[3].get<double>(), 1.0);
-    EXPECT_TRUE(hasWarning(convert("WorldBegin\nCoordSysTransform \"nowhere\"\n"), "unknown coordinate system"));
+    EXPECT_TRUE(
+        hasWarning(convert("WorldBegin\nCoordSysTransform \"nowhere\"\n"), "unknown coordinate system"));
 }
 
 TEST(PbrtMapping, ReverseOrientationAndNormalsChooseTheFrontFace) {
-    const std::string quad = "Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 1 1 0] \"integer indices\" [0 1 2]";
+    const std::string quad =
+        "Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 1 1 0] \"integer indices\" [0 1 2]";
     auto plain = convert(kCamera + "WorldBegin\n" + quad + "\n");
     EXPECT_EQ(plain.document["shapes"][0]["indices"], Json::array({0, 1, 2}));
     auto reversed = convert(kCamera + "WorldBegin\nReverseOrientation\n" + quad + "\n");
@@ -124,16 +140,21 @@ TEST(PbrtMapping, ReverseOrientationAndNormalsChooseTheFrontFace) {
 TEST(PbrtMapping, ObjectInstancesArePrototypesAndInstances) {
     // Two meshes with their own materials (pbrt-v4: the material current inside the definition),
     // the object placed twice, the second time moving (ActiveTransform EndTime).
-    const std::string tri = "Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0] \"integer indices\" [0 1 2]\n";
-    auto c = convert(kCamera + "WorldBegin\nMakeNamedMaterial \"red\" \"string type\" \"diffuse\" \"rgb reflectance\" [0.8 0 0]\n"
-                               "ObjectBegin \"pair\"\nNamedMaterial \"red\"\n" + tri +
-                     "AttributeBegin\nMaterial \"diffuse\"\nTranslate 0 0 2\n" + tri + "AttributeEnd\nObjectEnd\n"
-                     "Material \"conductor\"\nTranslate 3 0 0\nObjectInstance \"pair\"\n"
-                     "ActiveTransform EndTime\nTranslate 1 0 0\nActiveTransform All\nObjectInstance \"pair\"\n");
+    const std::string tri =
+        "Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0] \"integer indices\" [0 1 2]\n";
+    auto c = convert(
+        kCamera +
+        "WorldBegin\nMakeNamedMaterial \"red\" \"string type\" \"diffuse\" \"rgb reflectance\" [0.8 0 0]\n"
+        "ObjectBegin \"pair\"\nNamedMaterial \"red\"\n" +
+        tri + "AttributeBegin\nMaterial \"diffuse\"\nTranslate 0 0 2\n" + tri +
+        "AttributeEnd\nObjectEnd\n"
+        "Material \"conductor\"\nTranslate 3 0 0\nObjectInstance \"pair\"\n"
+        "ActiveTransform EndTime\nTranslate 1 0 0\nActiveTransform All\nObjectInstance \"pair\"\n");
     const Json& prototypes = c.document["prototypes"];
     ASSERT_EQ(prototypes.size(), 2u);
     EXPECT_FALSE(prototypes["pair/0"].contains("transform"));
-    EXPECT_DOUBLE_EQ(matrixOf(prototypes["pair/1"])[11].get<double>(), 2.0);  // the shape's own Translate, baked in
+    EXPECT_DOUBLE_EQ(matrixOf(prototypes["pair/1"])[11].get<double>(),
+                     2.0);  // the shape's own Translate, baked in
     const Json& shapes = c.document["shapes"];
     ASSERT_EQ(shapes.size(), 4u);
     EXPECT_EQ(shapes[0]["type"], "instance");
@@ -157,9 +178,11 @@ TEST(PbrtMapping, ObjectInstancesArePrototypesAndInstances) {
 }
 
 TEST(PbrtMapping, ObjectSpheresAndEmittersArePlacedAsCopies) {
-    auto c = convert(kCamera + "WorldBegin\nObjectBegin \"ball\"\nTranslate 0 1 0\nShape \"sphere\" \"float radius\" 0.5\n"
-                               "AreaLightSource \"diffuse\" \"rgb L\" [1 1 1]\nShape \"disk\"\nObjectEnd\n"
-                               "Translate 3 0 0\nObjectInstance \"ball\"\nTranslate 3 0 0\nObjectInstance \"ball\"\n");
+    auto c =
+        convert(kCamera +
+                "WorldBegin\nObjectBegin \"ball\"\nTranslate 0 1 0\nShape \"sphere\" \"float radius\" 0.5\n"
+                "AreaLightSource \"diffuse\" \"rgb L\" [1 1 1]\nShape \"disk\"\nObjectEnd\n"
+                "Translate 3 0 0\nObjectInstance \"ball\"\nTranslate 3 0 0\nObjectInstance \"ball\"\n");
     EXPECT_FALSE(c.document.contains("prototypes"));
     const Json& shapes = c.document["shapes"];
     ASSERT_EQ(shapes.size(), 4u);
@@ -168,13 +191,17 @@ TEST(PbrtMapping, ObjectSpheresAndEmittersArePlacedAsCopies) {
     EXPECT_DOUBLE_EQ(matrixOf(shapes[0])[7].get<double>(), 1.0);
     EXPECT_TRUE(shapes[1].contains("emission"));
     EXPECT_DOUBLE_EQ(matrixOf(shapes[2])[3].get<double>(), 6.0);
-    EXPECT_TRUE(hasWarning(c, "object instances of spheres (penumbra's prototypes are meshes) are placed as copies (2 times)"));
-    EXPECT_TRUE(hasWarning(c, "object instances of area lights (instances do not emit) are placed as copies (2 times)"));
+    EXPECT_TRUE(hasWarning(
+        c, "object instances of spheres (penumbra's prototypes are meshes) are placed as copies (2 times)"));
+    EXPECT_TRUE(hasWarning(
+        c, "object instances of area lights (instances do not emit) are placed as copies (2 times)"));
 }
 
 TEST(PbrtMapping, ActiveTransformGivesMotionKeys) {
-    auto c = convert(kCamera + "WorldBegin\nActiveTransform EndTime\nTranslate 2 0 0\nRotate 90 0 1 0\nActiveTransform All\n"
-                               "Shape \"sphere\"\n");
+    auto c =
+        convert(kCamera +
+                "WorldBegin\nActiveTransform EndTime\nTranslate 2 0 0\nRotate 90 0 1 0\nActiveTransform All\n"
+                "Shape \"sphere\"\n");
     const Json& keys = c.document["shapes"][0]["motion"]["transforms"];
     ASSERT_EQ(keys.size(), 2u);
     EXPECT_DOUBLE_EQ(keys[0]["rotate"]["degrees"].get<double>(), 0.0);
@@ -188,20 +215,24 @@ TEST(PbrtMapping, ActiveTransformGivesMotionKeys) {
 
 TEST(PbrtMapping, Materials) {
     auto c = convert(
-        kCamera + "WorldBegin\n"
-                  "MakeNamedMaterial \"d\" \"string type\" \"diffuse\" \"rgb reflectance\" [0.2 0.4 0.6]\n"
-                  "MakeNamedMaterial \"c\" \"string type\" \"conductor\" \"float roughness\" 0.25\n"
-                  "MakeNamedMaterial \"a\" \"string type\" \"conductor\" \"float uroughness\" 0.1 \"float vroughness\" 0.2 "
-                  "\"bool remaproughness\" false \"spectrum eta\" \"metal-Au-eta\" \"spectrum k\" \"metal-Au-k\"\n"
-                  "MakeNamedMaterial \"r\" \"string type\" \"conductor\" \"rgb reflectance\" [0.5 0.5 0.5]\n"
-                  "MakeNamedMaterial \"g\" \"string type\" \"dielectric\" \"spectrum eta\" \"glass-BK7\"\n"
-                  "MakeNamedMaterial \"t\" \"string type\" \"thindielectric\" \"float eta\" 1.33\n"
-                  "MakeNamedMaterial \"p\" \"string type\" \"coateddiffuse\" \"rgb reflectance\" [0.5 0.1 0.1] \"float roughness\" 0.04\n"
-                  "MakeNamedMaterial \"i\" \"string type\" \"interface\"\n"
-                  "MakeNamedMaterial \"m\" \"string type\" \"mix\" \"string materials\" [\"d\" \"g\"] \"float amount\" 0.8\n"
-                  "Texture \"k\" \"spectrum\" \"constant\" \"rgb value\" [0.3 0.3 0.3]\n"
-                  "Texture \"s\" \"spectrum\" \"scale\" \"texture tex\" \"k\" \"float scale\" 2\n"
-                  "MakeNamedMaterial \"x\" \"string type\" \"diffuse\" \"texture reflectance\" \"s\"\n");
+        kCamera +
+        "WorldBegin\n"
+        "MakeNamedMaterial \"d\" \"string type\" \"diffuse\" \"rgb reflectance\" [0.2 0.4 0.6]\n"
+        "MakeNamedMaterial \"c\" \"string type\" \"conductor\" \"float roughness\" 0.25\n"
+        "MakeNamedMaterial \"a\" \"string type\" \"conductor\" \"float uroughness\" 0.1 \"float vroughness\" "
+        "0.2 "
+        "\"bool remaproughness\" false \"spectrum eta\" \"metal-Au-eta\" \"spectrum k\" \"metal-Au-k\"\n"
+        "MakeNamedMaterial \"r\" \"string type\" \"conductor\" \"rgb reflectance\" [0.5 0.5 0.5]\n"
+        "MakeNamedMaterial \"g\" \"string type\" \"dielectric\" \"spectrum eta\" \"glass-BK7\"\n"
+        "MakeNamedMaterial \"t\" \"string type\" \"thindielectric\" \"float eta\" 1.33\n"
+        "MakeNamedMaterial \"p\" \"string type\" \"coateddiffuse\" \"rgb reflectance\" [0.5 0.1 0.1] \"float "
+        "roughness\" 0.04\n"
+        "MakeNamedMaterial \"i\" \"string type\" \"interface\"\n"
+        "MakeNamedMaterial \"m\" \"string type\" \"mix\" \"string materials\" [\"d\" \"g\"] \"float amount\" "
+        "0.8\n"
+        "Texture \"k\" \"spectrum\" \"constant\" \"rgb value\" [0.3 0.3 0.3]\n"
+        "Texture \"s\" \"spectrum\" \"scale\" \"texture tex\" \"k\" \"float scale\" 2\n"
+        "MakeNamedMaterial \"x\" \"string type\" \"diffuse\" \"texture reflectance\" \"s\"\n");
     const Json& m = c.document["materials"];
     EXPECT_EQ(m["d"], Json::parse(R"({"type": "lambert", "albedo": [0.2, 0.4, 0.6]})"));
     // remaproughness (the default): alpha = sqrt(roughness); copper by default.
@@ -229,10 +260,11 @@ TEST(PbrtMapping, Materials) {
 // pbrt-v4's spot light (lights.cpp SpotLight::Create): from, to, coneangle (30), conedelta (5);
 // "power" divides by 2 pi ((1 - cos(25)) + (cos(25) - cos(30)) / 2) = 0.715236 for the defaults.
 TEST(PbrtMapping, SpotLights) {
-    auto c = convert(kCamera + "WorldBegin\nTranslate 0 1 0\n"
-                               "LightSource \"spot\" \"rgb I\" [1 2 3] \"point3 from\" [0 2 0] \"point3 to\" [0 0 0] "
-                               "\"float coneangle\" 40 \"float conedelta\" 10\n"
-                               "LightSource \"spot\" \"float power\" 10\n");
+    auto c = convert(kCamera +
+                     "WorldBegin\nTranslate 0 1 0\n"
+                     "LightSource \"spot\" \"rgb I\" [1 2 3] \"point3 from\" [0 2 0] \"point3 to\" [0 0 0] "
+                     "\"float coneangle\" 40 \"float conedelta\" 10\n"
+                     "LightSource \"spot\" \"float power\" 10\n");
     const Json& lights = c.document["lights"];
     EXPECT_EQ(lights[0]["type"], "spot");
     EXPECT_EQ(lights[0]["position"], Json::array({0.0, 3.0, 0.0}));
@@ -246,19 +278,24 @@ TEST(PbrtMapping, SpotLights) {
     const Scene scene = buildPbrtScene(c, "test.pbrt");
     ASSERT_EQ(scene.spotLights.size(), 2u);
     EXPECT_NEAR(scene.spotLights[0].cosFalloffEnd, std::cos(40.0 * std::numbers::pi / 180.0), 1e-6);
-    EXPECT_THROW(convert(kCamera + "WorldBegin\nLightSource \"spot\" \"float coneangle\" 10 \"float conedelta\" 20\n"), InputError);
+    EXPECT_THROW(
+        convert(kCamera + "WorldBegin\nLightSource \"spot\" \"float coneangle\" 10 \"float conedelta\" 20\n"),
+        InputError);
 }
 
 TEST(PbrtMapping, LightsAndEmission) {
-    auto c = convert(kCamera + "WorldBegin\nTranslate 0 1 0\n"
-                               "LightSource \"point\" \"rgb I\" [1 2 3] \"float scale\" 2 \"point3 from\" [1 0 0]\n"
-                               "LightSource \"point\" \"float power\" 100\n"
-                               "LightSource \"distant\" \"point3 from\" [0 1 0] \"point3 to\" [0 0 0] \"rgb L\" [3 3 3]\n"
-                               "LightSource \"infinite\" \"rgb L\" [0.1 0.2 0.3]\n"
-                               "LightSource \"infinite\" \"rgb L\" [0.1 0.1 0.1]\n"
-                               "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [4 5 6] \"float scale\" 0.5 \"bool twosided\" true\n"
-                               "Shape \"sphere\"\nAttributeEnd\nShape \"sphere\"\n"
-                               "AreaLightSource \"diffuse\" \"blackbody L\" 3000\nShape \"sphere\"\n");
+    auto c =
+        convert(kCamera +
+                "WorldBegin\nTranslate 0 1 0\n"
+                "LightSource \"point\" \"rgb I\" [1 2 3] \"float scale\" 2 \"point3 from\" [1 0 0]\n"
+                "LightSource \"point\" \"float power\" 100\n"
+                "LightSource \"distant\" \"point3 from\" [0 1 0] \"point3 to\" [0 0 0] \"rgb L\" [3 3 3]\n"
+                "LightSource \"infinite\" \"rgb L\" [0.1 0.2 0.3]\n"
+                "LightSource \"infinite\" \"rgb L\" [0.1 0.1 0.1]\n"
+                "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [4 5 6] \"float scale\" 0.5 \"bool "
+                "twosided\" true\n"
+                "Shape \"sphere\"\nAttributeEnd\nShape \"sphere\"\n"
+                "AreaLightSource \"diffuse\" \"blackbody L\" 3000\nShape \"sphere\"\n");
     const Json& lights = c.document["lights"];
     EXPECT_EQ(lights[0]["position"], Json::array({1.0, 1.0, 0.0}));
     EXPECT_EQ(lights[0]["intensity"], Json::array({2.0, 4.0, 6.0}));
@@ -279,32 +316,42 @@ TEST(PbrtMapping, ImageInfiniteLightsKeepPbrtsLatitudeLongitudeOrientation) {
     // phi = atan2(y, x), row v = theta / pi from +z, in the light's space. Checked against the
     // same image read in penumbra's own convention, with the light turned so that its +z is world
     // +y, under a camera that needs no mirroring and under one that does (world x -> -x).
-    const std::string sky = (fs::path(PENUMBRA_SOURCE_DIR) / "scenes" / "textures" / "sky.exr").string();  // 512 x 256
-    const Scene plain = parseScene(R"({"environment": {"type": "image", "file": ")" + sky + R"("}})", "test.json");
+    const std::string sky =
+        (fs::path(PENUMBRA_SOURCE_DIR) / "scenes" / "textures" / "sky.exr").string();  // 512 x 256
+    const Scene plain =
+        parseScene(R"({"environment": {"type": "image", "file": ")" + sky + R"("}})", "test.json");
     const std::string mirroredCamera = "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\"\n";
     for (const std::string& camera : {kCamera, mirroredCamera}) {
         const bool mirrored = camera == mirroredCamera;
-        auto c = convert(camera + "WorldBegin\nAttributeBegin\nRotate -90 1 0 0\nLightSource \"infinite\" \"string filename\" \"" +
-                         sky + "\" \"float scale\" 2\nAttributeEnd\n");
+        auto c = convert(
+            camera +
+            "WorldBegin\nAttributeBegin\nRotate -90 1 0 0\nLightSource \"infinite\" \"string filename\" \"" +
+            sky + "\" \"float scale\" 2\nAttributeEnd\n");
         const Json& environment = c.document["environment"];
         EXPECT_EQ(environment["type"], "image");
         EXPECT_EQ(environment["scale"], 2.0);
-        EXPECT_EQ(environment.value("mirror", false), !mirrored);  // pbrt's map is mirrored in a right-handed world
+        EXPECT_EQ(environment.value("mirror", false),
+                  !mirrored);  // pbrt's map is mirrored in a right-handed world
         EXPECT_FALSE(c.document.contains("background"));
         const Scene scene = buildPbrtScene(c, "test.pbrt");
         for (int i = 0; i < 40; ++i) {
-            const double s = (double((i * 97) % 512) + 0.5) / 512.0, t = (double((i * 37) % 256) + 0.5) / 256.0;
+            const double s = (double((i * 97) % 512) + 0.5) / 512.0,
+                         t = (double((i * 37) % 256) + 0.5) / 256.0;
             const double phi = 2.0 * std::numbers::pi * s, theta = std::numbers::pi * t;
-            const Vec3f light{float(std::sin(theta) * std::cos(phi)), float(std::sin(theta) * std::sin(phi)), float(std::cos(theta))};
+            const Vec3f light{float(std::sin(theta) * std::cos(phi)), float(std::sin(theta) * std::sin(phi)),
+                              float(std::cos(theta))};
             Vec3f world{light.x, light.z, -light.y};  // Rotate -90 about x
             if (mirrored) world.x = -world.x;
-            const Vec3f own{float(std::sin(theta) * std::sin(phi)), float(std::cos(theta)), float(-std::sin(theta) * std::cos(phi))};
-            const Rgb expected = plain.environment.radiance(own) * 2.0f, found = scene.environment.radiance(world);
+            const Vec3f own{float(std::sin(theta) * std::sin(phi)), float(std::cos(theta)),
+                            float(-std::sin(theta) * std::cos(phi))};
+            const Rgb expected = plain.environment.radiance(own) * 2.0f,
+                      found = scene.environment.radiance(world);
             EXPECT_NEAR(found.r, expected.r, 1e-5f * (1.0f + expected.r)) << s << " " << t;
             EXPECT_NEAR(found.b, expected.b, 1e-5f * (1.0f + expected.b)) << s << " " << t;
         }
     }
-    EXPECT_THROW(convert(kCamera + "WorldBegin\nLightSource \"infinite\" \"string filename\" \"" + sky + "\" \"rgb L\" [1 1 1]\n"),
+    EXPECT_THROW(convert(kCamera + "WorldBegin\nLightSource \"infinite\" \"string filename\" \"" + sky +
+                         "\" \"rgb L\" [1 1 1]\n"),
                  InputError);
 }
 
@@ -316,7 +363,8 @@ Vec3f pbrtEqualAreaSquareToSphere(double s, double t) {
     const double phi = (r == 0.0 ? 1.0 : (vp - up) / r + 1.0) * std::numbers::pi / 4.0;
     const double z = std::copysign(1.0 - r * r, signedDistance);
     const double ring = r * std::sqrt(2.0 - r * r);
-    return {float(std::copysign(std::cos(phi), u) * ring), float(std::copysign(std::sin(phi), v) * ring), float(z)};
+    return {float(std::copysign(std::cos(phi), u) * ring), float(std::copysign(std::sin(phi), v) * ring),
+            float(z)};
 }
 
 TEST(PbrtMapping, SquareInfiniteLightsArePbrtV4sEqualAreaMaps) {
@@ -325,7 +373,8 @@ TEST(PbrtMapping, SquareInfiniteLightsArePbrtV4sEqualAreaMaps) {
     // the top). The light is turned so that its +z is world +y, under a camera that needs no
     // mirroring and under one that does (world x -> -x).
     const int size = 16;
-    const fs::path map = fs::temp_directory_path() / ("penumbra-equal-area-" + std::to_string(::getpid()) + ".exr");
+    const fs::path map =
+        fs::temp_directory_path() / ("penumbra-equal-area-" + std::to_string(::getpid()) + ".exr");
     {
         std::vector<Imf::Rgba> pixels;
         for (int y = 0; y < size; ++y)
@@ -337,8 +386,10 @@ TEST(PbrtMapping, SquareInfiniteLightsArePbrtV4sEqualAreaMaps) {
     const std::string mirroredCamera = "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\"\n";
     for (const std::string& camera : {kCamera, mirroredCamera}) {
         const bool mirrored = camera == mirroredCamera;
-        auto c = convert(camera + "WorldBegin\nAttributeBegin\nRotate -90 1 0 0\nLightSource \"infinite\" \"string filename\" \"" +
-                         map.string() + "\" \"float scale\" 2\nAttributeEnd\n");
+        auto c = convert(
+            camera +
+            "WorldBegin\nAttributeBegin\nRotate -90 1 0 0\nLightSource \"infinite\" \"string filename\" \"" +
+            map.string() + "\" \"float scale\" 2\nAttributeEnd\n");
         const Json& environment = c.document["environment"];
         EXPECT_EQ(environment["mapping"], "equal_area");
         EXPECT_EQ(environment.value("mirror", false), mirrored);
@@ -360,25 +411,36 @@ TEST(PbrtMapping, SquareInfiniteLightsArePbrtV4sEqualAreaMaps) {
 
 TEST(PbrtMapping, TexturesBecomeTextureObjects) {
     const std::string floor = (fs::path(PENUMBRA_SOURCE_DIR) / "scenes" / "textures" / "floor.png").string();
-    auto c = convert(kCamera + "WorldBegin\n"
-                     "Texture \"img\" \"spectrum\" \"imagemap\" \"string filename\" \"" + floor + "\" \"string wrap\" \"clamp\" "
-                     "\"float uscale\" 4 \"float vscale\" 2 \"float udelta\" 0.5 \"string encoding\" \"linear\" \"string filter\" \"point\"\n"
-                     "Texture \"bright\" \"spectrum\" \"scale\" \"texture tex\" \"img\" \"float scale\" 2\n"
-                     "Texture \"check\" \"spectrum\" \"checkerboard\" \"rgb tex1\" [1 0 0] \"rgb tex2\" [0 0 1] \"float uscale\" 8 \"float vscale\" 8\n"
-                     "Texture \"k\" \"float\" \"constant\" \"float value\" 0.36\n"
-                     "MakeNamedMaterial \"a\" \"string type\" \"diffuse\" \"texture reflectance\" \"bright\"\n"
-                     "MakeNamedMaterial \"b\" \"string type\" \"coateddiffuse\" \"texture reflectance\" \"check\" \"texture roughness\" \"k\"\n"
-                     "MakeNamedMaterial \"c\" \"string type\" \"conductor\" \"texture reflectance\" \"img\"\n");
+    auto c =
+        convert(kCamera +
+                "WorldBegin\n"
+                "Texture \"img\" \"spectrum\" \"imagemap\" \"string filename\" \"" +
+                floor +
+                "\" \"string wrap\" \"clamp\" "
+                "\"float uscale\" 4 \"float vscale\" 2 \"float udelta\" 0.5 \"string encoding\" \"linear\" "
+                "\"string filter\" \"point\"\n"
+                "Texture \"bright\" \"spectrum\" \"scale\" \"texture tex\" \"img\" \"float scale\" 2\n"
+                "Texture \"check\" \"spectrum\" \"checkerboard\" \"rgb tex1\" [1 0 0] \"rgb tex2\" [0 0 1] "
+                "\"float uscale\" 8 \"float vscale\" 8\n"
+                "Texture \"k\" \"float\" \"constant\" \"float value\" 0.36\n"
+                "MakeNamedMaterial \"a\" \"string type\" \"diffuse\" \"texture reflectance\" \"bright\"\n"
+                "MakeNamedMaterial \"b\" \"string type\" \"coateddiffuse\" \"texture reflectance\" \"check\" "
+                "\"texture roughness\" \"k\"\n"
+                "MakeNamedMaterial \"c\" \"string type\" \"conductor\" \"texture reflectance\" \"img\"\n");
     const Json& m = c.document["materials"];
     // pbrt's st = (uscale u + udelta, vscale v + vdelta) is penumbra's (u, v) * uv_scale + uv_offset.
-    Json image{{"type", "image"}, {"file", floor}, {"wrap", "clamp"}, {"filter", "closest"}, {"color_space", "linear"},
-               {"uv_scale", {4.0, 2.0}}, {"uv_offset", {0.5, 0.0}}, {"scale", 2.0}};
+    Json image{
+        {"type", "image"},         {"file", floor},          {"wrap", "clamp"},         {"filter", "closest"},
+        {"color_space", "linear"}, {"uv_scale", {4.0, 2.0}}, {"uv_offset", {0.5, 0.0}}, {"scale", 2.0}};
     EXPECT_EQ(m["a"]["albedo"], image);
-    EXPECT_EQ(m["b"]["albedo"], Json::parse(R"({"type": "checkerboard", "colors": [[1, 0, 0], [0, 0, 1]], "uv_scale": [8, 8]})"));
+    EXPECT_EQ(
+        m["b"]["albedo"],
+        Json::parse(R"({"type": "checkerboard", "colors": [[1, 0, 0], [0, 0, 1]], "uv_scale": [8, 8]})"));
     EXPECT_NEAR(m["b"]["alpha"].get<double>(), 0.6, 1e-7);  // a constant float texture: sqrt(0.36)
     // Where penumbra takes no texture (a conductor's reflectance): the stand-in 0.5, with a warning.
     EXPECT_NEAR(m["c"]["k"][0].get<double>(), 2.0, 1e-6);
-    EXPECT_TRUE(hasWarning(c, "a texture where penumbra takes none (parameter \"texture reflectance\"): the constant 0.5"));
+    EXPECT_TRUE(hasWarning(
+        c, "a texture where penumbra takes none (parameter \"texture reflectance\"): the constant 0.5"));
     const Scene scene = buildPbrtScene(c, "test.pbrt");
     const auto named = std::find(scene.materialNames.begin(), scene.materialNames.end(), "a");
     ASSERT_NE(named, scene.materialNames.end());
@@ -386,7 +448,8 @@ TEST(PbrtMapping, TexturesBecomeTextureObjects) {
 }
 
 TEST(PbrtSpectrum, BlackbodiesHaveUnitLuminanceAndTheirColour) {
-    for (double t : {1500.0, 3000.0, 6504.0, 10000.0}) EXPECT_NEAR(blackbodyRgb(t).luminance(), 1.0, 2e-3) << t;
+    for (double t : {1500.0, 3000.0, 6504.0, 10000.0})
+        EXPECT_NEAR(blackbodyRgb(t).luminance(), 1.0, 2e-3) << t;
     const Rgb warm = blackbodyRgb(2000.0), daylight = blackbodyRgb(6504.0), blue = blackbodyRgb(12000.0);
     EXPECT_GT(warm.r, warm.g);
     EXPECT_GT(warm.g, warm.b);
@@ -402,11 +465,14 @@ TEST(PbrtSpectrum, BlackbodiesHaveUnitLuminanceAndTheirColour) {
 
 TEST(PbrtMapping, ShapesOfEveryKind) {
     const fs::path ply = fs::path(PENUMBRA_TEST_DATA_DIR) / "scenes" / "meshes" / "square_ascii.ply";
-    auto c = convert(kCamera + "WorldBegin\nShape \"sphere\" \"float radius\" 2\nShape \"disk\" \"float radius\" 3\n"
-                               "Shape \"bilinearmesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0 1 1 0]\n"
-                               "Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0] \"point2 uv\" [0 0 1 0 0 1]\n"
-                               "Shape \"plymesh\" \"string filename\" \"" + ply.string() + "\"\n"
-                               "Shape \"curve\" \"point3 P\" [0 0 0 1 1 1 2 2 2 3 3 3]\n");
+    auto c = convert(kCamera +
+                     "WorldBegin\nShape \"sphere\" \"float radius\" 2\nShape \"disk\" \"float radius\" 3\n"
+                     "Shape \"bilinearmesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0 1 1 0]\n"
+                     "Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0] \"point2 uv\" [0 0 1 0 0 1]\n"
+                     "Shape \"plymesh\" \"string filename\" \"" +
+                     ply.string() +
+                     "\"\n"
+                     "Shape \"curve\" \"point3 P\" [0 0 0 1 1 1 2 2 2 3 3 3]\n");
     const Json& s = c.document["shapes"];
     ASSERT_EQ(s.size(), 5u);
     EXPECT_EQ(s[0]["radius"], 2.0);
@@ -423,10 +489,12 @@ TEST(PbrtMapping, ShapesOfEveryKind) {
 }
 
 TEST(PbrtMapping, FilmSamplerFilterIntegrator) {
-    auto c = convert("Film \"rgb\" \"integer xresolution\" 64 \"integer yresolution\" 32 \"float cropwindow\" [0 0.5 0 1]\n"
-                     "Sampler \"stratified\" \"integer xsamples\" 3 \"integer ysamples\" 5\n"
-                     "PixelFilter \"gaussian\"\nIntegrator \"volpath\" \"integer maxdepth\" 9 \"bool regularize\" true\n"
-                     "WorldBegin\n");
+    auto c = convert(
+        "Film \"rgb\" \"integer xresolution\" 64 \"integer yresolution\" 32 \"float cropwindow\" [0 0.5 0 "
+        "1]\n"
+        "Sampler \"stratified\" \"integer xsamples\" 3 \"integer ysamples\" 5\n"
+        "PixelFilter \"gaussian\"\nIntegrator \"volpath\" \"integer maxdepth\" 9 \"bool regularize\" true\n"
+        "WorldBegin\n");
     EXPECT_EQ(c.document["film"]["resolution"], Json::array({64, 32}));
     EXPECT_EQ(c.document["film"]["spp"], 15);
     EXPECT_EQ(c.document["film"]["filter"]["type"], "tent");
@@ -434,15 +502,17 @@ TEST(PbrtMapping, FilmSamplerFilterIntegrator) {
     EXPECT_EQ(c.document["integrator"]["max_depth"], 9);
     EXPECT_TRUE(hasWarning(c, "--crop 0,32,0,32"));
     EXPECT_TRUE(hasWarning(c, "regularize"));
-    auto box = convert("PixelFilter \"box\"\nSampler \"independent\" \"integer pixelsamples\" 7\nWorldBegin\n");
+    auto box =
+        convert("PixelFilter \"box\"\nSampler \"independent\" \"integer pixelsamples\" 7\nWorldBegin\n");
     EXPECT_EQ(box.document["film"]["filter"], Json::parse(R"({"type": "box", "radius": 0.5})"));
     EXPECT_EQ(box.document["render"]["sampler"], "independent");
     EXPECT_EQ(box.document["film"]["spp"], 7);
 }
 
 TEST(PbrtMapping, UnsupportedDirectivesWarnOnceWithACount) {
-    auto c = convert("WorldBegin\nMakeNamedMedium \"fog\" \"string type\" \"homogeneous\"\n"
-                     "MakeNamedMedium \"fog2\" \"string type\" \"homogeneous\"\nShape \"sphere\" \"float nonsense\" 1\n");
+    auto c = convert(
+        "WorldBegin\nMakeNamedMedium \"fog\" \"string type\" \"homogeneous\"\n"
+        "MakeNamedMedium \"fog2\" \"string type\" \"homogeneous\"\nShape \"sphere\" \"float nonsense\" 1\n");
     int medium = 0;
     for (const std::string& w : c.warnings)
         if (w.find("MakeNamedMedium") != std::string::npos) {
@@ -451,7 +521,8 @@ TEST(PbrtMapping, UnsupportedDirectivesWarnOnceWithACount) {
             EXPECT_NE(w.find("(2 times)"), std::string::npos) << w;
         }
     EXPECT_EQ(medium, 1);
-    EXPECT_TRUE(hasWarning(c, "test.pbrt:4:16: parameter \"float nonsense\" of Shape \"sphere\" is not supported"));
+    EXPECT_TRUE(
+        hasWarning(c, "test.pbrt:4:16: parameter \"float nonsense\" of Shape \"sphere\" is not supported"));
 }
 
 TEST(PbrtMapping, IncludedFilesAreCoveredByTheSceneHash) {
@@ -470,9 +541,11 @@ TEST(PbrtMapping, IncludedFilesAreCoveredByTheSceneHash) {
 TEST(PbrtMapping, APatchChangesTheConvertedScene) {
     const fs::path dir = fs::temp_directory_path() / "penumbra_pbrt_patch_test";
     fs::create_directories(dir);
-    std::ofstream(dir / "scene.pbrt") << "WorldBegin\nMakeNamedMaterial \"metal\" \"string type\" \"conductor\" "
-                                         "\"float roughness\" 0.01\nNamedMaterial \"metal\"\nShape \"sphere\"\n";
-    std::ofstream(dir / "patch.json") << R"({"integrator": {"max_depth": 1}, "materials": {"metal": {"tint": 0.3}}})";
+    std::ofstream(dir / "scene.pbrt")
+        << "WorldBegin\nMakeNamedMaterial \"metal\" \"string type\" \"conductor\" "
+           "\"float roughness\" 0.01\nNamedMaterial \"metal\"\nShape \"sphere\"\n";
+    std::ofstream(dir / "patch.json")
+        << R"({"integrator": {"max_depth": 1}, "materials": {"metal": {"tint": 0.3}}})";
     std::vector<std::string> warnings;
     const Scene scene = loadSceneFile(dir / "scene.pbrt", {dir / "patch.json", &warnings});
     EXPECT_EQ(scene.integrator.maxDepth, 1);

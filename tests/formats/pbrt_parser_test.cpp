@@ -65,10 +65,13 @@ TEST(PbrtTokenizer, EscapesAndErrors) {
 
 TEST(PbrtParameters, EveryTypeWithAndWithoutBrackets) {
     const auto d = parse(
-        "Shape \"x\" \"integer a\" [1 2] \"float b\" 2.5 \"point2 c\" [1 2] \"vector2 d\" [3 4] \"point3 e\" [1 2 3]\n"
+        "Shape \"x\" \"integer a\" [1 2] \"float b\" 2.5 \"point2 c\" [1 2] \"vector2 d\" [3 4] \"point3 e\" "
+        "[1 2 3]\n"
         "  \"vector3 f\" [4 5 6] \"normal g\" [0 0 1] \"bool h\" true \"bool i\" [false] \"string j\" \"s\"\n"
-        "  \"texture k\" \"tex\" \"rgb l\" [0.1 0.2 0.3] \"blackbody m\" 5500 \"spectrum n\" \"metal-Cu-eta\"\n"
-        "  \"spectrum o\" [400 0.5 700 0.7] \"point p\" [1 1 1] \"vector q\" [2 2 2] \"normal3 r\" [0 1 0] \"color s\" [1 1 1]");
+        "  \"texture k\" \"tex\" \"rgb l\" [0.1 0.2 0.3] \"blackbody m\" 5500 \"spectrum n\" "
+        "\"metal-Cu-eta\"\n"
+        "  \"spectrum o\" [400 0.5 700 0.7] \"point p\" [1 1 1] \"vector q\" [2 2 2] \"normal3 r\" [0 1 0] "
+        "\"color s\" [1 1 1]");
     ASSERT_EQ(d.size(), 1u);
     const ParameterList& p = d[0].parameters;
     EXPECT_EQ(p.getInts("a"), (std::vector<int64_t>{1, 2}));
@@ -110,7 +113,9 @@ TEST(PbrtParameters, UnusedAreReportedWithCounts) {
     }
     const auto lines = log.lines();
     ASSERT_EQ(lines.size(), 1u);
-    EXPECT_EQ(lines[0], "test.pbrt:1:26: parameter \"float unused\" of Shape \"x\" is not supported and was ignored (2 times)");
+    EXPECT_EQ(lines[0],
+              "test.pbrt:1:26: parameter \"float unused\" of Shape \"x\" is not supported and was ignored (2 "
+              "times)");
 }
 
 TEST(PbrtParser, EveryDirectiveShape) {
@@ -118,13 +123,17 @@ TEST(PbrtParser, EveryDirectiveShape) {
         "LookAt 0 0 5 0 0 0 0 1 0\nTranslate 1 2 3\nScale -1 1 1\nRotate 90 0 1 0\n"
         "Transform [1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1]\nConcatTransform 1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\n"
         "CoordinateSystem \"a\"\nCoordSysTransform \"a\"\nActiveTransform StartTime\nTransformTimes 0 1\n"
-        "Identity\nReverseOrientation\nCamera \"perspective\" \"float fov\" 45\nFilm \"rgb\"\nSampler \"halton\"\n"
-        "PixelFilter \"box\"\nIntegrator \"path\"\nAccelerator \"bvh\"\nColorSpace \"srgb\"\nOption \"bool x\" true\n"
-        "WorldBegin\nAttributeBegin\nAttributeEnd\nTransformBegin\nTransformEnd\nObjectBegin \"o\"\nObjectEnd\n"
+        "Identity\nReverseOrientation\nCamera \"perspective\" \"float fov\" 45\nFilm \"rgb\"\nSampler "
+        "\"halton\"\n"
+        "PixelFilter \"box\"\nIntegrator \"path\"\nAccelerator \"bvh\"\nColorSpace \"srgb\"\nOption \"bool "
+        "x\" true\n"
+        "WorldBegin\nAttributeBegin\nAttributeEnd\nTransformBegin\nTransformEnd\nObjectBegin "
+        "\"o\"\nObjectEnd\n"
         "ObjectInstance \"o\"\nMaterial \"diffuse\"\nMakeNamedMaterial \"m\" \"string type\" \"diffuse\"\n"
         "NamedMaterial \"m\"\nTexture \"t\" \"spectrum\" \"constant\" \"rgb value\" [1 1 1]\n"
         "LightSource \"point\"\nAreaLightSource \"diffuse\"\nShape \"sphere\"\nMakeNamedMedium \"fog\"\n"
-        "MediumInterface \"fog\" \"\"\nMediumInterface \"fog\"\nAttribute \"shape\" \"float radius\" 2\nWorldEnd\n");
+        "MediumInterface \"fog\" \"\"\nMediumInterface \"fog\"\nAttribute \"shape\" \"float radius\" "
+        "2\nWorldEnd\n");
     ASSERT_EQ(d.size(), 40u);
     EXPECT_EQ(d[0].name, "LookAt");
     EXPECT_EQ(d[0].numbers.size(), 9u);

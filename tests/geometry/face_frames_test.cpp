@@ -1,12 +1,13 @@
 // The table of still triangles' normals and shading frames (geometry/face_frames.h) against those
 // computed at the hit: the same bits, so that shading with the table changes nothing.
+#include "geometry/face_frames.h"
+
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstring>
 #include <random>
 
-#include <gtest/gtest.h>
-
-#include "geometry/face_frames.h"
 #include "geometry/surface_interaction.h"
 #include "tests/support/scene_builders.h"
 
@@ -107,7 +108,8 @@ TEST(FaceFrames, ShadingWithTheTableIsBitIdentical) {
             if (geomId == 0 && !isDegenerate) {
                 // The integrator's frame, taken from the table: the same bits as building it at the hit.
                 ASSERT_NE(a.shadingFrame, nullptr) << "triangle " << t;
-                EXPECT_TRUE(sameBits(*a.shadingFrame, Frame::fromNormal(b.shadingNormal))) << "triangle " << t;
+                EXPECT_TRUE(sameBits(*a.shadingFrame, Frame::fromNormal(b.shadingNormal)))
+                    << "triangle " << t;
             } else {
                 // Vertex normals make a shading normal of their own; a degenerate triangle has none.
                 EXPECT_EQ(a.shadingFrame, nullptr) << "mesh " << geomId << ", triangle " << t;

@@ -56,7 +56,8 @@ Vec3L applyInverseExactly(const Transform& t, const Vec3L& p) {
         Real b[3][3];
         for (int i = 0; i < 3; ++i)
             for (int k = 0; k < 3; ++k) b[i][k] = k == j ? q[i] : a[i][k];
-        return (b[0][0] * (b[1][1] * b[2][2] - b[1][2] * b[2][1]) - b[0][1] * (b[1][0] * b[2][2] - b[1][2] * b[2][0]) +
+        return (b[0][0] * (b[1][1] * b[2][2] - b[1][2] * b[2][1]) -
+                b[0][1] * (b[1][0] * b[2][2] - b[1][2] * b[2][0]) +
                 b[0][2] * (b[1][0] * b[2][1] - b[1][1] * b[2][0])) /
                det;
     };
@@ -92,7 +93,8 @@ MotionTransform randomMotion(std::mt19937& rng, float reach, bool uneven) {
         TransformKey key;
         const float s = scale(rng);
         key.scale = uneven ? Vec3f{scale(rng), scale(rng), scale(rng)} : Vec3f{s, s, s};
-        key.rotation = Quaternion::fromAxisAngle({unit(rng), unit(rng), unit(rng) + 2.0f}, 180.0f * unit(rng));
+        key.rotation =
+            Quaternion::fromAxisAngle({unit(rng), unit(rng), unit(rng) + 2.0f}, 180.0f * unit(rng));
         key.translation = Vec3f{unit(rng), unit(rng), unit(rng)} * reach;
         motion.keys.push_back(key);
     }
@@ -105,7 +107,8 @@ Vec3f leavingDirection(std::mt19937& rng, Vec3f normal, float scale, int k) {
     std::uniform_real_distribution<float> unit(-1.0f, 1.0f), positive(0.0f, 1.0f);
     const float cosine = std::pow(10.0f, -6.0f * positive(rng));
     const float sine = std::sqrt(1.0f - cosine * cosine), phi = 6.2831853f * positive(rng);
-    const Vec3f direction = Frame::fromNormal(normal).toWorld({sine * std::cos(phi), sine * std::sin(phi), cosine});
+    const Vec3f direction =
+        Frame::fromNormal(normal).toWorld({sine * std::cos(phi), sine * std::sin(phi), cosine});
     return k % 2 == 1 ? direction * (scale * std::pow(10.0f, 3.0f * unit(rng))) : direction;
 }
 
@@ -129,17 +132,20 @@ bool shootAtSphere(std::mt19937& rng, const SceneGeometry& scene, const Sphere& 
 // the inward normal, the origin must lie inside the exact sphere, so that what the ray hits is the
 // exit (for grazing rays, whose chord is shorter than the discriminant's rounding, about
 // sqrt(2^-24) radii, the exit's t is only that accurate; it is still the exit).
-::testing::AssertionResult leavesSphere(Vec3f origin, Vec3f direction, Vec3f center, float radius, bool outward) {
+::testing::AssertionResult leavesSphere(Vec3f origin, Vec3f direction, Vec3f center, float radius,
+                                        bool outward) {
     const Vec3L f{Real(origin.x) - center.x, Real(origin.y) - center.y, Real(origin.z) - center.z};
     const Real c = f.x * f.x + f.y * f.y + f.z * f.z - Real(radius) * Real(radius);
     if (outward ? !(c > 0) : !(c < 0))
         return ::testing::AssertionFailure() << "the origin is not " << (outward ? "outside" : "inside")
                                              << " the sphere: |o - c|^2 - r^2 = " << double(c);
     float t = 0.0f;
-    const bool hits = intersectSphere(origin, direction, center, radius, 0.0f,
-                                      std::numeric_limits<float>::infinity(), t);
-    if (outward && hits) return ::testing::AssertionFailure() << "an outward ray hits the sphere again at t " << t;
-    if (!outward && !(hits && t > 0.0f)) return ::testing::AssertionFailure() << "an inward ray finds no exit";
+    const bool hits =
+        intersectSphere(origin, direction, center, radius, 0.0f, std::numeric_limits<float>::infinity(), t);
+    if (outward && hits)
+        return ::testing::AssertionFailure() << "an outward ray hits the sphere again at t " << t;
+    if (!outward && !(hits && t > 0.0f))
+        return ::testing::AssertionFailure() << "an inward ray finds no exit";
     return ::testing::AssertionSuccess();
 }
 
@@ -179,7 +185,8 @@ TEST(PositionError, SphereHitsLieWithinTheirBound) {
                 Hit hit;
                 if (!shootAtSphere(rng, scene, sphere, ray, hit)) continue;
                 const SurfaceInteraction si = makeSurfaceInteraction(scene, ray, hit);
-                ASSERT_TRUE(boxMeetsSphere(si.position, si.positionError, widen(sphere.center), sphere.radius))
+                ASSERT_TRUE(
+                    boxMeetsSphere(si.position, si.positionError, widen(sphere.center), sphere.radius))
                     << "scale " << scale << " distance " << distance << " trial " << trial;
                 ++checked;
             }
@@ -208,7 +215,8 @@ TEST(PositionError, MovingTriangleHitsLieWithinTheirBound) {
                 hit.v = (1.0f - hit.u) * positive(rng);
                 const SurfaceInteraction si = makeSurfaceInteraction(scene, ray, hit);
                 const Real b1 = hit.u, b2 = hit.v, b0 = 1 - b1 - b2;
-                const Vec3L p0 = widen(mesh.positions[0]), p1 = widen(mesh.positions[1]), p2 = widen(mesh.positions[2]);
+                const Vec3L p0 = widen(mesh.positions[0]), p1 = widen(mesh.positions[1]),
+                            p2 = widen(mesh.positions[2]);
                 const Vec3L object{b0 * p0.x + b1 * p1.x + b2 * p2.x, b0 * p0.y + b1 * p1.y + b2 * p2.y,
                                    b0 * p0.z + b1 * p1.z + b2 * p2.z};
                 const Vec3L truth = applyExactly(mesh.motion.at(ray.time), object);
@@ -248,7 +256,8 @@ TEST(PositionError, MovingSphereHitsLieWithinTheirBound) {
                 const Vec3L object = applyInverseExactly(toWorld, widen(si.position));
                 const Vec3L c = widen(sphere.center);
                 const Vec3L radial{object.x - c.x, object.y - c.y, object.z - c.z};
-                const Real length = std::sqrt(radial.x * radial.x + radial.y * radial.y + radial.z * radial.z);
+                const Real length =
+                    std::sqrt(radial.x * radial.x + radial.y * radial.y + radial.z * radial.z);
                 const Real k = Real(sphere.radius) / length;
                 const Vec3L onSphere{c.x + radial.x * k, c.y + radial.y * k, c.z + radial.z * k};
                 ASSERT_TRUE(withinBound(si.position, si.positionError, applyExactly(toWorld, onSphere)))
@@ -278,8 +287,8 @@ TEST(PositionError, RaysLeavingASphereNeverMeetItAgain) {
                     const Vec3f normal = outward ? si.geometricNormal : -si.geometricNormal;
                     const Vec3f origin = offsetRayOrigin(si.position, si.positionError, normal);
                     for (int k = 0; k < 20; ++k) {
-                        ASSERT_TRUE(leavesSphere(origin, leavingDirection(rng, normal, scale, k), sphere.center,
-                                                 sphere.radius, outward))
+                        ASSERT_TRUE(leavesSphere(origin, leavingDirection(rng, normal, scale, k),
+                                                 sphere.center, sphere.radius, outward))
                             << "scale " << scale << " distance " << distance << " trial " << trial;
                         ++rays;
                     }
@@ -303,7 +312,8 @@ TEST(PositionError, RaysLeavingAMovingTriangleNeverHitItAgain) {
                 mesh.indices = {0, 1, 2};
                 mesh.motion = randomMotion(rng, distance * scale, trial % 2 == 1);
                 scene.meshes.push_back(mesh);
-                if (triangleNormal(mesh.positions[0], mesh.positions[1], mesh.positions[2]) == Vec3f{}) continue;
+                if (triangleNormal(mesh.positions[0], mesh.positions[1], mesh.positions[2]) == Vec3f{})
+                    continue;
                 Ray ray;
                 ray.time = positive(rng);
                 Hit hit = scene.idsOf({ShapeKind::Mesh, 0, 0});
@@ -312,7 +322,8 @@ TEST(PositionError, RaysLeavingAMovingTriangleNeverHitItAgain) {
                 const SurfaceInteraction si = makeSurfaceInteraction(scene, ray, hit);
                 const Transform toObject = mesh.motion.at(ray.time).inverse();
                 const Vec3f* p = mesh.positions.data();
-                const float vertices[9] = {p[0].x, p[0].y, p[0].z, p[1].x, p[1].y, p[1].z, p[2].x, p[2].y, p[2].z};
+                const float vertices[9] = {p[0].x, p[0].y, p[0].z, p[1].x, p[1].y,
+                                           p[1].z, p[2].x, p[2].y, p[2].z};
                 for (float side : {1.0f, -1.0f}) {
                     const Vec3f normal = si.geometricNormal * side;
                     const Vec3f origin = offsetRayOrigin(si.position, si.positionError, normal);
@@ -320,9 +331,10 @@ TEST(PositionError, RaysLeavingAMovingTriangleNeverHitItAgain) {
                         const Vec3f direction = leavingDirection(rng, normal, scale, k);
                         TriangleHit th;
                         ASSERT_FALSE(intersectTriangleWatertight(
-                            WatertightRay(toObject.applyPoint(origin), toObject.applyVector(direction)), vertices,
-                            0.0f, std::numeric_limits<float>::infinity(), th))
-                            << "scale " << scale << " distance " << distance << " trial " << trial << " t " << th.t;
+                            WatertightRay(toObject.applyPoint(origin), toObject.applyVector(direction)),
+                            vertices, 0.0f, std::numeric_limits<float>::infinity(), th))
+                            << "scale " << scale << " distance " << distance << " trial " << trial << " t "
+                            << th.t;
                         ++rays;
                     }
                 }

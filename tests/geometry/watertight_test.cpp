@@ -24,8 +24,8 @@ TEST(Watertight, EmbreesFastTraversalRendersTheSameImageWithinNoise) {
     render(scene, options, fast);
 
     const testing::FilmComparison c = testing::compareWithinNoise(robust, fast);
-    std::printf("%d of 1024 pixels bit-identical; image means %.6f (robust) and %.6f (fast)\n", c.identicalPixels,
-                c.meanA, c.meanB);
+    std::printf("%d of 1024 pixels bit-identical; image means %.6f (robust) and %.6f (fast)\n",
+                c.identicalPixels, c.meanA, c.meanB);
     // With a 5-sigma threshold, 3072 channels expect ~0.002 outliers by chance.
     EXPECT_GE(c.identicalPixels, 1000) << "of 1024";
     EXPECT_LE(c.outlierChannels, 3) << "of 3072 pixel channels";

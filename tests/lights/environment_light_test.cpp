@@ -3,20 +3,22 @@
 // for the equal-area one; chi-square over the texels), pdf() agrees with the density sample()
 // reports and integrates to 1 over the sphere, the equal-area map covers equal solid angles, and
 // each map's orientation is the documented one.
+#include "lights/environment_light.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <vector>
 
 #include "core/sampling.h"
-#include "lights/environment_light.h"
 #include "tests/support/test_statistics.h"
 
 namespace penumbra {
 namespace {
 
 // A small map of varied luminance, some texels black, one bright "sun" texel.
-EnvironmentImage variedImage(int width, int height, EnvironmentMapping mapping = EnvironmentMapping::Equirectangular) {
+EnvironmentImage variedImage(int width, int height,
+                             EnvironmentMapping mapping = EnvironmentMapping::Equirectangular) {
     EnvironmentImage image{width, height, {}, mapping};
     test::UniformRng rng(11);
     for (int y = 0; y < height; ++y)
@@ -32,13 +34,15 @@ EnvironmentImage variedImage(int width, int height, EnvironmentMapping mapping =
 // The texel a world direction falls in, for a light with the given rotation.
 int texelOf(Vec3f direction, const Transform& rotation, int width, int height,
             EnvironmentMapping mapping = EnvironmentMapping::Equirectangular) {
-    const Vec2f st = EnvironmentLight::directionToImage(normalize(rotation.inverse().applyVector(direction)), mapping);
-    const int x = std::min(int(st.x * float(width)), width - 1), y = std::min(int(st.y * float(height)), height - 1);
+    const Vec2f st =
+        EnvironmentLight::directionToImage(normalize(rotation.inverse().applyVector(direction)), mapping);
+    const int x = std::min(int(st.x * float(width)), width - 1),
+              y = std::min(int(st.y * float(height)), height - 1);
     return y * width + x;
 }
 
-void expectSamplingMatchesLuminanceTimesSolidAngle(const Transform& rotation,
-                                                   EnvironmentMapping mapping = EnvironmentMapping::Equirectangular) {
+void expectSamplingMatchesLuminanceTimesSolidAngle(
+    const Transform& rotation, EnvironmentMapping mapping = EnvironmentMapping::Equirectangular) {
     const bool equalArea = mapping == EnvironmentMapping::EqualArea;
     const int width = 16, height = equalArea ? 16 : 8;
     const EnvironmentImage image = variedImage(width, height, mapping);
@@ -49,7 +53,8 @@ void expectSamplingMatchesLuminanceTimesSolidAngle(const Transform& rotation,
     double total = 0.0;
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
-            const double w = double(image.at(x, y).luminance()) * (equalArea ? 1.0 : std::sin(kPi * (y + 0.5) / height));
+            const double w =
+                double(image.at(x, y).luminance()) * (equalArea ? 1.0 : std::sin(kPi * (y + 0.5) / height));
             weight[size_t(y * width + x)] = w;
             total += w;
         }
@@ -75,7 +80,9 @@ void expectSamplingMatchesLuminanceTimesSolidAngle(const Transform& rotation,
     EXPECT_GT(chi.pValue, 1e-4) << chi.describe();
 }
 
-TEST(EnvironmentSampling, MatchesLuminanceTimesSineChiSquare) { expectSamplingMatchesLuminanceTimesSolidAngle(Transform()); }
+TEST(EnvironmentSampling, MatchesLuminanceTimesSineChiSquare) {
+    expectSamplingMatchesLuminanceTimesSolidAngle(Transform());
+}
 
 TEST(EnvironmentSampling, MatchesLuminanceTimesSineRotated) {
     expectSamplingMatchesLuminanceTimesSolidAngle(Transform::rotate(70.0f, {0.3f, 1.0f, -0.2f}));
@@ -83,13 +90,15 @@ TEST(EnvironmentSampling, MatchesLuminanceTimesSineRotated) {
 
 TEST(EnvironmentSampling, EqualAreaMatchesLuminanceChiSquare) {
     expectSamplingMatchesLuminanceTimesSolidAngle(Transform(), EnvironmentMapping::EqualArea);
-    expectSamplingMatchesLuminanceTimesSolidAngle(Transform::rotate(70.0f, {0.3f, 1.0f, -0.2f}), EnvironmentMapping::EqualArea);
+    expectSamplingMatchesLuminanceTimesSolidAngle(Transform::rotate(70.0f, {0.3f, 1.0f, -0.2f}),
+                                                  EnvironmentMapping::EqualArea);
 }
 
 // The density integrates to 1 over the sphere: E[pdf(w) / p_uniform(w)] = 1 for uniform w. The
 // ratio is at most max(pdf) * 4 pi; its variance is bounded by E[ratio^2], estimated alongside.
 TEST(EnvironmentSampling, DensityIntegratesToOne) {
-    for (const EnvironmentImage& image : {variedImage(16, 8), variedImage(16, 16, EnvironmentMapping::EqualArea)}) {
+    for (const EnvironmentImage& image :
+         {variedImage(16, 8), variedImage(16, 16, EnvironmentMapping::EqualArea)}) {
         const EnvironmentLight light = EnvironmentLight::fromImage(image, Rgb(1.0f), Transform());
         test::UniformRng rng(3);
         const int n = 1 << 20;
@@ -109,7 +118,8 @@ TEST(EnvironmentSampling, DensityIntegratesToOne) {
 // cells), and the map and its inverse undo each other.
 TEST(EnvironmentSampling, EqualAreaMapCoversEqualSolidAngles) {
     const int cells = 12, n = 288000;
-    std::vector<double> observed(size_t(cells * cells), 0.0), expected(observed.size(), double(n) / (cells * cells));
+    std::vector<double> observed(size_t(cells * cells), 0.0),
+        expected(observed.size(), double(n) / (cells * cells));
     test::UniformRng rng(17);
     int roundTripMisses = 0;
     for (int i = 0; i < n; ++i) {
@@ -130,15 +140,18 @@ TEST(EnvironmentSampling, EqualAreaMapCoversEqualSolidAngles) {
 TEST(EnvironmentSampling, OrientationOfTheMap) {
     const int width = 8, height = 4;
     EnvironmentImage image{width, height, std::vector<Rgb>(size_t(width * height), Rgb(0.0f))};
-    image.texels[size_t(0 * width + 0)] = Rgb(1.0f, 0.0f, 0.0f);              // top row: up
-    image.texels[size_t(2 * width + width / 2)] = Rgb(0.0f, 1.0f, 0.0f);      // centre, just below the horizon: +z
-    image.texels[size_t(1 * width + width / 4)] = Rgb(0.0f, 0.0f, 1.0f);      // a quarter across, above the horizon: +x
+    image.texels[size_t(0 * width + 0)] = Rgb(1.0f, 0.0f, 0.0f);  // top row: up
+    image.texels[size_t(2 * width + width / 2)] =
+        Rgb(0.0f, 1.0f, 0.0f);  // centre, just below the horizon: +z
+    image.texels[size_t(1 * width + width / 4)] =
+        Rgb(0.0f, 0.0f, 1.0f);  // a quarter across, above the horizon: +x
     const EnvironmentLight light = EnvironmentLight::fromImage(image, Rgb(1.0f), Transform());
     EXPECT_EQ(light.radiance({0.001f, 1.0f, -0.01f}), Rgb(1.0f, 0.0f, 0.0f));
     EXPECT_EQ(light.radiance({-0.01f, -0.2f, 1.0f}), Rgb(0.0f, 1.0f, 0.0f));
     EXPECT_EQ(light.radiance({1.0f, 0.2f, 0.01f}), Rgb(0.0f, 0.0f, 1.0f));
     // Rotated 90 degrees about +y, what was along +x now arrives from -z.
-    const EnvironmentLight turned = EnvironmentLight::fromImage(image, Rgb(2.0f), Transform::rotate(90.0f, {0, 1, 0}));
+    const EnvironmentLight turned =
+        EnvironmentLight::fromImage(image, Rgb(2.0f), Transform::rotate(90.0f, {0, 1, 0}));
     EXPECT_EQ(turned.radiance({0.01f, 0.2f, -1.0f}), Rgb(0.0f, 0.0f, 2.0f));
 }
 
@@ -146,11 +159,13 @@ TEST(EnvironmentSampling, OrientationOfTheMap) {
 // middle of its left edge along -x and of its top edge along +z.
 TEST(EnvironmentSampling, OrientationOfTheEqualAreaMap) {
     const int size = 9;
-    EnvironmentImage image{size, size, std::vector<Rgb>(size_t(size * size), Rgb(0.0f)), EnvironmentMapping::EqualArea};
+    EnvironmentImage image{size, size, std::vector<Rgb>(size_t(size * size), Rgb(0.0f)),
+                           EnvironmentMapping::EqualArea};
     image.texels[size_t(4 * size + 4)] = Rgb(1.0f, 0.0f, 0.0f);  // centre: up
     image.texels[size_t(4 * size + 0)] = Rgb(0.0f, 1.0f, 0.0f);  // left edge: -x
     image.texels[size_t(0 * size + 4)] = Rgb(0.0f, 0.0f, 1.0f);  // top edge: +z
-    for (int corner : {0, size - 1, size * (size - 1), size * size - 1}) image.texels[size_t(corner)] = Rgb(1.0f, 1.0f, 0.0f);  // down
+    for (int corner : {0, size - 1, size * (size - 1), size * size - 1})
+        image.texels[size_t(corner)] = Rgb(1.0f, 1.0f, 0.0f);  // down
     const EnvironmentLight light = EnvironmentLight::fromImage(image, Rgb(1.0f), Transform());
     EXPECT_EQ(light.radiance({0.01f, 1.0f, 0.02f}), Rgb(1.0f, 0.0f, 0.0f));
     EXPECT_EQ(light.radiance({-1.0f, 0.01f, 0.02f}), Rgb(0.0f, 1.0f, 0.0f));

@@ -34,8 +34,8 @@
 #include <vector>
 
 #include "materials/material.h"
-#include "tests/support/test_statistics.h"
 #include "tests/support/bsdf_test_support.h"
+#include "tests/support/test_statistics.h"
 
 namespace penumbra {
 namespace {
@@ -71,7 +71,8 @@ Reference referenceOf(const ContinuousCase& c) {
 std::vector<ContinuousCase> continuousCases() {
     std::vector<ContinuousCase> cases;
     for (double theta : {0.0, 45.0, 80.0, 130.0})
-        cases.push_back({"Lambert_theta" + std::to_string(int(theta)), test::makeLambertMaterial({0.9f, 0.5f, 0.1f}), theta, 30.0});
+        cases.push_back({"Lambert_theta" + std::to_string(int(theta)),
+                         test::makeLambertMaterial({0.9f, 0.5f, 0.1f}), theta, 30.0});
     struct Mix {
         const char* name;
         Rgb kd, ks;
@@ -84,12 +85,15 @@ std::vector<ContinuousCase> continuousCases() {
             for (double theta : {0.0, 50.0, 80.0}) {
                 // The mixed lobes at normal incidence add little beyond the pure lobe there.
                 if (theta == 0.0 && mix.name != std::string("Specular")) continue;
-                cases.push_back({"Phong_n" + std::to_string(int(n)) + "_" + mix.name + "_theta" + std::to_string(int(theta)),
+                cases.push_back({"Phong_n" + std::to_string(int(n)) + "_" + mix.name + "_theta" +
+                                     std::to_string(int(theta)),
                                  test::makePhongMaterial(mix.kd, mix.ks, n), theta, 200.0});
             }
     // wo below the surface: the two-sided model mirrors itself.
-    cases.push_back({"Phong_n10_Even_theta120", test::makePhongMaterial(Rgb(0.5f), Rgb(0.5f), 10.0f), 120.0, 75.0});
-    cases.push_back({"Phong_n1000_Specular_theta150", test::makePhongMaterial(Rgb(0.0f), Rgb(1.0f), 1000.0f), 150.0, 310.0});
+    cases.push_back(
+        {"Phong_n10_Even_theta120", test::makePhongMaterial(Rgb(0.5f), Rgb(0.5f), 10.0f), 120.0, 75.0});
+    cases.push_back({"Phong_n1000_Specular_theta150", test::makePhongMaterial(Rgb(0.0f), Rgb(1.0f), 1000.0f),
+                     150.0, 310.0});
     return cases;
 }
 
@@ -98,9 +102,9 @@ std::vector<ContinuousCase> continuousCases() {
 struct DeltaCase {
     std::string name;
     Material material;
-    double thetaO;        // degrees, wo.z = cos(thetaO)
-    bool front;           // wo on the geometric front (outside of a dielectric)
-    double reflectance;   // expected probability of reflection, computed independently
+    double thetaO;       // degrees, wo.z = cos(thetaO)
+    bool front;          // wo on the geometric front (outside of a dielectric)
+    double reflectance;  // expected probability of reflection, computed independently
 };
 
 double hechtThin(double cosTheta, double eta) {
@@ -124,22 +128,26 @@ std::vector<DeltaCase> deltaCases() {
     auto cosd = [](double degrees) { return std::cos(test::radians(degrees)); };
     // Entering from outside (wo above, front), the far side has index 1.5.
     for (double theta : {0.0, 45.0, 80.0})
-        cases.push_back({"GlassEnter_theta" + std::to_string(int(theta)), test::makeDielectricMaterial(1.5f), theta, true,
-                         test::fresnelHecht(cosd(theta), eta)});
+        cases.push_back({"GlassEnter_theta" + std::to_string(int(theta)), test::makeDielectricMaterial(1.5f),
+                         theta, true, test::fresnelHecht(cosd(theta), eta)});
     // Leaving (wo inside, below the outward shading normal): critical angle asin(1 / 1.5) = 41.81 deg.
     for (double theta : {30.0, 41.0, 41.9, 60.0})
-        cases.push_back({"GlassLeave_theta" + std::to_string(int(theta * 10)), test::makeDielectricMaterial(1.5f),
-                         180.0 - theta, false, test::fresnelHecht(cosd(theta), 1.0 / eta)});
-    cases.push_back({"WaterEnter_theta30", test::makeDielectricMaterial(1.33f), 30.0, true, test::fresnelHecht(cosd(30.0), 1.33)});
-    cases.push_back({"GlassSchlickEnter_theta60", test::makeDielectricMaterial(1.5f, FresnelModel::Schlick), 60.0, true,
-                     schlick(cosd(60.0), eta)});
-    cases.push_back({"GlassSchlickLeave_theta35", test::makeDielectricMaterial(1.5f, FresnelModel::Schlick), 145.0, false,
-                     schlick(cosd(35.0), 1.0 / eta)});
-    cases.push_back({"GlassSchlickLeave_theta50", test::makeDielectricMaterial(1.5f, FresnelModel::Schlick), 130.0, false, 1.0});
+        cases.push_back({"GlassLeave_theta" + std::to_string(int(theta * 10)),
+                         test::makeDielectricMaterial(1.5f), 180.0 - theta, false,
+                         test::fresnelHecht(cosd(theta), 1.0 / eta)});
+    cases.push_back({"WaterEnter_theta30", test::makeDielectricMaterial(1.33f), 30.0, true,
+                     test::fresnelHecht(cosd(30.0), 1.33)});
+    cases.push_back({"GlassSchlickEnter_theta60", test::makeDielectricMaterial(1.5f, FresnelModel::Schlick),
+                     60.0, true, schlick(cosd(60.0), eta)});
+    cases.push_back({"GlassSchlickLeave_theta35", test::makeDielectricMaterial(1.5f, FresnelModel::Schlick),
+                     145.0, false, schlick(cosd(35.0), 1.0 / eta)});
+    cases.push_back({"GlassSchlickLeave_theta50", test::makeDielectricMaterial(1.5f, FresnelModel::Schlick),
+                     130.0, false, 1.0});
     for (double theta : {0.0, 70.0})
-        cases.push_back({"ThinGlass_theta" + std::to_string(int(theta)), test::makeThinDielectricMaterial(1.5f), theta, true,
-                         hechtThin(cosd(theta), eta)});
-    cases.push_back({"ThinGlassBack_theta110", test::makeThinDielectricMaterial(1.5f), 110.0, false, hechtThin(cosd(70.0), eta)});
+        cases.push_back({"ThinGlass_theta" + std::to_string(int(theta)),
+                         test::makeThinDielectricMaterial(1.5f), theta, true, hechtThin(cosd(theta), eta)});
+    cases.push_back({"ThinGlassBack_theta110", test::makeThinDielectricMaterial(1.5f), 110.0, false,
+                     hechtThin(cosd(70.0), eta)});
     return cases;
 }
 
@@ -166,8 +174,8 @@ TEST_P(ContinuousLobe, SamplesFollowThePdf) {
     }
 
     // Expected counts, to 1e-3 samples per cell (absolute) or 1e-4 relative.
-    const test::CellIntegrals cells =
-        test::integrateOverCells(binning, [&](Vec3f wi) { return material.pdf(wo, wi, front); }, 1e-3 / kSamples);
+    const test::CellIntegrals cells = test::integrateOverCells(
+        binning, [&](Vec3f wi) { return material.pdf(wo, wi, front); }, 1e-3 / kSamples);
     std::vector<double> expected(cells.value.size());
     double mass = 0.0, cubatureChiSquare = 0.0;
     for (size_t i = 0; i < expected.size(); ++i) {
@@ -218,12 +226,13 @@ TEST_P(ContinuousLobe, SamplesFollowThePdf) {
             const Rgb expectedWeight = material.eval(wo, s->wi, front) * (std::abs(s->wi.z) / pdf);
             bool ok = !s->isSpecular() && !s->isTransmission() && std::abs(s->pdf - pdf) <= 1e-5f * pdf &&
                       std::abs(length(s->wi) - 1.0f) < 1e-5f;
-            for (int ch = 0; ch < 3; ++ch) ok = ok && std::abs(s->weight[ch] - expectedWeight[ch]) <= 1e-5f * expectedWeight[ch] + 1e-7f;
+            for (int ch = 0; ch < 3; ++ch)
+                ok = ok && std::abs(s->weight[ch] - expectedWeight[ch]) <= 1e-5f * expectedWeight[ch] + 1e-7f;
             if (!ok && inconsistent++ == 0)
-                firstInconsistency = "wi (" + std::to_string(s->wi.x) + ", " + std::to_string(s->wi.y) + ", " +
-                                     std::to_string(s->wi.z) + "): pdf " + std::to_string(s->pdf) + " vs " +
-                                     std::to_string(pdf) + ", weight.r " + std::to_string(s->weight.r) + " vs " +
-                                     std::to_string(expectedWeight.r);
+                firstInconsistency = "wi (" + std::to_string(s->wi.x) + ", " + std::to_string(s->wi.y) +
+                                     ", " + std::to_string(s->wi.z) + "): pdf " + std::to_string(s->pdf) +
+                                     " vs " + std::to_string(pdf) + ", weight.r " +
+                                     std::to_string(s->weight.r) + " vs " + std::to_string(expectedWeight.r);
         }
     }
     EXPECT_EQ(inconsistent, 0) << firstInconsistency;
@@ -252,7 +261,9 @@ TEST_P(ContinuousLobe, SamplesFollowThePdf) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Materials, ContinuousLobe, ::testing::ValuesIn(continuousCases()),
-                         [](const ::testing::TestParamInfo<ContinuousCase>& info) { return info.param.name; });
+                         [](const ::testing::TestParamInfo<ContinuousCase>& info) {
+                             return info.param.name;
+                         });
 
 // ---- Delta lobes ----
 
@@ -293,23 +304,22 @@ TEST_P(DeltaLobe, LobeFrequenciesFollowFresnelAndDirectionsAreExact) {
             const double sinI = std::hypot(double(wo.x), double(wo.y));
             const double sinT = std::hypot(double(s->wi.x), double(s->wi.y));
             const double tangentialDot = double(wo.x) * s->wi.x + double(wo.y) * s->wi.y;
-            ok = ok && wo.z * s->wi.z < 0.0f && std::abs(sinT * eta - sinI) < 1e-5 &&
-                 tangentialDot <= 1e-7 && std::abs(double(length(s->wi)) - 1.0) < 1e-5 &&
-                 std::abs(double(s->eta) - eta) < 1e-6 &&
+            ok = ok && wo.z * s->wi.z < 0.0f && std::abs(sinT * eta - sinI) < 1e-5 && tangentialDot <= 1e-7 &&
+                 std::abs(double(length(s->wi)) - 1.0) < 1e-5 && std::abs(double(s->eta) - eta) < 1e-6 &&
                  std::abs(double(s->weight.g) - 1.0 / (double(eta) * eta)) < 1e-6 &&
                  std::abs(s->pdf - (1.0 - c.reflectance)) < 2e-5;
             if (!dielectric) ok = ok && s->wi == -wo;  // a thin pane does not bend light
         }
         if (!ok && bad++ == 0)
-            firstBad = "wi (" + std::to_string(s->wi.x) + ", " + std::to_string(s->wi.y) + ", " + std::to_string(s->wi.z) +
-                       ") transmission " + std::to_string(s->isTransmission()) + " pdf " + std::to_string(s->pdf) +
-                       " weight " + std::to_string(s->weight.g);
+            firstBad = "wi (" + std::to_string(s->wi.x) + ", " + std::to_string(s->wi.y) + ", " +
+                       std::to_string(s->wi.z) + ") transmission " + std::to_string(s->isTransmission()) +
+                       " pdf " + std::to_string(s->pdf) + " weight " + std::to_string(s->weight.g);
     }
     EXPECT_EQ(bad, 0) << firstBad;
-    const test::ChiSquareResult result =
-        test::chiSquareTest({reflected, transmitted}, {kSamples * c.reflectance, kSamples * (1.0 - c.reflectance)});
-    EXPECT_GT(result.pValue, perTestAlpha()) << result.describe() << "; expected reflectance " << c.reflectance
-                                             << ", observed " << reflected / kSamples;
+    const test::ChiSquareResult result = test::chiSquareTest(
+        {reflected, transmitted}, {kSamples * c.reflectance, kSamples * (1.0 - c.reflectance)});
+    EXPECT_GT(result.pValue, perTestAlpha()) << result.describe() << "; expected reflectance "
+                                             << c.reflectance << ", observed " << reflected / kSamples;
 }
 
 INSTANTIATE_TEST_SUITE_P(Materials, DeltaLobe, ::testing::ValuesIn(deltaCases()),
@@ -323,12 +333,15 @@ TEST(ChiSquarePower, RejectsWrongExponentAndWrongLobeChoice) {
     const Material right = test::makePhongMaterial(Rgb(0.0f), Rgb(1.0f), 10.0f);
     const Material wrongExponent = test::makePhongMaterial(Rgb(0.0f), Rgb(1.0f), 11.0f);
     const Material rightMix = test::makePhongMaterial(Rgb(0.5f), Rgb(0.5f), 10.0f);
-    const Material wrongMix = test::makePhongMaterial(Rgb(0.6f), Rgb(0.4f), 10.0f);  // a 60:40 choice instead of 50:50
+    const Material wrongMix =
+        test::makePhongMaterial(Rgb(0.6f), Rgb(0.4f), 10.0f);  // a 60:40 choice instead of 50:50
     for (auto [sampler, reference] : {std::pair{&wrongExponent, &right}, std::pair{&wrongMix, &rightMix}}) {
         test::SphereBinning binning;
         binning.frame = Frame::fromNormal(reflectAboutZ(wo));
         std::vector<double> expected =
-            test::integrateOverCells(binning, [&](Vec3f wi) { return reference->pdf(wo, wi, true); }, 1e-3 / kSamples).value;
+            test::integrateOverCells(
+                binning, [&](Vec3f wi) { return reference->pdf(wo, wi, true); }, 1e-3 / kSamples)
+                .value;
         double mass = 0;
         for (double& e : expected) mass += e, e *= kSamples;
         std::vector<double> observed(expected.size(), 0.0);
@@ -337,8 +350,10 @@ TEST(ChiSquarePower, RejectsWrongExponentAndWrongLobeChoice) {
         for (int i = 0; i < kSamples; ++i) {
             const float uLobe = rng.next();
             const auto s = sampler->sample(wo, uLobe, rng.next2D(), true);
-            if (s) observed[size_t(binning.cellOf(s->wi))] += 1;
-            else rejected += 1;
+            if (s)
+                observed[size_t(binning.cellOf(s->wi))] += 1;
+            else
+                rejected += 1;
         }
         observed.push_back(rejected);
         expected.push_back(std::max(0.0, 1.0 - mass) * kSamples);
@@ -373,7 +388,8 @@ TEST(Reciprocity, LambertAndPhong) {
             const double tolerance = 1e-6 + 3e-7 * (n + 1.0) / cosAlpha;
             for (int ch = 0; ch < 3; ++ch)
                 ASSERT_NEAR(fab[ch], fba[ch], tolerance * std::max(fab[ch], fba[ch]))
-                    << "a (" << a.x << ", " << a.y << ", " << a.z << ") b (" << b.x << ", " << b.y << ", " << b.z << ")";
+                    << "a (" << a.x << ", " << a.y << ", " << a.z << ") b (" << b.x << ", " << b.y << ", "
+                    << b.z << ")";
             ++checked;
         }
         EXPECT_GT(checked, 5000);
@@ -382,7 +398,8 @@ TEST(Reciprocity, LambertAndPhong) {
 
 // One-sided reflectors are black from the back: no value, no density, no sample.
 TEST(Sides, OneSidedIsBlackFromTheBack) {
-    for (const Material& twoSided : {test::makeLambertMaterial(Rgb(0.8f)), test::makePhongMaterial(Rgb(0.4f), Rgb(0.5f), 20.0f)}) {
+    for (const Material& twoSided :
+         {test::makeLambertMaterial(Rgb(0.8f)), test::makePhongMaterial(Rgb(0.4f), Rgb(0.5f), 20.0f)}) {
         const Vec3f wo = directionFromAngles(140.0, 10.0), wi = directionFromAngles(120.0, 200.0);
         Material m = twoSided;
         EXPECT_FALSE(m.eval(wo, wi, false).isBlack());
@@ -399,7 +416,8 @@ TEST(Sides, OneSidedIsBlackFromTheBack) {
 
 // The documented highlight widths: cos^n(alpha_half) = 1/2.
 TEST(PhongExponent, HalfWidthOfTheLobe) {
-    const std::pair<float, double> widths[] = {{1.0f, 60.0}, {10.0f, 21.1}, {100.0f, 6.7}, {1000.0f, 2.1}, {10000.0f, 0.67}};
+    const std::pair<float, double> widths[] = {
+        {1.0f, 60.0}, {10.0f, 21.1}, {100.0f, 6.7}, {1000.0f, 2.1}, {10000.0f, 0.67}};
     for (auto [n, degrees] : widths) {
         const double half = std::acos(std::pow(0.5, 1.0 / n)) * 180.0 / kPiD;
         EXPECT_NEAR(half, degrees, 0.02 * degrees) << "n = " << n;  // the table rounds to 2 digits

@@ -2,12 +2,13 @@
 // formulation (Hecht's angle forms, in double). Tolerances are float accuracy: the formulas take a
 // few dozen float operations on values of order 1, so 1e-5 absolute holds with a wide margin and
 // any wrong factor or sign shows as an error of order 1e-2 or more.
+#include "materials/fresnel.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "materials/dielectric.h"
-#include "materials/fresnel.h"
 #include "tests/support/bsdf_test_support.h"
 
 namespace penumbra {
@@ -46,17 +47,20 @@ TEST(Fresnel, TotalInternalReflectionBeyondTheCriticalAngle) {
         if (theta > critical + 1e-3) {
             EXPECT_EQ(inside, 1.0f) << theta;
             EXPECT_EQ(schlick, 1.0f) << theta;
-            EXPECT_FALSE(refractAcrossZ({float(std::sin(theta * kPiD / 180.0)), 0.0f, cosTheta}, 1.0f / eta).has_value());
+            EXPECT_FALSE(refractAcrossZ({float(std::sin(theta * kPiD / 180.0)), 0.0f, cosTheta}, 1.0f / eta)
+                             .has_value());
         } else if (theta < critical - 1e-3) {
             EXPECT_LT(inside, 1.0f) << theta;
-            EXPECT_TRUE(refractAcrossZ({float(std::sin(theta * kPiD / 180.0)), 0.0f, cosTheta}, 1.0f / eta).has_value());
+            EXPECT_TRUE(refractAcrossZ({float(std::sin(theta * kPiD / 180.0)), 0.0f, cosTheta}, 1.0f / eta)
+                            .has_value());
         }
         // Reciprocity of the interface: the reflectance from inside at theta equals that from
         // outside at the refracted angle.
         if (theta < critical - 1e-3) {
             const double sinOutside = std::sin(theta * kPiD / 180.0) * eta;
             const float cosOutside = float(std::sqrt(1.0 - sinOutside * sinOutside));
-            EXPECT_NEAR(inside, fresnelDielectric(cosOutside, eta), 2e-4) << theta;  // steep near the critical angle
+            EXPECT_NEAR(inside, fresnelDielectric(cosOutside, eta), 2e-4)
+                << theta;  // steep near the critical angle
         }
     }
     // Reflectance rises continuously to 1 at the critical angle.
@@ -74,7 +78,8 @@ TEST(Fresnel, SchlickIsCloseToExactAndExactAtTheEnds) {
     double worst = 0.0;
     for (int i = 0; i <= 90; ++i) {
         const float cosTheta = float(std::cos(i * kPiD / 180.0));
-        worst = std::max(worst, double(std::abs(fresnelSchlick(cosTheta, 1.5f) - fresnelDielectric(cosTheta, 1.5f))));
+        worst = std::max(
+            worst, double(std::abs(fresnelSchlick(cosTheta, 1.5f) - fresnelDielectric(cosTheta, 1.5f))));
     }
     // Schlick's approximation of glass is off by up to 0.036 (near 80 degrees, where the exact
     // curve rises steeply) and much less elsewhere; a wrong exponent or R0 is off by more.
@@ -88,7 +93,8 @@ TEST(Fresnel, ConductorClosedFormsAndLimits) {
         float n, k;
     };
     for (Metal m : {Metal{0.2f, 3.9f}, Metal{1.4f, 1.6f}, Metal{2.9f, 3.0f}}) {
-        const double expected = ((m.n - 1.0) * (m.n - 1.0) + m.k * m.k) / ((m.n + 1.0) * (m.n + 1.0) + m.k * m.k);
+        const double expected =
+            ((m.n - 1.0) * (m.n - 1.0) + m.k * m.k) / ((m.n + 1.0) * (m.n + 1.0) + m.k * m.k);
         EXPECT_NEAR(fresnelComplex(1.0f, {m.n, m.k}), expected, 1e-6);
         EXPECT_NEAR(fresnelComplex(0.0f, {m.n, m.k}), 1.0, 1e-6);  // grazing incidence reflects all
     }
@@ -104,7 +110,8 @@ TEST(Refraction, SnellsLawAndReversibility) {
         for (double theta = 0.0; theta < 89.0; theta += 7.0)
             for (float side : {1.0f, -1.0f}) {
                 const double t = theta * kPiD / 180.0, phi = 0.7;
-                const Vec3f w{float(std::sin(t) * std::cos(phi)), float(std::sin(t) * std::sin(phi)), side * float(std::cos(t))};
+                const Vec3f w{float(std::sin(t) * std::cos(phi)), float(std::sin(t) * std::sin(phi)),
+                              side * float(std::cos(t))};
                 const auto wt = refractAcrossZ(w, eta);
                 if (std::sin(t) / eta >= 1.0) {
                     EXPECT_FALSE(wt.has_value());

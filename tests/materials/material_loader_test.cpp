@@ -135,11 +135,13 @@ TEST(MaterialLoader, ReadsTheRoughMaterials) {
 TEST(MaterialLoader, PhongEnergyConservation) {
     // kd + ks = 1 exactly is fine.
     EXPECT_NO_THROW(parseMaterials(R"({"p": {"type": "phong", "diffuse": 0.25, "specular": 0.75}})"));
-    const std::string e = errorOf(R"({"p": {"type": "phong", "diffuse": [0.5, 0.5, 0.2], "specular": [0.5, 0.6, 0.1]}})");
+    const std::string e =
+        errorOf(R"({"p": {"type": "phong", "diffuse": [0.5, 0.5, 0.2], "specular": [0.5, 0.6, 0.1]}})");
     EXPECT_CONTAINS(e, "s.json: /materials/p/specular: diffuse + specular must not exceed 1");
     EXPECT_CONTAINS(e, "the green channel has 0.5 + 0.6 = 1.1");
     // The default diffuse (0.5) counts too.
-    EXPECT_CONTAINS(errorOf(R"({"p": {"type": "phong", "specular": 0.9}})"), "/materials/p/specular: diffuse + specular");
+    EXPECT_CONTAINS(errorOf(R"({"p": {"type": "phong", "specular": 0.9}})"),
+                    "/materials/p/specular: diffuse + specular");
 }
 
 TEST(MaterialLoader, BadValuesNameThePointerAndTheField) {
@@ -148,14 +150,22 @@ TEST(MaterialLoader, BadValuesNameThePointerAndTheField) {
         const char* message;
     };
     const Case cases[] = {
-        {R"({"p": {"type": "phong", "exponent": -1}})", "/materials/p/exponent: expected a number >= 0, found -1"},
-        {R"({"p": {"type": "phong", "diffuse": [0.5, -0.1, 0]}})", "/materials/p/diffuse/1: expected a number in [0, 1], found -0.1"},
-        {R"({"p": {"type": "phong", "specular": 1.5}})", "/materials/p/specular: expected a number in [0, 1], found 1.5"},
-        {R"({"p": {"type": "lambert", "albedo": 1.01}})", "/materials/p/albedo: expected a number in [0, 1], found 1.01"},
-        {R"({"glass": {"type": "dielectric", "eta": 0}})", "/materials/glass/eta: expected a number > 0, found 0"},
-        {R"({"glass": {"type": "dielectric", "eta": -1.5}})", "/materials/glass/eta: expected a number > 0, found -1.5"},
-        {R"({"pane": {"type": "thin_dielectric", "eta": 0}})", "/materials/pane/eta: expected a number > 0, found 0"},
-        {R"({"glass": {"type": "dielectric", "fresnel": "fast"}})", "/materials/glass/fresnel: expected one of: exact, schlick"},
+        {R"({"p": {"type": "phong", "exponent": -1}})",
+         "/materials/p/exponent: expected a number >= 0, found -1"},
+        {R"({"p": {"type": "phong", "diffuse": [0.5, -0.1, 0]}})",
+         "/materials/p/diffuse/1: expected a number in [0, 1], found -0.1"},
+        {R"({"p": {"type": "phong", "specular": 1.5}})",
+         "/materials/p/specular: expected a number in [0, 1], found 1.5"},
+        {R"({"p": {"type": "lambert", "albedo": 1.01}})",
+         "/materials/p/albedo: expected a number in [0, 1], found 1.01"},
+        {R"({"glass": {"type": "dielectric", "eta": 0}})",
+         "/materials/glass/eta: expected a number > 0, found 0"},
+        {R"({"glass": {"type": "dielectric", "eta": -1.5}})",
+         "/materials/glass/eta: expected a number > 0, found -1.5"},
+        {R"({"pane": {"type": "thin_dielectric", "eta": 0}})",
+         "/materials/pane/eta: expected a number > 0, found 0"},
+        {R"({"glass": {"type": "dielectric", "fresnel": "fast"}})",
+         "/materials/glass/fresnel: expected one of: exact, schlick"},
         {R"({"glass": {"type": "dielectric", "absorption": {"color": [0.5, 1.2, 1], "distance": 1}}})",
          "/materials/glass/absorption/color/1: expected a number in [0, 1], found 1.2"},
         {R"({"glass": {"type": "dielectric", "absorption": {"color": [0.5, 0, 1], "distance": 1}}})",
@@ -168,14 +178,20 @@ TEST(MaterialLoader, BadValuesNameThePointerAndTheField) {
          "/materials/glass/two_sided: unknown key (expected one of: type, eta, fresnel, absorption)"},
         {R"({"pane": {"type": "thin_dielectric", "absorption": {"color": 0.5, "distance": 1}}})",
          "/materials/pane/absorption: unknown key (expected one of: type, eta, fresnel)"},
-        {R"({"m": {"type": "mirror", "tint": [1, 1, 2]}})", "/materials/m/tint/2: expected a number in [0, 1], found 2"},
-        {R"({"m": {"type": "mirror", "two_sided": 1}})", "/materials/m/two_sided: expected true or false, found 1"},
-        {R"({"gold": {"type": "conductor", "eta": [0.1, 0, 1], "k": 1}})", "/materials/gold/eta: expected a number or an array of 3 numbers (r, g, b), each > 0"},
-        {R"({"gold": {"type": "conductor", "eta": -1, "k": 1}})", "/materials/gold/eta: expected a number >= 0, found -1"},
-        {R"({"gold": {"type": "conductor", "eta": 1, "k": [1, -2, 1]}})", "/materials/gold/k/1: expected a number >= 0, found -2"},
+        {R"({"m": {"type": "mirror", "tint": [1, 1, 2]}})",
+         "/materials/m/tint/2: expected a number in [0, 1], found 2"},
+        {R"({"m": {"type": "mirror", "two_sided": 1}})",
+         "/materials/m/two_sided: expected true or false, found 1"},
+        {R"({"gold": {"type": "conductor", "eta": [0.1, 0, 1], "k": 1}})",
+         "/materials/gold/eta: expected a number or an array of 3 numbers (r, g, b), each > 0"},
+        {R"({"gold": {"type": "conductor", "eta": -1, "k": 1}})",
+         "/materials/gold/eta: expected a number >= 0, found -1"},
+        {R"({"gold": {"type": "conductor", "eta": 1, "k": [1, -2, 1]}})",
+         "/materials/gold/k/1: expected a number >= 0, found -2"},
         {R"({"gold": {"type": "conductor", "eta": 1}})", "/materials/gold: missing required key \"k\""},
         {R"({"x": {"type": "plastic"}})",
-         "/materials/x/type: expected one of: lambert, phong, dielectric, thin_dielectric, mirror, conductor, "
+         "/materials/x/type: expected one of: lambert, phong, dielectric, thin_dielectric, mirror, "
+         "conductor, "
          "rough_conductor, rough_dielectric, coated_diffuse"},
         {R"({"x": {"albedo": 0.5}})", "/materials/x: missing required key \"type\""},
         {R"({"r": {"type": "rough_conductor", "eta": 1, "k": 1, "roughness": 1.2}})",
@@ -184,16 +200,21 @@ TEST(MaterialLoader, BadValuesNameThePointerAndTheField) {
          "/materials/r/roughness/1: expected a roughness in [0, 1] (alpha = roughness^2), found -0.1"},
         {R"({"r": {"type": "rough_conductor", "eta": 1, "k": 1, "roughness": [0.1, 0.2, 0.3]}})",
          "/materials/r/roughness: expected a number or an array of 2 numbers (along u, along v)"},
-        {R"({"r": {"type": "rough_dielectric", "alpha": 0}})", "/materials/r/alpha: expected an alpha in (0, 4]"},
-        {R"({"r": {"type": "rough_dielectric", "alpha": -0.5}})", "/materials/r/alpha: expected an alpha in (0, 4]"},
+        {R"({"r": {"type": "rough_dielectric", "alpha": 0}})",
+         "/materials/r/alpha: expected an alpha in (0, 4]"},
+        {R"({"r": {"type": "rough_dielectric", "alpha": -0.5}})",
+         "/materials/r/alpha: expected an alpha in (0, 4]"},
         {R"({"r": {"type": "rough_dielectric", "eta": 0, "roughness": 0.5}})",
          "/materials/r/eta: expected a number > 0, found 0"},
-        {R"({"r": {"type": "coated_diffuse", "eta": -1}})", "/materials/r/eta: expected a number > 0, found -1"},
-        {R"({"r": {"type": "coated_diffuse", "albedo": 1.2}})", "/materials/r/albedo: expected a number in [0, 1], found 1.2"},
+        {R"({"r": {"type": "coated_diffuse", "eta": -1}})",
+         "/materials/r/eta: expected a number > 0, found -1"},
+        {R"({"r": {"type": "coated_diffuse", "albedo": 1.2}})",
+         "/materials/r/albedo: expected a number in [0, 1], found 1.2"},
         {R"({"r": {"type": "rough_conductor", "eta": 1, "k": 1, "roughness": 0.5, "alpha": 0.2}})",
          "/materials/r/alpha: give either \"roughness\" or \"alpha\", not both"},
         {R"({"r": {"type": "coated_diffuse", "specular": 0.5}})",
-         "/materials/r/specular: unknown key (expected one of: type, albedo, eta, roughness, alpha, distribution, two_sided)"},
+         "/materials/r/specular: unknown key (expected one of: type, albedo, eta, roughness, alpha, "
+         "distribution, two_sided)"},
         {R"({"r": {"type": "conductor", "eta": 1, "k": 1, "roughness": 0.5}})",
          "/materials/r/roughness: unknown key (expected one of: type, eta, k, tint, two_sided)"},
         {R"({"r": {"type": "rough_conductor", "eta": 1, "k": 1, "alpha": 0.1, "distribution": "phong"}})",
@@ -203,7 +224,8 @@ TEST(MaterialLoader, BadValuesNameThePointerAndTheField) {
         {R"({"r": {"type": "rough_conductor", "eta": 1, "k": 1, "tint": [1, 0.5, 1.5]}})",
          "/materials/r/tint/2: expected a number in [0, 1], found 1.5"},
     };
-    for (const Case& c : cases) EXPECT_CONTAINS(errorOf(c.json), std::string("s.json: ") + c.message) << c.json;
+    for (const Case& c : cases)
+        EXPECT_CONTAINS(errorOf(c.json), std::string("s.json: ") + c.message) << c.json;
 }
 
 }  // namespace

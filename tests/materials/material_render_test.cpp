@@ -42,14 +42,16 @@ ImageMean renderMean(const Scene& scene) {
                 count += film.at(x, y).weight;
             }
         result.mean[c] = sum / count;
-        result.standardError[c] = std::sqrt(std::max(0.0, sumSquares / count - result.mean[c] * result.mean[c]) / count);
+        result.standardError[c] =
+            std::sqrt(std::max(0.0, sumSquares / count - result.mean[c] * result.mean[c]) / count);
     }
     return result;
 }
 
 void expectMean(const ImageMean& image, Rgb expected, double relativeFloor, const std::string& what) {
     for (int c = 0; c < 3; ++c)
-        EXPECT_NEAR(image.mean[c], expected[c], 5.0 * image.standardError[c] + relativeFloor * expected[c] + 1e-7)
+        EXPECT_NEAR(image.mean[c], expected[c],
+                    5.0 * image.standardError[c] + relativeFloor * expected[c] + 1e-7)
             << what << ", channel " << c << " (standard error " << image.standardError[c] << ")";
 }
 
@@ -112,7 +114,8 @@ TEST(WhiteFurnace, PhongLosesExactlyTheClippedLobe) {
             const double expected = 0.3 + 0.7 * test::phongSpecularAlbedo(n, test::radians(theta));
             EXPECT_LE(expected, 1.0 + 1e-9);
             const ImageMean image = renderMean(quadFurnace(m, 1.0f, theta));
-            expectMean(image, Rgb(float(expected)), 2e-4, "phong n " + std::to_string(n) + " theta " + std::to_string(theta));
+            expectMean(image, Rgb(float(expected)), 2e-4,
+                       "phong n " + std::to_string(n) + " theta " + std::to_string(theta));
             EXPECT_LE(image.mean[1], 1.0 + 5.0 * image.standardError[1]);
             if (theta == 0.0) {
                 EXPECT_NEAR(expected, 1.0, 1e-6);  // no clipping at normal incidence
@@ -132,8 +135,9 @@ TEST(WhiteFurnace, ConductorReflectsItsNormalIncidenceFresnel) {
     Rgb expected;
     for (int c = 0; c < 3; ++c) {
         const double n = conductor.eta[c], k = conductor.k[c];
-        (c == 0 ? expected.r : c == 1 ? expected.g : expected.b) =
-            float(((n - 1) * (n - 1) + k * k) / ((n + 1) * (n + 1) + k * k));
+        (c == 0   ? expected.r
+         : c == 1 ? expected.g
+                  : expected.b) = float(((n - 1) * (n - 1) + k * k) / ((n + 1) * (n + 1) + k * k));
     }
     expectMean(renderMean(quadFurnace(m, 1.0f, 0.0)), expected, 1e-4, "conductor");
 }
@@ -148,8 +152,8 @@ TEST(Glass, NonAbsorbingSphereIsInvisible) {
         float eta;
         FresnelModel fresnel;
     };
-    for (const Case c : {Case{1.5f, FresnelModel::Exact}, Case{1.5f, FresnelModel::Schlick}, Case{1.33f, FresnelModel::Exact},
-                         Case{0.75f, FresnelModel::Exact}}) {
+    for (const Case c : {Case{1.5f, FresnelModel::Exact}, Case{1.5f, FresnelModel::Schlick},
+                         Case{1.33f, FresnelModel::Exact}, Case{0.75f, FresnelModel::Exact}}) {
         Dielectric dielectric;
         dielectric.eta = c.eta;
         dielectric.fresnel = c.fresnel;
@@ -207,14 +211,17 @@ TEST(Absorption, SlabTransmittanceMatchesBeerLambertWithFresnel) {
     scene.settings.seed = 5;
     scene.environment = EnvironmentLight::constant(Rgb(1.0f));
     scene.materials = {m};
-    scene.meshes.push_back(testing::makeQuad({-50, -50, 0}, {100, 0, 0}, {0, 100, 0}, 0));           // front, +z
-    scene.meshes.push_back(testing::makeQuad({-50, -50, -thickness}, {0, 100, 0}, {100, 0, 0}, 0));  // back, -z
+    scene.meshes.push_back(testing::makeQuad({-50, -50, 0}, {100, 0, 0}, {0, 100, 0}, 0));  // front, +z
+    scene.meshes.push_back(
+        testing::makeQuad({-50, -50, -thickness}, {0, 100, 0}, {100, 0, 0}, 0));  // back, -z
 
     const double r = ((eta - 1.0) / (eta + 1.0)) * ((eta - 1.0) / (eta + 1.0));
     Rgb expected;
     for (int c = 0; c < 3; ++c) {
         const double tau = std::pow(double(color[c]), double(thickness));
-        (c == 0 ? expected.r : c == 1 ? expected.g : expected.b) = float(r + (1 - r) * (1 - r) * tau / (1 - r * tau));
+        (c == 0   ? expected.r
+         : c == 1 ? expected.g
+                  : expected.b) = float(r + (1 - r) * (1 - r) * tau / (1 - r * tau));
     }
     const ImageMean image = renderMean(scene);
     expectMean(image, expected, 2e-4, "slab");

@@ -45,7 +45,9 @@ struct RoughCase {
 };
 
 MicrofacetDistribution ggx(float ax, float ay) { return MicrofacetDistribution{ax, ay, MicrofacetKind::Ggx}; }
-MicrofacetDistribution beckmann(float ax, float ay) { return MicrofacetDistribution{ax, ay, MicrofacetKind::Beckmann}; }
+MicrofacetDistribution beckmann(float ax, float ay) {
+    return MicrofacetDistribution{ax, ay, MicrofacetKind::Beckmann};
+}
 
 Material roughConductor(MicrofacetDistribution d) {
     return Material(RoughConductor{{0.2f, 0.92f, 1.1f}, {3.9f, 2.45f, 2.14f}, d});
@@ -58,7 +60,9 @@ Material roughDielectric(float eta, MicrofacetDistribution d) {
     return Material(dielectric);
 }
 Material roughDielectric(float eta, float ax, float ay) { return roughDielectric(eta, ggx(ax, ay)); }
-Material roughCoated(Rgb albedo, MicrofacetDistribution d) { return Material(RoughCoatedDiffuse::make(albedo, 1.5f, d)); }
+Material roughCoated(Rgb albedo, MicrofacetDistribution d) {
+    return Material(RoughCoatedDiffuse::make(albedo, 1.5f, d));
+}
 Material roughCoated(Rgb albedo, float ax, float ay) { return roughCoated(albedo, ggx(ax, ay)); }
 
 std::string angleName(double theta) { return "theta" + std::to_string(int(theta)); }
@@ -73,32 +77,34 @@ std::vector<RoughCase> roughCases() {
     const double angles[] = {0.0, 45.0, 80.0, 89.0};
     for (float a : isotropic)
         for (double theta : angles)
-            cases.push_back({"Conductor_" + alphaName(a, a) + "_" + angleName(theta), roughConductor(a, a), theta, 30.0});
+            cases.push_back(
+                {"Conductor_" + alphaName(a, a) + "_" + angleName(theta), roughConductor(a, a), theta, 30.0});
     for (double theta : {30.0, 75.0})
-        cases.push_back({"Conductor_" + alphaName(0.05f, 0.5f) + "_" + angleName(theta), roughConductor(0.05f, 0.5f),
-                         theta, 60.0});
+        cases.push_back({"Conductor_" + alphaName(0.05f, 0.5f) + "_" + angleName(theta),
+                         roughConductor(0.05f, 0.5f), theta, 60.0});
     cases.push_back({"Conductor_alpha200_Below_theta130", roughConductor(0.2f, 0.2f), 130.0, 10.0});
 
     for (float a : isotropic)
         for (double theta : angles) {
-            cases.push_back({"GlassEnter_" + alphaName(a, a) + "_" + angleName(theta), roughDielectric(1.5f, a, a), theta,
-                             200.0, true});
+            cases.push_back({"GlassEnter_" + alphaName(a, a) + "_" + angleName(theta),
+                             roughDielectric(1.5f, a, a), theta, 200.0, true});
             // Leaving: wo inside (below the outward normal); beyond 41.8 degrees the smooth
             // interface reflects totally, a rough one still lets some light out.
-            cases.push_back({"GlassLeave_" + alphaName(a, a) + "_" + angleName(theta), roughDielectric(1.5f, a, a),
-                             180.0 - theta, 200.0, false});
+            cases.push_back({"GlassLeave_" + alphaName(a, a) + "_" + angleName(theta),
+                             roughDielectric(1.5f, a, a), 180.0 - theta, 200.0, false});
         }
-    cases.push_back({"GlassEnter_" + alphaName(0.05f, 0.3f) + "_theta60", roughDielectric(1.5f, 0.05f, 0.3f), 60.0,
-                     100.0, true});
-    cases.push_back({"BubbleEnter_alpha200_theta50", roughDielectric(1.0f / 1.33f, 0.2f, 0.2f), 50.0, 20.0, true});
+    cases.push_back({"GlassEnter_" + alphaName(0.05f, 0.3f) + "_theta60", roughDielectric(1.5f, 0.05f, 0.3f),
+                     60.0, 100.0, true});
+    cases.push_back(
+        {"BubbleEnter_alpha200_theta50", roughDielectric(1.0f / 1.33f, 0.2f, 0.2f), 50.0, 20.0, true});
 
     for (float a : {0.01f, 0.2f, 1.0f})
         for (double theta : {0.0, 60.0, 89.0})
             cases.push_back({"RoughCoated_" + alphaName(a, a) + "_" + angleName(theta),
                              roughCoated({0.7f, 0.4f, 0.1f}, a, a), theta, 300.0});
     for (double theta : {0.0, 70.0})
-        cases.push_back({"SmoothCoated_" + angleName(theta), Material(CoatedDiffuse::make({0.7f, 0.4f, 0.1f}, 1.5f)),
-                         theta, 300.0});
+        cases.push_back({"SmoothCoated_" + angleName(theta),
+                         Material(CoatedDiffuse::make({0.7f, 0.4f, 0.1f}, 1.5f)), theta, 300.0});
 
     // Beckmann: its normals are drawn from D cos (not the visible ones), so some directions are
     // rejected (a normal facing away from wo, or a reflection below the horizon).
@@ -106,13 +112,15 @@ std::vector<RoughCase> roughCases() {
         for (double theta : {0.0, 60.0, 89.0}) {
             const std::string suffix = alphaName(a, a) + "_" + angleName(theta);
             cases.push_back({"BeckmannConductor_" + suffix, roughConductor(beckmann(a, a)), theta, 30.0});
-            cases.push_back({"BeckmannGlassEnter_" + suffix, roughDielectric(1.5f, beckmann(a, a)), theta, 200.0, true});
-            cases.push_back({"BeckmannGlassLeave_" + suffix, roughDielectric(1.5f, beckmann(a, a)), 180.0 - theta, 200.0,
-                             false});
+            cases.push_back(
+                {"BeckmannGlassEnter_" + suffix, roughDielectric(1.5f, beckmann(a, a)), theta, 200.0, true});
+            cases.push_back({"BeckmannGlassLeave_" + suffix, roughDielectric(1.5f, beckmann(a, a)),
+                             180.0 - theta, 200.0, false});
         }
-    cases.push_back({"BeckmannConductor_alpha50x500_theta45", roughConductor(beckmann(0.05f, 0.5f)), 45.0, 60.0});
-    cases.push_back({"BeckmannRoughCoated_alpha200_theta60", roughCoated({0.7f, 0.4f, 0.1f}, beckmann(0.2f, 0.2f)), 60.0,
-                     300.0});
+    cases.push_back(
+        {"BeckmannConductor_alpha50x500_theta45", roughConductor(beckmann(0.05f, 0.5f)), 45.0, 60.0});
+    cases.push_back({"BeckmannRoughCoated_alpha200_theta60",
+                     roughCoated({0.7f, 0.4f, 0.1f}, beckmann(0.2f, 0.2f)), 60.0, 300.0});
     return cases;
 }
 
@@ -125,7 +133,8 @@ double perTestAlpha() { return test::sidakAlpha(0.01, int(roughCases().size()));
 float roughnessOf(const Material& m) {
     return std::visit(
         [](const auto& model) -> float {
-            if constexpr (requires { model.distribution; }) return std::min(model.distribution.alphaX, model.distribution.alphaY);
+            if constexpr (requires { model.distribution; })
+                return std::min(model.distribution.alphaX, model.distribution.alphaY);
             return 1.0f;
         },
         m.model());
@@ -205,9 +214,10 @@ TEST_P(RoughLobe, SamplesFollowThePdf) {
         // The sample's pdf, weight and lobe agree with pdf() and eval() (same float arithmetic).
         const float pdf = material.pdf(wo, s->wi, c.front);
         const Rgb weight = material.eval(wo, s->wi, c.front) * (std::abs(s->wi.z) / pdf);
-        bool ok = s->pdf > 0.0f && std::abs(s->pdf - pdf) <= 1e-5f * pdf && std::abs(length(s->wi) - 1.0f) < 1e-5f &&
-                  s->isTransmission() == (s->wi.z * wo.z < 0.0f);
-        for (int ch = 0; ch < 3; ++ch) ok = ok && std::abs(s->weight[ch] - weight[ch]) <= 1e-5f * weight[ch] + 1e-7f;
+        bool ok = s->pdf > 0.0f && std::abs(s->pdf - pdf) <= 1e-5f * pdf &&
+                  std::abs(length(s->wi) - 1.0f) < 1e-5f && s->isTransmission() == (s->wi.z * wo.z < 0.0f);
+        for (int ch = 0; ch < 3; ++ch)
+            ok = ok && std::abs(s->weight[ch] - weight[ch]) <= 1e-5f * weight[ch] + 1e-7f;
         if (!ok && inconsistent++ == 0)
             firstInconsistency = "wi (" + std::to_string(s->wi.x) + ", " + std::to_string(s->wi.y) + ", " +
                                  std::to_string(s->wi.z) + "): pdf " + std::to_string(s->pdf) + " vs " +
@@ -218,7 +228,8 @@ TEST_P(RoughLobe, SamplesFollowThePdf) {
 
     // The density integrates to the fraction of samples it describes (binomial standard error).
     const double described = 1.0 - other / kSamples;
-    EXPECT_TRUE(test::withinSigmas(mass, described, std::sqrt(described * (1.0 - described) / kSamples) + 2e-5));
+    EXPECT_TRUE(
+        test::withinSigmas(mass, described, std::sqrt(described * (1.0 - described) / kSamples) + 2e-5));
 
     observed.push_back(other);
     expected.push_back(std::max(0.0, (1.0 - mass) * kSamples));
@@ -229,17 +240,25 @@ TEST_P(RoughLobe, SamplesFollowThePdf) {
     if (!(result.pValue > perTestAlpha())) {
         std::vector<size_t> order(expected.size());
         for (size_t i = 0; i < order.size(); ++i) order[i] = i;
-        auto term = [&](size_t i) { return (observed[i] - expected[i]) * (observed[i] - expected[i]) / std::max(expected[i], 5.0); };
+        auto term = [&](size_t i) {
+            return (observed[i] - expected[i]) * (observed[i] - expected[i]) / std::max(expected[i], 5.0);
+        };
         std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return term(a) > term(b); });
         for (size_t k = 0; k < 6 && k < order.size(); ++k) {
             const size_t i = order[k];
             const int cellsPerHalf = binning.above.cellCount();
-            worst += "; cell " + std::to_string(i) + (i + 1 == expected.size() ? " (rejected)" : i < size_t(cellsPerHalf) ? " (above" : " (below");
-            if (i + 1 < expected.size()) worst += " ring " + std::to_string((i % cellsPerHalf) / binning.above.phiBins) + " sector " + std::to_string(i % binning.above.phiBins) + ")";
+            worst += "; cell " + std::to_string(i) +
+                     (i + 1 == expected.size()   ? " (rejected)"
+                      : i < size_t(cellsPerHalf) ? " (above"
+                                                 : " (below");
+            if (i + 1 < expected.size())
+                worst += " ring " + std::to_string((i % cellsPerHalf) / binning.above.phiBins) + " sector " +
+                         std::to_string(i % binning.above.phiBins) + ")";
             worst += ": " + std::to_string(observed[i]) + " vs " + std::to_string(expected[i]);
         }
     }
-    EXPECT_GT(result.pValue, perTestAlpha()) << result.describe() << "; " << other << " rejected or delta" << worst;
+    EXPECT_GT(result.pValue, perTestAlpha())
+        << result.describe() << "; " << other << " rejected or delta" << worst;
 }
 
 INSTANTIATE_TEST_SUITE_P(Materials, RoughLobe, ::testing::ValuesIn(roughCases()),
@@ -265,7 +284,9 @@ struct ReferenceGgx {
         const double theta = std::acos(std::abs(z)), phi = std::atan2(y, x);
         const double alpha = std::sqrt(std::pow(std::cos(phi) * ax, 2) + std::pow(std::sin(phi) * ay, 2));
         const double a = 1.0 / (alpha * std::tan(theta));
-        if (beckmann) return std::isinf(a) ? 0.0 : (std::erf(a) - 1.0) / 2.0 + std::exp(-a * a) / (2.0 * a * std::sqrt(kPiD));
+        if (beckmann)
+            return std::isinf(a) ? 0.0
+                                 : (std::erf(a) - 1.0) / 2.0 + std::exp(-a * a) / (2.0 * a * std::sqrt(kPiD));
         return (-1.0 + std::sqrt(1.0 + 1.0 / (a * a))) / 2.0;
     }
 };
@@ -286,7 +307,8 @@ double integrateCosineWeighted(const F& g) {
         for (int i = 0; i < 16; ++i)
             for (int j = 0; j < 32; ++j) {
                 test::AdaptiveCubature<decltype(integrand)> cubature(integrand, 1e-9, 1e-7, 2, 9);
-                total += cubature.integrate(i / 16.0, (i + 1) / 16.0, 2.0 * kPiD * j / 32, 2.0 * kPiD * (j + 1) / 32);
+                total += cubature.integrate(i / 16.0, (i + 1) / 16.0, 2.0 * kPiD * j / 32,
+                                            2.0 * kPiD * (j + 1) / 32);
             }
     }
     return total;
@@ -321,69 +343,72 @@ void expectAlbedo(const Material& material, Vec3f wo, bool front, double referen
 TEST(RoughEnergy, ConductorWithUnitFresnelLosesOnlyWhatSingleScatteringLoses) {
     // eta = 1, k = 1e3: the complex Fresnel reflectance is 1 - 4e-6 at every angle.
     for (const bool isBeckmann : {false, true})
-    for (const double alpha : {0.05, 0.3, 0.7, 1.0})
-        for (const double thetaO : {0.0, 40.0, 75.0, 87.0}) {
-            const ReferenceGgx ref{alpha, alpha, isBeckmann};
-            const double t = test::radians(thetaO);
-            const double ox = std::sin(t), oz = std::cos(t);
-            const double albedo = integrateCosineWeighted([&](double x, double y, double z) {
-                if (z <= 0.0) return 0.0;
-                const double hx = ox + x, hy = y, hz = oz + z, h = std::sqrt(hx * hx + hy * hy + hz * hz);
-                const double G = 1.0 / (1.0 + ref.lambda(ox, 0.0, oz) + ref.lambda(x, y, z));
-                return ref.D(hx / h, hy / h, hz / h) * G / (4.0 * oz * z);
-            });
-            const MicrofacetDistribution d{float(alpha), float(alpha), isBeckmann ? MicrofacetKind::Beckmann : MicrofacetKind::Ggx};
-            const Material m(RoughConductor{Rgb(1.0f), Rgb(1000.0f), d});
-            const std::string what = std::string(isBeckmann ? "Beckmann" : "GGX") + ", alpha " + std::to_string(alpha) +
-                                     ", theta " + std::to_string(thetaO);
-            EXPECT_LT(albedo, 1.0 + 1e-6) << what;
-            if (alpha >= 0.7 && thetaO == 0.0) {
-                EXPECT_LT(albedo, 0.8) << what;  // the loss is real
+        for (const double alpha : {0.05, 0.3, 0.7, 1.0})
+            for (const double thetaO : {0.0, 40.0, 75.0, 87.0}) {
+                const ReferenceGgx ref{alpha, alpha, isBeckmann};
+                const double t = test::radians(thetaO);
+                const double ox = std::sin(t), oz = std::cos(t);
+                const double albedo = integrateCosineWeighted([&](double x, double y, double z) {
+                    if (z <= 0.0) return 0.0;
+                    const double hx = ox + x, hy = y, hz = oz + z, h = std::sqrt(hx * hx + hy * hy + hz * hz);
+                    const double G = 1.0 / (1.0 + ref.lambda(ox, 0.0, oz) + ref.lambda(x, y, z));
+                    return ref.D(hx / h, hy / h, hz / h) * G / (4.0 * oz * z);
+                });
+                const MicrofacetDistribution d{float(alpha), float(alpha),
+                                               isBeckmann ? MicrofacetKind::Beckmann : MicrofacetKind::Ggx};
+                const Material m(RoughConductor{Rgb(1.0f), Rgb(1000.0f), d});
+                const std::string what = std::string(isBeckmann ? "Beckmann" : "GGX") + ", alpha " +
+                                         std::to_string(alpha) + ", theta " + std::to_string(thetaO);
+                EXPECT_LT(albedo, 1.0 + 1e-6) << what;
+                if (alpha >= 0.7 && thetaO == 0.0) {
+                    EXPECT_LT(albedo, 0.8) << what;  // the loss is real
+                }
+                expectAlbedo(m, directionFromAngles(thetaO, 0.0), true, albedo * (1.0 - 4e-6), what);
             }
-            expectAlbedo(m, directionFromAngles(thetaO, 0.0), true, albedo * (1.0 - 4e-6), what);
-        }
 }
 
 TEST(RoughEnergy, DielectricReflectionPlusTransmissionMatchesTheIntegral) {
     for (const bool isBeckmann : {false, true})
-    for (const double alpha : {0.05, 0.3, 1.0})
-        for (const double thetaO : {0.0, 50.0, 85.0})
-            for (const bool front : {true, false}) {
-                const double etaRel = front ? 1.5 : 1.0 / 1.5;
-                const ReferenceGgx ref{alpha, alpha, isBeckmann};
-                const double t = test::radians(thetaO);
-                const double ox = std::sin(t), oz = std::cos(t);
-                // Energy (the radiance scale 1 / eta^2 left out), wo on +z.
-                const double energy = integrateCosineWeighted([&](double x, double y, double z) {
-                    const bool reflects = z > 0.0;
-                    const double e = reflects ? 1.0 : etaRel;
-                    double hx = ox + e * x, hy = e * y, hz = oz + e * z;
-                    const double h = std::sqrt(hx * hx + hy * hy + hz * hz);
-                    hx /= h, hy /= h, hz /= h;
-                    if (hz < 0.0) hx = -hx, hy = -hy, hz = -hz;
-                    const double cosO = ox * hx + oz * hz, cosI = x * hx + y * hy + z * hz;
-                    if (cosO <= 0.0 || cosI * z <= 0.0) return 0.0;
-                    const double F = test::fresnelHecht(cosO, etaRel);
-                    const double G = 1.0 / (1.0 + ref.lambda(ox, 0.0, oz) + ref.lambda(x, y, z));
-                    if (reflects) return ref.D(hx, hy, hz) * G * F / (4.0 * oz * z);
-                    const double denominator = std::pow(cosI + cosO / etaRel, 2) * std::abs(z) * oz;
-                    return ref.D(hx, hy, hz) * G * (1.0 - F) * std::abs(cosI * cosO / denominator);
-                });
-                EXPECT_LT(energy, 1.0 + 1e-6);
-                const std::string what = std::string(isBeckmann ? "Beckmann" : "GGX") + ", alpha " +
-                                         std::to_string(alpha) + ", theta " + std::to_string(thetaO) +
-                                         (front ? ", entering" : ", leaving");
-                const Vec3f wo = directionFromAngles(front ? thetaO : 180.0 - thetaO, 0.0);
-                const float a = float(alpha);
-                expectAlbedo(roughDielectric(1.5f, isBeckmann ? beckmann(a, a) : ggx(a, a)), wo, front, energy, what);
-            }
+        for (const double alpha : {0.05, 0.3, 1.0})
+            for (const double thetaO : {0.0, 50.0, 85.0})
+                for (const bool front : {true, false}) {
+                    const double etaRel = front ? 1.5 : 1.0 / 1.5;
+                    const ReferenceGgx ref{alpha, alpha, isBeckmann};
+                    const double t = test::radians(thetaO);
+                    const double ox = std::sin(t), oz = std::cos(t);
+                    // Energy (the radiance scale 1 / eta^2 left out), wo on +z.
+                    const double energy = integrateCosineWeighted([&](double x, double y, double z) {
+                        const bool reflects = z > 0.0;
+                        const double e = reflects ? 1.0 : etaRel;
+                        double hx = ox + e * x, hy = e * y, hz = oz + e * z;
+                        const double h = std::sqrt(hx * hx + hy * hy + hz * hz);
+                        hx /= h, hy /= h, hz /= h;
+                        if (hz < 0.0) hx = -hx, hy = -hy, hz = -hz;
+                        const double cosO = ox * hx + oz * hz, cosI = x * hx + y * hy + z * hz;
+                        if (cosO <= 0.0 || cosI * z <= 0.0) return 0.0;
+                        const double F = test::fresnelHecht(cosO, etaRel);
+                        const double G = 1.0 / (1.0 + ref.lambda(ox, 0.0, oz) + ref.lambda(x, y, z));
+                        if (reflects) return ref.D(hx, hy, hz) * G * F / (4.0 * oz * z);
+                        const double denominator = std::pow(cosI + cosO / etaRel, 2) * std::abs(z) * oz;
+                        return ref.D(hx, hy, hz) * G * (1.0 - F) * std::abs(cosI * cosO / denominator);
+                    });
+                    EXPECT_LT(energy, 1.0 + 1e-6);
+                    const std::string what = std::string(isBeckmann ? "Beckmann" : "GGX") + ", alpha " +
+                                             std::to_string(alpha) + ", theta " + std::to_string(thetaO) +
+                                             (front ? ", entering" : ", leaving");
+                    const Vec3f wo = directionFromAngles(front ? thetaO : 180.0 - thetaO, 0.0);
+                    const float a = float(alpha);
+                    expectAlbedo(roughDielectric(1.5f, isBeckmann ? beckmann(a, a) : ggx(a, a)), wo, front,
+                                 energy, what);
+                }
 }
 
 // GGX of alpha 1 is the uniform distribution of normals (D = 1 / pi) and G1 = 2 mu / (1 + mu), so
 // at normal incidence a perfect reflector keeps (1 / 4 pi) integral of G1 = 1 - ln 2 = 0.3069.
 TEST(RoughEnergy, UnitAlphaAtNormalIncidenceKeepsOneMinusLnTwo) {
     const Material m(RoughConductor{Rgb(1.0f), Rgb(1000.0f), ggx(1.0f, 1.0f)});
-    expectAlbedo(m, {0.0f, 0.0f, 1.0f}, true, (1.0 - std::log(2.0)) * (1.0 - 4e-6), "alpha 1, normal incidence");
+    expectAlbedo(m, {0.0f, 0.0f, 1.0f}, true, (1.0 - std::log(2.0)) * (1.0 - 4e-6),
+                 "alpha 1, normal incidence");
 }
 
 // With a smooth coating and a white base the model conserves energy exactly:
@@ -409,23 +434,25 @@ TEST(RoughEnergy, RoughCoatingMatchesItsIntegralAndStaysBelowOne) {
                 const double hx = ox + x, hy = y, hz = oz + z, h = std::sqrt(hx * hx + hy * hy + hz * hz);
                 const double cosO = (ox * hx + oz * hz) / h;
                 const double G = 1.0 / (1.0 + ref.lambda(ox, 0.0, oz) + ref.lambda(x, y, z));
-                const double coat = ref.D(hx / h, hy / h, hz / h) * G * test::fresnelHecht(cosO, eta) / (4.0 * oz * z);
+                const double coat =
+                    ref.D(hx / h, hy / h, hz / h) * G * test::fresnelHecht(cosO, eta) / (4.0 * oz * z);
                 const double base = (1.0 - test::fresnelHecht(z, eta)) * (1.0 - test::fresnelHecht(oz, eta)) /
                                     (kPiD * eta * eta * (1.0 - fInternal));
                 return coat + base;
             });
             const std::string what = "alpha " + std::to_string(alpha) + ", theta " + std::to_string(thetaO);
             EXPECT_LE(albedo, 1.0) << what;
-            expectAlbedo(roughCoated(Rgb(1.0f), float(alpha), float(alpha)), directionFromAngles(thetaO, 0.0), true,
-                         albedo, what);
+            expectAlbedo(roughCoated(Rgb(1.0f), float(alpha), float(alpha)), directionFromAngles(thetaO, 0.0),
+                         true, albedo, what);
         }
 }
 
 // ---- Reciprocity and limits ----
 
 TEST(RoughReciprocity, ReflectionLobesAreSymmetric) {
-    const Material materials[] = {roughConductor(0.3f, 0.3f), roughConductor(0.1f, 0.6f), roughConductor(beckmann(0.2f, 0.4f)),
-                                  roughDielectric(1.5f, 0.3f, 0.3f), roughCoated({0.6f, 0.3f, 0.9f}, 0.2f, 0.2f)};
+    const Material materials[] = {roughConductor(0.3f, 0.3f), roughConductor(0.1f, 0.6f),
+                                  roughConductor(beckmann(0.2f, 0.4f)), roughDielectric(1.5f, 0.3f, 0.3f),
+                                  roughCoated({0.6f, 0.3f, 0.9f}, 0.2f, 0.2f)};
     test::UniformRng rng(77);
     int checked = 0;
     for (const Material& m : materials)
@@ -456,10 +483,12 @@ TEST(RoughLimit, NarrowLobeReflectsTheSmoothFresnelIntoTheMirrorDirection) {
             const auto s = rough.sample(wo, rng.next(), rng.next2D(), true);
             if (!s) continue;
             for (int c = 0; c < 3; ++c) sum[c] += s->weight[c];
-            withinFiveDegrees += std::acos(std::min(1.0, double(dot(s->wi, reflectAboutZ(wo))))) < test::radians(5.0);
+            withinFiveDegrees +=
+                std::acos(std::min(1.0, double(dot(s->wi, reflectAboutZ(wo))))) < test::radians(5.0);
         }
         // alpha = 0.002 spreads the lobe over ~0.2 degrees; its shadowing at 80 degrees costs < 0.5%.
-        for (int c = 0; c < 3; ++c) EXPECT_NEAR(sum[c] / n, smooth[c], 0.005 * smooth[c]) << "theta " << thetaO;
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(sum[c] / n, smooth[c], 0.005 * smooth[c]) << "theta " << thetaO;
         // GGX has long tails (a fraction ~ alpha^2 / tan^2(x) of the normals lies beyond x: 0.2% at
         // 2.5 degrees), but the lobe is centred on the mirror direction.
         EXPECT_GT(withinFiveDegrees, 0.99 * n) << "theta " << thetaO;
@@ -481,7 +510,8 @@ TEST(DiffuseFresnel, MatchesKnownValuesAndTheInternalIdentity) {
     // and light inside sees 1 - (1 - F_ext) / eta^2.
     EXPECT_NEAR(diffuseFresnelReflectance(1.5), 0.0918, 5e-4);
     for (const double eta : {1.2, 1.5, 2.4})
-        EXPECT_NEAR(diffuseFresnelReflectance(1.0 / eta), 1.0 - (1.0 - diffuseFresnelReflectance(eta)) / (eta * eta), 1e-5);
+        EXPECT_NEAR(diffuseFresnelReflectance(1.0 / eta),
+                    1.0 - (1.0 - diffuseFresnelReflectance(eta)) / (eta * eta), 1e-5);
 }
 
 }  // namespace

@@ -118,14 +118,16 @@ TEST(AreaLight, PenumbraLiesWhereTheGeometrySays) {
     // umbra for x_f <= -(w/2) / (H/ho - 1), fully lit for x_f >= (w/2) / (H/ho - 1).
     const float radiance = 4.0f, width = 0.8f, depth = 0.8f, lightHeight = 1.5f, occluderHeight = 0.75f;
     Scene scene = floorScene();
-    TriangleMesh light = testing::makeQuad({-width / 2, lightHeight, -depth / 2}, {width, 0, 0}, {0, 0, depth}, 1);
+    TriangleMesh light =
+        testing::makeQuad({-width / 2, lightHeight, -depth / 2}, {width, 0, 0}, {0, 0, depth}, 1);
     light.emission.radiance = Rgb(radiance);
     scene.meshes.push_back(light);
     scene.meshes.push_back(testing::makeQuad({-20, occluderHeight, -20}, {20, 0, 0}, {0, 0, 40}, 1));
 
     const float edge = (width / 2) / (lightHeight / occluderHeight - 1.0f);  // penumbra half-width: 0.4
     for (float xf : {-0.6f, -0.35f, -0.2f, 0.0f, 0.15f, 0.3f, 0.38f, 0.6f}) {
-        const float visibleFrom = std::clamp(xf * (1.0f - lightHeight / occluderHeight), -width / 2, width / 2);
+        const float visibleFrom =
+            std::clamp(xf * (1.0f - lightHeight / occluderHeight), -width / 2, width / 2);
         double expected = 0.0;
         if (visibleFrom < width / 2) {
             // The visible rectangle, relative to the floor point.
@@ -151,7 +153,8 @@ TEST(AreaLight, PenumbraLiesWhereTheGeometrySays) {
 // a sphere above the horizon, I cos(theta) / d^2 for the point light).
 TEST(AreaLight, LightsChosenAtTheVertexSumToTheirClosedForms) {
     Scene scene = floorScene();
-    TriangleMesh overhead = testing::makeQuad({-0.5f, 1.0f, -0.4f}, {0.8f, 0, 0}, {0, 0, 0.8f}, 1);  // faces -y
+    TriangleMesh overhead =
+        testing::makeQuad({-0.5f, 1.0f, -0.4f}, {0.8f, 0, 0}, {0, 0, 0.8f}, 1);  // faces -y
     overhead.emission.radiance = Rgb(3.0f);
     TriangleMesh beside = testing::makeQuad({1.0f, 0.2f, -0.5f}, {0, 0, 1.0f}, {0, 0.8f, 0}, 1);  // faces -x
     beside.emission.radiance = Rgb(2.0f);
@@ -167,13 +170,16 @@ TEST(AreaLight, LightsChosenAtTheVertexSumToTheirClosedForms) {
     scene.pointLights.push_back({pointPosition, Rgb(1.0f)});
 
     const double quads =
-        polygonIrradiance({{-0.5f, 1.0f, -0.4f}, {0.3f, 1.0f, -0.4f}, {0.3f, 1.0f, 0.4f}, {-0.5f, 1.0f, 0.4f}}, 3.0) +
-        polygonIrradiance({{1.0f, 0.2f, -0.5f}, {1.0f, 0.2f, 0.5f}, {1.0f, 1.0f, 0.5f}, {1.0f, 1.0f, -0.5f}}, 2.0);
+        polygonIrradiance(
+            {{-0.5f, 1.0f, -0.4f}, {0.3f, 1.0f, -0.4f}, {0.3f, 1.0f, 0.4f}, {-0.5f, 1.0f, 0.4f}}, 3.0) +
+        polygonIrradiance({{1.0f, 0.2f, -0.5f}, {1.0f, 0.2f, 0.5f}, {1.0f, 1.0f, 0.5f}, {1.0f, 1.0f, -0.5f}},
+                          2.0);
     const double sphereDistance = length(sphere.center);
-    const double sphereIrradiance = kPi * 5.0 * std::pow(sphere.radius / sphereDistance, 2) * (sphere.center.y / sphereDistance);
+    const double sphereIrradiance =
+        kPi * 5.0 * std::pow(sphere.radius / sphereDistance, 2) * (sphere.center.y / sphereDistance);
     const double pointIrradiance = pointPosition.y / std::pow(double(length(pointPosition)), 3);
-    expectIrradiance(measureIrradiance(scene, {0, 0, 0}, {0.3f, 0.4f, 1.5f}), quads + sphereIrradiance + pointIrradiance,
-                     "four emitters chosen at the vertex");
+    expectIrradiance(measureIrradiance(scene, {0, 0, 0}, {0.3f, 0.4f, 1.5f}),
+                     quads + sphereIrradiance + pointIrradiance, "four emitters chosen at the vertex");
 }
 
 }  // namespace

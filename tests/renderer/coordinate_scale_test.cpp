@@ -86,8 +86,9 @@ TEST(CoordinateScale, CornellBoxMeanIsTheSameAtEveryScaleWithEitherBackend) {
                 const double sigma = std::sqrt(scaled.variance[c] + reference.variance[c]);
                 const double difference = scaled.mean[c] - reference.mean[c];
                 EXPECT_LE(std::abs(difference), 5.0 * sigma)
-                    << "scale " << factor << " " << acceleratorKindName(accelerator) << " channel " << c << ": ratio "
-                    << scaled.mean[c] / reference.mean[c] << ", " << difference / sigma << " sigma";
+                    << "scale " << factor << " " << acceleratorKindName(accelerator) << " channel " << c
+                    << ": ratio " << scaled.mean[c] / reference.mean[c] << ", " << difference / sigma
+                    << " sigma";
             }
         }
     }

@@ -8,9 +8,8 @@
 // deviation is derived from our own noise (two renders with different seeds) plus the
 // reference's noise (the README's RMSE of 0.011 per reference pixel between two independent
 // renders, i.e. 0.011 / sqrt(2) each, averaged over the block's 128 x 128 reference pixels).
-#include <gtest/gtest.h>
-
 #include <OpenImageIO/imagebuf.h>
+#include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
@@ -63,7 +62,8 @@ TEST(CornellReference, MatchesTungstenReference) {
     for (int y = 0; y < refHeight; ++y)
         for (int x = 0; x < refWidth; ++x) {
             reference.getpixel(x, y, pixel.data());
-            for (int c = 0; c < 3; ++c) ref[((y / factor) * kSize + x / factor) * 3 + c] += pixel[c] / double(factor * factor);
+            for (int c = 0; c < 3; ++c)
+                ref[((y / factor) * kSize + x / factor) * 3 + c] += pixel[c] / double(factor * factor);
         }
 
     Scene scene = loadScene(std::filesystem::path(PENUMBRA_SOURCE_DIR) / "scenes" / "cornell-box.json");
@@ -109,8 +109,8 @@ TEST(CornellReference, MatchesTungstenReference) {
                 const double referenceZ = std::abs(ours - refBlock) / sigma;
                 worstSeedZ = std::max(worstSeedZ, seedZ);
                 worstReferenceZ = std::max(worstReferenceZ, referenceZ);
-                EXPECT_LT(referenceZ, 5.0) << "block (" << bx << ", " << by << ") channel " << c << ": ours " << ours
-                                           << ", reference " << refBlock << ", sigma " << sigma;
+                EXPECT_LT(referenceZ, 5.0) << "block (" << bx << ", " << by << ") channel " << c << ": ours "
+                                           << ours << ", reference " << refBlock << ", sigma " << sigma;
             }
     EXPECT_LT(worstSeedZ, 5.0) << "the two seeds disagree beyond their own noise estimate";
     std::printf("worst block z-score: seeds %.2f, against reference %.2f\n", worstSeedZ, worstReferenceZ);

@@ -13,7 +13,8 @@ namespace penumbra {
 namespace {
 
 // A uniform map of radiance L, as an image (so that the image's distribution is what is sampled).
-EnvironmentLight uniformImage(float radiance, EnvironmentMapping mapping = EnvironmentMapping::Equirectangular) {
+EnvironmentLight uniformImage(float radiance,
+                              EnvironmentMapping mapping = EnvironmentMapping::Equirectangular) {
     const int height = mapping == EnvironmentMapping::EqualArea ? 8 : 4;
     EnvironmentImage image{8, height, std::vector<Rgb>(size_t(8 * height), Rgb(radiance)), mapping};
     return EnvironmentLight::fromImage(image, Rgb(1.0f), Transform::rotate(30.0f, {1.0f, 0.2f, 0.0f}));
@@ -56,7 +57,8 @@ void expectWhiteFurnace(const EnvironmentLight& environment, float radiance, Lig
                 ++exactPixels;
                 EXPECT_NEAR(mean, radiance, 1e-6 * radiance) << "pixel " << x << ", " << y;
             } else {
-                EXPECT_NEAR(mean, radiance, 6.0 * std::sqrt(variance / n) + 1e-6 * radiance) << "pixel " << x << ", " << y;
+                EXPECT_NEAR(mean, radiance, 6.0 * std::sqrt(variance / n) + 1e-6 * radiance)
+                    << "pixel " << x << ", " << y;
             }
         }
     EXPECT_GT(exactPixels, 100);  // the corners miss the sphere
@@ -105,7 +107,8 @@ std::vector<double> renderGreen(const Scene& scene) {
     render(scene, RenderOptions{}, film);
     std::vector<double> values;
     for (int y = 0; y < film.height(); ++y)
-        for (int x = 0; x < film.width(); ++x) values.push_back(film.at(x, y).radiance[1] / film.at(x, y).weight);
+        for (int x = 0; x < film.width(); ++x)
+            values.push_back(film.at(x, y).radiance[1] / film.at(x, y).weight);
     return values;
 }
 
@@ -124,8 +127,8 @@ TEST(EnvironmentSunImportanceSampling, TenTimesLowerErrorThanBsdfSampling) {
     EXPECT_GT(bsdf, 10.0 * light) << "MSE: BSDF sampling " << bsdf << ", light sampling " << light;
     RecordProperty("mse_bsdf", std::to_string(bsdf));
     RecordProperty("mse_mis", std::to_string(mis));
-    std::printf("MSE at 16 spp: BSDF sampling %g, MIS %g, light sampling %g (ratios %.1f, %.1f)\n", bsdf, mis, light,
-                bsdf / mis, bsdf / light);
+    std::printf("MSE at 16 spp: BSDF sampling %g, MIS %g, light sampling %g (ratios %.1f, %.1f)\n", bsdf, mis,
+                light, bsdf / mis, bsdf / light);
 }
 
 }  // namespace

@@ -61,12 +61,19 @@ void expectFurnace(float albedo, float emitted, SamplerKind sampler, int roulett
     const double expected = emitted / (1.0 - albedo);
     EXPECT_GT(e.standardError, 0.0);
     EXPECT_NEAR(e.mean, expected, 5.0 * e.standardError + 1e-4 * expected)
-        << "albedo " << albedo << " sampler " << samplerKindName(sampler) << " roulette from " << rouletteStart;
+        << "albedo " << albedo << " sampler " << samplerKindName(sampler) << " roulette from "
+        << rouletteStart;
 }
 
-TEST(Furnace, HalfAlbedoWithRouletteFromFirstBounce) { expectFurnace(0.5f, 1.0f, SamplerKind::Independent, 0); }
-TEST(Furnace, HighAlbedoWithRouletteFromFirstBounce) { expectFurnace(0.8f, 0.5f, SamplerKind::Independent, 0); }
-TEST(Furnace, HighAlbedoStratifiedRouletteFromThirdBounce) { expectFurnace(0.8f, 2.0f, SamplerKind::Stratified, 3); }
+TEST(Furnace, HalfAlbedoWithRouletteFromFirstBounce) {
+    expectFurnace(0.5f, 1.0f, SamplerKind::Independent, 0);
+}
+TEST(Furnace, HighAlbedoWithRouletteFromFirstBounce) {
+    expectFurnace(0.8f, 0.5f, SamplerKind::Independent, 0);
+}
+TEST(Furnace, HighAlbedoStratifiedRouletteFromThirdBounce) {
+    expectFurnace(0.8f, 2.0f, SamplerKind::Stratified, 3);
+}
 TEST(Furnace, BlackWallShowsOnlyEmission) {
     const FurnaceEstimate e = renderFurnace(0.0f, 1.5f, SamplerKind::Stratified, 0);
     EXPECT_NEAR(e.mean, 1.5, 1e-6);

@@ -60,12 +60,13 @@ TEST(LightStrategy, AllThreeEstimateTheSameImageAndMisHasTheLeastVariance) {
         for (const ImageEstimate* other : {&bsdf, &light}) {
             const double sigma = std::sqrt(mis.varianceOfMean[c] + other->varianceOfMean[c]);
             EXPECT_LT(std::abs(mis.mean[c] - other->mean[c]), 5.0 * sigma)
-                << "channel " << c << ": " << mis.mean[c] << " vs " << other->mean[c] << " (" << (other == &bsdf ? "bsdf" : "light") << ")";
+                << "channel " << c << ": " << mis.mean[c] << " vs " << other->mean[c] << " ("
+                << (other == &bsdf ? "bsdf" : "light") << ")";
         }
     }
-    std::printf("summed pixel variance: mis %.4g, bsdf %.4g (x%.1f), light %.4g (x%.1f)\n", mis.summedVariance,
-                bsdf.summedVariance, bsdf.summedVariance / mis.summedVariance, light.summedVariance,
-                light.summedVariance / mis.summedVariance);
+    std::printf("summed pixel variance: mis %.4g, bsdf %.4g (x%.1f), light %.4g (x%.1f)\n",
+                mis.summedVariance, bsdf.summedVariance, bsdf.summedVariance / mis.summedVariance,
+                light.summedVariance, light.summedVariance / mis.summedVariance);
     EXPECT_LT(2.0 * mis.summedVariance, bsdf.summedVariance);
     EXPECT_LT(2.0 * mis.summedVariance, light.summedVariance);
 }

@@ -79,25 +79,31 @@ Scene movingQuadScene(std::vector<TransformKey> keys, bool deform) {
 // Every case runs on both traversal backends, which interpolate motion the same way.
 class MotionBlur : public ::testing::TestWithParam<AcceleratorKind> {};
 
-INSTANTIATE_TEST_SUITE_P(Backends, MotionBlur, ::testing::Values(AcceleratorKind::Embree, AcceleratorKind::Bvh),
-                         [](const auto& info) { return std::string(info.param == AcceleratorKind::Bvh ? "Bvh" : "Embree"); });
+INSTANTIATE_TEST_SUITE_P(Backends, MotionBlur,
+                         ::testing::Values(AcceleratorKind::Embree, AcceleratorKind::Bvh),
+                         [](const auto& info) {
+                             return std::string(info.param == AcceleratorKind::Bvh ? "Bvh" : "Embree");
+                         });
 
 TEST_P(MotionBlur, MovingQuadCoversThePixelForTheExactShutterFraction) {
     // The quad's left edge goes from x = -3 to x = +1 over the shutter (through x = -1 at the
     // middle key): it covers x = 0 while the edge is in [-1, 0], i.e. for t in [0.5, 0.75].
     for (bool deform : {false, true}) {
-        const Scene scene = movingQuadScene({translation({-3, 0, 0}), translation({-1, 0, 0}), translation({1, 0, 0})}, deform);
+        const Scene scene = movingQuadScene(
+            {translation({-3, 0, 0}), translation({-1, 0, 0}), translation({1, 0, 0})}, deform);
         const PixelEstimate e = renderMean(scene, GetParam());
         // Each sample is 0 or 1 (Bernoulli, p = 0.75): the film's i.i.d. standard error bounds the
         // stratified sampler's error.
-        EXPECT_NEAR(e.mean, 0.75, 5.0 * e.standardError + 1e-6) << (deform ? "per-vertex keys" : "transform keys");
+        EXPECT_NEAR(e.mean, 0.75, 5.0 * e.standardError + 1e-6)
+            << (deform ? "per-vertex keys" : "transform keys");
         EXPECT_GT(e.standardError, 0.0);
     }
 }
 
 TEST_P(MotionBlur, UnevenSpeedBetweenKeysIsFollowed) {
     // Keys at x = -1, 0, 4: the edge crosses [-1, 0] during the first half exactly.
-    const Scene scene = movingQuadScene({translation({-1, 0, 0}), translation({0, 0, 0}), translation({4, 0, 0})}, false);
+    const Scene scene =
+        movingQuadScene({translation({-1, 0, 0}), translation({0, 0, 0}), translation({4, 0, 0})}, false);
     const PixelEstimate e = renderMean(scene, GetParam());
     EXPECT_NEAR(e.mean, 0.5, 5.0 * e.standardError + 1e-6);
 }
@@ -154,7 +160,8 @@ TEST_P(MotionBlur, CameraMotionBlursLikeObjectMotion) {
     Scene scene = movingQuadScene({translation({0, 0, 0}), translation({0, 0, 0})}, false);
     scene.meshes[0].motion.keys.clear();
     // Quad static at x in [0, 1]; camera from x = -1 to x = 3 covers it for t in [0.25, 0.5].
-    scene.camera.motion = {CameraPose{{-1, 0, 0}, {-1, 0, -1}, {0, 1, 0}}, CameraPose{{3, 0, 0}, {3, 0, -1}, {0, 1, 0}}};
+    scene.camera.motion = {CameraPose{{-1, 0, 0}, {-1, 0, -1}, {0, 1, 0}},
+                           CameraPose{{3, 0, 0}, {3, 0, -1}, {0, 1, 0}}};
     const PixelEstimate e = renderMean(scene, GetParam());
     EXPECT_NEAR(e.mean, 0.75, 5.0 * e.standardError + 1e-6);
 }

@@ -11,9 +11,8 @@
 //    tests/data/pbrt/veach-mis-tungsten.patch.json against its Tungsten reference: channel means
 //    within 2%. The direct import (no patch) is measured and printed (docs/pbrt-import.md).
 // The reference comparisons skip without ../shared/data.
-#include <gtest/gtest.h>
-
 #include <OpenImageIO/imagebuf.h>
+#include <gtest/gtest.h>
 
 #include <array>
 #include <cmath>
@@ -24,8 +23,8 @@
 #include <vector>
 
 #include "film/film.h"
-#include "renderer/render.h"
 #include "formats/scene_file.h"
+#include "renderer/render.h"
 
 namespace penumbra {
 namespace {
@@ -66,7 +65,8 @@ double orientationOf(const std::string& cameraLines) {
                            "Film \"rgb\" \"integer xresolution\" 64 \"integer yresolution\" 32\n"
                            "Sampler \"independent\" \"integer pixelsamples\" 4\nPixelFilter \"box\"\n"
                            "Integrator \"path\" \"integer maxdepth\" 0\nWorldBegin\n"
-                           "AreaLightSource \"diffuse\" \"rgb L\" [1 1 1]\nTranslate -1 0 0\nShape \"sphere\" \"float radius\" 0.3\n";
+                           "AreaLightSource \"diffuse\" \"rgb L\" [1 1 1]\nTranslate -1 0 0\nShape "
+                           "\"sphere\" \"float radius\" 0.3\n";
     const double x = centroidX(renderScene(load(file)));
     fs::remove(file);
     return x;
@@ -158,7 +158,9 @@ TEST(PbrtScenes, CornellBoxMatchesTheReferenceAndTheHandTranslation) {
     for (int y = 0; y < reference.spec().height; ++y)
         for (int x = 0; x < reference.spec().width; ++x) {
             reference.getpixel(x, y, pixel.data());
-            for (int c = 0; c < 3; ++c) ref[size_t(((y / factor) * kSize + x / factor) * 3 + c)] += pixel[size_t(c)] / double(factor * factor);
+            for (int c = 0; c < 3; ++c)
+                ref[size_t(((y / factor) * kSize + x / factor) * 3 + c)] +=
+                    pixel[size_t(c)] / double(factor * factor);
         }
 
     // Both at 128 x 128 with a one-pixel box filter (an area average, as the averaged reference).
@@ -171,7 +173,8 @@ TEST(PbrtScenes, CornellBoxMatchesTheReferenceAndTheHandTranslation) {
         return scene;
     };
     const Film ours = renderScene(prepare(load(pbrt), 1));
-    const Film hand = renderScene(prepare(load(fs::path(PENUMBRA_SOURCE_DIR) / "scenes" / "cornell-box.json"), 2));
+    const Film hand =
+        renderScene(prepare(load(fs::path(PENUMBRA_SOURCE_DIR) / "scenes" / "cornell-box.json"), 2));
 
     for (int c = 0; c < 3; ++c) {
         double sum = 0, theirs = 0;
@@ -199,14 +202,17 @@ TEST(PbrtScenes, CornellBoxMatchesTheReferenceAndTheHandTranslation) {
                         refBlock += ref[size_t((y * kSize + x) * 3 + c)] / (kBlockPixels * kBlockPixels);
                 const double zRef = std::abs(a.mean[i] - refBlock) /
                                     std::sqrt(a.variance[i] + referenceBlockSigma * referenceBlockSigma);
-                const double zHand = std::abs(a.mean[i] - b.mean[i]) / std::sqrt(a.variance[i] + b.variance[i]);
+                const double zHand =
+                    std::abs(a.mean[i] - b.mean[i]) / std::sqrt(a.variance[i] + b.variance[i]);
                 worstReference = std::max(worstReference, zRef);
                 worstHand = std::max(worstHand, zHand);
-                EXPECT_LT(zRef, 5.0) << "block (" << bx << ", " << by << ") channel " << c << " against the reference";
-                EXPECT_LT(zHand, 5.0) << "block (" << bx << ", " << by << ") channel " << c << " against the hand translation";
+                EXPECT_LT(zRef, 5.0) << "block (" << bx << ", " << by << ") channel " << c
+                                     << " against the reference";
+                EXPECT_LT(zHand, 5.0)
+                    << "block (" << bx << ", " << by << ") channel " << c << " against the hand translation";
             }
-    std::printf("worst block z-score: against the reference %.2f, against scenes/cornell-box.json %.2f\n", worstReference,
-                worstHand);
+    std::printf("worst block z-score: against the reference %.2f, against scenes/cornell-box.json %.2f\n",
+                worstReference, worstHand);
     // Orientation: the red wall (world -x) is on the left, as in the reference.
     double leftRed = 0, rightRed = 0;
     for (int y = 0; y < kSize; ++y) {
@@ -222,7 +228,8 @@ std::array<double, 3> meansOf(const Film& film) {
     std::array<double, 3> m{};
     for (int y = 0; y < film.height(); ++y)
         for (int x = 0; x < film.width(); ++x)
-            for (int c = 0; c < 3; ++c) m[size_t(c)] += film.at(x, y).mean()[c] / (double(film.width()) * film.height());
+            for (int c = 0; c < 3; ++c)
+                m[size_t(c)] += film.at(x, y).mean()[c] / (double(film.width()) * film.height());
     return m;
 }
 
@@ -249,7 +256,8 @@ TEST(PbrtScenes, VeachMisMatchesTheReferenceWithTheDocumentedPatch) {
         scene.settings.seed = 3;
         return scene;
     };
-    const auto patched = meansOf(renderScene(prepare(load(pbrt, kTestData / "veach-mis-tungsten.patch.json"))));
+    const auto patched =
+        meansOf(renderScene(prepare(load(pbrt, kTestData / "veach-mis-tungsten.patch.json"))));
     const auto direct = meansOf(renderScene(prepare(load(pbrt))));
     for (int c = 0; c < 3; ++c) {
         EXPECT_NEAR(patched[size_t(c)] / theirs[size_t(c)], 1.0, 0.02) << "channel " << c;

@@ -76,14 +76,16 @@ TEST(SpotLight, LambertPlaneMatchesClosedFormInsideTheBandAndOutside) {
     scene.camera.verticalFovDegrees = 0.5f;
     scene.materials = {testing::makeLambert(Rgb(albedo))};
     scene.meshes.push_back(testing::makeQuad({-50, 0, -50}, {0, 0, 100}, {100, 0, 0}, 0));
-    scene.spotLights.push_back({{0.0f, height, 0.0f}, {0.0f, -1.0f, 0.0f}, Rgb(intensity), float(cosStart), float(cosEnd)});
+    scene.spotLights.push_back(
+        {{0.0f, height, 0.0f}, {0.0f, -1.0f, 0.0f}, Rgb(intensity), float(cosStart), float(cosEnd)});
     scene.integrator.maxDepth = 1;
     const double bandMiddle = std::tan(std::acos(0.5 * (cosStart + cosEnd))) * height;
     for (double offset : {0.0, 0.5, bandMiddle, 1.5, 3.0}) {
         const double distanceSquared = offset * offset + double(height) * height;
         const double cosine = height / std::sqrt(distanceSquared);
         const double t = std::clamp((cosine - cosEnd) / (cosStart - cosEnd), 0.0, 1.0);
-        const double expected = albedo / kPi * intensity * (t * t * (3.0 - 2.0 * t)) * cosine / distanceSquared;
+        const double expected =
+            albedo / kPi * intensity * (t * t * (3.0 - 2.0 * t)) * cosine / distanceSquared;
         const double found = renderedMeanAt({float(offset), 0.0f, 0.0f}, scene);
         if (offset == bandMiddle) {
             EXPECT_NEAR(t, 0.5, 1e-9);
@@ -98,7 +100,8 @@ TEST(SpotLight, LambertPlaneMatchesClosedFormInsideTheBandAndOutside) {
 // The power that chooses between lights: the falloff integrated over the sphere, against a
 // midpoint quadrature in cos(theta).
 TEST(SpotLight, SolidAngleIsTheFalloffsIntegral) {
-    for (auto [angle, delta] : {std::pair{30.0, 5.0}, {30.0, 0.0}, {90.0, 45.0}, {180.0, 180.0}, {10.0, 10.0}}) {
+    for (auto [angle, delta] :
+         {std::pair{30.0, 5.0}, {30.0, 0.0}, {90.0, 45.0}, {180.0, 180.0}, {10.0, 10.0}}) {
         SpotLight spot;
         spot.cosFalloffEnd = float(std::cos(angle * kPi / 180.0));
         spot.cosFalloffStart = float(std::cos((angle - delta) * kPi / 180.0));
@@ -124,12 +127,18 @@ TEST(DirectionalLight, LambertPlaneMatchesClosedForm) {
         scene.directionalLights.push_back({{std::sin(theta), -std::cos(theta), 0.0f}, Rgb(irradiance)});
         scene.integrator.maxDepth = 1;
         const double expected = albedo / kPi * irradiance * std::cos(theta);
-        EXPECT_NEAR(renderedMeanAt({1.0f, 0.0f, 2.0f}, scene), expected, 1e-4 * expected) << degrees << " degrees";
+        EXPECT_NEAR(renderedMeanAt({1.0f, 0.0f, 2.0f}, scene), expected, 1e-4 * expected)
+            << degrees << " degrees";
         // A small occluder up-light of the target casts a hard shadow on it (for oblique light, so
         // that the camera looking straight down does not see the occluder itself).
         if (degrees == 0.0f) continue;
-        scene.spheres.push_back({"blocker", Vec3f{1.0f, 0.0f, 2.0f} + Vec3f{-std::sin(theta), std::cos(theta), 0.0f} * 0.5f,
-                                 0.2f, 0, {}, {}});
+        scene.spheres.push_back(
+            {"blocker",
+             Vec3f{1.0f, 0.0f, 2.0f} + Vec3f{-std::sin(theta), std::cos(theta), 0.0f} * 0.5f,
+             0.2f,
+             0,
+             {},
+             {}});
         EXPECT_EQ(renderedMeanAt({1.0f, 0.0f, 2.0f}, scene), 0.0) << degrees << " degrees, shadowed";
     }
 }

@@ -1,7 +1,8 @@
 // A render job (renderer/render_job.h): a film resumed from its file, or checkpointed between
 // passes, ends bit-identical to one uninterrupted render, and the file says which samples it holds.
-#include <gtest/gtest.h>
+#include "renderer/render_job.h"
 
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -9,7 +10,6 @@
 #include <vector>
 
 #include "film/image_output.h"
-#include "renderer/render_job.h"
 #include "tests/support/expect_input_error.h"
 #include "tests/support/scene_builders.h"
 

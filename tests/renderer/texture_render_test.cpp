@@ -31,7 +31,8 @@ TEST(TextureCheckerboardRender, ExactColoursAwayFromEdges) {
     scene.integrator.maxDepth = 1;
     Texture checker = Texture::checkerboard(a, b);
     checker.mapUv({float(squares), float(squares)}, {0.0f, 0.0f});
-    scene.materials = {Material(Lambert{}, true, {{checker, [](MaterialModel& m, Rgb c) { std::get<Lambert>(m).albedo = c; }}})};
+    scene.materials = {Material(
+        Lambert{}, true, {{checker, [](MaterialModel& m, Rgb c) { std::get<Lambert>(m).albedo = c; }}})};
     // uv (0, 0) at the bottom-left corner, u to the right, v up.
     TriangleMesh quad = testing::makeQuad({-1, -1, 0}, {2, 0, 0}, {0, 2, 0}, 0);
     quad.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
@@ -49,7 +50,8 @@ TEST(TextureCheckerboardRender, ExactColoursAwayFromEdges) {
             const Rgb expected = ((column + row) % 2 == 0 ? a : b) * radiance;
             const PixelSums& p = film.at(x, y);
             for (int c = 0; c < 3; ++c)
-                EXPECT_NEAR(p.radiance[c] / p.weight, expected[c], 1e-6 * expected[c]) << "pixel " << x << ", " << y;
+                EXPECT_NEAR(p.radiance[c] / p.weight, expected[c], 1e-6 * expected[c])
+                    << "pixel " << x << ", " << y;
             ++checked;
         }
     EXPECT_EQ(checked, squares * squares * (cell - 2) * (cell - 2));
@@ -83,7 +85,8 @@ TEST(TextureEmissionRender, ExactRadianceAwayFromEdges) {
             const Rgb expected = (column + row) % 2 == 0 ? a : b;
             const PixelSums& p = film.at(x, y);
             for (int c = 0; c < 3; ++c)
-                EXPECT_NEAR(p.radiance[c] / p.weight, expected[c], 1e-6 * expected[c]) << "pixel " << x << ", " << y;
+                EXPECT_NEAR(p.radiance[c] / p.weight, expected[c], 1e-6 * expected[c])
+                    << "pixel " << x << ", " << y;
         }
 }
 

@@ -15,9 +15,8 @@
 //   - the reference's storage: half floats keep 11 significant bits, so a block of constant value
 //     (a light seen directly) may be off by 2^-11 relative, or 2^-24 absolute near 0, whatever
 //     the averaging.
-#include <gtest/gtest.h>
-
 #include <OpenImageIO/imagebuf.h>
+#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
@@ -88,8 +87,8 @@ TEST(VeachMisReference, MatchesTungstenReference) {
                         varA += first.at(x, y).varianceOfMean()[c];
                         varB += second.at(x, y).varianceOfMean()[c];
                         const double r = refAt(x, y, c);
-                        const double residual =
-                            r - 0.25 * (refAt(x - 1, y, c) + refAt(x + 1, y, c) + refAt(x, y - 1, c) + refAt(x, y + 1, c));
+                        const double residual = r - 0.25 * (refAt(x - 1, y, c) + refAt(x + 1, y, c) +
+                                                            refAt(x, y - 1, c) + refAt(x, y + 1, c));
                         ref += r;
                         refNoise += residual * residual / 1.25;
                     }

@@ -22,12 +22,14 @@ TEST(CameraFields, FNumberAndFocalLengthGiveTheLensRadius) {
 }
 
 TEST(CameraFields, FocusOnAPointProjectsItOnTheViewDirection) {
-    const Scene scene = parse(R"("camera": {"look_from": [0, 0, 0], "look_at": [0, 0, -1], "focus_on": [3, 1, -4]})");
+    const Scene scene =
+        parse(R"("camera": {"look_from": [0, 0, 0], "look_at": [0, 0, -1], "focus_on": [3, 1, -4]})");
     EXPECT_FLOAT_EQ(scene.camera.focusDistance, 4.0f);
 }
 
 TEST(CameraFields, BladesRotationAndCameraMotion) {
-    const Scene scene = parse(R"("camera": {"aperture_radius": 0.1, "aperture_blades": 6, "aperture_rotation": 15,
+    const Scene scene =
+        parse(R"("camera": {"aperture_radius": 0.1, "aperture_blades": 6, "aperture_rotation": 15,
         "shutter": [0, 0.5], "motion": [{"look_from": [0, 0, 1]}, {"look_from": [1, 0, 1]}]})");
     EXPECT_EQ(scene.camera.apertureBlades, 6);
     EXPECT_FLOAT_EQ(scene.camera.apertureRotationDegrees, 15.0f);

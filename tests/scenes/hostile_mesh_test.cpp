@@ -2,7 +2,6 @@
 // Every one must now be refused with an InputError naming the file, and the line where the
 // validator knows it.
 #include <gtest/gtest.h>
-
 #include <sys/stat.h>
 
 #include <filesystem>
@@ -72,21 +71,25 @@ TEST(HostileMesh, PlyHeaderWithCrLfLineEndingsStillLoads) {
 // 8"; under AddressSanitizer a bad free later), so the header must declare each element once.
 TEST(HostileMesh, PlyElementDeclaredTwiceIsRefused) {
     const InputError e = catchInputError([] { importMesh(kHostile / "duplicate_vertex_element.ply"); });
-    EXPECT_CONTAINS(e.what(), "duplicate_vertex_element.ply:8:1: the element 'vertex' is declared a second time");
+    EXPECT_CONTAINS(e.what(),
+                    "duplicate_vertex_element.ply:8:1: the element 'vertex' is declared a second time");
 }
 
 // Found by fuzz/ply_fuzzer: an ASCII face index beyond every integer type was converted to one for
 // the error message (undefined behaviour); the message now quotes the value as read.
 TEST(HostileMesh, PlyFaceIndexBeyondIntegersIsRefused) {
     const InputError e = catchInputError([] { importMesh(kHostile / "face_index_beyond_integers.ply"); });
-    EXPECT_CONTAINS(e.what(), "face 0 (counting from 0) uses vertex 3.3333333333333334e+36, but the file has only 3 vertices");
+    EXPECT_CONTAINS(
+        e.what(),
+        "face 0 (counting from 0) uses vertex 3.3333333333333334e+36, but the file has only 3 vertices");
 }
 
 // tinyobjloader splits a polygon in time quadratic in its corners (10^5 corners: 45 s), so faces
 // have a documented limit of 1024 corners.
 TEST(HostileMesh, ObjFaceBeyondTheCornerLimitIsRefused) {
     const InputError e = catchInputError([] { importMesh(kHostile / "face_1025_corners.obj"); });
-    EXPECT_CONTAINS(e.what(), "face_1025_corners.obj:4:1: a face with 1025 corners; penumbra takes at most 1024");
+    EXPECT_CONTAINS(e.what(),
+                    "face_1025_corners.obj:4:1: a face with 1025 corners; penumbra takes at most 1024");
 }
 
 TEST(HostileMesh, ObjFaceAtTheCornerLimitLoads) {
@@ -98,8 +101,9 @@ TEST(HostileMesh, ObjFaceAtTheCornerLimitLoads) {
 class HostileMeshFiles : public ::testing::Test {
 protected:
     void SetUp() override {
-        dir_ = fs::temp_directory_path() / ("penumbra-hostile-mesh-" +
-                                            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+        dir_ = fs::temp_directory_path() /
+               ("penumbra-hostile-mesh-" +
+                std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
         fs::remove_all(dir_);
         fs::create_directories(dir_);
     }

@@ -12,11 +12,14 @@ namespace {
 using testing::catchInputError;
 
 // Two materials and a unit right triangle in the xy plane as the prototype "tri".
-const std::string kHead = R"("materials": {"grey": {"type": "lambert"}, "red": {"type": "lambert", "albedo": [0.8, 0.1, 0.1]}},
+const std::string kHead =
+    R"("materials": {"grey": {"type": "lambert"}, "red": {"type": "lambert", "albedo": [0.8, 0.1, 0.1]}},
     "camera": {"shutter": [0, 1]},
     "prototypes": {"tri": {"type": "triangle_mesh", "positions": [[0, 0, 0], [1, 0, 0], [0, 1, 0]], "indices": [0, 1, 2]}})";
 
-Scene parse(const std::string& shapes) { return parseScene("{" + kHead + R"(, "shapes": [)" + shapes + "]}", "scene.json"); }
+Scene parse(const std::string& shapes) {
+    return parseScene("{" + kHead + R"(, "shapes": [)" + shapes + "]}", "scene.json");
+}
 
 TEST(InstancingLoader, PrototypeIsStoredOnceAndEachInstanceHasItsPlacementAndMaterial) {
     const Scene scene = parse(R"(
@@ -57,7 +60,8 @@ TEST(InstancingLoader, MotionKeysMoveAnInstance) {
 }
 
 TEST(InstancingLoader, HitIdsNameTheInstanceAndThePrototypeTriangle) {
-    Scene scene = parse(R"({"type": "quad", "corner": [0, 0, 0], "edge1": [1, 0, 0], "edge2": [0, 1, 0], "material": "grey"},
+    Scene scene = parse(
+        R"({"type": "quad", "corner": [0, 0, 0], "edge1": [1, 0, 0], "edge2": [0, 1, 0], "material": "grey"},
         {"type": "instance", "prototype": "tri", "material": "grey"},
         {"type": "instance", "prototype": "tri", "material": "red"})");
     const ShapeRef ref{ShapeKind::Instance, 1, 0};
@@ -74,20 +78,25 @@ TEST(InstancingLoader, HitIdsNameTheInstanceAndThePrototypeTriangle) {
 }
 
 TEST(InstancingLoader, UnknownPrototypeNamesTheKnownOnes) {
-    const InputError e = catchInputError([] { parse(R"({"type": "instance", "prototype": "dragon", "material": "grey"})"); });
-    EXPECT_CONTAINS(e.what(), "scene.json: /shapes/0/prototype: unknown prototype \"dragon\" (known prototypes: tri)");
+    const InputError e =
+        catchInputError([] { parse(R"({"type": "instance", "prototype": "dragon", "material": "grey"})"); });
+    EXPECT_CONTAINS(e.what(),
+                    "scene.json: /shapes/0/prototype: unknown prototype \"dragon\" (known prototypes: tri)");
 }
 
 TEST(InstancingLoader, NoPrototypesAtAll) {
     const InputError e = catchInputError([] {
-        parseScene(R"({"materials": {"grey": {"type": "lambert"}}, "shapes": [{"type": "instance", "prototype": "x", "material": "grey"}]})",
-                   "scene.json");
+        parseScene(
+            R"({"materials": {"grey": {"type": "lambert"}}, "shapes": [{"type": "instance", "prototype": "x", "material": "grey"}]})",
+            "scene.json");
     });
-    EXPECT_CONTAINS(e.what(), "/shapes/0/prototype: unknown prototype \"x\" (the scene defines no prototypes)");
+    EXPECT_CONTAINS(e.what(),
+                    "/shapes/0/prototype: unknown prototype \"x\" (the scene defines no prototypes)");
 }
 
 TEST(InstancingLoader, UnknownMaterialOfAnInstance) {
-    const InputError e = catchInputError([] { parse(R"({"type": "instance", "prototype": "tri", "material": "gold"})"); });
+    const InputError e =
+        catchInputError([] { parse(R"({"type": "instance", "prototype": "tri", "material": "gold"})"); });
     EXPECT_CONTAINS(e.what(), "/shapes/0/material: unknown material \"gold\"");
 }
 
@@ -115,9 +124,12 @@ TEST(InstancingLoader, TransformAndMotionTogetherAreRefused) {
 TEST(InstancingLoader, PrototypeTakesNoMaterialEmissionOrMotion) {
     for (const char* key : {R"("material": "grey")", R"("emission": {"radiance": 1})", R"("motion": {})"}) {
         const InputError e = catchInputError([&] {
-            parseScene(std::string(R"({"materials": {"grey": {"type": "lambert"}}, "prototypes": {"p": {"type": "quad",
-                "corner": [0, 0, 0], "edge1": [1, 0, 0], "edge2": [0, 1, 0], )") + key + "}}}",
-                       "scene.json");
+            parseScene(
+                std::string(
+                    R"({"materials": {"grey": {"type": "lambert"}}, "prototypes": {"p": {"type": "quad",
+                "corner": [0, 0, 0], "edge1": [1, 0, 0], "edge2": [0, 1, 0], )") +
+                    key + "}}}",
+                "scene.json");
         });
         EXPECT_CONTAINS(e.what(), "/prototypes/p/");
         EXPECT_CONTAINS(e.what(), "unknown key");
@@ -126,22 +138,25 @@ TEST(InstancingLoader, PrototypeTakesNoMaterialEmissionOrMotion) {
 
 TEST(InstancingLoader, UnknownPrototypeType) {
     const InputError e = catchInputError([] {
-        parseScene(R"({"prototypes": {"p": {"type": "sphere", "center": [0, 0, 0], "radius": 1}}})", "scene.json");
+        parseScene(R"({"prototypes": {"p": {"type": "sphere", "center": [0, 0, 0], "radius": 1}}})",
+                   "scene.json");
     });
     EXPECT_CONTAINS(e.what(), "/prototypes/p/type");
 }
 
 TEST(InstancingLoader, PrototypeErrorsNameThePrototype) {
     const InputError e = catchInputError([] {
-        parseScene(R"({"prototypes": {"p": {"type": "triangle_mesh", "positions": [[0, 0, 0]], "indices": [0, 0, 7]}}})",
-                   "scene.json");
+        parseScene(
+            R"({"prototypes": {"p": {"type": "triangle_mesh", "positions": [[0, 0, 0]], "indices": [0, 0, 7]}}})",
+            "scene.json");
     });
     EXPECT_CONTAINS(e.what(), "/prototypes/p/indices/2");
 }
 
 TEST(InstancingLoader, PlacementBeyondTheCoordinateLimit) {
     const InputError e = catchInputError([] {
-        parse(R"({"type": "instance", "prototype": "tri", "material": "grey", "transform": [{"scale": 1e19}]})");
+        parse(
+            R"({"type": "instance", "prototype": "tri", "material": "grey", "transform": [{"scale": 1e19}]})");
     });
     EXPECT_CONTAINS(e.what(), "/shapes/0: the placed prototype \"tri\" reaches beyond the coordinate limit");
 }

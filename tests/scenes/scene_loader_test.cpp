@@ -48,8 +48,8 @@ TEST(SceneLoader, ReadsEveryKey) {
     const Scene scene = loadScene(kScenes / "all_features.json");
     EXPECT_EQ(scene.sourcePath, kScenes / "all_features.json");
     // The mesh files, in the order the scene names them, for the scene hash.
-    EXPECT_EQ(scene.meshFiles,
-              (std::vector<std::filesystem::path>{kScenes / "meshes/square.obj", kScenes / "meshes/square_binary_le.ply"}));
+    EXPECT_EQ(scene.meshFiles, (std::vector<std::filesystem::path>{kScenes / "meshes/square.obj",
+                                                                   kScenes / "meshes/square_binary_le.ply"}));
 
     expectNear(scene.camera.lookFrom, {0, 1, 5});
     expectNear(scene.camera.lookAt, {0, 1, 0});
@@ -215,7 +215,8 @@ TEST(SceneLoader, CornellBoxMatchesThePbrtOriginal) {
     ASSERT_EQ(reflectances.size(), scene.materials.size());
     for (size_t i = 0; i < materialNames.size(); ++i) {
         EXPECT_EQ(scene.materialNames[i], materialNames[i]);
-        EXPECT_EQ(scene.materials[i].albedo(), Rgb(reflectances[i][0], reflectances[i][1], reflectances[i][2]));
+        EXPECT_EQ(scene.materials[i].albedo(),
+                  Rgb(reflectances[i][0], reflectances[i][1], reflectances[i][2]));
     }
 
     const auto meshMaterials = pbrtNames(pbrt, "NamedMaterial");
@@ -307,12 +308,18 @@ TEST(SceneLoader, SpotLights) {
     EXPECT_NEAR(a.cosFalloffStart, 0.9063078f, 1e-6f);
     EXPECT_NEAR(scene.spotLights[1].cosFalloffEnd, 0.5f, 1e-6f);
     EXPECT_EQ(scene.spotLights[1].cosFalloffStart, 1.0f);
-    for (const auto& [light, pointer, expected] :
-         {std::tuple{R"({"type": "spot", "position": [0, 0, 0], "direction": [0, 0, 0], "intensity": 1})", "/lights/0/direction", "non-zero"},
-          {R"({"type": "spot", "position": [0, 0, 0], "direction": [0, 0, 1], "intensity": 1, "cone_angle": 0})", "/lights/0/cone_angle", "greater than 0"},
-          {R"({"type": "spot", "position": [0, 0, 0], "direction": [0, 0, 1], "intensity": 1, "cone_angle": 20, "cone_delta": 25})", "/lights/0/cone_delta", "cone_angle (20)"},
-          {R"({"type": "spot", "position": [0, 0, 0], "direction": [0, 0, 1], "intensity": 1, "angle": 20})", "/lights/0/angle", "cone_angle"}}) {
-        const InputError e = catchInputError([&] { parseScene(std::string(R"({"lights": [)") + light + "]}", "spots.json"); });
+    for (
+        const auto& [light, pointer, expected] :
+        {std::tuple{R"({"type": "spot", "position": [0, 0, 0], "direction": [0, 0, 0], "intensity": 1})",
+                    "/lights/0/direction", "non-zero"},
+         {R"({"type": "spot", "position": [0, 0, 0], "direction": [0, 0, 1], "intensity": 1, "cone_angle": 0})",
+          "/lights/0/cone_angle", "greater than 0"},
+         {R"({"type": "spot", "position": [0, 0, 0], "direction": [0, 0, 1], "intensity": 1, "cone_angle": 20, "cone_delta": 25})",
+          "/lights/0/cone_delta", "cone_angle (20)"},
+         {R"({"type": "spot", "position": [0, 0, 0], "direction": [0, 0, 1], "intensity": 1, "angle": 20})",
+          "/lights/0/angle", "cone_angle"}}) {
+        const InputError e =
+            catchInputError([&] { parseScene(std::string(R"({"lights": [)") + light + "]}", "spots.json"); });
         EXPECT_EQ(e.where().jsonPointer, pointer) << light;
         EXPECT_NE(std::string(e.message()).find(expected), std::string::npos) << e.message();
     }
@@ -336,9 +343,10 @@ TEST(SceneErrors, SyntaxErrorHasLineAndColumn) {
 
 TEST(SceneErrors, UnknownKeys) {
     InputError e = catchInputError([] { parseScene(R"({"cameras": {}})", "scene.json"); });
-    EXPECT_EQ(std::string(e.what()),
-              "scene.json: /cameras: unknown key (expected one of: camera, film, integrator, "
-              "render, background, environment, materials, prototypes, shapes, lights); did you mean 'camera'?");
+    EXPECT_EQ(
+        std::string(e.what()),
+        "scene.json: /cameras: unknown key (expected one of: camera, film, integrator, "
+        "render, background, environment, materials, prototypes, shapes, lights); did you mean 'camera'?");
 
     e = catchInputError([] {
         parseScene(R"({"materials": {"m": {"type": "lambert"}}, "shapes": [
@@ -379,16 +387,19 @@ TEST(SceneErrors, WrongTypes) {
 // An unknown type or key gets a "did you mean": other renderers' names from a table that says
 // whose they are, slips of spelling by edit distance, and nothing for a name that is not close.
 TEST(SceneErrors, UnknownNamesGetTheLikelyOneSuggested) {
-    InputError e = catchInputError([] { parseScene(R"({"materials": {"m": {"type": "diffuse"}}})", "s.json"); });
-    EXPECT_EQ(std::string(e.what()),
-              "s.json: /materials/m/type: expected one of: lambert, phong, dielectric, thin_dielectric, mirror, "
-              "conductor, rough_conductor, rough_dielectric, coated_diffuse, found the string \"diffuse\"; did you "
-              "mean 'lambert'? (pbrt-v4 and Mitsuba 3 call it 'diffuse', Cycles 'Diffuse BSDF')");
+    InputError e =
+        catchInputError([] { parseScene(R"({"materials": {"m": {"type": "diffuse"}}})", "s.json"); });
+    EXPECT_EQ(
+        std::string(e.what()),
+        "s.json: /materials/m/type: expected one of: lambert, phong, dielectric, thin_dielectric, mirror, "
+        "conductor, rough_conductor, rough_dielectric, coated_diffuse, found the string \"diffuse\"; did you "
+        "mean 'lambert'? (pbrt-v4 and Mitsuba 3 call it 'diffuse', Cycles 'Diffuse BSDF')");
     e = catchInputError([] { parseScene(R"({"materials": {"m": {"type": "roughconductor"}}})", "s.json"); });
     EXPECT_CONTAINS(e.what(), "did you mean 'rough_conductor'? (Mitsuba 3 calls it 'roughconductor')");
     e = catchInputError([] { parseScene(R"({"materials": {"m": {"type": "emission"}}})", "s.json"); });
     EXPECT_CONTAINS(e.what(), "a shape that emits light is any shape with an \"emission\" object");
-    e = catchInputError([] { parseScene(R"({"lights": [{"type": "distant", "direction": [0, -1, 0]}]})", "s.json"); });
+    e = catchInputError(
+        [] { parseScene(R"({"lights": [{"type": "distant", "direction": [0, -1, 0]}]})", "s.json"); });
     EXPECT_CONTAINS(e.what(), "did you mean 'directional'? (pbrt-v4 calls it 'distant')");
     e = catchInputError([] { sceneWithShape(R"({"type": "trianglemesh", "positions": []})"); });
     EXPECT_CONTAINS(e.what(), "did you mean 'triangle_mesh'? (pbrt-v4 calls it 'trianglemesh')");
@@ -493,7 +504,8 @@ TEST(SceneErrors, SppZero) {
 TEST(SceneErrors, UnknownLightStrategy) {
     const InputError e =
         catchInputError([] { parseScene(R"({"integrator": {"strategy": "photons"}})", "scene.json"); });
-    EXPECT_CONTAINS(std::string(e.what()), "scene.json: /integrator/strategy: expected one of: mis, bsdf, light");
+    EXPECT_CONTAINS(std::string(e.what()),
+                    "scene.json: /integrator/strategy: expected one of: mis, bsdf, light");
 }
 
 TEST(SceneErrors, ResolutionZero) {

@@ -30,8 +30,10 @@ private:
 
 inline std::unique_ptr<AnyBackend> makeBackend(AcceleratorKind kind, const SceneGeometry& scene) {
     switch (kind) {
-        case AcceleratorKind::Embree: return std::make_unique<BackendAdapter<EmbreeAccelerator>>(scene);
-        case AcceleratorKind::Bvh: return std::make_unique<BackendAdapter<BvhAccelerator>>(scene);
+        case AcceleratorKind::Embree:
+            return std::make_unique<BackendAdapter<EmbreeAccelerator>>(scene);
+        case AcceleratorKind::Bvh:
+            return std::make_unique<BackendAdapter<BvhAccelerator>>(scene);
     }
     return nullptr;
 }

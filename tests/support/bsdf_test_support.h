@@ -26,7 +26,9 @@ inline Vec3f directionFromAngles(double thetaDegrees, double phiDegrees) {
 
 inline Material makeLambertMaterial(Rgb albedo) { return Material(Lambert{albedo}); }
 
-inline Material makePhongMaterial(Rgb kd, Rgb ks, float exponent) { return Material(Phong{kd, ks, exponent}); }
+inline Material makePhongMaterial(Rgb kd, Rgb ks, float exponent) {
+    return Material(Phong{kd, ks, exponent});
+}
 
 inline Material makeDielectricMaterial(float eta, FresnelModel fresnel = FresnelModel::Exact) {
     Dielectric dielectric;
@@ -86,8 +88,12 @@ struct SphereBinning {
 template <typename F>
 class AdaptiveCubature {
 public:
-    AdaptiveCubature(const F& f, double absoluteTolerance, double relativeTolerance, int minDepth, int maxDepth)
-        : f_(f), absoluteTolerance_(absoluteTolerance), relativeTolerance_(relativeTolerance), minDepth_(minDepth),
+    AdaptiveCubature(const F& f, double absoluteTolerance, double relativeTolerance, int minDepth,
+                     int maxDepth)
+        : f_(f),
+          absoluteTolerance_(absoluteTolerance),
+          relativeTolerance_(relativeTolerance),
+          minDepth_(minDepth),
           maxDepth_(maxDepth) {}
 
     double integrate(double x0, double x1, double y0, double y1) {
@@ -104,16 +110,19 @@ private:
         const double hx = 0.5 * (x1 - x0), hy = 0.5 * (y1 - y0), mx = 0.5 * (x0 + x1), my = 0.5 * (y0 + y1);
         double sum = 0.0;
         for (int i = 0; i < 4; ++i)
-            for (int j = 0; j < 4; ++j) sum += kWeights[i] * kWeights[j] * f_(mx + hx * kNodes[i], my + hy * kNodes[j]);
+            for (int j = 0; j < 4; ++j)
+                sum += kWeights[i] * kWeights[j] * f_(mx + hx * kNodes[i], my + hy * kNodes[j]);
         return sum * hx * hy;
     }
     double refine(double x0, double x1, double y0, double y1, double whole, int depth) {
         const double xm = 0.5 * (x0 + x1), ym = 0.5 * (y0 + y1);
-        const double q[4] = {gauss(x0, xm, y0, ym), gauss(xm, x1, y0, ym), gauss(x0, xm, ym, y1), gauss(xm, x1, ym, y1)};
+        const double q[4] = {gauss(x0, xm, y0, ym), gauss(xm, x1, y0, ym), gauss(x0, xm, ym, y1),
+                             gauss(xm, x1, ym, y1)};
         const double fine = q[0] + q[1] + q[2] + q[3];
         const double difference = std::abs(fine - whole);
         const bool deepEnough = maxDepth_ - depth >= minDepth_;
-        if (depth <= 0 || (deepEnough && difference <= std::max(absoluteTolerance_, relativeTolerance_ * std::abs(fine)))) {
+        if (depth <= 0 ||
+            (deepEnough && difference <= std::max(absoluteTolerance_, relativeTolerance_ * std::abs(fine)))) {
             errorEstimate += difference;
             return fine;
         }
@@ -138,15 +147,18 @@ struct CellIntegrals {
 // cell is refined at least `minDepth` levels (2: 256 points), so that a thin sliver of a cell
 // beyond a discontinuity is not missed by all the points of the coarse rules.
 template <typename Density>
-CellIntegrals integrateOverCells(const SphereBinning& binning, const Density& density, double absoluteTolerance,
-                                 int maxDepth = 7, int minDepth = 2) {
-    auto integrand = [&](double t, double phi) { return double(density(binning.direction(t, phi))) * binning.jacobian(t); };
+CellIntegrals integrateOverCells(const SphereBinning& binning, const Density& density,
+                                 double absoluteTolerance, int maxDepth = 7, int minDepth = 2) {
+    auto integrand = [&](double t, double phi) {
+        return double(density(binning.direction(t, phi))) * binning.jacobian(t);
+    };
     CellIntegrals result;
     result.value.resize(size_t(binning.cellCount()));
     result.error.resize(size_t(binning.cellCount()));
     for (int i = 0; i < binning.thetaBins; ++i)
         for (int j = 0; j < binning.phiBins; ++j) {
-            AdaptiveCubature<decltype(integrand)> cubature(integrand, absoluteTolerance, 1e-4, minDepth, maxDepth);
+            AdaptiveCubature<decltype(integrand)> cubature(integrand, absoluteTolerance, 1e-4, minDepth,
+                                                           maxDepth);
             const size_t cell = size_t(i * binning.phiBins + j);
             result.value[cell] =
                 cubature.integrate(double(i) / binning.thetaBins, double(i + 1) / binning.thetaBins,
@@ -190,7 +202,8 @@ inline double ringCosine(double cosAlpha, double thetaAxis) {
 // the only kink, where the ring first touches the horizon, costs O(h^2) ~ 1e-10):
 //   phongLobeShareAbove: the fraction of the sampling density (n + 1) / (2 pi) cos^n lying above the horizon;
 //   phongSpecularAlbedo: integral over the upper hemisphere of (n + 2) / (2 pi) cos^n(alpha) cos(theta_i),
-//                        the specular lobe's albedo for ks = 1 (1 at normal incidence, less where the horizon clips it).
+//                        the specular lobe's albedo for ks = 1 (1 at normal incidence, less where the horizon
+//                        clips it).
 inline double phongLobeShareAbove(double exponent, double thetaO) {
     auto f = [&](double alpha) {
         return (exponent + 1.0) / (2.0 * kPiD) * std::pow(std::cos(alpha), exponent) * std::sin(alpha) *
@@ -215,7 +228,8 @@ inline double fresnelHecht(double cosThetaI, double eta) {
     const double sinT = std::sin(ti) / eta;
     if (sinT >= 1.0) return 1.0;
     const double tt = std::asin(sinT);
-    if (ti < 1e-6) return ((eta - 1.0) / (eta + 1.0)) * ((eta - 1.0) / (eta + 1.0));  // normal incidence limit
+    if (ti < 1e-6)
+        return ((eta - 1.0) / (eta + 1.0)) * ((eta - 1.0) / (eta + 1.0));  // normal incidence limit
     const double rs = -std::sin(ti - tt) / std::sin(ti + tt);
     const double rp = std::tan(ti - tt) / std::tan(ti + tt);
     return 0.5 * (rs * rs + rp * rp);

@@ -20,8 +20,7 @@ inline std::string sharedDataMissing(const std::filesystem::path& file) {
 }  // namespace penumbra::testing
 
 // Skips the current test when `file` (a path in the shared data) does not exist.
-#define PENUMBRA_SKIP_WITHOUT_SHARED_DATA(file)                                 \
-    do {                                                                        \
-        if (!std::filesystem::exists(file))                                     \
-            GTEST_SKIP() << ::penumbra::testing::sharedDataMissing(file);       \
+#define PENUMBRA_SKIP_WITHOUT_SHARED_DATA(file)                                                           \
+    do {                                                                                                  \
+        if (!std::filesystem::exists(file)) GTEST_SKIP() << ::penumbra::testing::sharedDataMissing(file); \
     } while (false)

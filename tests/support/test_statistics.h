@@ -39,11 +39,13 @@ private:
 };
 
 // |estimate - exact| <= k * standardError, with a message giving the number of sigmas.
-inline ::testing::AssertionResult withinSigmas(double estimate, double exact, double standardError, double k = 5.0) {
+inline ::testing::AssertionResult withinSigmas(double estimate, double exact, double standardError,
+                                               double k = 5.0) {
     const double deviation = std::abs(estimate - exact) / standardError;
     if (deviation <= k) return ::testing::AssertionSuccess();
-    return ::testing::AssertionFailure() << "estimate " << estimate << " vs exact " << exact << " is " << deviation
-                                         << " standard errors (" << standardError << ") away; allowed " << k;
+    return ::testing::AssertionFailure()
+           << "estimate " << estimate << " vs exact " << exact << " is " << deviation << " standard errors ("
+           << standardError << ") away; allowed " << k;
 }
 
 // Running mean of a sequence of values.
@@ -89,7 +91,9 @@ inline double regularizedGammaQ(double a, double x) {
 }
 
 // P(X >= statistic) for X chi-square distributed with `dof` degrees of freedom.
-inline double chiSquarePValue(double statistic, int dof) { return regularizedGammaQ(0.5 * dof, 0.5 * statistic); }
+inline double chiSquarePValue(double statistic, int dof) {
+    return regularizedGammaQ(0.5 * dof, 0.5 * statistic);
+}
 
 // Significance level of each of `numTests` tests such that the chance that any of them rejects a
 // correct null hypothesis is `alpha` (Sidak correction).
@@ -109,7 +113,8 @@ struct ChiSquareResult {
 // Pearson's chi-square test of observed counts against expected counts. Cells expected to hold
 // fewer than 5 samples are pooled (the chi-square approximation needs about 5 per cell); a sample
 // in a cell of zero expected count is impossible and gives p = 0.
-inline ChiSquareResult chiSquareTest(const std::vector<double>& observed, const std::vector<double>& expected) {
+inline ChiSquareResult chiSquareTest(const std::vector<double>& observed,
+                                     const std::vector<double>& expected) {
     std::vector<size_t> order(expected.size());
     std::iota(order.begin(), order.end(), size_t(0));
     std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return expected[a] < expected[b]; });

@@ -1,10 +1,10 @@
 // Textures on their own: the checkerboard's colours, image lookups through the texture plugin
 // (an 8-bit sRGB image linearised by the sRGB formula, a linear image filtered bilinearly, wrap
 // modes), the camera footprint against a closed form, and whole images read for environment maps.
-#include <gtest/gtest.h>
+#include "textures/texture.h"
 
 #include <OpenImageIO/imageio.h>
-
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -16,7 +16,6 @@
 
 #include "core/error.h"
 #include "textures/image_file.h"
-#include "textures/texture.h"
 #include "textures/texture_footprint.h"
 #include "textures/texture_plugin_loader.h"
 
@@ -26,7 +25,8 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path temporaryFile(const std::string& name) {
-    const fs::path folder = fs::temp_directory_path() / ("penumbra-texture-test-" + std::to_string(::getpid()));
+    const fs::path folder =
+        fs::temp_directory_path() / ("penumbra-texture-test-" + std::to_string(::getpid()));
     fs::create_directories(folder);
     return folder / name;
 }
@@ -56,7 +56,9 @@ ImageTextureSource open(const fs::path& path, TextureFilter filter, TextureWrap 
     source.wrapS = source.wrapT = wrap;
     PenumbraTextureInfo info{};
     char error[512] = "";
-    EXPECT_EQ(source.plugin->openTexture(path.c_str(), PENUMBRA_COLOR_AUTO, &source.handle, &info, error, sizeof error), 1)
+    EXPECT_EQ(source.plugin->openTexture(path.c_str(), PENUMBRA_COLOR_AUTO, &source.handle, &info, error,
+                                         sizeof error),
+              1)
         << error;
     source.channels = info.channels;
     return source;
@@ -97,7 +99,8 @@ TEST(TextureSrgb, EightBitLinearisationMatchesTheSrgbFormula) {
         const Rgb value = texture.evaluate(at((x + 0.5f) / width, 0.5f));
         for (int c = 0; c < 3; ++c) {
             const double expected = srgbToLinear(pixels[3 * size_t(x) + size_t(c)] / 255.0);
-            EXPECT_NEAR(value[c], expected, expected * 0x1p-11 + 1e-6) << "code " << int(pixels[3 * size_t(x) + size_t(c)]);
+            EXPECT_NEAR(value[c], expected, expected * 0x1p-11 + 1e-6)
+                << "code " << int(pixels[3 * size_t(x) + size_t(c)]);
         }
     }
 }
@@ -105,11 +108,12 @@ TEST(TextureSrgb, EightBitLinearisationMatchesTheSrgbFormula) {
 // A float image is linear and looked up as it is: bilinear filtering halfway between two texel
 // centres gives their mean; the t axis runs down the image (v = 1 is its top row).
 TEST(TextureImage, LinearImageBilinearAndOrientation) {
-    const std::vector<float> pixels = {0.0f, 0.0f, 0.0f, 1.0f, 2.0f, 4.0f,   // top row
+    const std::vector<float> pixels = {0.0f, 0.0f, 0.0f, 1.0f,  2.0f,  4.0f,  // top row
                                        8.0f, 8.0f, 8.0f, 16.0f, 16.0f, 16.0f};
     const fs::path path = temporaryFile("linear.exr");
     writeImage(path, 2, 2, 3, pixels, OIIO::TypeDesc::FLOAT);
-    const Texture bilinear = Texture::image(open(path, TextureFilter::Bilinear, TextureWrap::Clamp), Rgb(1.0f));
+    const Texture bilinear =
+        Texture::image(open(path, TextureFilter::Bilinear, TextureWrap::Clamp), Rgb(1.0f));
     // Texel centres: u = 0.25, 0.75; the top row at v = 0.75.
     EXPECT_EQ(bilinear.evaluate(at(0.75f, 0.75f)), Rgb(1.0f, 2.0f, 4.0f));
     EXPECT_EQ(bilinear.evaluate(at(0.25f, 0.25f)), Rgb(8.0f));
@@ -144,11 +148,17 @@ TEST(TextureFootprint, FacingPlaneMatchesPixelSpacing) {
 
 TEST(TextureImage, UnreadableFileIsAnError) {
     const fs::path path = temporaryFile("garbage.png");
-    { std::FILE* f = std::fopen(path.c_str(), "wb"); std::fputs("not an image", f); std::fclose(f); }
+    {
+        std::FILE* f = std::fopen(path.c_str(), "wb");
+        std::fputs("not an image", f);
+        std::fclose(f);
+    }
     void* handle = nullptr;
     PenumbraTextureInfo info{};
     char error[512] = "";
-    EXPECT_EQ(texturePlugin().openTexture(path.c_str(), PENUMBRA_COLOR_AUTO, &handle, &info, error, sizeof error), 0);
+    EXPECT_EQ(
+        texturePlugin().openTexture(path.c_str(), PENUMBRA_COLOR_AUTO, &handle, &info, error, sizeof error),
+        0);
     EXPECT_GT(std::strlen(error), 0u);
     EXPECT_THROW(readLinearRgbImage(path, SourceLocation{}), InputError);
 }
@@ -198,7 +208,8 @@ TEST(TextureImage, ReadsTiledImagesWhole) {
 TEST(TextureImage, ForgottenFileIsReadAgain) {
     const fs::path path = temporaryFile("rewritten.png");
     writeImage(path, 1, 1, 3, std::vector<unsigned char>{255, 255, 255}, OIIO::TypeDesc::UINT8);
-    EXPECT_EQ(Texture::image(open(path, TextureFilter::Closest), Rgb(1.0f)).evaluate(at(0.5f, 0.5f)), Rgb(1.0f));
+    EXPECT_EQ(Texture::image(open(path, TextureFilter::Closest), Rgb(1.0f)).evaluate(at(0.5f, 0.5f)),
+              Rgb(1.0f));
     texturePlugin().forget(path.c_str());
     std::vector<unsigned char> black(8 * 4 * 3, 0);
     writeImage(path, 8, 4, 3, black, OIIO::TypeDesc::UINT8);
@@ -211,7 +222,8 @@ TEST(EnvironmentSkyMap, ShippedMapIsMakeSkysOutput) {
     const fs::path made = temporaryFile("sky.exr");
     ASSERT_EQ(std::system((std::string(PENUMBRA_MAKE_SKY) + " " + made.string()).c_str()), 0);
     const LinearRgbImage fresh = readLinearRgbImage(made, SourceLocation{});
-    const LinearRgbImage shipped = readLinearRgbImage(fs::path(PENUMBRA_SOURCE_DIR) / "scenes/textures/sky.exr", SourceLocation{});
+    const LinearRgbImage shipped =
+        readLinearRgbImage(fs::path(PENUMBRA_SOURCE_DIR) / "scenes/textures/sky.exr", SourceLocation{});
     ASSERT_EQ(fresh.width, shipped.width);
     ASSERT_EQ(fresh.height, shipped.height);
     size_t different = 0;

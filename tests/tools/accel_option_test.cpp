@@ -1,10 +1,9 @@
 // `penumbra render --accel embree|bvh`: the backend is chosen and recorded in the EXR's metadata.
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <string>
-
-#include <OpenImageIO/imageio.h>
 
 #include "tests/support/run_command.h"
 
@@ -21,8 +20,8 @@ TEST(AccelOption, TheChosenBackendRendersAndIsRecorded) {
     const std::string scene = std::string(PENUMBRA_SOURCE_DIR) + "/scenes/cornell-box.json";
     for (const std::string accel : {"embree", "bvh"}) {
         const fs::path exr = dir / (accel + ".exr");
-        const auto run =
-            runPenumbra("render " + scene + " --accel " + accel + " --res 16x16 --spp 2 --no-display -q -o " + exr.string());
+        const auto run = runPenumbra("render " + scene + " --accel " + accel +
+                                     " --res 16x16 --spp 2 --no-display -q -o " + exr.string());
         ASSERT_EQ(run.exitCode, 0) << run.output;
         auto in = OIIO::ImageInput::open(exr.string());
         ASSERT_TRUE(in) << exr;

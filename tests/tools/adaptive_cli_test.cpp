@@ -1,9 +1,8 @@
 // Adaptive sampling on the command line: `render --adaptive` writes an adaptive film and says
 // where the samples went; bad settings are refused with clear messages and nothing written;
 // `merge` refuses adaptive films; `converge --adaptive` compares adaptive with fixed at equal error.
-#include <gtest/gtest.h>
-
 #include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
@@ -152,7 +151,8 @@ TEST_F(AdaptiveCommandLine, BeautyPartHoldsEachPixelsSampleCount) {
         ASSERT_GE(spp, 0) << file;
         EXPECT_EQ(spec.channelformat(spp), OIIO::TypeDesc::UINT) << file;
         std::vector<uint32_t> counts(size_t(spec.width) * spec.height);
-        ASSERT_TRUE(in->read_image(0, 0, spp, spp + 1, OIIO::TypeDesc::UINT, counts.data())) << in->geterror();
+        ASSERT_TRUE(in->read_image(0, 0, spp, spp + 1, OIIO::TypeDesc::UINT, counts.data()))
+            << in->geterror();
         for (int y = 0; y < spec.height; ++y)
             for (int x = 0; x < spec.width; ++x) {
                 const uint32_t count = counts[size_t(y) * spec.width + x];
@@ -163,7 +163,8 @@ TEST_F(AdaptiveCommandLine, BeautyPartHoldsEachPixelsSampleCount) {
     }
     EXPECT_LT(fewest, most);  // some pixels stopped early, others kept sampling
     // A fixed-count render has no such channel: its count is the same everywhere.
-    ASSERT_EQ(runPenumbra("render " + scene.string() + " -q --no-display --spp 4 -o " + (dir_ / "fixed.exr").string())
+    ASSERT_EQ(runPenumbra("render " + scene.string() + " -q --no-display --spp 4 -o " +
+                          (dir_ / "fixed.exr").string())
                   .exitCode,
               0);
     EXPECT_LT(OIIO::ImageInput::open((dir_ / "fixed.exr").string())->spec().channelindex("spp"), 0);

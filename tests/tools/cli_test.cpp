@@ -12,14 +12,15 @@ namespace fs = std::filesystem;
 
 namespace {
 
-using penumbra::testing::RunResult;
 using penumbra::testing::runPenumbra;
+using penumbra::testing::RunResult;
 
 class CommandLine : public ::testing::Test {
 protected:
     void SetUp() override {
-        dir_ = fs::temp_directory_path() /
-               ("penumbra-cli-" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+        dir_ =
+            fs::temp_directory_path() /
+            ("penumbra-cli-" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
         fs::remove_all(dir_);
         fs::create_directories(dir_);
     }
@@ -34,7 +35,8 @@ protected:
     RunResult expectRenderFailure(const std::string& sceneText, const std::string& extraArguments = "") {
         const fs::path scene = write("scene.json", sceneText);
         const fs::path output = dir_ / "out" / "image.exr";
-        RunResult r = runPenumbra("render " + scene.string() + " -o " + output.string() + " " + extraArguments);
+        RunResult r =
+            runPenumbra("render " + scene.string() + " -o " + output.string() + " " + extraArguments);
         EXPECT_NE(r.exitCode, 0) << r.output;
         EXPECT_NE(r.output.find("penumbra: error: "), std::string::npos) << r.output;
         EXPECT_FALSE(fs::exists(output)) << "an output file was left behind";
@@ -57,7 +59,9 @@ const char* kGoodScene = R"({
   "lights": [{"type": "point", "position": [0, 2, 0], "intensity": [5, 5, 5]}]
 })";
 
-bool contains(const RunResult& r, const std::string& text) { return r.output.find(text) != std::string::npos; }
+bool contains(const RunResult& r, const std::string& text) {
+    return r.output.find(text) != std::string::npos;
+}
 
 TEST_F(CommandLine, HelpExplainsEveryRenderOption) {
     const RunResult top = runPenumbra("--help");
@@ -65,7 +69,8 @@ TEST_F(CommandLine, HelpExplainsEveryRenderOption) {
     EXPECT_TRUE(contains(top, "render"));
     const RunResult r = runPenumbra("render --help");
     EXPECT_EQ(r.exitCode, 0);
-    for (const char* option : {"--spp", "--seed", "--threads", "--res", "--output", "--sampler", "--crop", "--samples"})
+    for (const char* option :
+         {"--spp", "--seed", "--threads", "--res", "--output", "--sampler", "--crop", "--samples"})
         EXPECT_TRUE(contains(r, option)) << option;
 }
 
@@ -123,9 +128,10 @@ TEST_F(CommandLine, MalformedObj) {
 }
 
 TEST_F(CommandLine, MalformedPly) {
-    write("broken.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                        "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
-                        "0 0 0\n1 0\n");
+    write("broken.ply",
+          "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+          "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+          "0 0 0\n1 0\n");
     const RunResult r = expectRenderFailure(R"({
       "materials": {"grey": {"type": "lambert"}},
       "shapes": [{"type": "mesh_file", "file": "broken.ply", "material": "grey"}]})");

@@ -1,6 +1,8 @@
 // `penumbra converge` through its C++ API: the rung ladder, the slope fit, and the convergence
 // rates that theory predicts: MSE ~ 1/N for independent samples (slope -1), and a steeper
 // slope for the stratified sampler where it pays (soft shadows).
+#include "tools/converge.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,7 +14,6 @@
 #include "renderer/render.h"
 #include "scenes/scene_loader.h"
 #include "tests/support/scene_builders.h"
-#include "tools/converge.h"
 
 namespace penumbra {
 namespace {
@@ -54,7 +55,7 @@ Scene smoothScene() {
     scene.camera.verticalFovDegrees = 60.0f;
     scene.materials = {testing::makeLambert(Rgb(0.5f)), testing::makeLambert(Rgb(0.0f))};
     scene.meshes.push_back(testing::makeQuad({-20, 0, -20}, {0, 0, 40}, {40, 0, 0}, 0));  // normal +y
-    TriangleMesh light = testing::makeQuad({-20, 2, -20}, {40, 0, 0}, {0, 0, 40}, 1);  // faces -y
+    TriangleMesh light = testing::makeQuad({-20, 2, -20}, {40, 0, 0}, {0, 0, 40}, 1);     // faces -y
     light.emission.radiance = Rgb(2.0f);
     scene.meshes.push_back(light);
     scene.integrator.maxDepth = 1;
@@ -77,10 +78,11 @@ TEST(Converge, IndependentSamplerConvergesAtSlopeMinusOne) {
     ASSERT_EQ(report.studies.size(), 2u);
     const SamplerStudy& stratified = report.studies[0];
     const SamplerStudy& independent = report.studies[1];
-    std::printf("smooth scene: independent slope %.3f (per-seed std %.3f), stratified %.3f; reference floor %.3g, "
-                "independent MSE at 128 spp %.3g\n",
-                independent.slope, independent.slopeStd, stratified.slope, report.referenceMseFloor,
-                independent.mean.back().mse);
+    std::printf(
+        "smooth scene: independent slope %.3f (per-seed std %.3f), stratified %.3f; reference floor %.3g, "
+        "independent MSE at 128 spp %.3g\n",
+        independent.slope, independent.slopeStd, stratified.slope, report.referenceMseFloor,
+        independent.mean.back().mse);
     EXPECT_NEAR(independent.slope, -1.0, 0.1);
     EXPECT_LT(report.referenceMseFloor, 0.05 * independent.mean.back().mse);
     // Stratification of a smooth integrand converges faster than 1/N (measured -1.42; each named

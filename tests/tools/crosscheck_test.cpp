@@ -1,17 +1,17 @@
 // `penumbra crosscheck` (tools/crosscheck.h): its ray sets are deterministic, its classification
 // of disagreements says what it should, and its output reproduces the rays it lists.
+#include "tools/crosscheck.h"
+
 #include <gtest/gtest.h>
 
 #include <cstdlib>
 #include <cstring>
-#include <string>
-
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "accel/embree_accelerator.h"
 #include "tests/support/run_command.h"
 #include "tests/support/scene_builders.h"
-#include "tools/crosscheck.h"
 
 namespace penumbra {
 namespace {
@@ -229,8 +229,9 @@ TEST(Crosscheck, ListedRaysReproduceBitForBit) {
 // The subcommand end to end, on the example Cornell box (which has coplanar boxes on its floor:
 // ties, explained).
 TEST(Crosscheck, CommandLine) {
-    const testing::RunResult run = testing::runPenumbra(std::string("crosscheck ") + PENUMBRA_SOURCE_DIR +
-                                                        "/scenes/cornell-box.json --rays 20000 --seed 3 --json");
+    const testing::RunResult run =
+        testing::runPenumbra(std::string("crosscheck ") + PENUMBRA_SOURCE_DIR +
+                             "/scenes/cornell-box.json --rays 20000 --seed 3 --json");
     ASSERT_NE(run.exitCode, -1) << "did not run or exit normally";
     EXPECT_EQ(run.exitCode, 0) << run.output;
     const std::string& output = run.output;

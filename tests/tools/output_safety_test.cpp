@@ -71,7 +71,8 @@ TEST_F(OutputSafety, ALinkPlantedAtConvertsOldTemporaryNameIsNotFollowed) {
         runPenumbra("render " + path("out.json") + " --spp 1 -q --no-display -o " + path("out.exr"));
     EXPECT_EQ(render.exitCode, 0) << render.output;
     // Like render -o, convert -o makes the folder it names.
-    const RunResult nested = runPenumbra("convert " + path("scene.pbrt") + " -o " + path("new/folder/out.json"));
+    const RunResult nested =
+        runPenumbra("convert " + path("scene.pbrt") + " -o " + path("new/folder/out.json"));
     EXPECT_EQ(nested.exitCode, 0) << nested.output;
     EXPECT_TRUE(fs::exists(path("new/folder/out.json")));
 }

@@ -2,10 +2,9 @@
 // film bit for bit as one render (through the EXR, so the sums must survive it losslessly), and
 // bad input (parts of different renders, overlapping samples, files that are not ours, a
 // reference of another size) stops with a clear error and overwrites nothing.
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
-
-#include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -21,11 +20,13 @@ namespace fs = std::filesystem;
 namespace penumbra {
 namespace {
 
-using testing::RunResult;
 using testing::runPenumbra;
+using testing::RunResult;
 using testing::runShell;
 
-bool contains(const RunResult& r, const std::string& text) { return r.output.find(text) != std::string::npos; }
+bool contains(const RunResult& r, const std::string& text) {
+    return r.output.find(text) != std::string::npos;
+}
 
 // A floor, a box casting a soft shadow from an area light, and a sphere.
 const char* kScene = R"({
@@ -61,8 +62,8 @@ protected:
     std::string path(const std::string& name) const { return (dir_ / name).string(); }
     // Renders and checks success.
     void render(const std::string& arguments, const std::string& output, const std::string& scene = "") {
-        const RunResult r = runPenumbra("render " + (scene.empty() ? scene_ : scene) + " -q --no-display -o " +
-                                        path(output) + " " + arguments);
+        const RunResult r = runPenumbra("render " + (scene.empty() ? scene_ : scene) +
+                                        " -q --no-display -o " + path(output) + " " + arguments);
         ASSERT_EQ(r.exitCode, 0) << r.output;
     }
     std::string readText(const std::string& name) const {
@@ -115,8 +116,8 @@ TEST_F(Production, MergeIsBitIdenticalToOneRender) {
     render("--samples 5:12 --crop 0,20,0,7", "top.exr");
     render("--samples 5:12 --crop 0,20,7,16", "bottom.exr");
     // Sample ranges and crops at once, the parts in any order: the sums are exact.
-    const RunResult r = runPenumbra("merge " + path("top.exr") + " " + path("a.exr") + " " + path("bottom.exr") +
-                                    " -q -o " + path("merged.exr"));
+    const RunResult r = runPenumbra("merge " + path("top.exr") + " " + path("a.exr") + " " +
+                                    path("bottom.exr") + " -q -o " + path("merged.exr"));
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_TRUE(fs::exists(path("merged.png")));
     const FilmFile merged = readFilmExr(path("merged.exr"));
@@ -130,9 +131,12 @@ TEST_F(Production, MergeIsBitIdenticalToOneRender) {
 // with 128 + 15; resuming it gives the uninterrupted render.
 TEST_F(Production, CheckpointAfterSigtermResumesToTheSameImage) {
     const std::string out = path("run.exr");
-    const std::string script = std::string(PENUMBRA_BINARY) + " render " + scene_ + " -q --no-display -o " + out +
+    const std::string script = std::string(PENUMBRA_BINARY) + " render " + scene_ + " -q --no-display -o " +
+                               out +
                                " --spp 1000000 --pass-size 2 --checkpoint 0 & pid=$!; "
-                               "i=0; while [ ! -f " + out + " ] && [ $i -lt 3000 ]; do sleep 0.01; i=$((i+1)); done; "
+                               "i=0; while [ ! -f " +
+                               out +
+                               " ] && [ $i -lt 3000 ]; do sleep 0.01; i=$((i+1)); done; "
                                "kill -TERM $pid; wait $pid; echo \"exit=$?\"";
     const RunResult r = runShell("sh -c '" + script + "'");
     ASSERT_TRUE(contains(r, "exit=143")) << r.output;
@@ -158,7 +162,8 @@ TEST_F(Production, CheckpointAfterSigtermResumesToTheSameImage) {
 // side: the message, the exit status, and nothing written.
 TEST_F(Production, MergingPartsOfDifferentRendersFails) {
     const std::string other = write("other.json", std::string(kScene) + "\n// another scene\n");
-    ASSERT_EQ(runPenumbra("render " + scene_ + " -q --samples 0:2 -o " + path("a.exr")).exitCode, 0);  // and a.png
+    ASSERT_EQ(runPenumbra("render " + scene_ + " -q --samples 0:2 -o " + path("a.exr")).exitCode,
+              0);  // and a.png
     render("--samples 2:4", "other.exr", other);
     const std::string merge = "merge " + path("a.exr") + " ";
     const std::string out = " -o " + path("out.exr");
@@ -173,9 +178,11 @@ TEST_F(Production, MergingPartsOfDifferentRendersFails) {
         OIIO::ImageSpec spec(20, 16, 3, OIIO::TypeDesc::FLOAT);
         if (claimsToBeOurs) spec.attribute("penumbra:film", 1);
         const std::vector<float> pixels(20 * 16 * 3, 0.5f);
-        ASSERT_TRUE(exr->open(path("foreign.exr"), spec) && exr->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
+        ASSERT_TRUE(exr->open(path("foreign.exr"), spec) &&
+                    exr->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
         exr->close();
-        expectFailure(merge + path("foreign.exr") + out, claimsToBeOurs ? "penumbra:" : "not a film written by penumbra");
+        expectFailure(merge + path("foreign.exr") + out,
+                      claimsToBeOurs ? "penumbra:" : "not a film written by penumbra");
     }
 }
 
@@ -202,8 +209,8 @@ TEST_F(Production, ResumingAfterAMeshFileChangedFails) {
       "lights": [{"type": "point", "position": [0, 2, 0], "intensity": 5}]
     })");
     render("--spp 2", "part.exr", scene);
-    const std::string resume = "render " + scene + " -q --no-display --spp 4 -o " + path("out.exr") + " --resume " +
-                               path("part.exr");
+    const std::string resume = "render " + scene + " -q --no-display --spp 4 -o " + path("out.exr") +
+                               " --resume " + path("part.exr");
     const RunResult same = runPenumbra(resume);
     EXPECT_EQ(same.exitCode, 0) << same.output;
     write("tri.obj", "v -1 0 -1\nv 2 0 -1\nv 0 0 1\nf 1 2 3\n");
@@ -211,8 +218,8 @@ TEST_F(Production, ResumingAfterAMeshFileChangedFails) {
 }
 
 TEST_F(Production, ConvergeWritesItsReportAndRefusesAReferenceOfAnotherSize) {
-    const RunResult ok = runPenumbra("converge " + scene_ + " --spp 1,2,...,8 --reference-spp 16 --seeds 2 -q -o " +
-                                     path("study"));
+    const RunResult ok = runPenumbra("converge " + scene_ +
+                                     " --spp 1,2,...,8 --reference-spp 16 --seeds 2 -q -o " + path("study"));
     ASSERT_EQ(ok.exitCode, 0) << ok.output;
     for (const char* file : {"convergence.csv", "convergence.json", "strip.png", "reference.exr"})
         EXPECT_TRUE(fs::exists(dir_ / "study" / file)) << file;
@@ -243,7 +250,8 @@ TEST_F(Production, ConvergeTakesAReferenceImageOfAnotherRenderer) {
         OIIO::ImageSpec spec(20, 16, withGreen ? 3 : 2, OIIO::TypeDesc::FLOAT);
         if (!withGreen) spec.channelnames = {"R", "B"};
         const std::vector<float> pixels(size_t(20) * 16 * spec.nchannels, 0.25f);
-        ASSERT_TRUE(out->open(path("other.exr"), spec) && out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
+        ASSERT_TRUE(out->open(path("other.exr"), spec) &&
+                    out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
         out->close();
         const RunResult r = runPenumbra("converge " + scene_ + " --spp 1,2 --no-plot -q --reference " +
                                         path("other.exr") + " -o " + path("study"));
@@ -266,7 +274,8 @@ TEST_F(Production, OpenImageIoIsLoadedOnlyForTheDisplayImage) {
     EXPECT_FALSE(contains(ldd, "OpenImageIO")) << ldd.output;
 
     // LD_DEBUG=files lists every shared object the dynamic loader opens, dlopen included.
-    const std::string render = "LD_DEBUG=files " + std::string(PENUMBRA_BINARY) + " render " + scene_ + " -q --spp 1 -o ";
+    const std::string render =
+        "LD_DEBUG=files " + std::string(PENUMBRA_BINARY) + " render " + scene_ + " -q --spp 1 -o ";
     const RunResult noDisplay = runShell(render + path("a.exr") + " --no-display");
     ASSERT_EQ(noDisplay.exitCode, 0) << noDisplay.output;
     EXPECT_FALSE(contains(noDisplay, "penumbra_image_plugin")) << noDisplay.output;
@@ -283,7 +292,8 @@ TEST_F(Production, HelpListsTheNewCommandsAndOptions) {
     for (const char* option : {"--resume", "--checkpoint", "--pass-size"})
         EXPECT_TRUE(contains(renderHelp, option)) << option;
     const RunResult converge = runPenumbra("converge --help");
-    for (const char* option : {"--spp", "--sampler", "--reference", "--reference-spp", "--seeds", "--freeze", "--res"})
+    for (const char* option :
+         {"--spp", "--sampler", "--reference", "--reference-spp", "--seeds", "--freeze", "--res"})
         EXPECT_TRUE(contains(converge, option)) << option;
     EXPECT_EQ(runPenumbra("merge --help").exitCode, 0);
 }

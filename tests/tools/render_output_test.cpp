@@ -2,10 +2,9 @@
 // the render before it starts, the summary of a resumed run (this run's samples), the command
 // that continues a stopped render (with every option that decides the film), and the beauty-only
 // film (smaller, the same beauty, refused by resume and merge).
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
-
-#include <OpenImageIO/imageio.h>
 
 #include <chrono>
 #include <filesystem>
@@ -22,8 +21,8 @@ namespace fs = std::filesystem;
 namespace penumbra {
 namespace {
 
-using testing::RunResult;
 using testing::runPenumbra;
+using testing::RunResult;
 using testing::runShell;
 
 const char* kScene = R"({
@@ -49,13 +48,17 @@ protected:
     }
     void TearDown() override { fs::remove_all(dir_); }
     std::string path(const std::string& name) const { return (dir_ / name).string(); }
-    RunResult render(const std::string& arguments) { return runPenumbra("render " + scene_ + " " + arguments); }
+    RunResult render(const std::string& arguments) {
+        return runPenumbra("render " + scene_ + " " + arguments);
+    }
 
     fs::path dir_;
     std::string scene_;
 };
 
-bool contains(const RunResult& r, const std::string& text) { return r.output.find(text) != std::string::npos; }
+bool contains(const RunResult& r, const std::string& text) {
+    return r.output.find(text) != std::string::npos;
+}
 
 std::vector<float> readChannels(const std::string& file, int channels) {
     auto in = OIIO::ImageInput::open(file);
@@ -71,7 +74,8 @@ TEST_F(RenderOutput, SaysWhatItRendersBeforeStarting) {
     const size_t description = r.output.find("rendering " + scene_ + ": 20x16");
     ASSERT_NE(description, std::string::npos) << r.output;
     EXPECT_LT(description, r.output.find("rendered ")) << r.output;
-    for (const char* part : {"samples 0:4 (4 spp)", "stratified sampler", "seed 0", "1 thread,", "bvh", "film full"})
+    for (const char* part :
+         {"samples 0:4 (4 spp)", "stratified sampler", "seed 0", "1 thread,", "bvh", "film full"})
         EXPECT_TRUE(contains(r, part)) << part << "\n" << r.output;
 }
 
@@ -89,14 +93,17 @@ TEST_F(RenderOutput, ContinueCommandKeepsTheFilmsOptions) {
     const std::string script = std::string(PENUMBRA_BINARY) + " render " + scene_ +
                                " -q --no-display --res 12x10 --seed 7 --sampler independent -o " + out +
                                " --spp 1000000 --pass-size 2 --checkpoint 0 & pid=$!; "
-                               "i=0; while [ ! -f " + out + " ] && [ $i -lt 3000 ]; do sleep 0.01; i=$((i+1)); done; "
+                               "i=0; while [ ! -f " +
+                               out +
+                               " ] && [ $i -lt 3000 ]; do sleep 0.01; i=$((i+1)); done; "
                                "kill -TERM $pid; wait $pid; echo \"exit=$?\"";
     const RunResult r = runShell("sh -c '" + script + "'");
     ASSERT_TRUE(contains(r, "exit=143")) << r.output;
     const size_t hint = r.output.find("continue with: penumbra render " + scene_);
     ASSERT_NE(hint, std::string::npos) << r.output;
     const std::string command = r.output.substr(hint);
-    for (const char* option : {"--res 12x10", "--seed 7", "--sampler independent", "--spp 1000000", "--resume "})
+    for (const char* option :
+         {"--res 12x10", "--seed 7", "--sampler independent", "--spp 1000000", "--resume "})
         EXPECT_NE(command.find(option), std::string::npos) << option << "\n" << command;
 }
 
@@ -113,7 +120,8 @@ TEST_F(RenderOutput, BeautyFilmHoldsTheSameImageWithoutTheSums) {
     ASSERT_EQ(render("-q --no-display --spp 16 -o " + path("full.exr")).exitCode, 0);
     ASSERT_EQ(render("-q --no-display --spp 16 --film beauty -o " + path("beauty.exr")).exitCode, 0);
     EXPECT_LT(fs::file_size(path("beauty.exr")) * 3, fs::file_size(path("full.exr")) * 2);
-    const std::vector<float> full = readChannels(path("full.exr"), 14), beauty = readChannels(path("beauty.exr"), 14);
+    const std::vector<float> full = readChannels(path("full.exr"), 14),
+                             beauty = readChannels(path("beauty.exr"), 14);
     ASSERT_EQ(full.size(), size_t(20 * 16 * 14));
     EXPECT_EQ(full, beauty);
     EXPECT_FALSE(isPenumbraFilm(path("beauty.exr")));
@@ -123,10 +131,12 @@ TEST_F(RenderOutput, BeautyFilmHoldsTheSameImageWithoutTheSums) {
     } catch (const InputError& e) {
         EXPECT_NE(std::string(e.what()).find("--film beauty"), std::string::npos) << e.what();
     }
-    const RunResult resume = render("-q --no-display --spp 20 --resume " + path("beauty.exr") + " -o " + path("r.exr"));
+    const RunResult resume =
+        render("-q --no-display --spp 20 --resume " + path("beauty.exr") + " -o " + path("r.exr"));
     EXPECT_NE(resume.exitCode, 0);
     EXPECT_TRUE(contains(resume, "--film beauty")) << resume.output;
-    const RunResult merge = runPenumbra("merge " + path("beauty.exr") + " -q --no-display -o " + path("m.exr"));
+    const RunResult merge =
+        runPenumbra("merge " + path("beauty.exr") + " -q --no-display -o " + path("m.exr"));
     EXPECT_NE(merge.exitCode, 0);
     EXPECT_TRUE(contains(merge, "--film beauty")) << merge.output;
     EXPECT_FALSE(fs::exists(path("r.exr")));
@@ -134,7 +144,8 @@ TEST_F(RenderOutput, BeautyFilmHoldsTheSameImageWithoutTheSums) {
 }
 
 TEST_F(RenderOutput, BeautyFilmRefusesWhatNeedsTheSums) {
-    for (const std::string& options : std::vector<std::string>{"--samples 0:2", "--checkpoint 1", "--resume " + path("x.exr")}) {
+    for (const std::string& options :
+         std::vector<std::string>{"--samples 0:2", "--checkpoint 1", "--resume " + path("x.exr")}) {
         const RunResult r = render("-q --no-display --film beauty " + options + " -o " + path("b.exr"));
         EXPECT_EQ(r.exitCode, 1) << options;
         EXPECT_TRUE(contains(r, "--film beauty")) << options << "\n" << r.output;
@@ -176,13 +187,14 @@ TEST_F(RenderOutput, TextureFolderOfAKilledRenderIsRemovedByTheNext) {
       "shapes": [{"type": "quad", "corner": [-2, 0, 2], "edge1": [4, 0, 0], "edge2": [0, 0, -4], "material": "floor"}],
       "environment": {"type": "constant", "radiance": [1, 1, 1]}
     })";
-    const RunResult r = runShell("TMPDIR=" + temporary.string() + " " PENUMBRA_BINARY " render " + path("textured.json") +
-                                 " -q --no-display -o " + path("t.exr"));
+    const RunResult r = runShell("TMPDIR=" + temporary.string() + " " PENUMBRA_BINARY " render " +
+                                 path("textured.json") + " -q --no-display -o " + path("t.exr"));
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_FALSE(fs::exists(stale));
     EXPECT_TRUE(fs::exists(live / "0.exr"));
     std::vector<std::string> left;
-    for (const auto& entry : fs::directory_iterator(temporary)) left.push_back(entry.path().filename().string());
+    for (const auto& entry : fs::directory_iterator(temporary))
+        left.push_back(entry.path().filename().string());
     EXPECT_EQ(left, std::vector<std::string>{live.filename().string()});
 }
 

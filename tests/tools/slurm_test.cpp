@@ -26,15 +26,17 @@ namespace fs = std::filesystem;
 namespace penumbra {
 namespace {
 
-using testing::RunResult;
 using testing::runPenumbra;
+using testing::RunResult;
 using testing::runShell;
 using Clock = std::chrono::steady_clock;
 
 const std::string kClusterScript = std::string(PENUMBRA_SOURCE_DIR) + "/tests/support/slurm_cluster.sh";
 const std::string kScene = std::string(PENUMBRA_SOURCE_DIR) + "/scenes/soft-shadows.json";
 
-bool contains(const std::string& text, const std::string& what) { return text.find(what) != std::string::npos; }
+bool contains(const std::string& text, const std::string& what) {
+    return text.find(what) != std::string::npos;
+}
 
 std::string readText(const fs::path& path) {
     std::ifstream in(path);
@@ -52,8 +54,9 @@ protected:
         const RunResult r = runShell(kClusterScript + " start " + (dir_ / "cluster").string() + " " +
                                      std::to_string(::getpid()));
         if (r.exitCode == 2 || r.exitCode == 3)
-            GTEST_SKIP() << "no Slurm cluster can run on this machine, so penumbra submit is not tested here:\n"
-                         << r.output;
+            GTEST_SKIP()
+                << "no Slurm cluster can run on this machine, so penumbra submit is not tested here:\n"
+                << r.output;
         ASSERT_EQ(r.exitCode, 0) << r.output;
         ::setenv("SLURM_CONF", (dir_ / "cluster" / "slurm.conf").c_str(), 1);
         started_ = true;
@@ -82,7 +85,8 @@ protected:
 
     // The film of one render of the same samples, with every core.
     FilmFile renderOnce(const std::string& arguments) {
-        const RunResult r = runPenumbra("render " + kScene + " -q --no-display -o " + path("once.exr") + " " + arguments);
+        const RunResult r =
+            runPenumbra("render " + kScene + " -q --no-display -o " + path("once.exr") + " " + arguments);
         EXPECT_EQ(r.exitCode, 0) << r.output;
         return readFilmExr(path("once.exr"));
     }
@@ -120,8 +124,8 @@ protected:
 TEST_F(SlurmCluster, EightPartArrayMergesToExactlyOneRender) {
     const std::string options = "--spp 16 --res 64x48";
     const auto start = Clock::now();
-    const RunResult submit = runPenumbra("submit " + kScene + " --parts 8 " + options + " -o " + path("out.exr") +
-                                         " --cpus-per-task 1 --checkpoint 0");
+    const RunResult submit = runPenumbra("submit " + kScene + " --parts 8 " + options + " -o " +
+                                         path("out.exr") + " --cpus-per-task 1 --checkpoint 0");
     ASSERT_EQ(submit.exitCode, 0) << submit.output;
     ASSERT_TRUE(contains(submit.output, "submitted parts 0-7 of 8 as Slurm job array")) << submit.output;
     ASSERT_TRUE(waitForEmptyQueue(300)) << runShell("squeue --me").output;
@@ -145,8 +149,8 @@ TEST_F(SlurmCluster, EightPartArrayMergesToExactlyOneRender) {
 
 TEST_F(SlurmCluster, RowBandsMergedAsATreeGiveExactlyOneRender) {
     const std::string options = "--spp 8 --res 64x48";
-    const RunResult submit = runPenumbra("submit " + kScene + " --parts 8 --by rows --merge-tree-above 4 " + options +
-                                         " -o " + path("out.exr") + " --cpus-per-task 1");
+    const RunResult submit = runPenumbra("submit " + kScene + " --parts 8 --by rows --merge-tree-above 4 " +
+                                         options + " -o " + path("out.exr") + " --cpus-per-task 1");
     ASSERT_EQ(submit.exitCode, 0) << submit.output;
     ASSERT_TRUE(contains(submit.output, "submitted the merge of 3 groups")) << submit.output;
     ASSERT_TRUE(waitForEmptyQueue(300)) << runShell("squeue --me").output;
@@ -159,8 +163,8 @@ TEST_F(SlurmCluster, RowBandsMergedAsATreeGiveExactlyOneRender) {
 const std::string kFaultOptions = "--spp 512 --res 128x96 --pass-size 2";
 
 TEST_F(SlurmCluster, KilledTaskResubmittedWithResumeContinuesItsCheckpoint) {
-    const RunResult submit = runPenumbra("submit " + kScene + " --parts 8 " + kFaultOptions + " -o " + path("out.exr") +
-                                         " --cpus-per-task 1 --checkpoint 0");
+    const RunResult submit = runPenumbra("submit " + kScene + " --parts 8 " + kFaultOptions + " -o " +
+                                         path("out.exr") + " --cpus-per-task 1 --checkpoint 0");
     ASSERT_EQ(submit.exitCode, 0) << submit.output;
     const std::string array = arrayJobOf(submit);
     ASSERT_FALSE(array.empty()) << submit.output;
@@ -181,8 +185,8 @@ TEST_F(SlurmCluster, KilledTaskResubmittedWithResumeContinuesItsCheckpoint) {
     EXPECT_TRUE(contains(merge.output, "part 1 (samples [64, 128)")) << merge.output;
     EXPECT_FALSE(fs::exists(path("out.exr")));
 
-    const RunResult resume = runPenumbra("submit " + kScene + " --parts 8 " + kFaultOptions + " -o " + path("out.exr") +
-                                         " --cpus-per-task 1 --checkpoint 0 --resume");
+    const RunResult resume = runPenumbra("submit " + kScene + " --parts 8 " + kFaultOptions + " -o " +
+                                         path("out.exr") + " --cpus-per-task 1 --checkpoint 0 --resume");
     ASSERT_EQ(resume.exitCode, 0) << resume.output;
     EXPECT_TRUE(contains(resume.output, "submitted parts 1 of 8")) << resume.output;
     ASSERT_TRUE(waitForEmptyQueue(300)) << runShell("squeue --me").output;
@@ -193,8 +197,8 @@ TEST_F(SlurmCluster, KilledTaskResubmittedWithResumeContinuesItsCheckpoint) {
 }
 
 TEST_F(SlurmCluster, RequeuedTaskContinuesItsCheckpoint) {
-    const RunResult submit = runPenumbra("submit " + kScene + " --parts 8 " + kFaultOptions + " -o " + path("out.exr") +
-                                         " --cpus-per-task 1 --checkpoint 0");
+    const RunResult submit = runPenumbra("submit " + kScene + " --parts 8 " + kFaultOptions + " -o " +
+                                         path("out.exr") + " --cpus-per-task 1 --checkpoint 0");
     ASSERT_EQ(submit.exitCode, 0) << submit.output;
     const std::string array = arrayJobOf(submit);
     ASSERT_FALSE(array.empty()) << submit.output;
@@ -253,8 +257,9 @@ TEST_F(SlurmCluster, HostileNamesRenderAndMergeWithoutRunningAnything) {
 // A first submit that sbatch refuses (here: a partition the cluster does not have) leaves no
 // manifest or script behind, so the same command runs once the option is corrected.
 TEST_F(SlurmCluster, AFirstSubmitThatSbatchRefusesLeavesNothingBehind) {
-    const std::vector<std::string> submit = {PENUMBRA_BINARY, "submit", kScene, "--parts", "2", "--spp", "2",
-                                             "--res", "16x12", "-o", path("out.exr"), "--cpus-per-task", "1"};
+    const std::vector<std::string> submit = {
+        PENUMBRA_BINARY, "submit", kScene,          "--parts",         "2", "--spp", "2", "--res",
+        "16x12",         "-o",     path("out.exr"), "--cpus-per-task", "1"};
     std::vector<std::string> wrongPartition = submit;
     wrongPartition.insert(wrongPartition.end(), {"--partition", "no-such-partition"});
     const ProgramResult refused = runProgram(wrongPartition);

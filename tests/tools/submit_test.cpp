@@ -20,13 +20,15 @@ namespace fs = std::filesystem;
 namespace penumbra {
 namespace {
 
-using testing::RunResult;
 using testing::runPenumbra;
+using testing::RunResult;
 using testing::runShell;
 
 const std::string kScene = std::string(PENUMBRA_SOURCE_DIR) + "/scenes/soft-shadows.json";
 
-bool contains(const RunResult& r, const std::string& what) { return r.output.find(what) != std::string::npos; }
+bool contains(const RunResult& r, const std::string& what) {
+    return r.output.find(what) != std::string::npos;
+}
 
 class SplitRender : public ::testing::Test {
 protected:
@@ -40,7 +42,8 @@ protected:
     std::string path(const std::string& name) const { return (dir_ / name).string(); }
     size_t fileCount() const {
         size_t n = 0;
-        for (auto it = fs::recursive_directory_iterator(dir_); it != fs::recursive_directory_iterator(); ++it) ++n;
+        for (auto it = fs::recursive_directory_iterator(dir_); it != fs::recursive_directory_iterator(); ++it)
+            ++n;
         return n;
     }
     // A manifest of two sample-range parts of a 32x24 render at 4 spp, as submit writes it.
@@ -63,8 +66,8 @@ protected:
         return m;
     }
     void renderPart(const std::string& samples, const std::string& extra = "") {
-        const RunResult r = runPenumbra("render " + kScene + " --res 32x24 --spp 4 -q --no-display --samples " +
-                                        samples + " " + extra);
+        const RunResult r = runPenumbra(
+            "render " + kScene + " --res 32x24 --spp 4 -q --no-display --samples " + samples + " " + extra);
         ASSERT_EQ(r.exitCode, 0) << r.output;
     }
 
@@ -112,8 +115,9 @@ std::string readText(const fs::path& path) {
 const std::string kHostileName = "a b'c\"d$(touch INJECTED)e`touch INJECTED`f*g#h%j%a";
 
 TEST_F(SplitRender, DryRunPrintsTheBatchScriptsAndWritesNothing) {
-    const RunResult r = runPenumbra("submit " + kScene + " --parts 4 --spp 16 --res 32x24 -o " + path("out.exr") +
-                                    " --dry-run --partition gpu --time 1:00:00 --sbatch=--account=lab --seed 7");
+    const RunResult r =
+        runPenumbra("submit " + kScene + " --parts 4 --spp 16 --res 32x24 -o " + path("out.exr") +
+                    " --dry-run --partition gpu --time 1:00:00 --sbatch=--account=lab --seed 7");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_TRUE(contains(r, "#SBATCH --array=0-3")) << r.output;
     EXPECT_TRUE(contains(r, "#SBATCH --partition=gpu"));
@@ -136,13 +140,14 @@ TEST_F(SplitRender, BadInputIsRefusedBeforeAnythingIsSubmitted) {
     const RunResult notExr = runPenumbra("submit " + kScene + common + path("out.png"));
     EXPECT_TRUE(contains(notExr, "expected a path ending in .exr")) << notExr.output;
     // A folder that does not exist yet is made by the submit; a dry run writes nothing there.
-    const RunResult noFolder = runPenumbra("submit " + kScene + common + path("nowhere/out.exr") + " --dry-run");
+    const RunResult noFolder =
+        runPenumbra("submit " + kScene + common + path("nowhere/out.exr") + " --dry-run");
     EXPECT_EQ(noFolder.exitCode, 0) << noFolder.output;
     EXPECT_TRUE(contains(noFolder, path("nowhere/out.parts/render.sbatch"))) << noFolder.output;
     const RunResult tooMany = runPenumbra("submit " + kScene + " --parts 17 --spp 16 -o " + path("out.exr"));
     EXPECT_TRUE(contains(tooMany, "17 parts of 16 samples per pixel")) << tooMany.output;
-    const RunResult noSbatch =
-        runShell("PATH=/nonexistent " + std::string(PENUMBRA_BINARY) + " submit " + kScene + common + path("out.exr"));
+    const RunResult noSbatch = runShell("PATH=/nonexistent " + std::string(PENUMBRA_BINARY) + " submit " +
+                                        kScene + common + path("out.exr"));
     EXPECT_EQ(noSbatch.exitCode, 1);
     EXPECT_TRUE(contains(noSbatch, "sbatch is not on PATH")) << noSbatch.output;
     const RunResult noManifest = runPenumbra("submit " + kScene + common + path("out.exr") + " --resume");
@@ -152,8 +157,8 @@ TEST_F(SplitRender, BadInputIsRefusedBeforeAnythingIsSubmitted) {
     twoParts();
     const RunResult again = runPenumbra("submit " + kScene + common + path("out.exr"));
     EXPECT_TRUE(contains(again, "this output was submitted before; pass --resume")) << again.output;
-    const RunResult otherSpp = runPenumbra("submit " + kScene + " --parts 2 --spp 8 --res 32x24 -o " + path("out.exr") +
-                                           " --resume --dry-run");
+    const RunResult otherSpp = runPenumbra("submit " + kScene + " --parts 2 --spp 8 --res 32x24 -o " +
+                                           path("out.exr") + " --resume --dry-run");
     EXPECT_TRUE(contains(otherSpp, "this submit has --spp 8, the manifest 4")) << otherSpp.output;
 }
 
@@ -163,8 +168,10 @@ TEST_F(SplitRender, MergeOfAManifestNamesMissingAndPartialPartsAndWritesNothing)
 
     const RunResult missing = runPenumbra("merge --manifest " + path("out.parts.json"));
     EXPECT_EQ(missing.exitCode, 1);
-    EXPECT_TRUE(contains(missing, path("out.parts.json") + ": 1 of 2 parts are not done; nothing merged")) << missing.output;
-    EXPECT_TRUE(contains(missing, "part 1 (samples [2, 4), " + m.parts[1].file.string() + "): missing")) << missing.output;
+    EXPECT_TRUE(contains(missing, path("out.parts.json") + ": 1 of 2 parts are not done; nothing merged"))
+        << missing.output;
+    EXPECT_TRUE(contains(missing, "part 1 (samples [2, 4), " + m.parts[1].file.string() + "): missing"))
+        << missing.output;
     EXPECT_FALSE(fs::exists(path("out.exr")));
 
     // A checkpoint of part 1 that holds only its first sample: partial, still refused.
@@ -176,7 +183,8 @@ TEST_F(SplitRender, MergeOfAManifestNamesMissingAndPartialPartsAndWritesNothing)
     EXPECT_FALSE(fs::exists(path("out.exr")));
     const RunResult status = runPenumbra("status " + path("out.exr"));
     EXPECT_EQ(status.exitCode, 0);
-    EXPECT_TRUE(contains(status, "2 parts: 1 done, 1 partial, 0 started, 0 missing; 75.0% of the samples")) << status.output;
+    EXPECT_TRUE(contains(status, "2 parts: 1 done, 1 partial, 0 started, 0 missing; 75.0% of the samples"))
+        << status.output;
 
     // A part from another render is named as such.
     renderPart("0:2", "--seed 9 -o " + path("other.exr"));
