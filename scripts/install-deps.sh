@@ -19,10 +19,11 @@ groups[build]="cmake ninja-build g++ pkg-config
 # `penumbra converge`'s plot (tools/plot_convergence.py). python3-munkres satisfies fonttools's
 # "python3-scipy | python3-munkres" with 41 KB rather than SciPy and its dependencies.
 groups[tools]="python3 python3-matplotlib python3-munkres"
-# The test suite (GoogleTest; Python for the layering check and the README snippet test).
+# The test suite (GoogleTest; Python for the layering check and the README snippet test;
+# clang-format for the format check, tests/check_format.py).
 # penumbra submit's tests start a real single-node Slurm cluster (tests/support/slurm_cluster.sh):
 # the scheduler's daemons and commands, and MUNGE for its authentication.
-groups[test]="libgtest-dev libgmock-dev python3 slurm-wlm munge"
+groups[test]="libgtest-dev libgmock-dev python3 clang-format slurm-wlm munge"
 # bench/ only: Google Benchmark, Embree's pathtracer, GNU time, and what
 # bench/compare_pathtracer.py reads images with (and oiiotool); Blender, whose Cycles bench/time_to_error.py
 # renders against.

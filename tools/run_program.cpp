@@ -62,7 +62,10 @@ ProgramResult runProgram(const std::vector<std::string>& arguments) {
 
 std::string commandLineFor(const std::vector<std::string>& arguments) {
     std::string line;
-    for (const std::string& a : arguments) line += (line.empty() ? "" : " ") + shellQuote(a);
+    for (const std::string& a : arguments) {
+        if (!line.empty()) line += ' ';
+        line += shellQuote(a);
+    }
     return line;
 }
 

@@ -14,14 +14,15 @@ namespace fs = std::filesystem;
 
 namespace {
 
-using penumbra::testing::RunResult;
 using penumbra::testing::runPenumbra;
+using penumbra::testing::RunResult;
 
 class PbrtCommandLine : public ::testing::Test {
 protected:
     void SetUp() override {
         dir_ = fs::temp_directory_path() /
-               ("penumbra-pbrt-cli-" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+               ("penumbra-pbrt-cli-" +
+                std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
         fs::remove_all(dir_);
         fs::create_directories(dir_);
     }
@@ -45,7 +46,9 @@ LightSource "point" "rgb I" [5 5 5] "point3 from" [0 3 0]
 Shape "trianglemesh" "point3 P" [-2 0 -2 2 0 -2 2 0 2 -2 0 2] "integer indices" [0 2 1 0 3 2]
 )";
 
-bool contains(const RunResult& r, const std::string& text) { return r.output.find(text) != std::string::npos; }
+bool contains(const RunResult& r, const std::string& text) {
+    return r.output.find(text) != std::string::npos;
+}
 
 TEST_F(PbrtCommandLine, RenderTakesAPbrtSceneWithOverrides) {
     const fs::path scene = write("scene.pbrt", kScene);
@@ -55,7 +58,9 @@ TEST_F(PbrtCommandLine, RenderTakesAPbrtSceneWithOverrides) {
     EXPECT_TRUE(contains(r, "rendered 16x12, samples 0:2")) << r.output;
     EXPECT_TRUE(fs::exists(dir_ / "out.exr"));
     // One line for both media, with its first place and the count.
-    EXPECT_TRUE(contains(r, "penumbra: warning: " + scene.string() + ":7:1: MakeNamedMedium is not supported")) << r.output;
+    EXPECT_TRUE(
+        contains(r, "penumbra: warning: " + scene.string() + ":7:1: MakeNamedMedium is not supported"))
+        << r.output;
     EXPECT_TRUE(contains(r, "(2 times)")) << r.output;
 }
 
@@ -75,7 +80,7 @@ TEST_F(PbrtCommandLine, BombsAreRefusedWithNothingWritten) {
          "spheres.pbrt:1078:1: ObjectInstance \"a\" would bring the shapes placed"},
         {bombs / "cr-only-lines.pbrt", "cr-only-lines.pbrt:9:1: sphere: the radius must be > 0"}};
     for (const auto& [scene, message] : cases) {
-        for (const std::string command :
+        for (const std::string& command :
              {"render " + scene.string() + " --no-display -o " + (dir_ / "out.exr").string(),
               "convert " + scene.string() + " -o " + (dir_ / "out.json").string()}) {
             const RunResult r = penumbra::testing::runShell(std::string("timeout -s KILL 60 ") +
@@ -92,12 +97,15 @@ TEST_F(PbrtCommandLine, BombsAreRefusedWithNothingWritten) {
 // and a radius the scene loader refuses at its place in the patched scene.
 TEST_F(PbrtCommandLine, PatchAppliesToRenderConvergeAndCrosscheck) {
     const fs::path scene = write("scene.pbrt", kScene);
-    const std::string sphere = R"x({"type": "sphere", "center": [0, 0, 0], "material": "pbrt default (diffuse 0.5)", "radius": )x";
-    const fs::path good = write("good.json", R"({"film": {"resolution": [8, 6]}, "shapes": [)" + sphere + "1}]}");
+    const std::string sphere =
+        R"x({"type": "sphere", "center": [0, 0, 0], "material": "pbrt default (diffuse 0.5)", "radius": )x";
+    const fs::path good =
+        write("good.json", R"({"film": {"resolution": [8, 6]}, "shapes": [)" + sphere + "1}]}");
     const fs::path bad = write("bad.json", R"({"shapes": [)" + sphere + "-1}]}");
-    const std::string commands[] = {"render " + scene.string() + " --spp 1 --no-display -o " + (dir_ / "out.exr").string(),
-                                    "converge " + scene.string() + " --spp 1,2 --reference-spp 2 -o " + (dir_ / "study").string(),
-                                    "crosscheck " + scene.string() + " --rays 4000"};
+    const std::string commands[] = {
+        "render " + scene.string() + " --spp 1 --no-display -o " + (dir_ / "out.exr").string(),
+        "converge " + scene.string() + " --spp 1,2 --reference-spp 2 -o " + (dir_ / "study").string(),
+        "crosscheck " + scene.string() + " --rays 4000"};
     const std::string reports[] = {"rendered 8x6", "reference: 8x6", "100.00000%"};
     for (int i = 0; i < 3; ++i) {
         const RunResult r = runPenumbra(commands[i] + " --patch " + good.string());
@@ -126,7 +134,9 @@ TEST_F(PbrtCommandLine, AMalformedSceneIsAPlacedErrorAndNothingIsWritten) {
     const fs::path json = dir_ / "bad.json";
     const RunResult convert = runPenumbra("convert " + scene.string() + " -o " + json.string());
     EXPECT_NE(convert.exitCode, 0);
-    EXPECT_TRUE(contains(convert, "penumbra: error: " + scene.string() + ":2:1: AttributeBegin is never closed")) << convert.output;
+    EXPECT_TRUE(
+        contains(convert, "penumbra: error: " + scene.string() + ":2:1: AttributeBegin is never closed"))
+        << convert.output;
     EXPECT_FALSE(fs::exists(json));
     EXPECT_FALSE(fs::exists(dir_ / "bad.json.partial"));
     const RunResult render = runPenumbra("render " + scene.string() + " -o " + (dir_ / "bad.exr").string());
