@@ -6,6 +6,7 @@
 #include <OpenEXR/ImfInputFile.h>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -45,19 +46,29 @@ LinearRgbImage readExr(const std::filesystem::path& path, const SourceLocation& 
         const Imf::ChannelList& channels = file.header().channels();
         // R, G, B; a luminance-only image (Y) is grey.
         const bool grey = !channels.findChannel("R") && channels.findChannel("Y");
+        // A strip of rows at a time, appended to room reserved (and not yet touched) for all of
+        // them, so that memory grows only with what decodes: a file that declares the limit and
+        // holds nothing fails on its first strip.
         LinearRgbImage image;
         image.width = int(width);
         image.height = int(height);
-        image.texels.assign(size_t(width * height), Rgb(0.0f));
-        Imf::FrameBuffer buffer;
-        char* base = reinterpret_cast<char*>(image.texels.data()) -
-                     (int64_t(window.min.x) + int64_t(window.min.y) * width) * int64_t(sizeof(Rgb));
+        image.texels.reserve(size_t(width * height));
+        const int64_t stripRows = std::min<int64_t>(64, height);
+        std::vector<Rgb> strip(size_t(width * stripRows));
         const char* names[3] = {"R", "G", "B"};
-        for (int c = 0; c < 3; ++c)
-            buffer.insert(grey ? "Y" : names[c], Imf::Slice(Imf::FLOAT, base + c * sizeof(float), sizeof(Rgb),
-                                                            sizeof(Rgb) * size_t(width), 1, 1, 0.0));
-        file.setFrameBuffer(buffer);
-        file.readPixels(window.min.y, window.max.y);
+        for (int64_t y = window.min.y; y <= window.max.y; y += stripRows) {
+            const int64_t rows = std::min<int64_t>(stripRows, int64_t(window.max.y) - y + 1);
+            Imf::FrameBuffer buffer;
+            char* base = reinterpret_cast<char*>(strip.data()) -
+                         (int64_t(window.min.x) + y * width) * int64_t(sizeof(Rgb));
+            for (int c = 0; c < 3; ++c)
+                buffer.insert(grey ? "Y" : names[c],
+                              Imf::Slice(Imf::FLOAT, base + c * sizeof(float), sizeof(Rgb),
+                                         sizeof(Rgb) * size_t(width), 1, 1, 0.0));
+            file.setFrameBuffer(buffer);
+            file.readPixels(int(y), int(y + rows - 1));
+            image.texels.insert(image.texels.end(), strip.begin(), strip.begin() + rows * width);
+        }
         return image;
     } catch (const InputError&) {
         throw;
@@ -95,13 +106,21 @@ LinearRgbImage readPluginImage(const std::filesystem::path& path, const SourceLo
     if (!plugin.probeImage(path.c_str(), limits::kMaxImageTexels, &width, &height, error, sizeof error))
         throw InputError(where, fmt::format("{}: cannot read the image: {}", path.string(), error));
     checkSize(width, height, path, where);
+    // Room reserved, not touched: it fills as the plugin hands over strips that decoded.
     LinearRgbImage image;
     image.width = width;
     image.height = height;
-    image.texels.resize(size_t(width) * size_t(height));
-    if (!plugin.readLinearRgb(path.c_str(), width, height, reinterpret_cast<float*>(image.texels.data()),
-                              error, sizeof error))
+    image.texels.reserve(size_t(width) * size_t(height));
+    auto append = [](void* user, const float* rgb, int rows) {
+        auto& texels = static_cast<LinearRgbImage*>(user)->texels;
+        const size_t count = size_t(static_cast<LinearRgbImage*>(user)->width) * size_t(rows);
+        for (size_t i = 0; i < count; ++i) texels.push_back(Rgb(rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]));
+    };
+    if (!plugin.readLinearRgb(path.c_str(), width, height, append, &image, error, sizeof error))
         throw InputError(where, fmt::format("{}: cannot read the image: {}", path.string(), error));
+    if (image.texels.size() != size_t(width) * size_t(height))
+        throw InputError(where, fmt::format("{}: cannot read the image: fewer rows than its header declares",
+                                            path.string()));
     return image;
 }
 

@@ -353,7 +353,9 @@ int probeImage(const char* path, long long maxTexels, int* width, int* height, c
     }
 }
 
-int readLinearRgb(const char* path, int width, int height, float* rgb, char* error, size_t errorSize) {
+int readLinearRgb(const char* path, int width, int height,
+                  void (*strip)(void* user, const float* rgb, int rows), void* user, char* error,
+                  size_t errorSize) {
     try {
         auto in = OIIO::ImageInput::open(path);
         if (!in) return failWith(OIIO::geterror(), error, errorSize);
@@ -370,25 +372,26 @@ int readLinearRgb(const char* path, int width, int height, float* rgb, char* err
         // divides by zero on a tiled TIFF (SIGFPE; found by fuzzing).
         const bool tiled = spec.tile_width > 0 && spec.tile_height > 0;
         const int stripRows = std::min(tiled ? spec.tile_height : 64, height);
-        std::vector<float> strip(size_t(width) * size_t(stripRows) * size_t(n));
+        std::vector<float> values(size_t(width) * size_t(stripRows) * size_t(n));
+        std::vector<float> rgb(size_t(width) * size_t(stripRows) * 3);
         for (int y = 0; y < height; y += stripRows) {
             const int rows = std::min(stripRows, height - y);
             const int top = spec.y + y;
             const bool read = tiled ? in->read_tiles(0, 0, spec.x, spec.x + width, top, top + rows, spec.z,
-                                                     spec.z + 1, 0, n, OIIO::TypeDesc::FLOAT, strip.data())
+                                                     spec.z + 1, 0, n, OIIO::TypeDesc::FLOAT, values.data())
                                     : in->read_scanlines(0, 0, top, top + rows, spec.z, 0, n,
-                                                         OIIO::TypeDesc::FLOAT, strip.data());
+                                                         OIIO::TypeDesc::FLOAT, values.data());
             if (!read) return failWith(in->geterror(), error, errorSize);
             if (srgb) {
                 // Alpha, when there is one, stays linear (as openTexture() converts).
-                OIIO::ImageBuf view(OIIO::ImageSpec(width, rows, n, OIIO::TypeDesc::FLOAT), strip.data());
+                OIIO::ImageBuf view(OIIO::ImageSpec(width, rows, n, OIIO::TypeDesc::FLOAT), values.data());
                 if (!OIIO::ImageBufAlgo::colorconvert(view, view, "sRGB", "linear", false))
                     return failWith(view.geterror(), error, errorSize);
             }
-            float* out = rgb + size_t(y) * size_t(width) * 3;
             for (size_t p = 0; p < size_t(width) * size_t(rows); ++p)
                 for (int c = 0; c < 3; ++c)
-                    out[3 * p + size_t(c)] = strip[p * size_t(n) + size_t(n >= 3 ? c : 0)];
+                    rgb[3 * p + size_t(c)] = values[p * size_t(n) + size_t(n >= 3 ? c : 0)];
+            strip(user, rgb.data(), rows);
         }
         return 1;
     } catch (const std::exception& e) {

@@ -57,10 +57,13 @@ struct PenumbraTexturePlugin {
     // `maxTexels` (an environment map's limit).
     int (*probeImage)(const char* path, long long maxTexels, int* width, int* height, char* error,
                       size_t errorSize);
-    // The image's first three channels as linear floats (width x height x 3, rows top to bottom; a
-    // one-channel image is grey), linearised as openTexture() does with AUTO. Read a strip of rows
-    // at a time; fails when the file is not of the size given (that probeImage() found).
-    int (*readLinearRgb)(const char* path, int width, int height, float* rgb, char* error, size_t errorSize);
+    // The image's first three channels as linear floats (3 a texel, rows top to bottom; a
+    // one-channel image is grey), linearised as openTexture() does with AUTO, handed to `strip` a
+    // strip of `rows` whole rows at a time, in order, so that the caller's memory grows only with
+    // what decodes. Fails when the file is not of the size given (that probeImage() found).
+    int (*readLinearRgb)(const char* path, int width, int height,
+                         void (*strip)(void* user, const float* rgb, int rows), void* user, char* error,
+                         size_t errorSize);
     // The TextureSystem's statistics as text (OpenImageIO's getstats at `level` 1..5), NUL-terminated.
     void (*statistics)(int level, char* text, size_t textSize);
     // The counters the render summary prints: lookups, files opened, bytes read from files, and
@@ -80,4 +83,4 @@ typedef const PenumbraTexturePlugin* (*PenumbraTexturePluginEntry)(void);
 
 }  // extern "C"
 
-constexpr int kPenumbraTexturePluginVersion = 2;
+constexpr int kPenumbraTexturePluginVersion = 3;

@@ -173,6 +173,16 @@ TEST_F(HostileTexture, DeclaredHugeEnvironmentMapIsRefusedFromItsHeader) {
     EXPECT_LT(childrenPeakBytes(), uint64_t(256) << 20);
 }
 
+TEST_F(HostileTexture, EnvironmentMapDeclaringMoreThanItHoldsTakesMemoryOnlyForWhatDecodes) {
+    // 24 bytes that OpenImageIO reads as a 7897 x 14457 RGBA image (found by fuzzing), within the
+    // limit of an environment map: its texels were allocated and cleared before the first row
+    // failed to decode, 1.9 GB. Now room is reserved, and filled only by rows that decode.
+    const fs::path image = kHostile / "declares_7897x14457_in_24_bytes.bmp";
+    const RunResult r = expectRenderFailure(environmentScene(image), image);
+    EXPECT_TRUE(contains(r, "/environment/file: " + image.string() + ": cannot read the image: ")) << r.output;
+    EXPECT_LT(childrenPeakBytes(), uint64_t(1) << 30);
+}
+
 TEST_F(HostileTexture, ExrAttributeDeclaringGigabytesIsRefusedAsTextureAndEnvironment) {
     // OpenEXR's C++ reader allocates what an attribute declares before reading it: 1.8 GB for
     // this 4 KB file. Its headers are parsed by OpenEXR's C core first.
