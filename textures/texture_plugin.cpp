@@ -27,14 +27,20 @@
 
 namespace {
 
+// OpenImageIO's messages, one a line, joined with "; ".
 void copyText(const std::string& text, char* to, size_t size) {
     if (size == 0) return;
-    const size_t n = std::min(text.size(), size - 1);
-    std::memcpy(to, text.data(), n);
+    std::string joined;
+    for (char c : text) {
+        if (c == '\n')
+            joined += "; ";
+        else  // bytes of a corrupt file are not printed raw
+            joined += ((unsigned char)c < 0x20 || c == 0x7f) ? '?' : c;
+    }
+    while (joined.ends_with("; ")) joined.resize(joined.size() - 2);
+    const size_t n = std::min(joined.size(), size - 1);
+    std::memcpy(to, joined.data(), n);
     to[n] = '\0';
-    for (size_t i = 0; i < n; ++i)
-        if ((unsigned char)to[i] < 0x20 || to[i] == 0x7f)
-            to[i] = '?';  // bytes of a corrupt file are not printed raw
 }
 
 int failWith(const std::string& message, char* error, size_t errorSize) {
