@@ -58,7 +58,8 @@ TEST(PbrtTokenizer, EscapesAndErrors) {
     Tokenizer bad("Shape \"open\n\"", "f.pbrt");
     bad.next();
     EXPECT_THROW(bad.next(), InputError);
-    Tokenizer control(std::string("Shape \x01"), "f.pbrt");
+    const std::string withControl = "Shape \x01";  // the tokenizer views the text: it must outlive it
+    Tokenizer control(withControl, "f.pbrt");
     control.next();
     EXPECT_THROW(control.next(), InputError);
 }
