@@ -750,8 +750,33 @@ void normalizePlyNormals(std::vector<Vec3f>& normals, const std::string& file) {
 
 }  // namespace
 
+// Every row of an element takes bytes of the body (a binary row at least its scalars and list
+// counts, an ASCII row at least a character and a separator a value), so a header cannot declare
+// more rows than the file holds: nothing is allocated for rows that are not there (a 300-byte file
+// that declared 2 billion vertices asked for 25 GB; found by fuzzing).
+void checkPlyRowsFitTheBody(const PlyHeader& header, std::string_view bytes, const std::string& file) {
+    const uint64_t body = bytes.size() - header.bodyOffset;
+    uint64_t needed = 0;
+    for (const PlyElement& element : header.elements) {
+        uint64_t rowBytes = 0;
+        for (const PlyProperty& p : element.properties)
+            rowBytes += header.format == PlyFormat::Ascii ? 2 : uint64_t(p.isList ? p.countSize : p.size);
+        rowBytes = std::max<uint64_t>(rowBytes, 1);
+        // The last value of an ASCII file may end it without a separator: one byte less.
+        if (element.count > (body + 1 - std::min(needed, body + 1)) / rowBytes)
+            fail(file,
+                 fmt::format(
+                     "the file ends early (truncated?): the element '{}' declares {} rows, which take at "
+                     "least {} bytes, but the file "
+                     "holds {} bytes after its header",
+                     element.name, element.count, element.count * rowBytes, body));
+        needed += element.count * rowBytes;
+    }
+}
+
 TriangleMesh importPly(std::string_view bytes, const std::string& file) {
     const PlyHeader header = parsePlyHeader(bytes, file);
+    checkPlyRowsFitTheBody(header, bytes, file);
     PlyMeshSink sink(header);
     if (header.format == PlyFormat::Ascii)
         readPlyAsciiBody(header, bytes, file, sink);

@@ -84,6 +84,18 @@ TEST(HostileMesh, PlyFaceIndexBeyondIntegersIsRefused) {
         "face 0 (counting from 0) uses vertex 3.3333333333333334e+36, but the file has only 3 vertices");
 }
 
+// Found by fuzz/ply_fuzzer: a header that declared 2 billion vertices in a file of a few hundred
+// bytes made the reader allocate 25 GB for them before reading a row; rows are counted against
+// the bytes after the header first.
+TEST(HostileMesh, PlyRowsBeyondWhatTheFileHoldsAreRefusedBeforeAllocating) {
+    const InputError e = catchInputError([] { importMesh(kHostile / "vertices_beyond_the_body.ply"); });
+    EXPECT_CONTAINS(
+        e.what(),
+        "vertices_beyond_the_body.ply: the file ends early (truncated?): the element 'vertex' declares "
+        "2124695998 rows, which take at least 12748175988 bytes, but the file holds 26 bytes after its "
+        "header");
+}
+
 // tinyobjloader splits a polygon in time quadratic in its corners (10^5 corners: 45 s), so faces
 // have a documented limit of 1024 corners.
 TEST(HostileMesh, ObjFaceBeyondTheCornerLimitIsRefused) {
