@@ -35,7 +35,8 @@ struct PenumbraTextureInfo {
 struct PenumbraTexturePlugin {
     int version;  // kPenumbraTexturePluginVersion
     // Opens the image at `path` for lookups: returns a handle in `*handle` (valid for the process's
-    // life). First the header is checked against the limits of an image texture
+    // life). Only OpenEXR, PNG, JPEG, TIFF and Radiance HDR files are read (by their first bytes).
+    // First the header is checked against the limits of an image texture
     // (core/input_limits.h: kMaxTextureTexels at every MIP level, the channels and values; an OpenEXR
     // file's headers by OpenEXR's C core, textures/exr_header_check.h), before anything is read
     // or allocated for its pixels.

@@ -179,7 +179,8 @@ TEST_F(HostileTexture, EnvironmentMapDeclaringMoreThanItHoldsTakesMemoryOnlyForW
     // failed to decode, 1.9 GB. Now room is reserved, and filled only by rows that decode.
     const fs::path image = kHostile / "declares_7897x14457_in_24_bytes.bmp";
     const RunResult r = expectRenderFailure(environmentScene(image), image);
-    EXPECT_TRUE(contains(r, "/environment/file: " + image.string() + ": cannot read the image: ")) << r.output;
+    EXPECT_TRUE(contains(r, "/environment/file: " + image.string() + ": cannot read the image: "))
+        << r.output;
     EXPECT_LT(childrenPeakBytes(), uint64_t(1) << 30);
 }
 
@@ -193,12 +194,41 @@ TEST_F(HostileTexture, ExrAttributeDeclaringGigabytesIsRefusedAsTextureAndEnviro
     EXPECT_LT(childrenPeakBytes(), uint64_t(1) << 30);
 }
 
+// A PNG header declaring `width` x `height` texels, with an empty IDAT (no pixel data).
+std::string pngHeader(uint32_t width, uint32_t height) {
+    std::string png = "\x89PNG\r\n\x1a\n";
+    std::string header;
+    appendBigEndian(header, width);
+    appendBigEndian(header, height);
+    header += std::string("\x08\x02\x00\x00\x00", 5);  // 8 bits, RGB, deflate, adaptive filter, no interlace
+    appendPngChunk(png, "IHDR", header);
+    appendPngChunk(png, "IDAT", "");
+    appendPngChunk(png, "IEND", "");
+    return png;
+}
+
 TEST_F(HostileTexture, ImageWiderThanAnyImageIsRefusedFromItsHeader) {
-    // A 98-byte BMP declaring 7,107,950 x 4 texels (found by fuzzing): OpenImageIO reads 256 rows
-    // at a time whatever the height and asked for 5.4 GB; once refused with an empty reason.
-    const fs::path bmp = kHostile / "bmp_7_million_texels_wide.bmp";
-    const RunResult r = expectRenderFailure(texturedScene(bmp), bmp);
-    EXPECT_TRUE(contains(r, "7107950 x 4 texels; at most 65536 a side are read")) << r.output;
+    // OpenImageIO reads 256 rows at a time whatever the height: a 98-byte BMP declaring
+    // 7,107,950 x 4 texels made it ask for 5.4 GB (found by fuzzing). libpng allows 10^6 a side.
+    const fs::path png = writeFile("wide.png", pngHeader(100000, 4));
+    const RunResult r = expectRenderFailure(texturedScene(png), png);
+    EXPECT_TRUE(contains(r, "100000 x 4 texels; at most 65536 a side are read")) << r.output;
+}
+
+TEST_F(HostileTexture, FormatsOtherThanTheFiveReadAreRefusedByTheirFirstBytes) {
+    // bmp_rle8_of_24_bits.bmp (822 bytes, found by fuzzing): OpenImageIO's BMP reader crashed
+    // (SIGSEGV) on it, as texture and as environment map; bmp_7_million_texels_wide.bmp made it ask
+    // for 5.4 GB. No file reaches a reader other than OpenEXR's, PNG's, JPEG's, TIFF's and HDR's.
+    for (const char* name : {"bmp_rle8_of_24_bits.bmp", "bmp_7_million_texels_wide.bmp"}) {
+        const fs::path bmp = kHostile / name;
+        RunResult r = expectRenderFailure(texturedScene(bmp), bmp);
+        EXPECT_TRUE(contains(r,
+                             "not an image in one of the formats penumbra reads (OpenEXR, PNG, JPEG, TIFF, "
+                             "Radiance HDR)"))
+            << r.output;
+        r = expectRenderFailure(environmentScene(bmp), bmp);
+        EXPECT_TRUE(contains(r, "not an image in one of the formats penumbra reads")) << r.output;
+    }
 }
 
 TEST_F(HostileTexture, DisplayWindowLargerThanAnyImageIsRefusedFromItsHeader) {
