@@ -9,6 +9,7 @@
 #include <OpenImageIO/texture.h>
 #include <signal.h>
 #include <stdlib.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -168,7 +169,7 @@ bool readLinearised(const char* path, OIIO::ImageBuf& result, std::string& failu
     return true;
 }
 
-// Removes the "penumbra-textures-<pid>-XXXXXX" folders in `temporary` that a killed process left
+// Removes this user's "penumbra-textures-<pid>-XXXXXX" folders in `temporary` that a killed process left
 // (its destructor never ran): those whose process is gone and that were not modified in the last
 // minute (the temporary folder may be shared with another machine, whose process numbers mean
 // nothing here).
@@ -177,7 +178,11 @@ void removeFoldersOfKilledProcesses(const std::filesystem::path& temporary) {
     std::error_code ec;
     for (const auto& entry : std::filesystem::directory_iterator(temporary, ec)) {
         const std::string name = entry.path().filename().string();
-        if (!name.starts_with(prefix) || !entry.is_directory(ec)) continue;
+        // This user's own folders only, never one reached through a link.
+        struct stat info;
+        if (!name.starts_with(prefix) || ::lstat(entry.path().c_str(), &info) != 0 ||
+            !S_ISDIR(info.st_mode) || info.st_uid != ::geteuid())
+            continue;
         const size_t end = name.find('-', prefix.size());
         const std::string digits =
             name.substr(prefix.size(), end == std::string::npos ? 0 : end - prefix.size());
