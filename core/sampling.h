@@ -65,6 +65,13 @@ inline Vec2f sampleUniformTriangle(Vec2f u) {
     return {u.x - offset, u.y - offset};
 }
 
+// A density of 1 / area over a surface, turned into one per solid angle at a point
+// `distanceSquared` away whose direction makes the cosine `cosAtSurface` (>= 0) with the surface;
+// 0 where there is none.
+inline float areaToSolidAnglePdf(float distanceSquared, float cosAtSurface, float area) {
+    return (area > 0.0f && cosAtSurface > 0.0f) ? distanceSquared / (cosAtSurface * area) : 0.0f;
+}
+
 // Tent (triangle) filter of the given radius, sampled by inverting its CDF; used for filter
 // importance sampling, so every sample has weight 1.
 inline float sampleTent(float u, float radius) {

@@ -18,4 +18,12 @@ struct Emission {
     bool emits() const { return !radiance.isBlack(); }
 };
 
+// A textured emitter's radiance at `uv`, looked up without a footprint (the finest level): the
+// same for a hit and for next-event estimation's sample of the same point.
+inline Rgb emittedRadiance(const Texture& texture, Vec2f uv) {
+    TextureQuery query;
+    query.uv = uv;
+    return texture.evaluate(query);
+}
+
 }  // namespace penumbra

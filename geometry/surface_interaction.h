@@ -256,11 +256,7 @@ inline SurfaceInteraction shapeInteraction(const SceneGeometry& scene, ShapeRef 
         si.positionError = (abs(sphere.center) + abs(outward * sphere.radius)) * gamma(8);
         si.geometricNormal = outward;
         si.shadingNormal = outward;
-        if (sphere.needsUv) {
-            const float phi = std::atan2(outward.y, outward.x);
-            si.uv = {phi < 0.0f ? phi / (2.0f * kPi) + 1.0f : phi / (2.0f * kPi),
-                     std::acos(std::clamp(outward.z, -1.0f, 1.0f)) / kPi};
-        }
+        if (sphere.needsUv) si.uv = sphereUv(outward);
         si.material = sphere.material;
         if (toWorld) placeInWorld(*toWorld, si);
     }

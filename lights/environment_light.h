@@ -19,14 +19,18 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <vector>
 
 #include "core/piecewise_constant_2d.h"
 #include "core/rgb.h"
+#include "core/sampling.h"
 #include "core/transform.h"
 #include "core/vec.h"
+#include "lights/light_bounds.h"
+#include "lights/light_sample.h"
 
 namespace penumbra {
 
@@ -90,6 +94,31 @@ private:
     Rgb radiance_{0.0f, 0.0f, 0.0f};
     std::shared_ptr<const ImageData> image_;  // shared: scenes are copied, their images need not be
     Transform rotation_;                      // light frame -> world
+};
+
+// The environment as one light of the set (lights/light.h): it shares the map, which is large.
+struct EnvironmentEmitter {
+    std::shared_ptr<const EnvironmentLight> environment;
+
+    static constexpr bool kIsDelta = false, kIsInfinite = true;
+    // Power through a disk the size of the scene, from every direction (pbrt-v4's estimate), with
+    // the radiance averaged over the sphere.
+    double power(double sceneRadius) const {
+        return 4.0 * kPi * kPi * sceneRadius * sceneRadius * double(environment->average().luminance());
+    }
+    LightBounds bounds(float /*power*/) const { return {}; }  // infinite: chosen by its power share
+    bool sample(Vec3f /*reference*/, Vec2f u, LightSample& ls) const {
+        const std::optional<EnvironmentSample> es = environment->sample(u);
+        if (!es) return false;
+        ls.direction = es->direction;
+        ls.distance = std::numeric_limits<float>::infinity();
+        ls.radiance = es->radiance;
+        ls.pdf = es->pdf;
+        ls.isDelta = false;
+        return true;
+    }
+    // For an infinite light the second argument is the direction towards it.
+    float pdf(Vec3f /*reference*/, Vec3f direction) const { return environment->pdf(direction); }
 };
 
 }  // namespace penumbra

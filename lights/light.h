@@ -1,52 +1,65 @@
-// The lights a scene names besides its emitting shapes (geometry/emission.h) and its background:
-// delta lights, which next-event estimation reaches but rays never hit.
+// The closed set of lights: a std::variant of the light models, each a small value type in a header
+// of its own with the same members (the LightModelType concept). The scene names the point, spot
+// and directional lights (Scene::lights); the light set (light_set.h) adds an area light for each
+// emitting triangle and sphere, and the environment.
 #pragma once
 
-#include <algorithm>
-#include <numbers>
+#include <concepts>
+#include <variant>
 
-#include "core/rgb.h"
 #include "core/vec.h"
+#include "lights/directional_light.h"
+#include "lights/environment_light.h"
+#include "lights/light_bounds.h"
+#include "lights/light_sample.h"
+#include "lights/point_light.h"
+#include "lights/sphere_light.h"
+#include "lights/spot_light.h"
+#include "lights/triangle_light.h"
 
 namespace penumbra {
 
-struct PointLight {
-    Vec3f position;
-    Rgb intensity;  // radiant intensity, W/sr per channel
+// What every light model provides:
+//  - kIsDelta: its light comes from a point or along one direction, which rays never hit, so that
+//    next-event estimation alone finds it (sample() ignores u);
+//  - kIsInfinite: it is infinitely far (directional, environment), chosen by its share of the power;
+//  - power(sceneRadius): its power in luminance, by which a light is chosen (infinite lights: through
+//    a disk of the scene's radius, as pbrt-v4 estimates it);
+//  - bounds(power): the bounds by which a finite light is chosen at a vertex (light_bounds.h);
+//  - sample(reference, u, ls): light arriving at `reference` from a point (or along a direction) of
+//    the light, its pdf per solid angle (1 for delta lights), false where there is none;
+//  - pdf(reference, towards): the solid-angle density with which sample() produces the point
+//    `towards` (for infinite lights, the direction `towards`); 0 for delta lights.
+template <class L>
+concept LightModelType = requires(const L& light, Vec3f p, Vec2f u, LightSample& ls, double sceneRadius,
+                                  float power) {
+    { L::kIsDelta } -> std::convertible_to<bool>;
+    { L::kIsInfinite } -> std::convertible_to<bool>;
+    { light.power(sceneRadius) } -> std::same_as<double>;
+    { light.bounds(power) } -> std::same_as<LightBounds>;
+    { light.sample(p, u, ls) } -> std::same_as<bool>;
+    { light.pdf(p, p) } -> std::same_as<float>;
 };
 
-// A spot light's falloff at cos(theta) from its axis: 1 inside cosFalloffStart, 0 outside
-// cosFalloffEnd, a smoothstep in cos(theta) between them (pbrt-v4's SmoothStep).
-inline float spotFalloff(float cosTheta, float cosFalloffStart, float cosFalloffEnd) {
-    if (cosTheta >= cosFalloffStart) return 1.0f;
-    if (cosTheta <= cosFalloffEnd) return 0.0f;
-    const float t = std::clamp((cosTheta - cosFalloffEnd) / (cosFalloffStart - cosFalloffEnd), 0.0f, 1.0f);
-    return t * t * (3.0f - 2.0f * t);
+// The order is the light set's: area lights, then the ones the scene names, finite before infinite.
+using LightModel =
+    std::variant<TriangleLight, SphereLight, PointLight, SpotLight, DirectionalLight, EnvironmentEmitter>;
+
+namespace detail {
+template <class Variant>
+struct AllLightModels;
+template <class... Models>
+struct AllLightModels<std::variant<Models...>> {
+    static constexpr bool value = (LightModelType<Models> && ...);
+};
+}  // namespace detail
+static_assert(detail::AllLightModels<LightModel>::value, "every light model satisfies LightModelType");
+
+inline bool isDeltaLight(const LightModel& light) {
+    return std::visit([](const auto& l) { return std::decay_t<decltype(l)>::kIsDelta; }, light);
 }
-
-// A point light whose light is confined to a cone (pbrt-v4's SpotLight): the intensity along a
-// direction at angle theta from the axis is `intensity` times a falloff in cos(theta), 1 inside
-// cosFalloffStart, 0 outside cosFalloffEnd and a smoothstep between them.
-struct SpotLight {
-    Vec3f position;
-    Vec3f direction;                                     // unit, the cone's axis, the way the light travels
-    Rgb intensity;                                       // radiant intensity on the axis, W/sr per channel
-    float cosFalloffStart = 1.0f, cosFalloffEnd = 1.0f;  // cosFalloffEnd <= cosFalloffStart
-
-    float falloff(float cosTheta) const { return spotFalloff(cosTheta, cosFalloffStart, cosFalloffEnd); }
-    // The power it emits per unit of intensity: the falloff integrated over the sphere,
-    // 2 pi ((1 - cosFalloffStart) + (cosFalloffStart - cosFalloffEnd) / 2) (the smoothstep's
-    // integral over its band is half the band).
-    double solidAngle() const {
-        return 2.0 * std::numbers::pi *
-               ((1.0 - double(cosFalloffStart)) + (double(cosFalloffStart) - double(cosFalloffEnd)) / 2.0);
-    }
-};
-
-// Light from a very distant source arriving along one direction (the sun): hard shadows.
-struct DirectionalLight {
-    Vec3f direction;  // unit, the direction the light travels
-    Rgb irradiance;   // W/m^2 per channel on a surface facing the light
-};
+inline bool isInfiniteLight(const LightModel& light) {
+    return std::visit([](const auto& l) { return std::decay_t<decltype(l)>::kIsInfinite; }, light);
+}
 
 }  // namespace penumbra

@@ -1,5 +1,5 @@
-// The lights of a scene as one closed set: emitting triangles, emitting spheres, point, spot and
-// directional lights and the environment (lights/environment_light.h). Next-event estimation picks
+// The lights of a scene as one closed set (lights/light.h: emitting triangles and spheres, point,
+// spot and directional lights and the environment), and the choice among them. Next-event estimation picks
 // one light, by what it can contribute at the vertex or by power (choose()), then a point on it
 // (triangles by area, spheres by the solid angle they subtend) or a direction (the environment:
 // uniformly for a constant one, by luminance for an image).
@@ -7,7 +7,9 @@
 
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <optional>
+#include <variant>
 #include <vector>
 
 #include "core/discrete_distribution.h"
@@ -18,47 +20,22 @@
 #include "lights/environment_light.h"
 #include "lights/light.h"
 #include "lights/light_bounds.h"
+#include "lights/light_sample.h"
 
 namespace penumbra {
-
-enum class LightKind : uint8_t { Triangle, Sphere, Point, Spot, Directional, Environment };
-
-struct Light {
-    LightKind kind = LightKind::Point;
-    Rgb radiance;           // area lights: radiance; point, spot: intensity; directional: irradiance
-    bool twoSided = false;  // area lights
-    Vec3f p0, p1, p2;       // triangle vertices
-    Vec3f normal;    // triangle front normal (unit); directional: the direction light travels; spot: its axis
-    float area = 0;  // triangle area
-    float cosFalloffStart = 1, cosFalloffEnd = 1;  // spot lights (lights/light.h)
-    Vec3f center;                                  // sphere centre or point- or spot-light position
-    float radius = 0;                              // sphere radius
-    const Texture* texture = nullptr;  // textured emission (geometry/emission.h); radiance then its average
-    Vec2f uv0, uv1, uv2;               // textured triangles: the vertices' uvs
-};
-
-struct LightSample {
-    Vec3f direction;    // unit, from the reference point towards the light
-    float distance;     // to the sampled point; infinity for the environment
-    Vec3f point;        // sampled point on the light (for area lights)
-    Vec3f pointError;   // bound on each coordinate's absolute error of point (core/ray_offset.h)
-    Vec3f lightNormal;  // front normal at the sampled point (area lights)
-    Rgb radiance;       // arriving along -direction (intensity / distance^2 for point lights)
-    float pdf;          // solid-angle density including the light choice; choice probability for deltas
-    bool isDelta;
-};
 
 class LightSet {
 public:
     LightSet() = default;
-    LightSet(const SceneGeometry& geometry, const std::vector<PointLight>& pointLights,
-             const std::vector<SpotLight>& spotLights, const std::vector<DirectionalLight>& directionalLights,
+    // The area lights of `geometry`'s emitting shapes, the lights the scene names (`sceneLights`:
+    // none of them an area light or an environment) and `environment`.
+    LightSet(const SceneGeometry& geometry, const std::vector<LightModel>& sceneLights,
              const EnvironmentLight& environment);
 
     bool empty() const { return choice_.empty(); }
     // Whether a ray can find emission by hitting something (an area light or the environment);
     // with only point and directional lights it cannot.
-    bool emitsAlongRays() const { return hasAreaLights_ || !environment_.isBlack(); }
+    bool emitsAlongRays() const { return hasAreaLights_ || hasEnvironment_; }
     size_t size() const { return lights_.size(); }
 
     // Next-event estimation in two steps: choose() picks a light for the vertex at `p` (surface
@@ -94,15 +71,17 @@ public:
     bool choosesLocally() const { return choosesLocally_; }
     // Whether next-event estimation uses sample values at all: not for one delta light.
     bool drawsSampleValues() const { return drawsSampleValues_; }
-    bool isDelta(uint32_t light) const {
-        const LightKind kind = lights_[light].kind;
-        return kind == LightKind::Point || kind == LightKind::Spot || kind == LightKind::Directional;
-    }
+    bool isDelta(uint32_t light) const { return isDeltaLight(lights_[light]); }
+    const LightModel& light(uint32_t light) const { return lights_[light]; }
     // A point on the light `choice` names, seen from `reference`; its pdf includes the choice's
-    // probability.
+    // probability. Point lights inline, the others out of line (bench/README.md, "Speed tricks").
     std::optional<LightSample> sample(Choice choice, Vec3f reference, Vec2f uPoint) const {
-        // Point lights, the common case, inline; the other kinds in lights.cpp.
-        if (lights_[choice.light].kind == LightKind::Point) return samplePoint(choice, reference);
+        if (const auto* point = std::get_if<PointLight>(&lights_[choice.light])) {
+            LightSample ls{};
+            if (!samplePointSource(point->position, point->intensity, reference, ls)) return std::nullopt;
+            ls.pdf = choice.probability;  // times the point light's own density, 1
+            return ls;
+        }
         return sampleOther(choice, reference, uPoint);
     }
 
@@ -110,9 +89,9 @@ public:
     Rgb emitted(const SurfaceInteraction& si, Vec3f towardsViewer) const {
         return hasAreaLights_ ? emittedByAreaLight(si, towardsViewer) : Rgb(0.0f);
     }
-    bool hasEnvironment() const { return !environment_.isBlack(); }
+    bool hasEnvironment() const { return hasEnvironment_; }
     // Radiance arriving along -direction from the environment, for a ray that escapes.
-    Rgb environmentRadiance(Vec3f direction) const { return environment_.radiance(direction); }
+    Rgb environmentRadiance(Vec3f direction) const { return environment_->radiance(direction); }
 
     // Density with which choose() and sample() from `reference` (surface normal `referenceNormal`)
     // would have produced the emitter point `si` (solid angle, light choice included): the MIS
@@ -122,26 +101,10 @@ public:
     float pdfOfEnvironment(Vec3f reference, Vec3f referenceNormal, Vec3f direction) const;
 
 private:
-    std::optional<LightSample> samplePoint(Choice choice, Vec3f reference) const {
-        const Light& light = lights_[choice.light];
-        const Vec3f toLight = light.center - reference;
-        const float distanceSquared = lengthSquared(toLight);
-        if (!(distanceSquared > 0.0f)) return std::nullopt;
-        LightSample ls{};
-        ls.distance = std::sqrt(distanceSquared);
-        ls.direction = toLight / ls.distance;
-        ls.point = light.center;
-        ls.radiance = light.radiance / distanceSquared;
-        ls.pdf = choice.probability;
-        ls.isDelta = true;
-        return ls;
-    }
     std::optional<LightSample> sampleOther(Choice choice, Vec3f reference, Vec2f uPoint) const;
     // sampleOther's work, written into `ls` (false: no sample).
     bool sampleOtherInto(Choice choice, Vec3f reference, Vec2f uPoint, LightSample& ls) const;
-    bool isInfinite(size_t light) const {
-        return lights_[light].kind == LightKind::Directional || lights_[light].kind == LightKind::Environment;
-    }
+    bool isInfinite(size_t light) const { return isInfiniteLight(lights_[light]); }
     // An emitter: lights_[firstLight, firstLight + lightCount), chosen among by power.
     struct Emitter {
         uint32_t firstLight = 0, lightCount = 0;
@@ -159,14 +122,8 @@ private:
     float localChoiceProbability(uint32_t light, Vec3f p, Vec3f n) const;
     Rgb emittedByAreaLight(const SurfaceInteraction& si, Vec3f towardsViewer) const;
     int32_t lightIndexOf(ShapeRef shape) const;
-    float solidAnglePdf(const Light& light, Vec3f reference, Vec3f point) const;
-    // A density of 1 / area over a surface, per solid angle at a point `distanceSquared` away
-    // whose direction makes the cosine `cosAtLight` (>= 0) with the surface; 0 where none is.
-    static float areaToSolidAnglePdf(float distanceSquared, float cosAtLight, float area) {
-        return (area > 0.0f && cosAtLight > 0.0f) ? distanceSquared / (cosAtLight * area) : 0.0f;
-    }
 
-    std::vector<Light> lights_;
+    std::vector<LightModel> lights_;
     DiscreteDistribution choice_;  // by power
     // The choice at a vertex (choosesLocally_): emitters, their bounds (finite ones), and each
     // light's emitter and probability within it.
@@ -181,8 +138,9 @@ private:
     std::vector<int32_t> sphereLight_;     // per sphere: its light index, or -1
     int32_t environmentLight_ = -1;
     bool hasAreaLights_ = false;
+    bool hasEnvironment_ = false;
     bool drawsSampleValues_ = false;  // more than one light, or one that is not a delta light
-    EnvironmentLight environment_;
+    std::shared_ptr<const EnvironmentLight> environment_;  // black where the scene has none
 };
 
 }  // namespace penumbra

@@ -50,6 +50,10 @@
 
 namespace penumbra {
 
+// The integrator's radiance type (and its throughput's): RGB. A spectral mode would make it a few
+// sampled wavelengths' values (README, "How it is built").
+using Radiance = Rgb;
+
 struct RayCounters {
     uint64_t primary = 0, extension = 0, shadow = 0;
     uint64_t total() const { return primary + extension + shadow; }
@@ -183,25 +187,187 @@ private:
     return ray;
 }
 
-}  // namespace detail
-
-// Radiance arriving along `ray` (a camera ray) for the sample `sample`. Each vertex takes the
-// steps named in the comments below in this order: emission at the hit, direct light (a shadow
-// ray left pending), continuation, then the pending shadow ray. They stay one loop body rather
-// than functions: as functions passing a vertex and a pending shadow ray by struct they cost 3%
-// more instructions (bench/README.md, "Speed tricks"). When `firstHit` is given it receives the
-// first hit's AOVs (hit = false when the ray leaves the scene). When `traced` is given it is what
-// tracing `ray` found, and the ray is not traced again.
-template <TraversalBackend Accel>
-Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, const PixelSample& sample,
-                     RayCounters& rays, FirstHitAovs* firstHit = nullptr, const TracedRay* traced = nullptr) {
-    const LightSet& lights = *ctx.lights;
-    Rgb radiance(0.0f), throughput(1.0f);
-    float etaScale = 1.0f;  // product of eta^2 over the refractions so far (see Russian roulette above)
+// What a path carries from one vertex to the next.
+struct PathState {
+    Radiance radiance{0.0f};    // gathered so far
+    Radiance throughput{1.0f};  // the product of the BSDF weights (over their densities) so far
+    float etaScale = 1.0f;      // product of eta^2 over the refractions so far (see Russian roulette above)
+    // The previous vertex, against whose BSDF sample emission found by this segment is weighted.
     float previousBsdfPdf = 0.0f;
     bool previousWasDelta = true;  // the camera vertex: emitters seen directly get full weight
-    Vec3f previousPosition = ray.origin;
+    Vec3f previousPosition;
     Vec3f previousNormal;  // its geometric normal: the light choice's probability there depends on it
+};
+
+// A surface vertex as its steps see it: the hit, its material and where the path arrived from.
+struct SurfaceVertex {
+    const SurfaceInteraction& si;
+    const Material& material;
+    Vec3f wo;      // unit, towards where the path came from
+    bool woAbove;  // whether wo is on the geometric normal's side
+};
+
+// The vertex's shading frame and the offset of the rays that leave it.
+struct LocalFrame {
+    [[gnu::always_inline]] LocalFrame(const SurfaceInteraction& si, Vec3f wo)
+        : lanes(si.shadingFrame ? *si.shadingFrame : Frame::fromNormal(si.shadingNormal)),
+          woLocal(lanes.toLocal(wo)),
+          leaveDistance(offsetDistance(si.position, si.positionError, si.geometricNormal)) {}
+    FrameLanes lanes;
+    Vec3f woLocal;
+    float leaveDistance;  // how far the vertex's shadow and bounce rays start off the surface (either side)
+};
+
+// Next-event estimation's shadow ray, traced after the continuation's BSDF sample, and what it
+// adds when nothing blocks it.
+struct PendingShadowRay {
+    bool cast = false;
+    Ray ray;
+    Radiance contribution;
+};
+
+// Step: the path escaped along `ray`; the environment's light, weighted against its NEE.
+[[gnu::always_inline]] inline void addEscapedLight(const IntegratorContext& ctx, const LightSet& lights,
+                                                   const Ray& ray, PathState& path) {
+    if (!lights.hasEnvironment()) return;
+    const Radiance environment = lights.environmentRadiance(ray.direction);
+    if (environment.isBlack()) return;
+    const float weight =
+        path.previousWasDelta
+            ? 1.0f
+            : hitWeight(ctx.strategy, path.previousBsdfPdf,
+                        lights.pdfOfEnvironment(path.previousPosition, path.previousNormal, ray.direction));
+    path.radiance += path.throughput * environment * weight;
+}
+
+// Step: what the segment that arrived at the vertex passed through. A segment that reached the
+// back side of a surface travelled inside its material: Beer-Lambert absorption by its interior.
+// (Participating media will be a step here, between surface hits.)
+[[gnu::always_inline]] inline void attenuateAlongSegment(const SurfaceVertex& v, const Ray& ray, float hitT,
+                                                         PathState& path) {
+    if (v.woAbove) return;
+    const Rgb sigma = v.material.interiorAbsorption();
+    if (sigma.isBlack()) return;
+    const float distance = hitT * length(ray.direction);
+    path.throughput *=
+        Rgb(std::exp(-sigma.r * distance), std::exp(-sigma.g * distance), std::exp(-sigma.b * distance));
+}
+
+// Step: emission at the hit, found by the previous vertex's BSDF sample; weighted against NEE.
+[[gnu::always_inline]] inline void addEmissionAtHit(const IntegratorContext& ctx, const LightSet& lights,
+                                                    const SurfaceVertex& v, PathState& path) {
+    const Radiance emitted = lights.emitted(v.si, v.wo);
+    if (emitted.isBlack()) return;
+    const float weight = path.previousWasDelta
+                             ? 1.0f
+                             : hitWeight(ctx.strategy, path.previousBsdfPdf,
+                                         lights.pdfOfHit(path.previousPosition, path.previousNormal, v.si));
+    path.radiance += path.throughput * emitted * weight;
+}
+
+// Step: direct light (next-event estimation): one light, a point on it, and the shadow ray that
+// would carry its contribution.
+[[gnu::always_inline]] inline PendingShadowRay sampleDirectLight(
+    const IntegratorContext& ctx, const LightSet& lights, const PixelSample& sample, uint32_t bounce,
+    const SurfaceVertex& v, const LocalFrame& local, const PathState& path, float time) {
+    PendingShadowRay shadow;
+    if (lights.empty() || v.material.isPurelySpecular() || ctx.strategy == LightStrategy::Bsdf) return shadow;
+    // Sample values that would not be used are not drawn (each dimension is keyed on its own, so
+    // skipping one leaves the others as they are). One 2D value chooses the light and then the
+    // point on it (LightSet::choose); frozen, it fixes the point on each light but not the choice
+    // (README, `--freeze`).
+    Vec2f uLight{0.5f, 0.5f};
+    LightSet::Choice light{0, 1.0f};
+    if (lights.drawsSampleValues()) {
+        uLight = sample.get2DUnfrozen(Dim::LightPosition, bounce);
+        light = lights.choose(uLight, v.si.position, v.si.geometricNormal);
+        if (sample.isFrozen(Dim::LightPosition)) [[unlikely]]
+            uLight = {0.5f, 0.5f};
+    }
+    const auto ls = lights.sample(light, v.si.position, uLight);
+    const Vec3f wiLocal = ls ? local.lanes.toLocal(ls->direction) : Vec3f{};
+    // Reflection needs the light on wo's side of the geometric surface, transmission on the other.
+    const bool reflects = local.woLocal.z * wiLocal.z > 0.0f;
+    const float cosLight = ls ? dot(ls->direction, v.si.geometricNormal) : 0.0f;
+    if (ls && !ls->radiance.isBlack() && ((cosLight > 0.0f) == v.woAbove) == reflects) {
+        const Rgb f = v.material.eval(local.woLocal, wiLocal, v.woAbove) * std::abs(wiLocal.z);
+        if (!f.isBlack()) {
+            PENUMBRA_CHECK(ls->pdf > 0.0f, "a light sample has a positive density");
+            shadow.cast = true;
+            shadow.ray = spawnShadowRay(v.si, local.leaveDistance, *ls, cosLight, time);
+            const float weight =
+                ls->isDelta || ctx.strategy == LightStrategy::Light
+                    ? 1.0f
+                    : powerHeuristic(ls->pdf, v.material.pdf(local.woLocal, wiLocal, v.woAbove));
+            shadow.contribution = path.throughput * f * ls->radiance * (weight / ls->pdf);
+        }
+    }
+    return shadow;
+}
+
+// Step: Russian roulette, after the continuation has updated the throughput. Whether the path
+// survives (its throughput then divided by the survival probability).
+[[gnu::always_inline]] inline bool survivesRoulette(const IntegratorContext& ctx, const PixelSample& sample,
+                                                    uint32_t bounce, PathState& path) {
+    if (int(bounce) + 1 < ctx.rouletteStartDepth) return true;
+    // A path that survives for certain draws no sample (u < 1 never ends it).
+    const float survival = std::min(1.0f, std::sqrt((path.throughput * path.etaScale).maxComponent()));
+    if (survival < 1.0f) {
+        if (sample.get1D(Dim::RussianRoulette, bounce) >= survival) return false;
+        path.throughput *= 1.0f / survival;
+    }
+    return true;
+}
+
+// Step: continuation: a BSDF sample for the next segment, then Russian roulette. Whether the path
+// goes on, and if so its next segment in `ray` and its new throughput (the pending shadow ray's
+// contribution has the old one).
+[[gnu::always_inline]] inline bool continuePath(const IntegratorContext& ctx, const LightSet& lights,
+                                                const PixelSample& sample, uint32_t bounce, Vec2f uDirection,
+                                                const SurfaceVertex& v, const LocalFrame& local,
+                                                PathState& path, Ray& ray) {
+    const float uLobe = v.material.usesLobeSample() ? sample.get1D(Dim::BsdfLobe, bounce) : 0.5f;
+    const auto bs = v.material.sample(local.woLocal, uLobe, uDirection, v.woAbove);
+    if (!bs) return false;
+    PENUMBRA_CHECK(bs->pdf > 0.0f, "a BSDF sample has a positive density");
+    const Vec3f wi = local.lanes.toWorld(bs->wi);
+    PENUMBRA_CHECK(isUnit(wi), "a BSDF sample's direction has unit length");
+    const float cosWi = dot(wi, v.si.geometricNormal);
+    // A reflection that crosses the geometric surface, or a transmission that does not.
+    if (((cosWi > 0.0f) != v.woAbove) != bs->isTransmission()) return false;
+    path.throughput *= bs->weight;
+    if (bs->isTransmission()) path.etaScale *= bs->eta * bs->eta;
+    if (path.throughput.isBlack()) return false;
+    path.previousBsdfPdf = bs->pdf;
+    path.previousWasDelta = bs->isSpecular();
+    path.previousPosition = v.si.position;
+    path.previousNormal = v.si.geometricNormal;
+    if (!survivesRoulette(ctx, sample, bounce, path)) return false;
+    PENUMBRA_CHECK(path.throughput.isFinite() && path.throughput.minComponent() >= 0.0f,
+                   "a path's throughput is finite and non-negative");
+    // The ray past the last vertex only looks for emission; without emitters it could hit, it is
+    // not traced (as Embree's pathtracer counts path length).
+    if (int(bounce) + 1 >= ctx.maxDepth && !lights.emitsAlongRays()) return false;
+    continueRay(ray, v.si, local.leaveDistance, wi, cosWi);
+    return true;
+}
+
+}  // namespace detail
+
+// Radiance arriving along `ray` (a camera ray) for the sample `sample`: the path's vertices, each
+// taking the steps above in this order: what the segment passed through, emission at the hit,
+// direct light (its shadow ray left pending), continuation (with Russian roulette), then the
+// pending shadow ray. The steps are always inlined: as calls they cost 3% more instructions
+// (bench/README.md, "Speed tricks"). When `firstHit` is given it receives the first hit's AOVs
+// (hit = false when the ray leaves the scene). When `traced` is given it is what tracing `ray`
+// found, and the ray is not traced again.
+template <TraversalBackend Accel>
+Radiance estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray,
+                          const PixelSample& sample, RayCounters& rays, FirstHitAovs* firstHit = nullptr,
+                          const TracedRay* traced = nullptr) {
+    const LightSet& lights = *ctx.lights;
+    detail::PathState path;
+    path.previousPosition = ray.origin;
     // A textured material's values at the current vertex (Material::at); untouched otherwise.
     detail::TexturedMaterialSlot textured;
     // The triangle the current vertex lies on, which its bounce and shadow rays leave.
@@ -219,20 +385,8 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
         } else {
             found = accel.intersect(ray, hit, left);
         }
-        // --- Escape: the environment, weighted against its NEE.
         if (!found) {
-            if (lights.hasEnvironment()) {
-                const Rgb environment = lights.environmentRadiance(ray.direction);
-                if (!environment.isBlack()) {
-                    const float weight =
-                        previousWasDelta
-                            ? 1.0f
-                            : detail::hitWeight(
-                                  ctx.strategy, previousBsdfPdf,
-                                  lights.pdfOfEnvironment(previousPosition, previousNormal, ray.direction));
-                    radiance += throughput * environment * weight;
-                }
-            }
+            detail::addEscapedLight(ctx, lights, ray, path);
             break;
         }
         const SurfaceInteraction si = Accel::kReportsCanonicalHits || !ctx.canonicalHits
@@ -245,125 +399,29 @@ Rgb estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray ray, 
         const Material* shaded = &ctx.scene->materials[si.material];
         if (shaded->isTextured()) [[unlikely]]
             shaded = &textured.fill(detail::texturedMaterial(*shaded, ctx, si, ray.time));
-        const Material& material = *shaded;
-        const bool woAbove = dot(wo, si.geometricNormal) > 0.0f;
+        const detail::SurfaceVertex vertex{si, *shaded, wo, dot(wo, si.geometricNormal) > 0.0f};
         if (bounce == 0 && firstHit)
-            *firstHit = {true, hit.t * length(ray.direction), si.shadingNormal, material.albedo()};
+            *firstHit = {true, hit.t * length(ray.direction), si.shadingNormal, vertex.material.albedo()};
 
-        // --- Absorption: Beer-Lambert along the segment that arrived at the back side.
-        if (!woAbove) {
-            const Rgb sigma = material.interiorAbsorption();
-            if (!sigma.isBlack()) {
-                const float distance = hit.t * length(ray.direction);
-                throughput *= Rgb(std::exp(-sigma.r * distance), std::exp(-sigma.g * distance),
-                                  std::exp(-sigma.b * distance));
-            }
-        }
-
-        // --- Emission at the hit, found by the previous vertex's BSDF sample: weighted against NEE.
-        const Rgb emitted = lights.emitted(si, wo);
-        if (!emitted.isBlack()) {
-            const float weight =
-                previousWasDelta ? 1.0f
-                                 : detail::hitWeight(ctx.strategy, previousBsdfPdf,
-                                                     lights.pdfOfHit(previousPosition, previousNormal, si));
-            radiance += throughput * emitted * weight;
-        }
+        detail::attenuateAlongSegment(vertex, ray, hit.t, path);
+        detail::addEmissionAtHit(ctx, lights, vertex, path);
         if (int(bounce) >= ctx.maxDepth) break;
 
-        const Frame frame = si.shadingFrame ? *si.shadingFrame : Frame::fromNormal(si.shadingNormal);
-        // How far the vertex's shadow and bounce rays start off the surface (either side).
-        const float leaveDistance = offsetDistance(si.position, si.positionError, si.geometricNormal);
-        const FrameLanes lanes(frame);
-        const Vec3f woLocal = lanes.toLocal(wo);
-
-        // --- Direct light (next-event estimation): the shadow ray and what it adds when
-        // unoccluded. It is traced after the continuation's BSDF sample, not before: the two are
+        const detail::LocalFrame local(si, wo);
+        // The shadow ray is traced after the continuation's BSDF sample, not before: the two are
         // independent (bench/README.md, "Speed tricks").
-        bool castsShadowRay = false;
-        Ray shadowRay;
-        Rgb shadowContribution;
-        if (!lights.empty() && !material.isPurelySpecular() && ctx.strategy != LightStrategy::Bsdf) {
-            // Sample values that would not be used are not drawn (each dimension is keyed on its
-            // own, so skipping one leaves the others as they are). One 2D value chooses the light
-            // and then the point on it (LightSet::choose); frozen, it fixes the point on each light
-            // but not the choice (README, `--freeze`).
-            Vec2f uLight{0.5f, 0.5f};
-            LightSet::Choice light{0, 1.0f};
-            if (lights.drawsSampleValues()) {
-                uLight = sample.get2DUnfrozen(Dim::LightPosition, bounce);
-                light = lights.choose(uLight, si.position, si.geometricNormal);
-                if (sample.isFrozen(Dim::LightPosition)) [[unlikely]]
-                    uLight = {0.5f, 0.5f};
-            }
-            const auto ls = lights.sample(light, si.position, uLight);
-            const Vec3f wiLocal = ls ? lanes.toLocal(ls->direction) : Vec3f{};
-            // Reflection needs the light on wo's side of the geometric surface, transmission on the other.
-            const bool reflects = woLocal.z * wiLocal.z > 0.0f;
-            const float cosLight = ls ? dot(ls->direction, si.geometricNormal) : 0.0f;
-            if (ls && !ls->radiance.isBlack() && ((cosLight > 0.0f) == woAbove) == reflects) {
-                const Rgb f = material.eval(woLocal, wiLocal, woAbove) * std::abs(wiLocal.z);
-                if (!f.isBlack()) {
-                    PENUMBRA_CHECK(ls->pdf > 0.0f, "a light sample has a positive density");
-                    castsShadowRay = true;
-                    shadowRay = detail::spawnShadowRay(si, leaveDistance, *ls, cosLight, ray.time);
-                    const float weight =
-                        ls->isDelta || ctx.strategy == LightStrategy::Light
-                            ? 1.0f
-                            : powerHeuristic(ls->pdf, material.pdf(woLocal, wiLocal, woAbove));
-                    shadowContribution = throughput * f * ls->radiance * (weight / ls->pdf);
-                }
-            }
-        }
-
-        // --- Continuation: a BSDF sample for the next segment, then Russian roulette. Whether the
-        // path goes on, and if so its next segment in `ray` (and its new throughput: the shadow
-        // ray's contribution has the old one).
-        const bool continues = [&]() __attribute__((always_inline)) {
-            const float uLobe = material.usesLobeSample() ? sample.get1D(Dim::BsdfLobe, bounce) : 0.5f;
-            const auto bs = material.sample(woLocal, uLobe, uDirection, woAbove);
-            if (!bs) return false;
-            PENUMBRA_CHECK(bs->pdf > 0.0f, "a BSDF sample has a positive density");
-            const Vec3f wi = lanes.toWorld(bs->wi);
-            PENUMBRA_CHECK(detail::isUnit(wi), "a BSDF sample's direction has unit length");
-            const float cosWi = dot(wi, si.geometricNormal);
-            // A reflection that crosses the geometric surface, or a transmission that does not.
-            if (((cosWi > 0.0f) != woAbove) != bs->isTransmission()) return false;
-            throughput *= bs->weight;
-            if (bs->isTransmission()) etaScale *= bs->eta * bs->eta;
-            if (throughput.isBlack()) return false;
-            previousBsdfPdf = bs->pdf;
-            previousWasDelta = bs->isSpecular();
-            previousPosition = si.position;
-            previousNormal = si.geometricNormal;
-
-            if (int(bounce) + 1 >= ctx.rouletteStartDepth) {
-                // A path that survives for certain draws no sample (u < 1 never ends it).
-                const float survival = std::min(1.0f, std::sqrt((throughput * etaScale).maxComponent()));
-                if (survival < 1.0f) {
-                    if (sample.get1D(Dim::RussianRoulette, bounce) >= survival) return false;
-                    throughput *= 1.0f / survival;
-                }
-            }
-            PENUMBRA_CHECK(throughput.isFinite() && throughput.minComponent() >= 0.0f,
-                           "a path's throughput is finite and non-negative");
-            // The ray past the last vertex only looks for emission; without emitters it could hit,
-            // it is not traced (as Embree's pathtracer counts path length).
-            if (int(bounce) + 1 >= ctx.maxDepth && !lights.emitsAlongRays()) return false;
-            detail::continueRay(ray, si, leaveDistance, wi, cosWi);
-            return true;
-        }
-        ();
-
-        // --- The pending shadow ray.
-        if (castsShadowRay) {
+        const detail::PendingShadowRay shadow =
+            detail::sampleDirectLight(ctx, lights, sample, bounce, vertex, local, path, ray.time);
+        const bool continues =
+            detail::continuePath(ctx, lights, sample, bounce, uDirection, vertex, local, path, ray);
+        if (shadow.cast) {
             ++rays.shadow;
-            if (!accel.occluded(shadowRay, left)) radiance += shadowContribution;
+            if (!accel.occluded(shadow.ray, left)) path.radiance += shadow.contribution;
         }
         if (!continues) break;
         ++rays.extension;
     }
-    return radiance;
+    return path.radiance;
 }
 
 }  // namespace penumbra

@@ -81,9 +81,9 @@ struct Scene : SceneGeometry {
     RenderSettings settings;
     std::vector<Material> materials;
     std::vector<std::string> materialNames;  // materialNames[i] names materials[i]
-    std::vector<PointLight> pointLights;
-    std::vector<SpotLight> spotLights;
-    std::vector<DirectionalLight> directionalLights;
+    // The lights the scene names besides its emitting shapes and its environment (point, spot,
+    // directional), in the file's order.
+    std::vector<LightModel> lights;
     // Light arriving along every direction that escapes the scene: black, a constant (the scene
     // file's "background") or an image (its "environment").
     EnvironmentLight environment;

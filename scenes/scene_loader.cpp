@@ -743,7 +743,7 @@ void readPointLight(const JsonValue& value, Scene& scene) {
     PointLight light;
     light.position = value.requiredMember("position").vec3();
     light.intensity = value.requiredMember("intensity").rgb(0.0f);
-    scene.pointLights.push_back(light);
+    scene.lights.push_back(light);
 }
 
 // A spot light: "cone_angle" from the axis to where the light ends, "cone_delta" the band inside it
@@ -770,14 +770,15 @@ void readSpotLight(const JsonValue& value, Scene& scene) {
     constexpr double kRadians = std::numbers::pi / 180.0;
     light.cosFalloffEnd = float(std::cos(double(coneAngle) * kRadians));
     light.cosFalloffStart = float(std::cos(double(coneAngle - coneDelta) * kRadians));
-    scene.spotLights.push_back(light);
+    scene.lights.push_back(light);
 }
 
 void readDirectionalLight(const JsonValue& value, Scene& scene) {
     const JsonValue directionValue = value.requiredMember("direction");
     const Vec3f direction = directionValue.vec3();
     if (!(lengthSquared(direction) > 0.0f)) directionValue.failExpected("a non-zero direction");
-    scene.directionalLights.push_back({normalize(direction), value.requiredMember("irradiance").rgb(0.0f)});
+    scene.lights.push_back(
+        DirectionalLight{normalize(direction), value.requiredMember("irradiance").rgb(0.0f)});
 }
 
 using LightReader = void (*)(const JsonValue&, Scene&);

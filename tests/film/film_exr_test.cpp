@@ -241,7 +241,7 @@ Scene sphereScene() {
     ball.center = {0.0f, 0.0f, 0.0f};
     ball.radius = 1.0f;
     scene.spheres.push_back(ball);
-    scene.pointLights.push_back({{2.0f, 3.0f, 3.0f}, Rgb(20.0f)});
+    scene.lights.push_back(PointLight{{2.0f, 3.0f, 3.0f}, Rgb(20.0f)});
     scene.environment = EnvironmentLight::constant(Rgb(0.1f));
     return scene;
 }

@@ -276,8 +276,10 @@ TEST(PbrtMapping, SpotLights) {
     EXPECT_NEAR(lights[1]["intensity"][0].get<double>(), 10.0 / 0.715236, 1e-4);
     EXPECT_FALSE(hasWarning(c, "spot"));
     const Scene scene = buildPbrtScene(c, "test.pbrt");
-    ASSERT_EQ(scene.spotLights.size(), 2u);
-    EXPECT_NEAR(scene.spotLights[0].cosFalloffEnd, std::cos(40.0 * std::numbers::pi / 180.0), 1e-6);
+    ASSERT_EQ(scene.lights.size(), 2u);
+    ASSERT_TRUE(std::holds_alternative<SpotLight>(scene.lights[0]));
+    EXPECT_NEAR(std::get<SpotLight>(scene.lights[0]).cosFalloffEnd, std::cos(40.0 * std::numbers::pi / 180.0),
+                1e-6);
     EXPECT_THROW(
         convert(kCamera + "WorldBegin\nLightSource \"spot\" \"float coneangle\" 10 \"float conedelta\" 20\n"),
         InputError);

@@ -143,7 +143,7 @@ Scene sceneWithSeveralLights(bool withEnvironment) {
     cool.emission.radiance = {1, 2, 6};
     cool.emission.twoSided = true;
     scene.meshes = {warm, cool};
-    scene.pointLights.push_back({{0.5f, 3.0f, 0.0f}, Rgb(2.0f)});
+    scene.lights.push_back(PointLight{{0.5f, 3.0f, 0.0f}, Rgb(2.0f)});
     if (withEnvironment) scene.environment = EnvironmentLight::constant(Rgb(0.3f));
     return scene;
 }
@@ -154,8 +154,7 @@ Scene sceneWithSeveralLights(bool withEnvironment) {
 TEST(LightChoice, ChoosesEachLightWithTheProbabilityItReports) {
     for (const bool withEnvironment : {false, true}) {
         const Scene scene = sceneWithSeveralLights(withEnvironment);
-        const LightSet lights(scene, scene.pointLights, scene.spotLights, scene.directionalLights,
-                              scene.environment);
+        const LightSet lights(scene, scene.lights, scene.environment);
         ASSERT_TRUE(lights.choosesLocally());
         std::mt19937 rng(14);
         for (int point = 0; point < 6; ++point) {
@@ -200,10 +199,9 @@ TEST(LightChoice, ChoosesEachLightWithTheProbabilityItReports) {
 TEST(LightChoice, ProbabilitiesSumToOneWithAnEmitterPastTheFirstLanes) {
     Scene scene;
     for (int i = 0; i < 8; ++i)
-        scene.pointLights.push_back({{float(i) - 3.5f, 2.0f, 0.5f * float(i % 3)}, Rgb(1.0f + i)});
+        scene.lights.push_back(PointLight{{float(i) - 3.5f, 2.0f, 0.5f * float(i % 3)}, Rgb(1.0f + i)});
     scene.environment = EnvironmentLight::constant(Rgb(0.2f));
-    const LightSet lights(scene, scene.pointLights, scene.spotLights, scene.directionalLights,
-                          scene.environment);
+    const LightSet lights(scene, scene.lights, scene.environment);
     ASSERT_TRUE(lights.choosesLocally());
     ASSERT_EQ(lights.size(), 9u);
     std::mt19937 rng(16);
@@ -220,8 +218,7 @@ TEST(LightChoice, ProbabilitiesSumToOneWithAnEmitterPastTheFirstLanes) {
 // lights' importances differ widely (near one light, far from the others).
 TEST(LightChoice, RandomValuesPassChiSquare) {
     const Scene scene = sceneWithSeveralLights(true);
-    const LightSet lights(scene, scene.pointLights, scene.spotLights, scene.directionalLights,
-                          scene.environment);
+    const LightSet lights(scene, scene.lights, scene.environment);
     std::mt19937 rng(15);
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
     const std::vector<Vec3f> points = {{-1.5f, 1.9f, -0.5f}, {1.1f, 1.5f, 1.5f}, {0.0f, 0.0f, 0.0f}};
@@ -247,9 +244,8 @@ TEST(LightChoice, RandomValuesPassChiSquare) {
 TEST(LightChoice, OneEmitterChoosesByPower) {
     Scene scene = sceneWithSeveralLights(false);
     scene.meshes.pop_back();
-    scene.pointLights.clear();
-    const LightSet lights(scene, scene.pointLights, scene.spotLights, scene.directionalLights,
-                          scene.environment);
+    scene.lights.clear();
+    const LightSet lights(scene, scene.lights, scene.environment);
     EXPECT_FALSE(lights.choosesLocally());
     EXPECT_FLOAT_EQ(lights.choiceProbability(0, {0, 0, 0}, {0, 1, 0}), 0.5f);
 }

@@ -167,7 +167,7 @@ TEST(AreaLight, LightsChosenAtTheVertexSumToTheirClosedForms) {
     sphere.emission.radiance = Rgb(5.0f);
     scene.spheres.push_back(sphere);
     const Vec3f pointPosition{0.8f, 1.5f, -0.8f};
-    scene.pointLights.push_back({pointPosition, Rgb(1.0f)});
+    scene.lights.push_back(PointLight{pointPosition, Rgb(1.0f)});
 
     const double quads =
         polygonIrradiance(

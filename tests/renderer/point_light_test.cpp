@@ -41,7 +41,7 @@ TEST(PointLight, LambertPlaneMatchesClosedFormIrradiance) {
     scene.camera.verticalFovDegrees = 0.5f;
     scene.materials = {testing::makeLambert(Rgb(albedo))};
     scene.meshes.push_back(testing::makeQuad({-50, 0, -50}, {0, 0, 100}, {100, 0, 0}, 0));
-    scene.pointLights.push_back({{0.0f, height, 0.0f}, Rgb(intensity)});
+    scene.lights.push_back(PointLight{{0.0f, height, 0.0f}, Rgb(intensity)});
     scene.integrator.maxDepth = 1;
 
     for (float offset : {0.0f, 1.0f, 2.0f, 3.5f}) {
@@ -59,7 +59,7 @@ TEST(PointLight, NothingReachesThePlaneFromBelow) {
     scene.camera.verticalFovDegrees = 10.0f;
     scene.materials = {testing::makeLambert(Rgb(0.6f))};
     scene.meshes.push_back(testing::makeQuad({-50, 0, -50}, {0, 0, 100}, {100, 0, 0}, 0));
-    scene.pointLights.push_back({{0.0f, -2.0f, 0.0f}, Rgb(25.0f)});  // under the plane
+    scene.lights.push_back(PointLight{{0.0f, -2.0f, 0.0f}, Rgb(25.0f)});  // under the plane
     EXPECT_EQ(renderedMeanAt({0.0f, 0.0f, 0.0f}, scene), 0.0);
 }
 
@@ -76,8 +76,8 @@ TEST(SpotLight, LambertPlaneMatchesClosedFormInsideTheBandAndOutside) {
     scene.camera.verticalFovDegrees = 0.5f;
     scene.materials = {testing::makeLambert(Rgb(albedo))};
     scene.meshes.push_back(testing::makeQuad({-50, 0, -50}, {0, 0, 100}, {100, 0, 0}, 0));
-    scene.spotLights.push_back(
-        {{0.0f, height, 0.0f}, {0.0f, -1.0f, 0.0f}, Rgb(intensity), float(cosStart), float(cosEnd)});
+    scene.lights.push_back(
+        SpotLight{{0.0f, height, 0.0f}, {0.0f, -1.0f, 0.0f}, Rgb(intensity), float(cosStart), float(cosEnd)});
     scene.integrator.maxDepth = 1;
     const double bandMiddle = std::tan(std::acos(0.5 * (cosStart + cosEnd))) * height;
     for (double offset : {0.0, 0.5, bandMiddle, 1.5, 3.0}) {
@@ -124,7 +124,7 @@ TEST(DirectionalLight, LambertPlaneMatchesClosedForm) {
         scene.materials = {testing::makeLambert(Rgb(albedo))};
         scene.meshes.push_back(testing::makeQuad({-50, 0, -50}, {0, 0, 100}, {100, 0, 0}, 0));
         const float theta = degrees * kPi / 180.0f;
-        scene.directionalLights.push_back({{std::sin(theta), -std::cos(theta), 0.0f}, Rgb(irradiance)});
+        scene.lights.push_back(DirectionalLight{{std::sin(theta), -std::cos(theta), 0.0f}, Rgb(irradiance)});
         scene.integrator.maxDepth = 1;
         const double expected = albedo / kPi * irradiance * std::cos(theta);
         EXPECT_NEAR(renderedMeanAt({1.0f, 0.0f, 2.0f}, scene), expected, 1e-4 * expected)

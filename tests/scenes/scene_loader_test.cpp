@@ -116,16 +116,18 @@ TEST(SceneLoader, ReadsEveryKey) {
     EXPECT_EQ(sphere.emission.radiance, Rgb(2.0f));
     EXPECT_FALSE(sphere.emission.twoSided);
 
-    ASSERT_EQ(scene.pointLights.size(), 1u);
-    expectNear(scene.pointLights[0].position, {0, 3, 0});
-    EXPECT_EQ(scene.pointLights[0].intensity, Rgb(10.0f));
+    ASSERT_EQ(scene.lights.size(), 1u);
+    const PointLight* point = std::get_if<PointLight>(&scene.lights[0]);
+    ASSERT_NE(point, nullptr);
+    expectNear(point->position, {0, 3, 0});
+    EXPECT_EQ(point->intensity, Rgb(10.0f));
 }
 
 TEST(SceneLoader, EmptySceneIsValidAndUsesDefaults) {
     const Scene scene = loadScene(kScenes / "minimal.json");
     EXPECT_TRUE(scene.meshes.empty());
     EXPECT_TRUE(scene.spheres.empty());
-    EXPECT_TRUE(scene.pointLights.empty());
+    EXPECT_TRUE(scene.lights.empty());
     EXPECT_TRUE(scene.environment.isBlack());
     EXPECT_EQ(scene.film.width, FilmSettings{}.width);
     EXPECT_EQ(scene.film.samplesPerPixel, FilmSettings{}.samplesPerPixel);
@@ -150,7 +152,7 @@ TEST(SceneLoader, CornellBox) {
     EXPECT_EQ(scene.integrator.maxDepth, 65);  // pbrt-v4 file: "integer maxdepth" [ 65 ]
     EXPECT_TRUE(scene.environment.isBlack());
     EXPECT_TRUE(scene.spheres.empty());
-    EXPECT_TRUE(scene.pointLights.empty());
+    EXPECT_TRUE(scene.lights.empty());
 
     ASSERT_EQ(scene.materials.size(), 8u);
     EXPECT_EQ(scene.materialNames[0], "LeftWall");
@@ -299,15 +301,17 @@ TEST(SceneLoader, SpotLights) {
         {"type": "spot", "position": [0, 3, 0], "direction": [0, -2, 0], "intensity": 10},
         {"type": "spot", "position": [1, 1, 1], "direction": [1, 0, 0], "intensity": [1, 2, 3], "cone_angle": 60, "cone_delta": 60}]})",
                                    "spots.json");
-    ASSERT_EQ(scene.spotLights.size(), 2u);
-    const SpotLight& a = scene.spotLights[0];
+    ASSERT_EQ(scene.lights.size(), 2u);
+    ASSERT_TRUE(std::holds_alternative<SpotLight>(scene.lights[0]) &&
+                std::holds_alternative<SpotLight>(scene.lights[1]));
+    const SpotLight& a = std::get<SpotLight>(scene.lights[0]);
     expectNear(a.position, {0, 3, 0});
     expectNear(a.direction, {0, -1, 0});
     EXPECT_EQ(a.intensity, Rgb(10.0f));
     EXPECT_NEAR(a.cosFalloffEnd, 0.8660254f, 1e-6f);
     EXPECT_NEAR(a.cosFalloffStart, 0.9063078f, 1e-6f);
-    EXPECT_NEAR(scene.spotLights[1].cosFalloffEnd, 0.5f, 1e-6f);
-    EXPECT_EQ(scene.spotLights[1].cosFalloffStart, 1.0f);
+    EXPECT_NEAR(std::get<SpotLight>(scene.lights[1]).cosFalloffEnd, 0.5f, 1e-6f);
+    EXPECT_EQ(std::get<SpotLight>(scene.lights[1]).cosFalloffStart, 1.0f);
     for (
         const auto& [light, pointer, expected] :
         {std::tuple{R"({"type": "spot", "position": [0, 0, 0], "direction": [0, 0, 0], "intensity": 1})",
