@@ -1,0 +1,596 @@
+#include "scenes/shape_reader.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <optional>
+
+#include "core/error.h"
+#include "core/frame.h"
+#include "core/input_limits.h"
+#include "core/motion.h"
+#include "core/transform.h"
+#include "scenes/material_reader.h"
+#include "scenes/mesh_import.h"
+#include "scenes/texture_reader.h"
+#include "scenes/type_table.h"
+
+namespace penumbra {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Finite and within the documented coordinate limit in every axis (NaN fails too).
+bool withinCoordinateLimit(Vec3f p) {
+    return std::abs(p.x) <= limits::kMaxCoordinate && std::abs(p.y) <= limits::kMaxCoordinate &&
+           std::abs(p.z) <= limits::kMaxCoordinate;
+}
+
+// "radiance" may be a texture over the shape's (u, v) (scenes/README.md, "Textures"); its average
+// over [0, 1)^2 (32 x 32 lookups) then sets the light's power.
+Emission readEmission(const JsonValue& value, const fs::path& folder) {
+    const JsonObject object(value, {"radiance", "two_sided"});
+    Emission emission;
+    const JsonValue radiance = object.require("radiance");
+    if (isTextureValue(radiance)) {
+        emission.texture = std::make_shared<const Texture>(
+            readTexture(radiance, folder, 0.0f, std::numeric_limits<float>::max()));
+        const int n = 32;
+        double sum[3] = {0.0, 0.0, 0.0};
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                TextureQuery query;
+                query.uv = {(i + 0.5f) / n, (j + 0.5f) / n};
+                const Rgb c = emission.texture->evaluate(query);
+                for (int k = 0; k < 3; ++k) sum[k] += std::max(0.0f, c[k]);
+            }
+        emission.radiance = Rgb(float(sum[0] / (n * n)), float(sum[1] / (n * n)), float(sum[2] / (n * n)));
+        if (emission.radiance.isBlack())
+            radiance.fail(
+                "the emission texture is black at every one of 32 x 32 points spread over [0, 1)^2");
+    } else {
+        emission.radiance = radiance.rgb(0.0f);
+    }
+    if (auto v = object.get("two_sided")) emission.twoSided = v->boolean();
+    return emission;
+}
+
+Transform readTransformStep(const JsonValue& step) {
+    const JsonObject object(step, {"translate", "scale", "rotate", "matrix"});
+    if (step.json().size() != 1)
+        step.failExpected("an object with exactly one key: translate, scale, rotate or matrix");
+
+    if (auto v = object.get("translate")) return Transform::translate(v->vec3());
+    if (auto v = object.get("scale")) {
+        const bool isVector = v->json().is_array() && v->json().size() == 3;
+        if (!v->json().is_number() && !isVector)
+            v->failExpected("a non-zero number or an array of 3 non-zero numbers");
+        const Vec3f s = isVector ? v->vec3() : Vec3f(v->number(), v->number(), v->number());
+        if (s.x == 0.0f || s.y == 0.0f || s.z == 0.0f)
+            v->failExpected(
+                "non-zero scale factors (a zero factor flattens the shape and cannot be inverted)");
+        return Transform::scale(s);
+    }
+    if (auto v = object.get("rotate")) {
+        const JsonObject rotate(*v, {"axis", "degrees"});
+        const JsonValue axisValue = rotate.require("axis");
+        const Vec3f axis = axisValue.vec3();
+        if (!(lengthSquared(axis) > 0.0f)) axisValue.failExpected("a non-zero axis");
+        return Transform::rotate(rotate.require("degrees").number(), axis);
+    }
+    const JsonValue v = object.require("matrix");
+    if (!v.json().is_array() || v.json().size() != 16) v.failExpected("an array of 16 numbers (4 rows of 4)");
+    Matrix4 m;
+    for (size_t i = 0; i < 16; ++i) m.m[i / 4][i % 4] = v.element(i).number();
+    if (m.m[3] != std::array<float, 4>{0.0f, 0.0f, 0.0f, 1.0f})
+        v.fail("expected an affine matrix: the last row must be 0, 0, 0, 1");
+    const std::optional<Transform> transform = Transform::fromMatrix(m);
+    if (!transform) v.fail("the matrix is singular: it has no inverse");
+    return *transform;
+}
+
+// The steps apply in order, the first entry first.
+Transform readTransform(const JsonValue& value) {
+    Transform result;
+    for (const JsonValue& step : value.elements()) result = readTransformStep(step) * result;
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j)
+            if (!std::isfinite(result.matrix().m[i][j]) || !std::isfinite(result.inverseMatrix().m[i][j]))
+                value.fail("the combined transform overflows a 32-bit float");
+    return result;
+}
+
+// The uniform scale factor of a transform that is a similarity (rotation, uniform scale,
+// translation, mirror), the only kind that maps a sphere to a sphere; empty otherwise.
+std::optional<float> similarityScale(const Transform& transform) {
+    const auto& m = transform.matrix().m;
+    const Vec3f columns[3] = {
+        {m[0][0], m[1][0], m[2][0]}, {m[0][1], m[1][1], m[2][1]}, {m[0][2], m[1][2], m[2][2]}};
+    const float scale = length(columns[0]);
+    const float tolerance = 1e-4f;
+    for (int i = 0; i < 3; ++i) {
+        if (std::abs(length(columns[i]) - scale) > tolerance * scale) return std::nullopt;
+        for (int j = i + 1; j < 3; ++j)
+            if (std::abs(dot(columns[i], columns[j])) > tolerance * scale * scale) return std::nullopt;
+    }
+    return scale;
+}
+
+// One motion key: scale, then rotate, then translate (each optional).
+TransformKey readTransformKey(const JsonValue& value) {
+    const JsonObject object(value, {"scale", "rotate", "translate"});
+    TransformKey key;
+    if (auto v = object.get("scale")) {
+        const bool isVector = v->json().is_array() && v->json().size() == 3;
+        if (!v->json().is_number() && !isVector)
+            v->failExpected("a non-zero number or an array of 3 non-zero numbers");
+        key.scale = isVector ? v->vec3() : Vec3f(v->number(), v->number(), v->number());
+        if (key.scale.x == 0.0f || key.scale.y == 0.0f || key.scale.z == 0.0f)
+            v->failExpected("non-zero scale factors");
+    }
+    if (auto v = object.get("rotate")) {
+        const JsonObject rotate(*v, {"axis", "degrees"});
+        const JsonValue axisValue = rotate.require("axis");
+        const Vec3f axis = axisValue.vec3();
+        if (!(lengthSquared(axis) > 0.0f)) axisValue.failExpected("a non-zero axis");
+        key.rotation = Quaternion::fromAxisAngle(axis, rotate.require("degrees").number());
+    }
+    if (auto v = object.get("translate")) key.translation = v->vec3();
+    return key;
+}
+
+// Key times, when a scene gives them, must be what penumbra assumes: evenly spaced from the
+// shutter opening to its closing.
+void checkKeyTimes(const JsonValue& times, size_t keyCount, const ThinLensCameraParams& camera) {
+    if (times.arraySize() != keyCount) times.failExpected(fmt::format("{} times, one per key", keyCount));
+    const float open = camera.shutterOpen, close = camera.shutterClose;
+    const float tolerance = 1e-4f * std::max(1.0f, std::abs(close - open));
+    for (size_t i = 0; i < keyCount; ++i) {
+        const JsonValue t = times.element(i);
+        const float time = t.number();
+        if (time < open - tolerance || time > close + tolerance)
+            t.fail(fmt::format("key time {} is outside the shutter [{}, {}] (camera/shutter)", time, open,
+                               close));
+        const float expected = open + (close - open) * float(i) / float(keyCount - 1);
+        if (std::abs(time - expected) > tolerance)
+            t.fail(fmt::format("key times must be evenly spaced from shutter open to close; expected {}",
+                               expected));
+    }
+}
+
+struct ShapeMotion {
+    MotionTransform transform;
+    std::vector<std::vector<Vec3f>> positionKeys;
+};
+
+// "motion": {"times": [...], "transforms": [key, ...], "positions": [[p, ...], ...]}; keys are
+// evenly spaced over the shutter. Deformation ("positions") is for inline triangle meshes only.
+ShapeMotion readMotion(const JsonValue& value, const ThinLensCameraParams& camera, bool allowPositions,
+                       size_t vertexCount) {
+    const JsonObject object(value, {"times", "transforms", "positions"});
+    if (camera.shutterClose <= camera.shutterOpen)
+        value.fail("motion needs an open shutter: set camera/shutter to [open, close] with close > open");
+    ShapeMotion motion;
+    size_t keyCount = 0;
+    if (auto v = object.get("transforms")) {
+        if (v->arraySize() < 2) v->failExpected("an array of at least 2 transform keys");
+        for (const JsonValue& key : v->elements()) motion.transform.keys.push_back(readTransformKey(key));
+        keyCount = motion.transform.keys.size();
+    }
+    if (auto v = object.get("positions")) {
+        if (!allowPositions) v->fail("per-vertex motion keys are only supported on triangle_mesh shapes");
+        if (v->arraySize() < 2) v->failExpected("an array of at least 2 position arrays");
+        for (const JsonValue& keyValue : v->elements()) {
+            std::vector<Vec3f> key;
+            for (const JsonValue& p : keyValue.elements()) key.push_back(p.vec3());
+            if (key.size() != vertexCount)
+                keyValue.failExpected(fmt::format("{} positions, as many as the mesh has", vertexCount));
+            motion.positionKeys.push_back(std::move(key));
+        }
+        if (keyCount != 0 && keyCount != motion.positionKeys.size())
+            v->failExpected(fmt::format("{} keys, as many as transforms", keyCount));
+        keyCount = motion.positionKeys.size();
+    }
+    if (keyCount == 0) value.failExpected("\"transforms\" or \"positions\" keys");
+    if (auto v = object.get("times")) checkKeyTimes(*v, keyCount, camera);
+    return motion;
+}
+
+// Speed trick: inline meshes of a million vertices (a converted pbrt scene's) are read straight
+// from the document when every entry is well-formed, without the located access that names each
+// value; any entry that is not sends the caller to the checked reading, which reports it
+// (bench/README.md, pbrt_parse_bench).
+bool readVec3sDirectly(const Json& array, std::vector<Vec3f>& out) {
+    if (!array.is_array()) return false;
+    out.reserve(array.size());
+    for (const Json& entry : array) {
+        if (!entry.is_array() || entry.size() != 3) return false;
+        float v[3];
+        for (size_t i = 0; i < 3; ++i) {
+            if (!entry[i].is_number()) return false;
+            const double d = entry[i].get<double>();
+            if (!(std::abs(d) <= double(limits::kMaxCoordinate))) return false;
+            v[i] = float(d);
+            if (!(std::abs(v[i]) <= limits::kMaxCoordinate)) return false;
+        }
+        out.push_back({v[0], v[1], v[2]});
+    }
+    return true;
+}
+
+bool readIndicesDirectly(const Json& array, size_t count, std::vector<uint32_t>& out) {
+    if (!array.is_array()) return false;
+    out.reserve(array.size());
+    for (const Json& entry : array) {
+        if (!entry.is_number_integer()) return false;
+        const int64_t i = entry.get<int64_t>();
+        if (i < 0 || uint64_t(i) >= count) return false;
+        out.push_back(uint32_t(i));
+    }
+    return true;
+}
+
+TriangleMesh readInlineMesh(const JsonValue& value) {
+    TriangleMesh mesh;
+    const JsonValue positions = value.requiredMember("positions");
+    if (!readVec3sDirectly(positions.json(), mesh.positions)) {
+        mesh.positions.clear();
+        for (const JsonValue& p : positions.elements()) mesh.positions.push_back(p.vec3());
+    }
+    if (mesh.positions.empty()) positions.failExpected("a non-empty array of [x, y, z] positions");
+    const size_t count = mesh.positions.size();
+
+    const JsonValue indices = value.requiredMember("indices");
+    const size_t indexCount = indices.arraySize();
+    if (indexCount == 0 || indexCount % 3 != 0)
+        indices.failExpected("a non-empty array of vertex indices, 3 per triangle");
+    if (!readIndicesDirectly(indices.json(), count, mesh.indices)) {
+        mesh.indices.clear();
+        for (const JsonValue& i : indices.elements()) {
+            const int64_t index = i.integer(0);
+            if (uint64_t(index) >= count)
+                i.fail(
+                    fmt::format("index {} is out of range: the mesh has {} positions (indices count from 0)",
+                                index, count));
+            mesh.indices.push_back(uint32_t(index));
+        }
+    }
+    if (auto normals = value.member("normals")) {
+        if (normals->arraySize() != count)
+            normals->failExpected(fmt::format("an array of {} normals, one per position", count));
+        const bool direct =
+            readVec3sDirectly(normals->json(), mesh.normals) &&
+            std::all_of(mesh.normals.begin(), mesh.normals.end(), [](Vec3f n) { return length(n) > 0.0f; });
+        if (direct) {
+            for (Vec3f& n : mesh.normals) n = normalize(n);
+        } else {
+            mesh.normals.clear();
+            for (const JsonValue& n : normals->elements()) {
+                const Vec3f normal = n.vec3();
+                if (!(length(normal) > 0.0f)) n.failExpected("a non-zero normal");
+                mesh.normals.push_back(normalize(normal));
+            }
+        }
+    }
+    if (auto uvs = value.member("uvs")) {
+        if (uvs->arraySize() != count)
+            uvs->failExpected(fmt::format("an array of {} uvs, one per position", count));
+        for (const JsonValue& uv : uvs->elements()) mesh.uvs.push_back(uv.vec2());
+    }
+    return mesh;
+}
+
+// The mesh of a "mesh_file" shape; its file's path is appended to `files`.
+TriangleMesh readMeshFile(const JsonValue& value, const fs::path& folder, std::vector<fs::path>& files) {
+    const JsonValue fileValue = value.requiredMember("file");
+    const fs::path relative = fileValue.string();
+    if (relative.empty()) fileValue.failExpected("a file name");
+    const fs::path path = relative.is_absolute() ? relative : folder / relative;
+    files.push_back(path);
+    TriangleMesh mesh;
+    try {
+        mesh = importMesh(path);
+    } catch (const InputError& e) {
+        // Name the shape too: the same mesh file may serve several scenes.
+        throw InputError(e.where(), fmt::format("{} (mesh file of {}: {})", e.message(), fileValue.file(),
+                                                fileValue.pointer()));
+    }
+    mesh.name = fmt::format("{} ({})", value.pointer(), path.filename().string());
+    return mesh;
+}
+
+TriangleMesh readQuad(const JsonValue& value) {
+    const Vec3f corner = value.requiredMember("corner").vec3();
+    const Vec3f edge1 = value.requiredMember("edge1").vec3();
+    const Vec3f edge2 = value.requiredMember("edge2").vec3();
+    if (!(lengthSquared(cross(edge1, edge2)) > 0.0f))
+        value.fail("edge1 and edge2 are zero or parallel, so the quad has no area");
+    TriangleMesh mesh;
+    // Triangles (0, 1, 2) and (0, 2, 3) both have the front normal cross(edge1, edge2).
+    mesh.positions = {corner, corner + edge1, corner + edge1 + edge2, corner + edge2};
+    mesh.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    mesh.indices = {0, 1, 2, 0, 2, 3};
+    return mesh;
+}
+
+// A disk as a fan of triangles around its centre; front normal = `normal`. With the default 256
+// segments its area is 0.99990 of the round disk's, so lighting from it agrees to 1e-4.
+TriangleMesh readDisk(const JsonValue& value) {
+    const Vec3f center = value.requiredMember("center").vec3();
+    const JsonValue normalValue = value.requiredMember("normal");
+    const Vec3f normal = normalValue.vec3();
+    if (!(lengthSquared(normal) > 0.0f)) normalValue.failExpected("a non-zero normal");
+    const float radius = value.requiredMember("radius").numberAbove(0.0f);
+    int segments = 256;
+    if (auto v = value.member("segments")) segments = int(v->integer(3, 1 << 16));
+    const Frame frame = Frame::fromNormal(normalize(normal));
+    TriangleMesh mesh;
+    mesh.positions.push_back(center);
+    mesh.uvs.push_back({0.5f, 0.5f});
+    for (int i = 0; i < segments; ++i) {
+        const double angle = 2.0 * 3.14159265358979323846 * i / segments;
+        const float c = float(std::cos(angle)), sn = float(std::sin(angle));
+        mesh.positions.push_back(center + frame.toWorld({radius * c, radius * sn, 0.0f}));
+        mesh.uvs.push_back({0.5f + 0.5f * c, 0.5f + 0.5f * sn});
+        // Counter-clockwise seen from the front: (centre, i, i + 1) has normal +frame.n.
+        mesh.indices.insert(mesh.indices.end(), {0u, uint32_t(1 + i), uint32_t(1 + (i + 1) % segments)});
+    }
+    return mesh;
+}
+
+// What every shape reader is given: the scene so far (its materials, its camera's shutter, the
+// mesh files named) and the scene file's folder.
+struct ShapeContext {
+    Scene& scene;
+    const fs::path& folder;
+    const std::vector<std::string>& prototypeNames;  // prototypeNames[i] names scene.prototypes[i]
+};
+
+void readSphere(const JsonValue& value, ShapeContext& context) {
+    Scene& scene = context.scene;
+    Sphere sphere;
+    sphere.name = value.pointer();
+    sphere.center = value.requiredMember("center").vec3();
+    sphere.radius = value.requiredMember("radius").numberAbove(0.0f);
+    sphere.material = readMaterialReference(value.requiredMember("material"), scene.materialNames);
+    if (auto v = value.member("emission")) sphere.emission = readEmission(*v, context.folder);
+    if (auto v = value.member("transform")) {
+        const Transform transform = readTransform(*v);
+        const std::optional<float> scale = similarityScale(transform);
+        if (!scale)
+            v->fail(
+                "a sphere can only be translated, rotated, mirrored and scaled uniformly; this transform "
+                "would make it an ellipsoid");
+        sphere.center = transform.applyPoint(sphere.center);
+        sphere.radius *= *scale;
+        if (!isFinite(sphere.center) || !std::isfinite(sphere.radius) || !(sphere.radius > 0.0f))
+            v->fail("the transformed sphere does not fit a 32-bit float");
+    }
+    if (!withinCoordinateLimit(sphere.center) || !(sphere.radius <= limits::kMaxCoordinate))
+        value.fail(fmt::format(
+            "the sphere (centre ({}, {}, {}), radius {}) reaches beyond the coordinate limit of {:g} "
+            "(docs/limits.md)",
+            sphere.center.x, sphere.center.y, sphere.center.z, sphere.radius, limits::kMaxCoordinate));
+    if (auto v = value.member("motion")) {
+        if (sphere.emission.emits())
+            v->fail("moving light sources are not supported: a sphere with motion cannot emit");
+        sphere.motion = readMotion(*v, scene.camera, false, 0).transform;
+    }
+    scene.spheres.push_back(sphere);
+}
+
+// `transform` (a JSON value) moved `vertices` beyond the range of a float: an error at it.
+void checkTransformedVertices(const JsonValue& transform, const std::vector<Vec3f>& vertices) {
+    for (size_t i = 0; i < vertices.size(); ++i)
+        if (!isFinite(vertices[i]))
+            transform.fail(fmt::format(
+                "the transform moves vertex {} (counting from 0) beyond the range of a 32-bit float", i));
+}
+
+// Derived geometry too (corner + edge, a transform, a mesh file's vertices): a vertex at
+// infinity or near 3e38 would make its triangles vanish silently.
+void checkVerticesWithinLimit(const JsonValue& shape, const std::vector<Vec3f>& vertices) {
+    for (size_t i = 0; i < vertices.size(); ++i)
+        if (!withinCoordinateLimit(vertices[i]))
+            shape.fail(fmt::format(
+                "vertex {} (counting from 0) lies at ({}, {}, {}), beyond the coordinate limit of "
+                "{:g} (docs/limits.md)",
+                i, vertices[i].x, vertices[i].y, vertices[i].z, limits::kMaxCoordinate));
+}
+
+// What all triangle-mesh shapes share, once their own reader has made the mesh: the material,
+// emission, motion and transform keys.
+void addMeshShape(TriangleMesh mesh, const JsonValue& value, bool allowPositionKeys, Scene& scene,
+                  const fs::path& folder) {
+    mesh.material = readMaterialReference(value.requiredMember("material"), scene.materialNames);
+    if (auto v = value.member("emission")) mesh.emission = readEmission(*v, folder);
+    if (auto v = value.member("motion")) {
+        if (mesh.emission.emits())
+            v->fail("moving light sources are not supported: a shape with motion cannot emit");
+        ShapeMotion motion = readMotion(*v, scene.camera, allowPositionKeys, mesh.positions.size());
+        mesh.motion = std::move(motion.transform);
+        mesh.positionKeys = std::move(motion.positionKeys);
+        if (!mesh.positionKeys.empty()) mesh.positions = mesh.positionKeys.front();
+    }
+    if (auto v = value.member("transform")) {
+        const Transform transform = readTransform(*v);
+        transformMesh(mesh, transform);
+        for (auto& key : mesh.positionKeys)
+            for (Vec3f& p : key) p = transform.applyPoint(p);
+        for (const auto& key : mesh.positionKeys) checkTransformedVertices(*v, key);
+        checkTransformedVertices(*v, mesh.positions);
+    }
+    checkVerticesWithinLimit(value, mesh.positions);
+    for (const auto& key : mesh.positionKeys)
+        for (size_t i = 0; i < key.size(); ++i)
+            if (!withinCoordinateLimit(key[i]))
+                value.fail(fmt::format(
+                    "vertex {} (counting from 0) of a motion key lies beyond the coordinate limit "
+                    "of {:g} (docs/limits.md)",
+                    i, limits::kMaxCoordinate));
+    if (mesh.emission.emits()) {
+        double area = 0.0;
+        for (size_t t = 0; t < mesh.triangleCount(); ++t) {
+            const Vec3f p0 = mesh.positions[mesh.indices[3 * t]],
+                        p1 = mesh.positions[mesh.indices[3 * t + 1]],
+                        p2 = mesh.positions[mesh.indices[3 * t + 2]];
+            area += 0.5 * length(cross(p1 - p0, p2 - p0));
+        }
+        if (!(area > 0.0))
+            value.requiredMember("emission").fail("an emitting shape must have a non-zero area");
+    }
+    scene.meshes.push_back(std::move(mesh));
+}
+
+void readTriangleMeshShape(const JsonValue& value, ShapeContext& context) {
+    TriangleMesh mesh = readInlineMesh(value);
+    mesh.name = value.pointer();
+    addMeshShape(std::move(mesh), value, true, context.scene, context.folder);
+}
+
+void readMeshFileShape(const JsonValue& value, ShapeContext& context) {
+    addMeshShape(readMeshFile(value, context.folder, context.scene.meshFiles), value, false, context.scene,
+                 context.folder);
+}
+
+void readQuadShape(const JsonValue& value, ShapeContext& context) {
+    TriangleMesh mesh = readQuad(value);
+    mesh.name = value.pointer();
+    addMeshShape(std::move(mesh), value, false, context.scene, context.folder);
+}
+
+void readDiskShape(const JsonValue& value, ShapeContext& context) {
+    TriangleMesh mesh = readDisk(value);
+    mesh.name = value.pointer();
+    addMeshShape(std::move(mesh), value, false, context.scene, context.folder);
+}
+
+// Whether every vertex of `mesh` placed by `toWorld` lies within the coordinate limit: the
+// corners of its box, placed, bound them all.
+bool placedWithinCoordinateLimit(const TriangleMesh& mesh, const Transform& toWorld) {
+    if (mesh.positions.empty()) return true;
+    Vec3f lower = mesh.positions.front(), upper = lower;
+    for (const Vec3f& p : mesh.positions) {
+        lower = min(lower, p);
+        upper = max(upper, p);
+    }
+    for (int c = 0; c < 8; ++c)
+        if (!withinCoordinateLimit(toWorld.applyPoint(
+                {(c & 1) ? upper.x : lower.x, (c & 2) ? upper.y : lower.y, (c & 4) ? upper.z : lower.z})))
+            return false;
+    return true;
+}
+
+// {"type": "instance", "prototype": name, "material": name, "transform" or "motion"}: a placement
+// of a mesh of the scene's "prototypes".
+void readInstance(const JsonValue& value, ShapeContext& context) {
+    Scene& scene = context.scene;
+    MeshInstance instance;
+    instance.name = value.pointer();
+    const JsonValue prototypeValue = value.requiredMember("prototype");
+    const std::string name = prototypeValue.string();
+    const auto found = std::find(context.prototypeNames.begin(), context.prototypeNames.end(), name);
+    if (found == context.prototypeNames.end()) {
+        std::string known;
+        for (const std::string& n : context.prototypeNames) known += (known.empty() ? "" : ", ") + n;
+        prototypeValue.fail(
+            fmt::format("unknown prototype \"{}\" ({})", name,
+                        known.empty() ? "the scene defines no prototypes" : "known prototypes: " + known));
+    }
+    instance.prototype = uint32_t(found - context.prototypeNames.begin());
+    instance.material = readMaterialReference(value.requiredMember("material"), scene.materialNames);
+    if (auto v = value.member("emission"))
+        v->fail(
+            "an instance cannot emit light: give the emitting mesh as a shape of its own (triangle_mesh, "
+            "mesh_file, quad or disk)");
+    const auto transformValue = value.member("transform");
+    if (transformValue) instance.placement = readTransform(*transformValue);
+    if (auto v = value.member("motion")) {
+        if (transformValue)
+            v->fail(
+                "an instance takes either transform or motion, not both: motion keys scale, rotate and "
+                "translate the prototype themselves");
+        instance.motion = readMotion(*v, scene.camera, false, 0).transform;
+    }
+    const TriangleMesh& prototype = scene.prototypes[instance.prototype];
+    const std::vector<TransformKey> keys = instance.motion.keys;
+    bool within = keys.empty() ? placedWithinCoordinateLimit(prototype, instance.placement) : true;
+    for (const TransformKey& key : keys)
+        within = within && placedWithinCoordinateLimit(prototype, key.toTransform());
+    if (!within)
+        value.fail(
+            fmt::format("the placed prototype \"{}\" reaches beyond the coordinate limit of {:g} "
+                        "(docs/limits.md)",
+                        name, limits::kMaxCoordinate));
+    scene.instances.push_back(std::move(instance));
+}
+
+using ShapeReader = void (*)(const JsonValue&, ShapeContext&);
+
+const std::array<TypeRow<ShapeReader>, 6> kShapeTypes{{
+    {"triangle_mesh",
+     {"type", "positions", "indices", "normals", "uvs", "material", "emission", "transform", "motion"},
+     readTriangleMeshShape},
+    {"mesh_file", {"type", "file", "material", "emission", "transform", "motion"}, readMeshFileShape},
+    {"quad",
+     {"type", "corner", "edge1", "edge2", "material", "emission", "transform", "motion"},
+     readQuadShape},
+    {"sphere", {"type", "center", "radius", "material", "emission", "transform", "motion"}, readSphere},
+    {"disk",
+     {"type", "center", "normal", "radius", "segments", "material", "emission", "transform", "motion"},
+     readDiskShape},
+    {"instance", {"type", "prototype", "material", "emission", "transform", "motion"}, readInstance},
+}};
+
+// A prototype: a mesh in its own space, stored once and placed by "instance" shapes. Its geometry
+// is given as for the mesh shapes (with an optional transform baked in); material, emission and
+// motion belong to the instances.
+using PrototypeReader = TriangleMesh (*)(const JsonValue&, ShapeContext&);
+
+TriangleMesh readInlinePrototype(const JsonValue& value, ShapeContext&) { return readInlineMesh(value); }
+TriangleMesh readMeshFilePrototype(const JsonValue& value, ShapeContext& context) {
+    return readMeshFile(value, context.folder, context.scene.meshFiles);
+}
+TriangleMesh readQuadPrototype(const JsonValue& value, ShapeContext&) { return readQuad(value); }
+TriangleMesh readDiskPrototype(const JsonValue& value, ShapeContext&) { return readDisk(value); }
+
+const std::array<TypeRow<PrototypeReader>, 4> kPrototypeTypes{{
+    {"triangle_mesh", {"type", "positions", "indices", "normals", "uvs", "transform"}, readInlinePrototype},
+    {"mesh_file", {"type", "file", "transform"}, readMeshFilePrototype},
+    {"quad", {"type", "corner", "edge1", "edge2", "transform"}, readQuadPrototype},
+    {"disk", {"type", "center", "normal", "radius", "segments", "transform"}, readDiskPrototype},
+}};
+
+}  // namespace
+
+void readPrototypes(const JsonValue& section, const fs::path& folder, Scene& scene,
+                    std::vector<std::string>& names) {
+    ShapeContext context{scene, folder, names};
+    for (const auto& [name, value] : section.members()) {
+        TriangleMesh mesh = findTypeRow<PrototypeReader>(value, kPrototypeTypes).read(value, context);
+        if (mesh.name.empty()) mesh.name = value.pointer();
+        if (auto v = value.member("transform")) {
+            transformMesh(mesh, readTransform(*v));
+            checkTransformedVertices(*v, mesh.positions);
+        }
+        checkVerticesWithinLimit(value, mesh.positions);
+        context.scene.prototypes.push_back(std::move(mesh));
+        names.push_back(name);
+    }
+}
+
+void readShapes(const JsonValue& section, const fs::path& folder,
+                const std::vector<std::string>& prototypeNames, Scene& scene) {
+    ShapeContext context{scene, folder, prototypeNames};
+    for (const JsonValue& shape : section.elements())
+        findTypeRow<ShapeReader>(shape, kShapeTypes).read(shape, context);
+    for (Sphere& sphere : scene.spheres)
+        sphere.needsUv = scene.materials[sphere.material].isTextured() || sphere.emission.texture != nullptr;
+}
+
+}  // namespace penumbra
