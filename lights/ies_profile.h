@@ -18,6 +18,11 @@
 // theta = angle(d, +z), so +z is the nadir (vertical angle 0: straight down the luminaire's
 // axis) and -z the zenith, and the horizontal angle phi = atan2(d.y, d.x), measured from +x
 // (LM-63's 0 plane, along the luminaire's length) towards +y (its 90 plane).
+// Handedness: type C horizontal angles turn counterclockwise seen from above the luminaire (plan
+// view). Seen from above, looking along +z, the turn from +x towards +y is clockwise, so a
+// right-handed frame with +z down shows a luminaire's distribution mirrored about its 0-180 plane:
+// a light placing it with a rotation negates y (or phi) where it matters. It does not for
+// rotationally, quadrant and 0..180 bilaterally symmetric files, the great majority.
 //
 // Between the table's angles the intensity is bilinear in (theta, phi), in degrees as the file
 // gives them; at the table's angles it is exactly the file's value (times the multipliers).
