@@ -53,6 +53,13 @@ constexpr int64_t kMinPbrtPlacedShapes = int64_t(1) << 16;
 // Bytes of a mesh file as read: an OBJ or PLY file, or a .ply.gz once decompressed.
 constexpr uint64_t kMaxMeshFileBytes = uint64_t(4) << 30;
 
+// IES photometric files (lights/ies_profile.h): bytes of a file, and angles of each kind in its
+// table. Real files are a few kilobytes with at most a few hundred angles of each; the limits keep
+// a table (4096 x 4096 values, four times that once a quadrant symmetry is unfolded) within a few
+// hundred megabytes, and the table grows only with the numbers the file actually holds.
+constexpr uint64_t kMaxIesFileBytes = uint64_t(16) << 20;
+constexpr int kMaxIesAngles = 4096;
+
 // Magnitude of a coordinate or a length in a scene (positions, corners, centres, radii, lens
 // sizes), after transforms: below it, squared distances stay within a 32-bit float (1e36 < 3.4e38);
 // beyond it, intersection tests overflow and geometry would silently vanish.
