@@ -1,5 +1,5 @@
 // The film's EXR (docs/exr-layout.md), written and read with OpenEXR directly: linking OpenEXR
-// costs a process a few milliseconds at start-up, OpenImageIO about 0.4 s.
+// costs a process far less at start-up than OpenImageIO (bench/README.md, "Speed tricks").
 #include "film/film_exr.h"
 
 #include <OpenEXR/ImfChannelList.h>
