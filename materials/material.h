@@ -5,6 +5,8 @@
 //   Rgb eval(wo, wi, front), float pdf(wo, wi, front)      0 for specular lobes
 //   std::optional<BsdfSample> sample(wo, uLobe, u, front)  one lobe, chosen with uLobe when there are several
 //   Rgb reflectanceForAov()                                the albedo AOV, as denoisers expect it
+// A model with a medium behind its surface (the dielectrics) also has
+//   Rgb interiorAbsorption()                               sigma_a of that medium (HasInteriorAbsorption)
 // All directions are in the local shading frame (normal = +z) and point away from the surface.
 //
 // Sides. Every call takes `front`: whether wo lies on the front side of the GEOMETRIC surface (the
@@ -28,6 +30,8 @@
 // loader's material table (scenes/material_reader.cpp), and its tests.
 #pragma once
 
+#include <concepts>
+#include <cstddef>
 #include <memory>
 #include <optional>
 #include <variant>
@@ -46,6 +50,12 @@
 #include "textures/texture.h"
 
 namespace penumbra {
+
+// A model with an absorbing medium behind its surface: what Material::interiorAbsorption asks.
+template <typename M>
+concept HasInteriorAbsorption = requires(const M& m) {
+    { m.interiorAbsorption() } -> std::same_as<Rgb>;
+};
 
 using MaterialModel = std::variant<Lambert, Phong, Dielectric, ThinDielectric, Mirror, Conductor,
                                    RoughConductor, RoughDielectric, CoatedDiffuse, RoughCoatedDiffuse>;
@@ -118,11 +128,8 @@ public:
 
     // Absorption coefficient sigma_a (per unit length) of the medium behind the surface, for path
     // segments that reach the surface from its back side; black when there is none.
-    Rgb interiorAbsorption() const {
-        if (const Dielectric* dielectric = std::get_if<Dielectric>(&model_)) return dielectric->absorption;
-        if (const RoughDielectric* rough = std::get_if<RoughDielectric>(&model_)) return rough->absorption;
-        return Rgb(0.0f);
-    }
+    // Only the models that declare one (HasInteriorAbsorption) are tested, in the variant's order.
+    Rgb interiorAbsorption() const { return interiorAbsorptionFrom(); }
 
     // Reflectance for the albedo AOV (as denoisers expect it): a diffuse albedo (a coated base's
     // too), Phong's kd + ks, a mirror's tint, a conductor's reflectance at normal incidence, white
@@ -134,6 +141,19 @@ public:
     }
 
 private:
+    // The first alternative from I on that declares an interior absorption, when model_ holds it.
+    template <size_t I = 0>
+    Rgb interiorAbsorptionFrom() const {
+        if constexpr (I == std::variant_size_v<MaterialModel>) {
+            return Rgb(0.0f);
+        } else {
+            using M = std::variant_alternative_t<I, MaterialModel>;
+            if constexpr (HasInteriorAbsorption<M>)
+                if (const M* m = std::get_if<I>(&model_)) return m->interiorAbsorption();
+            return interiorAbsorptionFrom<I + 1>();
+        }
+    }
+
     [[gnu::noinline]] Rgb evalOutOfLine(Vec3f wo, Vec3f wi, bool front) const {
         return std::visit([&](const auto& m) { return m.eval(wo, wi, front); }, model_);
     }
