@@ -1,6 +1,6 @@
-// The closed set of materials: a std::variant of the BSDF models, dispatched with std::visit, so
-// that a model missing a member function is a compile error rather than a silent default. Every
-// model has the same interface:
+// The closed set of materials: a std::variant of the BSDF models, dispatched with std::visit. Every
+// model has the same interface, the concept BsdfModel below, so that a model missing a member
+// function is a compile error naming it rather than a silent default:
 //   static constexpr BsdfFlags kFlags                     the lobes it has
 //   Rgb eval(wo, wi, front), float pdf(wo, wi, front)      0 for specular lobes
 //   std::optional<BsdfSample> sample(wo, uLobe, u, front)  one lobe, chosen with uLobe when there are several
@@ -51,6 +51,16 @@
 
 namespace penumbra {
 
+// What Material's dispatch calls on every model.
+template <typename M>
+concept BsdfModel = std::copyable<M> && requires(const M& m, Vec3f w, float uLobe, Vec2f u, bool front) {
+    { M::kFlags } -> std::convertible_to<BsdfFlags>;
+    { m.eval(w, w, front) } -> std::same_as<Rgb>;
+    { m.pdf(w, w, front) } -> std::same_as<float>;
+    { m.sample(w, uLobe, u, front) } -> std::same_as<std::optional<BsdfSample>>;
+    { m.reflectanceForAov() } -> std::same_as<Rgb>;
+};
+
 // A model with an absorbing medium behind its surface: what Material::interiorAbsorption asks.
 template <typename M>
 concept HasInteriorAbsorption = requires(const M& m) {
@@ -59,6 +69,20 @@ concept HasInteriorAbsorption = requires(const M& m) {
 
 using MaterialModel = std::variant<Lambert, Phong, Dielectric, ThinDielectric, Mirror, Conductor,
                                    RoughConductor, RoughDielectric, CoatedDiffuse, RoughCoatedDiffuse>;
+
+namespace detail {
+// Viable only for a BsdfModel: otherwise the compiler names the model and what it misses.
+template <BsdfModel M>
+constexpr bool isABsdfModel() {
+    return true;
+}
+template <typename... Models>
+constexpr bool everyAlternativeIsABsdfModel(const std::variant<Models...>*) {
+    return (isABsdfModel<Models>() && ...);
+}
+}  // namespace detail
+static_assert(detail::everyAlternativeIsABsdfModel(static_cast<const MaterialModel*>(nullptr)),
+              "every alternative of MaterialModel is a BsdfModel");
 
 // One textured parameter: its texture, and how a value of it is written into the model (the scene
 // loader's material table knows which member of which model a key names).
