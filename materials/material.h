@@ -37,6 +37,7 @@
 #include <variant>
 #include <vector>
 
+#include "core/check.h"
 #include "core/rgb.h"
 #include "core/vec.h"
 #include "materials/bsdf.h"
@@ -100,7 +101,17 @@ public:
           twoSided_(twoSided),
           flags_(std::visit([](const auto& m) { return m.kFlags; }, model_)),
           usesLobeSample_(hasSeveralLobes(flags_)),
-          purelySpecular_(penumbra::isPurelySpecular(flags_)) {}
+          purelySpecular_(penumbra::isPurelySpecular(flags_)) {
+        PENUMBRA_CHECK(std::visit(
+                           [](const auto& m) {
+                               if constexpr (requires { requires std::same_as<decltype(m.eta), float>; })
+                                   return m.eta > 0.0f;
+                               else
+                                   return true;
+                           },
+                           model_),
+                       "a model's relative index of refraction is positive (the scene loader checks it)");
+    }
     // `model` holds the untextured parameters' values; each of `textures` overrides one parameter.
     Material(MaterialModel model, bool twoSided, std::vector<TexturedParameter> textures)
         : Material(std::move(model), twoSided) {
@@ -179,15 +190,23 @@ private:
     }
 
     [[gnu::noinline]] Rgb evalOutOfLine(Vec3f wo, Vec3f wi, bool front) const {
-        return std::visit([&](const auto& m) { return m.eval(wo, wi, front); }, model_);
+        const Rgb f = std::visit([&](const auto& m) { return m.eval(wo, wi, front); }, model_);
+        PENUMBRA_CHECK(!(f.minComponent() < 0.0f), "a BSDF value is never negative");
+        return f;
     }
     [[gnu::noinline]] float pdfOutOfLine(Vec3f wo, Vec3f wi, bool front) const {
-        return std::visit([&](const auto& m) { return m.pdf(wo, wi, front); }, model_);
+        const float p = std::visit([&](const auto& m) { return m.pdf(wo, wi, front); }, model_);
+        PENUMBRA_CHECK(!(p < 0.0f), "a density is never negative");
+        return p;
     }
     [[gnu::noinline]] std::optional<BsdfSample> sampleOutOfLine(Vec3f wo, float uLobe, Vec2f u,
                                                                 bool front) const {
         if (!twoSided_ && !front) return std::nullopt;
-        return std::visit([&](const auto& m) { return m.sample(wo, uLobe, u, front); }, model_);
+        const std::optional<BsdfSample> s =
+            std::visit([&](const auto& m) { return m.sample(wo, uLobe, u, front); }, model_);
+        PENUMBRA_CHECK(!s || (s->pdf > 0.0f && s->weight.isFinite() && s->weight.minComponent() >= 0.0f),
+                       "a BSDF sample has a positive density and a finite, non-negative weight");
+        return s;
     }
 
     MaterialModel model_;
