@@ -13,6 +13,7 @@
 
 #include "accel/bvh_box4.h"
 #include "accel/bvh_triangle4.h"
+#include "core/check.h"
 #include "core/error.h"
 #include "geometry/ray_sphere.h"
 #include "geometry/ray_triangle.h"
@@ -604,6 +605,8 @@ bool BvhAccelerator::traverse(const Ray& ray, Hit* hit) const {
         for (;;) {
             if (top == 0) {
                 if (closest == kNoHit) return false;
+                PENUMBRA_CHECK(tClosest >= ray.tnear && tClosest <= ray.tfar,
+                               "a hit lies within [tnear, tfar]");
                 if constexpr (!AnyHit)
                     fillHit(ray, closest, tClosest, closestB1, closestB2, instanceHit, *hit);
                 return true;
@@ -624,6 +627,10 @@ void BvhAccelerator::fillHit(const Ray& ray, uint32_t primitive, float t, float 
     hit.u = b1;
     hit.v = b2;
     if (p.globalIndex < triangleCount_) {
+        // The watertight test's barycentrics: e1 / det and e2 / det with e0, e1, e2 of det's sign, so
+        // in [0, 1] and summing to at most 1, up to the roundings of det and of the two quotients.
+        PENUMBRA_CHECK(b1 >= 0.0f && b2 >= 0.0f && b1 + b2 <= 1.0f + 1e-6f,
+                       "a triangle hit's barycentrics lie in it");
         const Vec3f p0(p.data[0], p.data[1], p.data[2]), p1(p.data[3], p.data[4], p.data[5]),
             p2(p.data[6], p.data[7], p.data[8]);
         hit.geometricNormal = cross(p1 - p0, p2 - p0);

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <memory>
 
+#include "core/check.h"
 #include "core/simd.h"
 
 namespace penumbra {
@@ -195,6 +196,9 @@ public:
             right = measure(mid, end);
         }
 
+        PENUMBRA_CHECK(mid > begin && mid < end, "a split leaves primitives on both sides");
+        PENUMBRA_CHECK(extent.bounds.contains(left.bounds) && extent.bounds.contains(right.bounds),
+                       "a node's box contains its children's boxes");
         const uint32_t leftSlot = slot + 1;
         const uint32_t rightSlot = slot + 2 * (mid - begin);
         writeInterior(slot, extent.bounds, rightSlot, split.axis);
@@ -338,6 +342,7 @@ private:
         node.bounds[5] = b.upper.z;
     }
     int writeLeaf(uint32_t begin, uint32_t end, uint32_t slot, const Bounds3f& bounds, int depth) {
+        PENUMBRA_CHECK(end > begin && end - begin <= UINT16_MAX, "a leaf holds 1 to 65535 primitives");
         BvhNode& node = slots_[slot];
         setBounds(node, bounds);
         node.offset = begin;
@@ -415,6 +420,7 @@ BvhBuildResult buildBvh(const std::vector<Bounds3f>& primitiveBounds, const BvhB
         pending.push_back({secondSlot, pair + 1});
         pending.push_back({firstSlot, pair});
     }
+    PENUMBRA_CHECK(result.nodes.size() == count + 1, "every node built is laid out once, after the padding");
 
     const BvhNode& root = result.nodes[0];
     const float rootArea = Bounds3f{
@@ -425,6 +431,11 @@ BvhBuildResult buildBvh(const std::vector<Bounds3f>& primitiveBounds, const BvhB
     for (size_t i = 0; i < result.nodes.size(); ++i) {
         if (i == 1) continue;  // padding
         const BvhNode& node = result.nodes[i];
+        PENUMBRA_CHECK(
+            node.isLeaf() ? size_t(node.offset) + node.count <= n
+                          : node.offset % 2 == 0 && node.offset > i && node.offset + 1 < result.nodes.size(),
+            "a leaf's primitives lie in the primitive order; an interior node's children are a pair "
+            "after it");
         const float area = Bounds3f{
             {node.bounds[0], node.bounds[1], node.bounds[2]},
             {node.bounds[3], node.bounds[4],

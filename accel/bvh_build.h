@@ -32,6 +32,11 @@ struct Bounds3f {
         upper = max(upper, b.upper);
     }
     bool isEmpty() const { return lower.x > upper.x || lower.y > upper.y || lower.z > upper.z; }
+    // Whether `b` lies within this box (a NaN coordinate counts as within: only order is tested).
+    bool contains(const Bounds3f& b) const {
+        return !(b.lower.x < lower.x || b.lower.y < lower.y || b.lower.z < lower.z || b.upper.x > upper.x ||
+                 b.upper.y > upper.y || b.upper.z > upper.z);
+    }
     Vec3f centroid() const { return (lower + upper) * 0.5f; }
     // Half the surface area: the SAH only uses ratios of areas.
     float halfArea() const {

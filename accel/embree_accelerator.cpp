@@ -85,9 +85,8 @@ RTCScene newScene(RTCDevice device, const EmbreeOptions& options) {
 // triangle of the scene groups triangles by their centroids, not by object. In two levels an
 // object of up to four triangles is one leaf (one SIMD test; a wall's two triangles, a flat box),
 // a larger one keeps its own BVH, and the top level opens those BVHs where objects overlap
-// (Embree's BVHNBuilderTwoLevel). Measured (bench/README.md, "Speed tricks"): 10%
-// less render time on Embree's Cornell box (34 triangles in 7 meshes), 3-14% less on our other
-// scenes of a few objects, within noise on the Stanford bunny and dragon.
+// (Embree's BVHNBuilderTwoLevel). Less render time on scenes of a few objects, the same on large
+// meshes (bench/README.md, "Speed tricks").
 RTCScene newTwoLevelScene(RTCDevice device, const EmbreeOptions& options) {
     RTCScene scene = newScene(device, options);
     rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_LOW);

@@ -15,7 +15,7 @@ namespace penumbra {
 
 struct EmbreeOptions {
     // RTC_SCENE_FLAG_ROBUST: watertight traversal, no ray slips through a shared edge (see
-    // RenderSettings::watertight). Off, traversal is about a quarter faster.
+    // RenderSettings::watertight). Off, traversal is faster (bench/README.md, "Speed tricks").
     bool robust = true;
 };
 
@@ -121,8 +121,8 @@ inline bool EmbreeAccelerator::toTraceableEmbreeRay(const Ray& ray, RTCRay& out)
 inline bool EmbreeAccelerator::intersect(const Ray& ray, Hit& hit, TriangleLeft left) const {
     RTCRayHit rayHit;
     if (!toTraceableEmbreeRay(ray, rayHit.ray)) return false;
-    // Traced without the filter, which Embree would call on every closer candidate hit (7% of the
-    // throughput of incoherent rays, bench/README.md): only when the closest hit is the triangle
+    // Traced without the filter, which Embree would call on every closer candidate hit, at a cost
+    // in throughput (bench/README.md, "Speed tricks"): only when the closest hit is the triangle
     // left is the ray traced again, skipping it. The answer is the filtered one either way.
     LeavingContext context;
     initContext(context, TriangleLeft{});

@@ -21,8 +21,8 @@
 #include <vector>
 
 #include "core/error.h"
+#include "film/film_exr.h"
 #include "film/film_merge.h"
-#include "film/image_output.h"
 #include "renderer/render_job.h"
 #include "scenes/scene_loader.h"
 

@@ -28,8 +28,8 @@ ThinLensCamera::ThinLensCamera(const ThinLensCameraParams& p, int filmWidth, int
     apertureRadius_ = p.apertureRadius;
     apertureBlades_ = p.apertureBlades;
     apertureRotation_ = p.apertureRotationDegrees * kPi / 180.0f;
-    // The polygon's vertices, once: a camera ray takes the two of its blade (two sincos calls a
-    // ray before, 4% of a depth-of-field render's time).
+    // The polygon's vertices, once: a camera ray takes the two of its blade, rather than making
+    // them with two sincos calls a ray (bench/README.md, "Speed tricks").
     if (apertureBlades_ >= 3)
         for (int blade = 0; blade <= apertureBlades_; ++blade) {
             const float angle = apertureRotation_ + 2.0f * kPi * float(blade) / float(apertureBlades_);

@@ -73,7 +73,7 @@ constexpr float kMaxFilterRadius = 64.0f;
 constexpr int kMaxPathDepth = 1024;
 
 // Corners of one OBJ face: tinyobjloader splits polygons by ear clipping, in time that grows with
-// the square of the corners (one face of 10^5 corners took 45 s); 1024 take about 3 ms.
+// the square of the corners; 1024 take no time worth noticing (bench/README.md, "Speed tricks").
 constexpr int kMaxObjFaceCorners = 1024;
 
 // Worker threads (--threads). TBB's arena teardown crashes beyond 65536; no machine has 4096 cores.

@@ -25,6 +25,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "core/check.h"
 #include "core/huge_page_allocator.h"
 #include "core/rgb.h"
 #include "core/vec.h"
@@ -69,7 +70,10 @@ public:
         return true;
     }
     // Adds a sum of addends' units (see smallAddendUnits).
-    void addUnits(int64_t units) { raw_ += units; }
+    void addUnits(int64_t units) {
+        PENUMBRA_CHECK(!addOverflows(raw_, units), "a sum stays within 128 bits");
+        raw_ += units;
+    }
     // A sum that fits 64 bits (nearly all do) converts in one instruction; the 128-bit conversion
     // is a library call. Both round the same integer to the nearest double, so the bits agree.
     double value() const {
@@ -77,7 +81,10 @@ public:
         return (low == raw_ ? double(low) : double(raw_)) * 0x1p-48;
     }
     operator double() const { return value(); }
+    // For sums of this render's own samples (a film read from a file is added with tryAdd): each
+    // addend is clamped to kMaxAddend, so 2^32 samples stay far below 2^127 units.
     ExactSum& operator+=(const ExactSum& other) {
+        PENUMBRA_CHECK(!addOverflows(raw_, other.raw_), "a sum stays within 128 bits");
         raw_ += other.raw_;
         return *this;
     }
@@ -103,6 +110,10 @@ public:
     }
 
 private:
+    static bool addOverflows(__int128 a, __int128 b) {
+        __int128 sum;
+        return __builtin_add_overflow(a, b, &sum);
+    }
     static __int128 wide(double scaled) {
         if (!(scaled == scaled)) return 0;  // NaN adds nothing
         const double limit = kMaxAddend * 0x1p48;
@@ -226,8 +237,14 @@ public:
 
     int width() const { return width_; }
     int height() const { return height_; }
-    PixelSums& at(int x, int y) { return pixels_[size_t(y) * width_ + x]; }
-    const PixelSums& at(int x, int y) const { return pixels_[size_t(y) * width_ + x]; }
+    PixelSums& at(int x, int y) {
+        PENUMBRA_CHECK(x >= 0 && x < width_ && y >= 0 && y < height_, "a pixel lies in the film");
+        return pixels_[size_t(y) * width_ + x];
+    }
+    const PixelSums& at(int x, int y) const {
+        PENUMBRA_CHECK(x >= 0 && x < width_ && y >= 0 && y < height_, "a pixel lies in the film");
+        return pixels_[size_t(y) * width_ + x];
+    }
 
     // Mean radiance, row-major RGB triples, top row first.
     std::vector<float> meanRgb() const;

@@ -1,5 +1,7 @@
 // The film's EXR (docs/exr-layout.md), written and read with OpenEXR directly: linking OpenEXR
-// costs a process a few milliseconds at start-up, OpenImageIO about 0.4 s.
+// costs a process far less at start-up than OpenImageIO (bench/README.md, "Speed tricks").
+#include "film/film_exr.h"
+
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfDoubleAttribute.h>
 #include <OpenEXR/ImfFrameBuffer.h>
@@ -36,7 +38,7 @@
 #include "film/atomic_file.h"
 #include "film/checked_file.h"
 #include "film/film_checksum.h"
-#include "film/image_output.h"
+#include "film/version.h"
 
 namespace penumbra {
 

@@ -1,7 +1,7 @@
 // The interface of the image plugin, penumbra_image_plugin: a module, loaded with dlopen on first
 // use, that holds everything that needs OpenImageIO (encoding PNG/JPEG, reading arbitrary
-// images). OpenImageIO pulls in some 260 shared libraries, whose loading would otherwise cost
-// every penumbra process about 0.4 s at start-up.
+// images). OpenImageIO pulls in some 260 shared libraries, whose loading would otherwise slow
+// every penumbra process's start-up (bench/README.md, "Speed tricks").
 //
 // A plain C interface, so that no C++ object or exception crosses the module boundary: every
 // function returns 1 on success, or 0 with a NUL-terminated reason written to `error` (at most

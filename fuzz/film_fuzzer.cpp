@@ -2,8 +2,8 @@
 // checksum checks), then what those commands do with a film that reads: the resume checks against
 // the film's own metadata and a merge of the film with itself (refused: the parts overlap) and
 // alone.
+#include "film/film_exr.h"
 #include "film/film_merge.h"
-#include "film/image_output.h"
 #include "fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/check.h"
 #include "core/frame.h"
 #include "core/vec.h"
 #include "geometry/scene_geometry.h"
@@ -35,12 +36,15 @@ public:
     // degenerate triangle's n is the zero vector and its s and t mean nothing.
     const Frame* find(uint32_t mesh, uint32_t triangle) const {
         if (mesh >= byMesh_.size() || byMesh_[mesh].empty()) return nullptr;
+        PENUMBRA_CHECK(triangle < byMesh_[mesh].size(), "a hit's triangle is one of its mesh's");
         return &byMesh_[mesh][triangle];
     }
 
     // The same for triangle `triangle` of prototype `prototype` (SceneGeometry::prototypes), in
     // the prototype's own space; prototypes never move, so every one is tabulated.
     const Frame* findPrototype(uint32_t prototype, uint32_t triangle) const {
+        PENUMBRA_CHECK(prototype < byPrototype_.size() && triangle < byPrototype_[prototype].size(),
+                       "a hit's triangle is one of its prototype's");
         return &byPrototype_[prototype][triangle];
     }
 

@@ -19,6 +19,7 @@
 #include <cstdlib>
 #include <limits>
 
+#include "core/check.h"
 #include "core/float_error.h"
 #include "core/vec.h"
 
@@ -116,6 +117,10 @@ inline bool intersectTriangleWatertight(const WatertightRay& r, const float* ver
     hit.t = t;
     hit.b1 = e1 * invDet;
     hit.b2 = e2 * invDet;
+    // e0, e1, e2 have det's sign: the barycentrics lie in [0, 1] and sum to at most 1, up to the
+    // roundings of det and of the two quotients.
+    PENUMBRA_CHECK(hit.b1 >= 0.0f && hit.b2 >= 0.0f && hit.b1 + hit.b2 <= 1.0f + 1e-6f,
+                   "a triangle hit's barycentrics lie in the triangle");
     return true;
 }
 

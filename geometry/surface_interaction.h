@@ -9,6 +9,7 @@
 #include <cmath>
 #include <optional>
 
+#include "core/check.h"
 #include "core/float_error.h"
 #include "core/frame.h"
 #include "core/motion.h"
@@ -154,6 +155,8 @@ inline void recomputeTriangleHit(Vec3f origin, Vec3f direction, Vec3f p0, Vec3f 
             si.shadingFrame = nullptr;
         }
     }
+    PENUMBRA_CHECK(!(dot(si.shadingNormal, si.geometricNormal) < 0.0f),
+                   "the shading normal lies in the geometric normal's hemisphere");
     if (!mesh.uvs.empty())
         si.uv = mesh.uvs[index[0]] * b0 + mesh.uvs[index[1]] * b1 + mesh.uvs[index[2]] * b2;
     si.material = mesh.material;

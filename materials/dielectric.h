@@ -73,6 +73,8 @@ struct Dielectric {
     Rgb eval(Vec3f, Vec3f, bool) const { return Rgb(0.0f); }
     float pdf(Vec3f, Vec3f, bool) const { return 0.0f; }
     Rgb reflectanceForAov() const { return Rgb(1.0f); }
+    // The medium behind the surface (Material::interiorAbsorption).
+    Rgb interiorAbsorption() const { return absorption; }
 };
 
 struct ThinDielectric {

@@ -1,10 +1,12 @@
-// The closed set of materials: a std::variant of the BSDF models, dispatched with std::visit, so
-// that a model missing a member function is a compile error rather than a silent default. Every
-// model has the same interface:
+// The closed set of materials: a std::variant of the BSDF models, dispatched with std::visit. Every
+// model has the same interface, the concept BsdfModel below, so that a model missing a member
+// function is a compile error naming it rather than a silent default:
 //   static constexpr BsdfFlags kFlags                     the lobes it has
 //   Rgb eval(wo, wi, front), float pdf(wo, wi, front)      0 for specular lobes
 //   std::optional<BsdfSample> sample(wo, uLobe, u, front)  one lobe, chosen with uLobe when there are several
 //   Rgb reflectanceForAov()                                the albedo AOV, as denoisers expect it
+// A model with a medium behind its surface (the dielectrics) also has
+//   Rgb interiorAbsorption()                               sigma_a of that medium (HasInteriorAbsorption)
 // All directions are in the local shading frame (normal = +z) and point away from the surface.
 //
 // Sides. Every call takes `front`: whether wo lies on the front side of the GEOMETRIC surface (the
@@ -28,11 +30,14 @@
 // loader's material table (scenes/material_reader.cpp), and its tests.
 #pragma once
 
+#include <concepts>
+#include <cstddef>
 #include <memory>
 #include <optional>
 #include <variant>
 #include <vector>
 
+#include "core/check.h"
 #include "core/rgb.h"
 #include "core/vec.h"
 #include "materials/bsdf.h"
@@ -47,8 +52,38 @@
 
 namespace penumbra {
 
+// What Material's dispatch calls on every model.
+template <typename M>
+concept BsdfModel = std::copyable<M> && requires(const M& m, Vec3f w, float uLobe, Vec2f u, bool front) {
+    { M::kFlags } -> std::convertible_to<BsdfFlags>;
+    { m.eval(w, w, front) } -> std::same_as<Rgb>;
+    { m.pdf(w, w, front) } -> std::same_as<float>;
+    { m.sample(w, uLobe, u, front) } -> std::same_as<std::optional<BsdfSample>>;
+    { m.reflectanceForAov() } -> std::same_as<Rgb>;
+};
+
+// A model with an absorbing medium behind its surface: what Material::interiorAbsorption asks.
+template <typename M>
+concept HasInteriorAbsorption = requires(const M& m) {
+    { m.interiorAbsorption() } -> std::same_as<Rgb>;
+};
+
 using MaterialModel = std::variant<Lambert, Phong, Dielectric, ThinDielectric, Mirror, Conductor,
                                    RoughConductor, RoughDielectric, CoatedDiffuse, RoughCoatedDiffuse>;
+
+namespace detail {
+// Viable only for a BsdfModel: otherwise the compiler names the model and what it misses.
+template <BsdfModel M>
+constexpr bool isABsdfModel() {
+    return true;
+}
+template <typename... Models>
+constexpr bool everyAlternativeIsABsdfModel(const std::variant<Models...>*) {
+    return (isABsdfModel<Models>() && ...);
+}
+}  // namespace detail
+static_assert(detail::everyAlternativeIsABsdfModel(static_cast<const MaterialModel*>(nullptr)),
+              "every alternative of MaterialModel is a BsdfModel");
 
 // One textured parameter: its texture, and how a value of it is written into the model (the scene
 // loader's material table knows which member of which model a key names).
@@ -66,7 +101,17 @@ public:
           twoSided_(twoSided),
           flags_(std::visit([](const auto& m) { return m.kFlags; }, model_)),
           usesLobeSample_(hasSeveralLobes(flags_)),
-          purelySpecular_(penumbra::isPurelySpecular(flags_)) {}
+          purelySpecular_(penumbra::isPurelySpecular(flags_)) {
+        PENUMBRA_CHECK(std::visit(
+                           [](const auto& m) {
+                               if constexpr (requires { requires std::same_as<decltype(m.eta), float>; })
+                                   return m.eta > 0.0f;
+                               else
+                                   return true;
+                           },
+                           model_),
+                       "a model's relative index of refraction is positive (the scene loader checks it)");
+    }
     // `model` holds the untextured parameters' values; each of `textures` overrides one parameter.
     Material(MaterialModel model, bool twoSided, std::vector<TexturedParameter> textures)
         : Material(std::move(model), twoSided) {
@@ -118,11 +163,8 @@ public:
 
     // Absorption coefficient sigma_a (per unit length) of the medium behind the surface, for path
     // segments that reach the surface from its back side; black when there is none.
-    Rgb interiorAbsorption() const {
-        if (const Dielectric* dielectric = std::get_if<Dielectric>(&model_)) return dielectric->absorption;
-        if (const RoughDielectric* rough = std::get_if<RoughDielectric>(&model_)) return rough->absorption;
-        return Rgb(0.0f);
-    }
+    // Only the models that declare one (HasInteriorAbsorption) are tested, in the variant's order.
+    Rgb interiorAbsorption() const { return interiorAbsorptionFrom(); }
 
     // Reflectance for the albedo AOV (as denoisers expect it): a diffuse albedo (a coated base's
     // too), Phong's kd + ks, a mirror's tint, a conductor's reflectance at normal incidence, white
@@ -134,16 +176,37 @@ public:
     }
 
 private:
+    // The first alternative from I on that declares an interior absorption, when model_ holds it.
+    template <size_t I = 0>
+    Rgb interiorAbsorptionFrom() const {
+        if constexpr (I == std::variant_size_v<MaterialModel>) {
+            return Rgb(0.0f);
+        } else {
+            using M = std::variant_alternative_t<I, MaterialModel>;
+            if constexpr (HasInteriorAbsorption<M>)
+                if (const M* m = std::get_if<I>(&model_)) return m->interiorAbsorption();
+            return interiorAbsorptionFrom<I + 1>();
+        }
+    }
+
     [[gnu::noinline]] Rgb evalOutOfLine(Vec3f wo, Vec3f wi, bool front) const {
-        return std::visit([&](const auto& m) { return m.eval(wo, wi, front); }, model_);
+        const Rgb f = std::visit([&](const auto& m) { return m.eval(wo, wi, front); }, model_);
+        PENUMBRA_CHECK(!(f.minComponent() < 0.0f), "a BSDF value is never negative");
+        return f;
     }
     [[gnu::noinline]] float pdfOutOfLine(Vec3f wo, Vec3f wi, bool front) const {
-        return std::visit([&](const auto& m) { return m.pdf(wo, wi, front); }, model_);
+        const float p = std::visit([&](const auto& m) { return m.pdf(wo, wi, front); }, model_);
+        PENUMBRA_CHECK(!(p < 0.0f), "a density is never negative");
+        return p;
     }
     [[gnu::noinline]] std::optional<BsdfSample> sampleOutOfLine(Vec3f wo, float uLobe, Vec2f u,
                                                                 bool front) const {
         if (!twoSided_ && !front) return std::nullopt;
-        return std::visit([&](const auto& m) { return m.sample(wo, uLobe, u, front); }, model_);
+        const std::optional<BsdfSample> s =
+            std::visit([&](const auto& m) { return m.sample(wo, uLobe, u, front); }, model_);
+        PENUMBRA_CHECK(!s || (s->pdf > 0.0f && s->weight.isFinite() && s->weight.minComponent() >= 0.0f),
+                       "a BSDF sample has a positive density and a finite, non-negative weight");
+        return s;
     }
 
     MaterialModel model_;

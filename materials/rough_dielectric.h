@@ -90,6 +90,8 @@ struct RoughDielectric {
     }
 
     Rgb reflectanceForAov() const { return Rgb(1.0f); }
+    // The medium behind the surface (Material::interiorAbsorption).
+    Rgb interiorAbsorption() const { return absorption; }
 
 private:
     static float sqr(float x) { return x * x; }

@@ -8,6 +8,7 @@
 #include "core/check.h"
 #include "core/error.h"
 #include "film/film_merge.h"
+#include "film/version.h"
 
 namespace penumbra {
 

@@ -11,7 +11,8 @@
 #include <string>
 
 #include "film/film.h"
-#include "film/image_output.h"
+#include "film/film_exr.h"
+#include "film/scene_hash.h"
 #include "renderer/render.h"
 #include "scenes/scene.h"
 

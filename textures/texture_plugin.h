@@ -1,6 +1,6 @@
 // The interface of the texture plugin, penumbra_texture_plugin: a module, loaded with dlopen the
 // first time a scene names an image (film/image_plugin.h explains why OpenImageIO is kept out of
-// the executable: some 260 shared libraries, about 0.4 s at every start-up). It holds one
+// the executable: some 260 shared libraries, loaded at every start-up). It holds one
 // OpenImageIO TextureSystem (tiled, MIP-mapped, cached, thread-safe) for the whole process.
 //
 // A plain C interface, so that no C++ object or exception crosses the module boundary: functions

@@ -17,7 +17,7 @@
 #include "accel/traversal.h"
 #include "core/sampler.h"
 #include "film/film.h"
-#include "film/image_output.h"
+#include "film/film_exr.h"
 #include "renderer/render_job.h"
 #include "scenes/scene.h"
 #include "tools/adaptive_study.h"

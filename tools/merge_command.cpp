@@ -6,6 +6,8 @@
 #include <filesystem>
 
 #include "core/error.h"
+#include "film/display_image.h"
+#include "film/film_exr.h"
 #include "film/film_merge.h"
 #include "tools/part_manifest.h"
 #include "tools/part_status.h"

@@ -5,8 +5,8 @@
 #include <chrono>
 
 #include "core/error.h"
+#include "film/film_exr.h"
 #include "film/film_merge.h"
-#include "film/image_output.h"
 
 namespace fs = std::filesystem;
 

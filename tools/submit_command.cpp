@@ -10,7 +10,7 @@
 #include "core/error.h"
 #include "core/input_limits.h"
 #include "film/atomic_file.h"
-#include "film/image_output.h"
+#include "film/scene_hash.h"
 #include "scenes/scene_loader.h"
 #include "tools/cli_numbers.h"
 #include "tools/part_status.h"

@@ -1,6 +1,8 @@
 // The production film: exact sums (any split of a render, resumed, in passes, cancelled or merged,
 // gives the same bits as one render), the AOVs against closed forms (a sphere's normal and
 // distance), and the EXR round trip (sums bit for bit, metadata, refusal of foreign files).
+#include "film/film_exr.h"
+
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -19,7 +21,7 @@
 #include "core/error.h"
 #include "core/sampler.h"
 #include "film/film.h"
-#include "film/image_output.h"
+#include "film/scene_hash.h"
 #include "renderer/render.h"
 #include "tests/support/scene_builders.h"
 

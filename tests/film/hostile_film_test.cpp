@@ -14,8 +14,8 @@
 #include "core/error.h"
 #include "film/atomic_file.h"
 #include "film/checked_file.h"
+#include "film/film_exr.h"
 #include "film/film_merge.h"
-#include "film/image_output.h"
 #include "tests/support/expect_input_error.h"
 
 namespace penumbra {

@@ -1,8 +1,6 @@
 // Image output: the EXR's beauty is the film's mean radiance in float precision with the render metadata,
 // the display image is the shipped (or $OCIO's) view transform quantized to 8 bits, and writes
 // are atomic (no temporary file survives, failures are InputErrors naming the path).
-#include "film/image_output.h"
-
 #include <OpenColorIO/OpenColorIO.h>
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
@@ -18,6 +16,8 @@
 #include <vector>
 
 #include "core/error.h"
+#include "film/display_image.h"
+#include "film/film_exr.h"
 #include "film/image_plugin_loader.h"
 
 namespace penumbra {

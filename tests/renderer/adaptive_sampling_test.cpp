@@ -16,8 +16,8 @@
 #include <vector>
 
 #include "core/sampling.h"
+#include "film/film_exr.h"
 #include "film/film_merge.h"
-#include "film/image_output.h"
 #include "renderer/render.h"
 #include "renderer/render_job.h"
 #include "tests/support/expect_input_error.h"

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "film/image_output.h"
+#include "film/film_exr.h"
 #include "tests/support/expect_input_error.h"
 #include "tests/support/scene_builders.h"
 

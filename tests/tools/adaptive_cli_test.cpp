@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "film/image_output.h"
+#include "film/film_exr.h"
 #include "scenes/scene_loader.h"
 #include "tests/support/run_command.h"
 #include "tests/support/scene_builders.h"

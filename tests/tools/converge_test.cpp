@@ -10,7 +10,7 @@
 #include <filesystem>
 
 #include "core/error.h"
-#include "film/image_output.h"
+#include "film/film_exr.h"
 #include "renderer/render.h"
 #include "scenes/scene_loader.h"
 #include "tests/support/scene_builders.h"

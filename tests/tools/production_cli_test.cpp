@@ -12,7 +12,7 @@
 #include <sstream>
 #include <string>
 
-#include "film/image_output.h"
+#include "film/film_exr.h"
 #include "tests/support/run_command.h"
 
 namespace fs = std::filesystem;

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "core/error.h"
-#include "film/image_output.h"
+#include "film/film_exr.h"
 #include "tests/support/run_command.h"
 
 namespace fs = std::filesystem;

@@ -17,7 +17,7 @@
 #include <thread>
 
 #include "core/error.h"
-#include "film/image_output.h"
+#include "film/film_exr.h"
 #include "tests/support/run_command.h"
 #include "tools/run_program.h"
 

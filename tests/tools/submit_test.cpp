@@ -9,7 +9,8 @@
 #include <string>
 
 #include "core/error.h"
-#include "film/image_output.h"
+#include "film/film_exr.h"
+#include "film/scene_hash.h"
 #include "tests/support/run_command.h"
 #include "tools/part_manifest.h"
 #include "tools/run_program.h"

@@ -1,18 +1,14 @@
-// Writing and reading the film: a scene-linear OpenEXR (written and read with OpenEXR directly,
-// film/film_exr.cpp) that holds the render's metadata, the beauty and AOVs (part "beauty") and
-// the film's exact sums (parts "sums" and "sums.noise", so that a render can be resumed and
-// partial renders merged bit for bit), and a display-referred PNG/JPEG through an OpenColorIO view
-// transform (encoded by the image plugin, film/image_plugin.h, loaded on first use). Files are
-// written under a temporary name in the destination folder and renamed, so no half-written image
-// is ever left.
-// docs/exr-layout.md describes the EXR.
+// The film's scene-linear OpenEXR (docs/exr-layout.md), written and read with OpenEXR directly
+// (film_exr.cpp): it holds the render's metadata, the beauty and AOVs (part "beauty") and the
+// film's exact sums (parts "sums" and "sums.noise", so that a render can be resumed and partial
+// renders merged bit for bit). Files are written under a temporary name in the destination folder
+// and renamed, so no half-written film is ever left.
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
-#include <vector>
 
 #include "core/adaptive_schedule.h"
 #include "film/film.h"
@@ -71,40 +67,5 @@ FilmHeader readFilmHeader(const std::filesystem::path& path);
 // Whether `path` is a full film written by writeExr (its first part has "penumbra:film" and no
 // "penumbra:contents"); never throws.
 bool isPenumbraFilm(const std::filesystem::path& path);
-
-// "fnv1a64:<16 hex digits>" of a file's bytes. Throws InputError naming the path when it cannot
-// be read.
-std::string hashFileContents(const std::filesystem::path& path);
-// The same over the scene file's bytes followed by those of each mesh file it names
-// (Scene::meshFiles): identifies the scene a film was rendered from, so that a resume or a merge
-// refuses a film rendered before a mesh file changed. A scene without mesh files hashes as its
-// file alone (as films written before mesh files were hashed record it).
-std::string hashSceneFiles(const std::filesystem::path& sceneFile,
-                           const std::vector<std::filesystem::path>& meshFiles);
-
-// The project's version, as film files record it.
-std::string penumbraVersion();
-// The "Software" attribute of the images penumbra writes: "penumbra VERSION".
-std::string penumbraSoftwareName();
-
-// How the display image is made: the OpenColorIO display and view (empty: the config's defaults)
-// and an exposure in stops, applied to the scene-linear values before the view.
-struct DisplayOptions {
-    std::string display;
-    std::string view;
-    float exposure = 0.0f;
-};
-
-// 8-bit display image (format from the extension: .png, .jpg) through OpenColorIO: the config is
-// $OCIO when set, otherwise penumbra's shipped config (film/ocio/config.ocio: views "Standard",
-// "Filmic", "False Color", "Raw"); scene_linear to the options' display and view. The image
-// records them in its "ImageDescription" and "penumbra:display", "penumbra:view" and
-// "penumbra:exposure" attributes. Loads the image plugin, which encodes the file; throws
-// InputError naming the plugin's file when it cannot be loaded.
-void writeDisplayImage(const Film& film, const std::filesystem::path& path,
-                       const DisplayOptions& options = {});
-// Checks, before a render, that the config loads and has the options' display and view; throws
-// InputError as writeDisplayImage would.
-void checkDisplayOptions(const DisplayOptions& options);
 
 }  // namespace penumbra

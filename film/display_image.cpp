@@ -1,12 +1,10 @@
-#include "film/image_output.h"
+#include "film/display_image.h"
 
 #include <OpenColorIO/OpenColorIO.h>
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -15,10 +13,10 @@
 #include <vector>
 
 #include "core/error.h"
-#include "core/input_file.h"
 #include "core/resource_paths.h"
 #include "film/atomic_file.h"
 #include "film/image_plugin_loader.h"
+#include "film/version.h"
 
 namespace OCIO = OCIO_NAMESPACE;
 
@@ -59,26 +57,6 @@ uint8_t quantize8(float v) {
     return uint8_t(std::lround(v * 255.0f));
 }
 
-constexpr uint64_t kFnvOffsetBasis = 0xcbf29ce484222325ull;  // FNV-1a, 64 bits
-
-// Continues the FNV-1a hash `hash` over the bytes of the file at `path`.
-void hashBytesOf(const std::filesystem::path& path, uint64_t& hash) {
-    InputFile in(path, "file to hash", UINT64_MAX);  // a regular file only: a FIFO would block
-    char buffer[1 << 16];
-    while (true) {
-        const ssize_t n = ::read(in.fd(), buffer, sizeof buffer);
-        if (n < 0 && errno == EINTR) continue;
-        if (n < 0) throwFileError(path, "cannot read the file to hash it");
-        if (n == 0) break;
-        for (ssize_t i = 0; i < n; ++i) {
-            hash ^= uint8_t(buffer[i]);
-            hash *= 0x100000001b3ull;
-        }
-    }
-}
-
-std::string formatHash(uint64_t hash) { return fmt::format("fnv1a64:{:016x}", hash); }
-
 // The display and view `options` name (the config's defaults where empty), checked against the
 // config. Throws InputError listing the available ones.
 std::pair<std::string, std::string> resolveView(const OCIO::Config& config, const DisplayOptions& options) {
@@ -107,24 +85,6 @@ std::pair<std::string, std::string> resolveView(const OCIO::Config& config, cons
 }  // namespace
 
 void checkDisplayOptions(const DisplayOptions& options) { resolveView(*loadOcioConfig(), options); }
-
-std::string hashFileContents(const std::filesystem::path& path) {
-    uint64_t hash = kFnvOffsetBasis;
-    hashBytesOf(path, hash);
-    return formatHash(hash);
-}
-
-std::string hashSceneFiles(const std::filesystem::path& sceneFile,
-                           const std::vector<std::filesystem::path>& meshFiles) {
-    uint64_t hash = kFnvOffsetBasis;
-    hashBytesOf(sceneFile, hash);
-    for (const std::filesystem::path& mesh : meshFiles) hashBytesOf(mesh, hash);
-    return formatHash(hash);
-}
-
-std::string penumbraVersion() { return PENUMBRA_VERSION; }
-
-std::string penumbraSoftwareName() { return "penumbra " + penumbraVersion(); }
 
 void writeDisplayImage(const Film& film, const std::filesystem::path& path, const DisplayOptions& options) {
     std::string extension = path.extension().string();
