@@ -1,7 +1,7 @@
 // The closed set of lights: a std::variant of the light models, each a small value type in a header
-// of its own with the same members (the LightModelType concept). The scene names the point, spot
-// and directional lights (Scene::lights); the light set (light_set.h) adds an area light for each
-// emitting triangle and sphere, and the environment.
+// of its own with the same members (the LightModelType concept). The scene names the point, spot,
+// goniometric and directional lights (Scene::lights); the light set (light_set.h) adds an area
+// light for each emitting triangle and sphere, and the environment.
 #pragma once
 
 #include <concepts>
@@ -10,6 +10,7 @@
 #include "core/vec.h"
 #include "lights/directional_light.h"
 #include "lights/environment_light.h"
+#include "lights/goniometric_light.h"
 #include "lights/light_bounds.h"
 #include "lights/light_sample.h"
 #include "lights/point_light.h"
@@ -42,8 +43,8 @@ concept LightModelType = requires(const L& light, Vec3f p, Vec2f u, LightSample&
 };
 
 // The order is the light set's: area lights, then the ones the scene names, finite before infinite.
-using LightModel =
-    std::variant<TriangleLight, SphereLight, PointLight, SpotLight, DirectionalLight, EnvironmentEmitter>;
+using LightModel = std::variant<TriangleLight, SphereLight, PointLight, SpotLight, GoniometricLight,
+                                DirectionalLight, EnvironmentEmitter>;
 
 namespace detail {
 template <class Variant>

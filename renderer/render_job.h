@@ -53,7 +53,7 @@ public:
     RenderMetadata metadataAt(uint32_t end, double seconds) const;
     // The same after run().
     RenderMetadata metadata() const;
-    // Writes the film with metadata() (film/image_output.h: atomic, nothing half-written);
+    // Writes the film with metadata() (film/film_exr.h: atomic, nothing half-written);
     // checkpoints are always FilmContents::Full.
     void writeFilm(const std::filesystem::path& path, FilmContents contents = FilmContents::Full) const;
 

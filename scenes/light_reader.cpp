@@ -4,15 +4,21 @@
 
 #include <array>
 #include <cmath>
+#include <memory>
 #include <numbers>
+#include <system_error>
 
+#include "core/frame.h"
+#include "lights/ies_profile.h"
 #include "scenes/type_table.h"
 
 namespace penumbra {
 
+namespace fs = std::filesystem;
+
 namespace {
 
-void readPointLight(const JsonValue& value, Scene& scene) {
+void readPointLight(const JsonValue& value, const fs::path&, Scene& scene) {
     PointLight light;
     light.position = value.requiredMember("position").vec3();
     light.intensity = value.requiredMember("intensity").rgb(0.0f);
@@ -21,7 +27,7 @@ void readPointLight(const JsonValue& value, Scene& scene) {
 
 // A spot light: "cone_angle" from the axis to where the light ends, "cone_delta" the band inside it
 // over which it falls off (pbrt-v4's coneangle and conedelta, in degrees).
-void readSpotLight(const JsonValue& value, Scene& scene) {
+void readSpotLight(const JsonValue& value, const fs::path&, Scene& scene) {
     SpotLight light;
     light.position = value.requiredMember("position").vec3();
     const JsonValue directionValue = value.requiredMember("direction");
@@ -46,7 +52,7 @@ void readSpotLight(const JsonValue& value, Scene& scene) {
     scene.lights.push_back(light);
 }
 
-void readDirectionalLight(const JsonValue& value, Scene& scene) {
+void readDirectionalLight(const JsonValue& value, const fs::path&, Scene& scene) {
     const JsonValue directionValue = value.requiredMember("direction");
     const Vec3f direction = directionValue.vec3();
     if (!(lengthSquared(direction) > 0.0f)) directionValue.failExpected("a non-zero direction");
@@ -54,19 +60,51 @@ void readDirectionalLight(const JsonValue& value, Scene& scene) {
         DirectionalLight{normalize(direction), value.requiredMember("irradiance").rgb(0.0f)});
 }
 
-using LightReader = void (*)(const JsonValue&, Scene&);
+// A goniometric light: a point light with an IES photometric profile ("file"), its axis ("nadir",
+// the profile's vertical angle 0; straight down by default) and the direction of its horizontal
+// angle 0 ("front"; by default the one Frame::fromNormal(nadir) gives), its candela scaled by
+// "scale" into W/sr per channel.
+void readGoniometricLight(const JsonValue& value, const fs::path& folder, Scene& scene) {
+    GoniometricLight light;
+    light.position = value.requiredMember("position").vec3();
+    const JsonValue fileValue = value.requiredMember("file");
+    fs::path path = fileValue.string();
+    if (path.is_relative()) path = folder / path;
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec))
+        fileValue.fail(fmt::format("the IES file {} {}", path.string(),
+                                   fs::exists(path, ec) ? "is not a regular file" : "does not exist"));
+    light.profile = std::make_shared<const IesProfile>(readIesProfile(path));
+    Vec3f nadir{0.0f, -1.0f, 0.0f};
+    if (auto v = value.member("nadir")) {
+        nadir = v->vec3();
+        if (!(lengthSquared(nadir) > 0.0f)) v->failExpected("a non-zero direction");
+    }
+    Vec3f front = Frame::fromNormal(normalize(nadir)).s;
+    if (auto v = value.member("front")) {
+        front = v->vec3();
+        if (!(lengthSquared(cross(front, normalize(nadir))) > 1e-12f * lengthSquared(front)))
+            v->failExpected("a direction not parallel to the nadir");
+    }
+    light.frame = GoniometricLight::profileFrame(nadir, front);
+    if (auto v = value.member("scale")) light.scale = v->rgb(0.0f);
+    scene.lights.push_back(std::move(light));
+}
 
-const std::array<TypeRow<LightReader>, 3> kLightTypes{{
+using LightReader = void (*)(const JsonValue&, const fs::path&, Scene&);
+
+const std::array<TypeRow<LightReader>, 4> kLightTypes{{
     {"point", {"type", "position", "intensity"}, readPointLight},
     {"spot", {"type", "position", "direction", "intensity", "cone_angle", "cone_delta"}, readSpotLight},
     {"directional", {"type", "direction", "irradiance"}, readDirectionalLight},
+    {"goniometric", {"type", "position", "file", "nadir", "front", "scale"}, readGoniometricLight},
 }};
 
 }  // namespace
 
-void readLights(const JsonValue& section, Scene& scene) {
+void readLights(const JsonValue& section, const fs::path& folder, Scene& scene) {
     for (const JsonValue& light : section.elements())
-        findTypeRow<LightReader>(light, kLightTypes).read(light, scene);
+        findTypeRow<LightReader>(light, kLightTypes).read(light, folder, scene);
 }
 
 }  // namespace penumbra

@@ -3,12 +3,15 @@
 // (environment_reader.h) are read with their own concepts. scenes/README.md documents the keys.
 #pragma once
 
+#include <filesystem>
+
 #include "scenes/json_reader.h"
 #include "scenes/scene.h"
 
 namespace penumbra {
 
 // Adds the section's lights to `scene`, in file order.
-void readLights(const JsonValue& section, Scene& scene);
+// Files they name (IES profiles) are relative to `folder`.
+void readLights(const JsonValue& section, const std::filesystem::path& folder, Scene& scene);
 
 }  // namespace penumbra

@@ -82,7 +82,7 @@ struct Scene : SceneGeometry {
     std::vector<Material> materials;
     std::vector<std::string> materialNames;  // materialNames[i] names materials[i]
     // The lights the scene names besides its emitting shapes and its environment (point, spot,
-    // directional), in the file's order.
+    // goniometric, directional), in the file's order.
     std::vector<LightModel> lights;
     // Light arriving along every direction that escapes the scene: black, a constant (the scene
     // file's "background") or an image (its "environment").

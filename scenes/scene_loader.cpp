@@ -47,7 +47,7 @@ Scene buildScene(const Json& document, const fs::path& file) {
     if (auto v = top.get("prototypes"))
         readPrototypes(*v, folder, scene, prototypeNames);  // before the instances that name them
     if (auto v = top.get("shapes")) readShapes(*v, folder, prototypeNames, scene);
-    if (auto v = top.get("lights")) readLights(*v, scene);
+    if (auto v = top.get("lights")) readLights(*v, folder, scene);
     return scene;
 }
 
