@@ -2,15 +2,19 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <memory>
 #include <numbers>
 #include <system_error>
 
 #include "core/frame.h"
+#include "lights/goniometric_light.h"
 #include "lights/ies_profile.h"
 #include "scenes/type_table.h"
+#include "textures/image_file.h"
 
 namespace penumbra {
 
@@ -60,8 +64,27 @@ void readDirectionalLight(const JsonValue& value, const fs::path&, Scene& scene)
         DirectionalLight{normalize(direction), value.requiredMember("irradiance").rgb(0.0f)});
 }
 
-// A goniometric light: a point light with an IES photometric profile ("file"), its axis ("nadir",
-// the profile's vertical angle 0; straight down by default) and the direction of its horizontal
+// A goniometric light's profile: an IES file (by its extension, .ies), otherwise a square image
+// in the equal-area map (pbrt-v4's goniometric images).
+IntensityProfile readIntensityProfile(const JsonValue& fileValue, const fs::path& path) {
+    std::string extension = path.extension().string();
+    std::transform(extension.begin(), extension.end(), extension.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    if (extension == ".ies") return readIesProfile(path);
+    SourceLocation where;
+    where.file = fileValue.file();
+    where.jsonPointer = fileValue.pointer();
+    const LinearRgbImage image = readLinearRgbImage(path, where);
+    if (image.width != image.height)
+        fileValue.fail(
+            fmt::format("the image {} is {}x{}: a goniometric light's image is square (an equal-area "
+                        "map of the sphere, as pbrt-v4's), or give an IES file (.ies)",
+                        path.string(), image.width, image.height));
+    return IntensityImage(image.width, image.texels);
+}
+
+// A goniometric light: a point light with a photometric profile ("file": IES, or an image), its axis
+// ("nadir", the profile's vertical angle 0; straight down by default) and the direction of its horizontal
 // angle 0 ("front"; by default the one Frame::fromNormal(nadir) gives), its candela scaled by
 // "scale" into W/sr per channel.
 void readGoniometricLight(const JsonValue& value, const fs::path& folder, Scene& scene) {
@@ -74,7 +97,7 @@ void readGoniometricLight(const JsonValue& value, const fs::path& folder, Scene&
     if (!fs::is_regular_file(path, ec))
         fileValue.fail(fmt::format("the IES file {} {}", path.string(),
                                    fs::exists(path, ec) ? "is not a regular file" : "does not exist"));
-    light.profile = std::make_shared<const IesProfile>(readIesProfile(path));
+    light.profile = std::make_shared<const IntensityProfile>(readIntensityProfile(fileValue, path));
     Vec3f nadir{0.0f, -1.0f, 0.0f};
     if (auto v = value.member("nadir")) {
         nadir = v->vec3();

@@ -669,6 +669,38 @@ void SceneBuilder::lightSource(const Directive& d) {
         light = Json{{"type", "directional"},
                      {"direction", vec3Json(normalize(direction))},
                      {"irradiance", rgbJson(irradiance)}};
+    } else if (type == "goniometric") {
+        // pbrt-v4's GoniometricLight::Create: its image is looked up with the direction in the
+        // light's space after a swap of y and z, so the image's pole (the nadir of penumbra's
+        // profile frame) is the light's +y and its horizontal angle 0 the light's +x.
+        const Parameter* filename = p.find("filename", {ParamType::String});
+        if (!filename || filename->strings.size() != 1 || filename->strings[0].empty())
+            failAt(d.where, "LightSource \"goniometric\": give its image as \"string filename\"");
+        const std::string& file = filename->strings[0];
+        const fs::path path = fs::path(file).is_absolute() ? fs::path(file) : folder_ / file;
+        std::error_code error;
+        if (!fs::is_regular_file(path, error))
+            failAt(filename->where,
+                   fmt::format("LightSource \"goniometric\": image \"{}\" not found (looked for {})", file,
+                               path.string()));
+        Rgb intensity = readColor(p, "I", Rgb(1.0f), SpectrumUse::Emission, textures_, log_) * scale;
+        // pbrt-v4: power / (4 pi times the image's mean), the image's flux per unit of I.
+        if (auto power = p.getFloat("power"); power && *power > 0.0) {
+            const LinearRgbImage image = readLinearRgbImage(path, filename->where);
+            double sum = 0.0;
+            for (const Rgb& t : image.texels) sum += (double(t.r) + t.g + t.b) / 3.0;
+            const double flux = image.texels.empty() ? 0.0 : 4.0 * kPi * sum / double(image.texels.size());
+            if (flux > 0.0) intensity *= float(*power / flux);
+        }
+        const Vec3d nadir = world.applyVector(Vec3d{0, 1, 0}), front = world.applyVector(Vec3d{1, 0, 0});
+        if (!(length(nadir) > 0.0) || !(length(cross(front, nadir)) > 1e-6 * length(front) * length(nadir)))
+            failAt(d.where, "goniometric light: its transform must not collapse the light's axes");
+        light = Json{{"type", "goniometric"},
+                     {"position", vec3Json(world.applyPoint(Vec3d{0, 0, 0}))},
+                     {"file", file},
+                     {"nadir", vec3Json(normalize(nadir))},
+                     {"front", vec3Json(normalize(front))},
+                     {"scale", rgbJson(intensity)}};
     } else if (type == "infinite") {
         if (const Parameter* f = p.find("filename", {ParamType::String})) {
             if (const Parameter* l = p.find("L", {ParamType::Rgb, ParamType::Spectrum, ParamType::Blackbody}))

@@ -411,6 +411,69 @@ TEST(PbrtMapping, SquareInfiniteLightsArePbrtV4sEqualAreaMaps) {
     fs::remove(map);
 }
 
+TEST(PbrtMapping, GoniometricLightsLookTheirImageUpAsPbrtV4) {
+    // pbrt-v4's GoniometricLight::I looks texel (s, t) up in the light-space direction
+    // pbrtEqualAreaSquareToSphere(s, t) after its swap of y and z: world = R (x, z, y). Every
+    // texel has its own value (the mean of its channels); the light is moved and turned about z.
+    const int size = 16;
+    const fs::path map =
+        fs::temp_directory_path() / ("penumbra-goniometric-" + std::to_string(::getpid()) + ".exr");
+    double sum = 0.0;
+    {
+        std::vector<Imf::Rgba> pixels;
+        for (int y = 0; y < size; ++y)
+            for (int x = 0; x < size; ++x) {
+                const float value = float(y * size + x + 1);
+                pixels.emplace_back(value - 0.5f, value, value + 0.5f);
+                sum += value;
+            }
+        Imf::RgbaOutputFile out(map.c_str(), size, size, Imf::WRITE_RGB);
+        out.setFrameBuffer(pixels.data(), 1, size);
+        out.writePixels(size);
+    }
+    const std::string light =
+        "WorldBegin\nAttributeBegin\nTranslate 1 2 3\nRotate 30 0 0 1\nLightSource \"goniometric\" "
+        "\"string filename\" \"" +
+        map.string() + "\" ";
+    auto c = convert(kCamera + light + "\"float scale\" 2\nAttributeEnd\n");
+    EXPECT_FALSE(hasWarning(c, "goniometric"));
+    const Scene scene = buildPbrtScene(c, "test.pbrt");
+    ASSERT_EQ(scene.lights.size(), 1u);
+    const auto& goniometric = std::get<GoniometricLight>(scene.lights[0]);
+    EXPECT_NEAR(goniometric.position.x, 1.0f, 1e-6f);
+    EXPECT_NEAR(goniometric.position.y, 2.0f, 1e-6f);
+    EXPECT_NEAR(goniometric.position.z, 3.0f, 1e-6f);
+    const double c30 = std::cos(std::numbers::pi / 6.0), s30 = std::sin(std::numbers::pi / 6.0);
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            const Vec3f l = pbrtEqualAreaSquareToSphere((x + 0.5) / size, (y + 0.5) / size);
+            const Vec3f swapped{l.x, l.z, l.y};
+            const Vec3f world{float(c30 * swapped.x - s30 * swapped.y),
+                              float(s30 * swapped.x + c30 * swapped.y), swapped.z};
+            EXPECT_EQ(goniometric.intensity(world), Rgb(2.0f * float(y * size + x + 1))) << x << " " << y;
+        }
+    // The flux: 4 pi times the image's mean (each texel covers 4 pi / size^2), times the scale;
+    // with "power", pbrt-v4 scales the light to that flux.
+    const double flux = 4.0 * std::numbers::pi * sum / (size * size);
+    EXPECT_NEAR(goniometric.power(1.0), 2.0 * flux, 1e-5 * flux);
+    auto withPower = convert(kCamera + light + "\"float power\" 1000\nAttributeEnd\n");
+    const Scene powered = buildPbrtScene(withPower, "test.pbrt");
+    EXPECT_NEAR(std::get<GoniometricLight>(powered.lights.at(0)).power(1.0), 1000.0, 1e-3);
+    // A non-square image is not an equal-area map.
+    const fs::path wide = map.string() + "-wide.exr";
+    {
+        std::vector<Imf::Rgba> pixels(2 * size * size, Imf::Rgba(1.0f, 1.0f, 1.0f));
+        Imf::RgbaOutputFile out(wide.c_str(), 2 * size, size, Imf::WRITE_RGB);
+        out.setFrameBuffer(pixels.data(), 1, 2 * size);
+        out.writePixels(size);
+    }
+    auto nonSquare = convert(kCamera + "WorldBegin\nLightSource \"goniometric\" \"string filename\" \"" +
+                             wide.string() + "\"\n");
+    EXPECT_THROW(buildPbrtScene(nonSquare, "test.pbrt"), InputError);
+    fs::remove(map);
+    fs::remove(wide);
+}
+
 TEST(PbrtMapping, TexturesBecomeTextureObjects) {
     const std::string floor = (fs::path(PENUMBRA_SOURCE_DIR) / "scenes" / "textures" / "floor.png").string();
     auto c =
