@@ -15,8 +15,8 @@
 #include "accel/bvh_triangle4.h"
 #include "core/check.h"
 #include "core/error.h"
-#include "geometry/ray_sphere.h"
-#include "geometry/ray_triangle.h"
+#include "geometry/sphere.h"
+#include "geometry/triangle.h"
 
 namespace penumbra {
 

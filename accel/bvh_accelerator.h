@@ -4,7 +4,7 @@
 // traversed front to back with a fixed stack; leaves hold blocks of four triangles tested at once
 // (accel/bvh_triangle4.h).
 // It is meant to agree with Embree hit for hit (tools/crosscheck.h measures how well): the
-// triangle test is watertight (geometry/ray_triangle.h; the 4-wide one gives the same results bit
+// triangle test is watertight (geometry/triangle.h; the 4-wide one gives the same results bit
 // for bit), the box test conservative, and hits are reported with Embree's conventions
 // (accel/traversal.h).
 //
@@ -54,7 +54,7 @@ public:
     bool intersect(const Ray& ray, Hit& hit) const;
     bool occluded(const Ray& ray) const;
     // The triangle a ray leaves needs no skipping: the triangle test rejects hits within its own
-    // error bound on t of the origin (geometry/ray_triangle.h).
+    // error bound on t of the origin (geometry/triangle.h).
     bool intersect(const Ray& ray, Hit& hit, TriangleLeft) const { return intersect(ray, hit); }
     bool occluded(const Ray& ray, TriangleLeft) const { return occluded(ray); }
 

@@ -1,4 +1,4 @@
-// Four watertight ray/triangle tests at once with SSE: the test of geometry/ray_triangle.h (Woop,
+// Four watertight ray/triangle tests at once with SSE: the test of geometry/triangle.h (Woop,
 // Benthin and Wald, "Watertight Ray/Triangle Intersection", JCGT 2(1), 2013), one triangle per
 // lane, for the leaves of our BVH (accel/bvh_accelerator.h). Embree tests leaves the same way.
 //
@@ -13,7 +13,7 @@
 #include <emmintrin.h>
 #include <xmmintrin.h>
 
-#include "geometry/ray_triangle.h"
+#include "geometry/triangle.h"
 
 namespace penumbra {
 

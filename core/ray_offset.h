@@ -4,7 +4,7 @@
 // true point with normal n then lies within dot(|n|, pointError) of p along n, so moving p that far
 // along n puts it on the normal's side of the surface, and rounding the sum away from p keeps it
 // there (a step is taken even when the error is 0, so the origin always leaves the surface).
-// Intersection tests reject hits within their own error of the origin (geometry/ray_triangle.h),
+// Intersection tests reject hits within their own error of the origin (geometry/triangle.h),
 // so a ray cannot hit the surface it leaves however large or small the coordinates are: the offset
 // follows the error of the point, not fixed constants.
 #pragma once

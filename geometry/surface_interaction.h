@@ -18,9 +18,9 @@
 #include "core/simd.h"
 #include "geometry/face_frames.h"
 #include "geometry/hit.h"
-#include "geometry/ray_sphere.h"
-#include "geometry/ray_triangle.h"
 #include "geometry/scene_geometry.h"
+#include "geometry/sphere.h"
+#include "geometry/triangle.h"
 
 namespace penumbra {
 
@@ -194,7 +194,7 @@ inline void canonicalizeShapeHit(const SceneGeometry& scene, ShapeRef shape,
 }  // namespace detail
 
 // The same hit whichever backend found it: t and the barycentrics of the primitive the backend
-// reports are recomputed with the tests our BVH uses (geometry/ray_triangle.h, ray_sphere.h; moving
+// reports are recomputed with the tests our BVH uses (geometry/triangle.h, sphere.h; moving
 // shapes and instances in object space, as the BVH traverses them), so that whenever Embree and the BVH find
 // the same primitive everything downstream sees the same bits, and renders with either backend are
 // bit-identical unless some hit differs. Embree rounds differently (its Plücker-form test); should

@@ -12,6 +12,7 @@
 #include "core/vec.h"
 #include "geometry/emission.h"
 #include "geometry/surface_interaction.h"
+#include "geometry/triangle.h"
 #include "geometry/triangle_mesh.h"
 #include "lights/light_bounds.h"
 #include "lights/light_sample.h"
@@ -63,10 +64,10 @@ struct TriangleLight {
         return b;
     }
     bool sample(Vec3f reference, Vec2f u, LightSample& ls) const {
-        const Vec2f b = sampleUniformTriangle(u);
-        ls.point = p0 * (1.0f - b.x - b.y) + p1 * b.x + p2 * b.y;
-        // As for a hit's barycentric interpolation (geometry/surface_interaction.h).
-        ls.pointError = (abs(p0 * (1.0f - b.x - b.y)) + abs(p1 * b.x) + abs(p2 * b.y)) * gamma(7);
+        const TrianglePointSample s = sampleTriangle(p0, p1, p2, u);
+        const Vec2f b = s.barycentrics;
+        ls.point = s.point;
+        ls.pointError = s.pointError;
         ls.lightNormal = normal;
         AreaSampleGeometry g;
         if (!connectAreaSample(reference, ls, g)) return false;

@@ -17,8 +17,8 @@
 #include "core/ray_offset.h"
 #include "core/sampling.h"
 #include "formats/scene_file.h"
-#include "geometry/ray_triangle.h"
 #include "geometry/surface_interaction.h"
+#include "geometry/triangle.h"
 
 namespace penumbra {
 
@@ -462,7 +462,7 @@ bool MismatchClassifier::crossesItsTriangleAtAGlance(const Ray& ray, const Hit& 
 }
 
 // Our triangle test rejects hits within its error bound on t of the origin (geometry/
-// ray_triangle.h): there rounding cannot tell whether the ray starts before or after the surface.
+// triangle.h): there rounding cannot tell whether the ray starts before or after the surface.
 bool MismatchClassifier::withinTriangleTestError(const Ray& ray, const Hit& hit) const {
     if (!isTriangleHit(scene_, hit)) return false;
     const ShapeRef shape = scene_.shapeOf(hit);

@@ -1,5 +1,5 @@
 // The 4-wide watertight triangle test (accel/bvh_triangle4.h) against the scalar one
-// (geometry/ray_triangle.h): every lane must give the scalar test's answer bit for bit, on random
+// (geometry/triangle.h): every lane must give the scalar test's answer bit for bit, on random
 // triangles, on rays through their edges and vertices (where edge functions round to zero and the
 // scalar test recomputes them in double: those lanes must be reported for the scalar test), on
 // degenerate triangles, and on rays along axes (zero direction components).

@@ -14,9 +14,9 @@
 #include <random>
 
 #include "core/ray_offset.h"
-#include "geometry/ray_sphere.h"
-#include "geometry/ray_triangle.h"
+#include "geometry/sphere.h"
 #include "geometry/surface_interaction.h"
+#include "geometry/triangle.h"
 
 namespace penumbra {
 namespace {

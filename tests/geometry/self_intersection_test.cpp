@@ -9,8 +9,8 @@
 #include <random>
 
 #include "core/ray_offset.h"
-#include "geometry/ray_triangle.h"
 #include "geometry/surface_interaction.h"
+#include "geometry/triangle.h"
 
 namespace penumbra {
 namespace {

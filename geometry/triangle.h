@@ -1,4 +1,8 @@
-// Watertight ray/triangle intersection: Woop, Benthin and Wald, "Watertight Ray/Triangle
+// A triangle's maths: the ray test both backends' hits are recomputed with, and the sampling of a
+// point on it (its area lights, lights/triangle_light.h). Its shading point is made with the other
+// shapes' in geometry/surface_interaction.h.
+//
+// The ray test: watertight ray/triangle intersection, Woop, Benthin and Wald, "Watertight Ray/Triangle
 // Intersection" (Journal of Computer Graphics Techniques 2(1), 2013), in the form of pbrt-v4
 // (Pharr, Jakob and Humphreys, "Physically Based Rendering", 4th ed., section 6.5.3).
 //
@@ -21,6 +25,7 @@
 
 #include "core/check.h"
 #include "core/float_error.h"
+#include "core/sampling.h"
 #include "core/vec.h"
 
 namespace penumbra {
@@ -138,6 +143,20 @@ inline float watertightTErrorBound(const WatertightRay& r, const float* vertices
     const float maxZt = std::max({std::abs(z0 * r.sz), std::abs(z1 * r.sz), std::abs(z2 * r.sz)});
     const float maxE = std::max({std::abs(e0), std::abs(e1), std::abs(e2)});
     return watertightTError(maxXt, maxYt, maxZ, maxZt, maxE, 1.0f / det);
+}
+
+// A point of the triangle (p0, p1, p2) uniformly by area (u in [0, 1)^2), with its barycentric
+// coordinates (b.x of p1, b.y of p2) and the bound on its rounding error, as for a hit's
+// barycentric interpolation (geometry/surface_interaction.h).
+struct TrianglePointSample {
+    Vec3f point;
+    Vec3f pointError;
+    Vec2f barycentrics;
+};
+[[gnu::always_inline]] inline TrianglePointSample sampleTriangle(Vec3f p0, Vec3f p1, Vec3f p2, Vec2f u) {
+    const Vec2f b = sampleUniformTriangle(u);
+    return {p0 * (1.0f - b.x - b.y) + p1 * b.x + p2 * b.y,
+            (abs(p0 * (1.0f - b.x - b.y)) + abs(p1 * b.x) + abs(p2 * b.y)) * gamma(7), b};
 }
 
 }  // namespace penumbra
