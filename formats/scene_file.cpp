@@ -2,9 +2,12 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <system_error>
 
+#include "core/error.h"
 #include "core/input_file.h"
 #include "core/input_limits.h"
+#include "core/resource_paths.h"
 #include "formats/pbrt/pbrt_reader.h"
 #include "scenes/json_reader.h"
 #include "scenes/scene_loader.h"
@@ -77,11 +80,35 @@ void writeJson(const Json& value, int indent, std::string& out) {
     }
 }
 
+// A relative scene name that is not found here but is one of the example scenes installed with the
+// program (PREFIX/share/penumbra/scenes, where `cmake --install` puts scenes/): the error says where
+// they are. Otherwise the readers' own "not found" stands.
+void requireSceneOrPointAtExamples(const fs::path& file) {
+    std::error_code ec;
+    if (!file.is_relative() || fs::exists(file, ec)) return;
+    fs::path examples;
+    try {
+        examples = sharedDataPath("scenes");
+    } catch (const InputError&) {
+        return;  // no data folder: nothing to point at
+    }
+    fs::path relative = file;
+    if (auto first = relative.begin(); first != relative.end() && *first == "scenes")
+        relative = relative.lexically_relative("scenes");
+    const fs::path installed = examples / relative;
+    if (!fs::is_regular_file(installed, ec)) return;
+    SourceLocation where;
+    where.file = file.string();
+    throw InputError(where, "scene file not found here; the example scenes installed with penumbra are in " +
+                                examples.string() + " (this one: " + installed.string() + ")");
+}
+
 }  // namespace
 
 bool isPbrtScene(const fs::path& file) { return file.extension() == ".pbrt"; }
 
 Scene loadSceneFile(const fs::path& file, const SceneFileOptions& options) {
+    requireSceneOrPointAtExamples(file);
     Scene scene;
     if (isPbrtScene(file)) {
         pbrt::PbrtConversion conversion = pbrt::convertPbrtFile(file);

@@ -79,8 +79,13 @@ run_logged $sudo apt-get update
 # What it will take: apt's own summary of a simulated install.
 plan=$($sudo apt-get install --assume-no --no-install-recommends "${missing[@]}" 2>&1 || true)
 count=$(printf '%s\n' "$plan" | sed -n 's/^\([0-9]*\) upgraded, \([0-9]*\) newly installed.*/\2/p')
-need=$(printf '%s\n' "$plan" | sed -n 's/^Need to get \([^ ]* [^ ]*\).*/\1/p')
+# "Need to get 2,048 kB of archives", or "Need to get 0 B/11.5 MB" when apt has some cached.
+need=$(printf '%s\n' "$plan" | sed -n 's/^Need to get \(.*\) of archives.*/\1/p')
+case $need in
+    */*) download="${need%%/*} to download (${need#*/} in all, the rest in apt's cache)" ;;
+    *) download="${need:-nothing} to download" ;;
+esac
 disk=$(printf '%s\n' "$plan" | sed -n 's/^After this operation, \([^ ]* [^ ]*\).*/\1/p')
-echo "penumbra: ${count:-?} packages, ${need:-nothing} to download, ${disk:-no more} disk space" >&2
+echo "penumbra: ${count:-?} packages, $download, ${disk:-no more} disk space" >&2
 run_logged $sudo apt-get install -y --no-install-recommends "${missing[@]}"
 echo "penumbra: packages installed" >&2

@@ -39,4 +39,11 @@ if /usr/bin/python3 -c 'import matplotlib' 2>/dev/null; then
 else
     echo "matplotlib is not installed (scripts/install-deps.sh tools): the plot was not checked"
 fi
+# An example scene named as in the README, from a folder that has no scenes/: the error points at
+# the installed examples. The pbrt-v4 example is installed and renders.
+if "$penumbra" render scenes/cornell-box.json --quiet 2> notfound.err; then fail "a missing scene rendered"; fi
+grep -qF "$scratch/moved/share/penumbra/scenes/cornell-box.json" notfound.err ||
+    { cat notfound.err >&2; fail "the error does not point at the installed example scenes"; }
+"$penumbra" render "$scratch/moved/share/penumbra/scenes/pbrt/depth-of-field.pbrt" --res 32x20 --spp 2 -o out/pbrt.exr --quiet
+[ -s out/pbrt.png ] || fail "the pbrt-v4 example did not render"
 echo "installed, moved, rendered and ran converge from $scratch/moved"
