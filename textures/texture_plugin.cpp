@@ -19,9 +19,11 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <initializer_list>
 #include <map>
 #include <mutex>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/input_limits.h"
@@ -51,12 +53,13 @@ int failWith(const std::string& message, char* error, size_t errorSize) {
 }
 
 // The format of an image by its first bytes (its magic number), of the formats penumbra reads:
-// OpenEXR, PNG, JPEG, TIFF (and .tx) and Radiance HDR, as OpenImageIO names them; null for any
-// other. OpenImageIO has readers for some 30 formats and tries each on a file its name does not
-// match; the others are less hardened (its BMP reader crashed on an 822-byte file, its WebP reader
-// decoded 24 bytes as 7897 x 14457 texels; found by fuzzing), so no file reaches them.
+// OpenEXR, PNG, JPEG, TIFF (and .tx), Radiance HDR, PFM and Truevision TGA (the last two for the
+// scenes of pbrt-v4 and Tungsten, which use them), as OpenImageIO names them; null for any other.
+// OpenImageIO has readers for some 30 formats and tries each on a file its name does not match;
+// the others are less hardened (its BMP reader crashed on an 822-byte file, its WebP reader decoded
+// 24 bytes as 7897 x 14457 texels; found by fuzzing), so no file reaches them.
 const char* formatByContents(const char* path) {
-    unsigned char magic[10] = {};
+    unsigned char magic[18] = {};
     std::FILE* file = std::fopen(path, "rb");
     if (!file) return nullptr;
     const size_t n = std::fread(magic, 1, sizeof magic, file);
@@ -69,6 +72,20 @@ const char* formatByContents(const char* path) {
     if (starts("\xff\xd8\xff", 3)) return "jpeg";
     if (starts("II*\0", 4) || starts("MM\0*", 4) || starts("II+\0", 4) || starts("MM\0+", 4)) return "tiff";
     if (starts("#?RADIANCE", 10) || starts("#?RGBE", 6)) return "hdr";
+    // Portable float map: "PF" (colour) or "Pf" (grey), then a line break.
+    if ((starts("PF", 2) || starts("Pf", 2)) && n >= 3 && (magic[2] == '\n' || magic[2] == '\r'))
+        return "pnm";
+    // TGA has no magic number: a file named .tga whose 18-byte header holds a colour-map type, an
+    // image type and a pixel depth that TGA defines.
+    const std::string_view name(path);
+    const bool namedTga = name.size() >= 4 &&
+                          (name.substr(name.size() - 4) == ".tga" || name.substr(name.size() - 4) == ".TGA");
+    const auto isOneOf = [](unsigned char value, std::initializer_list<unsigned char> values) {
+        return std::find(values.begin(), values.end(), value) != values.end();
+    };
+    if (namedTga && n == 18 && magic[1] <= 1 && isOneOf(magic[2], {1, 2, 3, 9, 10, 11}) &&
+        isOneOf(magic[16], {8, 15, 16, 24, 32}))
+        return "targa";
     return nullptr;
 }
 
@@ -79,7 +96,8 @@ const char* formatByContents(const char* path) {
 std::string declaredSizeProblem(const char* path, int64_t maxTexels) {
     const char* format = formatByContents(path);
     if (!format)
-        return "not an image in one of the formats penumbra reads (OpenEXR, PNG, JPEG, TIFF, Radiance HDR), "
+        return "not an image in one of the formats penumbra reads (OpenEXR, PNG, JPEG, TIFF, Radiance HDR, "
+               "PFM, TGA), "
                "by its "
                "first bytes";
     if (penumbra::startsLikeExr(path)) {

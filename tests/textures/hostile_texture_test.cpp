@@ -13,6 +13,7 @@
 #include <fstream>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "tests/support/run_command.h"
@@ -215,18 +216,60 @@ TEST_F(HostileTexture, ImageWiderThanAnyImageIsRefusedFromItsHeader) {
     EXPECT_TRUE(contains(r, "100000 x 4 texels; at most 65536 a side are read")) << r.output;
 }
 
-TEST_F(HostileTexture, FormatsOtherThanTheFiveReadAreRefusedByTheirFirstBytes) {
+TEST_F(HostileTexture, FormatsOtherThanTheSevenReadAreRefusedByTheirFirstBytes) {
     // bmp_rle8_of_24_bits.bmp (822 bytes, found by fuzzing): OpenImageIO's BMP reader crashed
     // (SIGSEGV) on it, as texture and as environment map; bmp_7_million_texels_wide.bmp made it ask
-    // for 5.4 GB. No file reaches a reader other than OpenEXR's, PNG's, JPEG's, TIFF's and HDR's.
+    // for 5.4 GB. No file reaches a reader other than OpenEXR's, PNG's, JPEG's, TIFF's, HDR's,
+    // PFM's and TGA's.
     for (const char* name : {"bmp_rle8_of_24_bits.bmp", "bmp_7_million_texels_wide.bmp"}) {
         const fs::path bmp = kHostile / name;
         RunResult r = expectRenderFailure(texturedScene(bmp), bmp);
         EXPECT_TRUE(contains(r,
                              "not an image in one of the formats penumbra reads (OpenEXR, PNG, JPEG, TIFF, "
-                             "Radiance HDR)"))
+                             "Radiance HDR, PFM, TGA)"))
             << r.output;
         r = expectRenderFailure(environmentScene(bmp), bmp);
+        EXPECT_TRUE(contains(r, "not an image in one of the formats penumbra reads")) << r.output;
+    }
+}
+
+// A 2 x 2 uncompressed 24-bit TGA (bottom-up rows, BGR) and a 2 x 2 PFM (colour, little-endian,
+// bottom-up rows), the formats of Tungsten's and pbrt-v4's scenes.
+std::string tgaBytes() {
+    std::string bytes(18, '\0');
+    bytes[2] = 2;                  // uncompressed true colour
+    bytes[12] = 2, bytes[14] = 2;  // 2 x 2
+    bytes[16] = 24;                // bits per pixel
+    for (int i = 0; i < 4; ++i) bytes += std::string("\x40\x80\xc0", 3);
+    return bytes;
+}
+std::string pfmBytes() {
+    std::string bytes = "PF\n2 2\n-1.0\n";
+    const float value = 0.25f;
+    for (int i = 0; i < 12; ++i) bytes.append(reinterpret_cast<const char*>(&value), sizeof value);
+    return bytes;
+}
+
+TEST_F(HostileTexture, TgaAndPfmImagesAreRead) {
+    for (const auto& [name, bytes] :
+         {std::pair{std::string("grey.tga"), tgaBytes()}, std::pair{std::string("flat.pfm"), pfmBytes()}}) {
+        const fs::path image = writeFile(name, bytes);
+        for (const fs::path& scene : {texturedScene(image), environmentScene(image)}) {
+            const RunResult r =
+                penumbra::testing::runShell(std::string(PENUMBRA_BINARY) + " render " + scene.string() +
+                                            " -q -o " + (dir_ / "out" / "image.exr").string());
+            EXPECT_EQ(r.exitCode, 0) << name << ": " << r.output;
+            EXPECT_TRUE(fs::exists(dir_ / "out" / "image.exr")) << name;
+            fs::remove_all(dir_ / "out");
+            fs::create_directories(dir_ / "out");
+        }
+    }
+    // TGA has no magic number: a TGA header under another name, and a name .tga over bytes that
+    // are no TGA header, reach no reader.
+    for (const auto& [name, bytes] : {std::pair{std::string("tga.bmp"), tgaBytes()},
+                                      std::pair{std::string("not.tga"), std::string(64, '\x7f')}}) {
+        const fs::path image = writeFile(name, bytes);
+        const RunResult r = expectRenderFailure(texturedScene(image), image);
         EXPECT_TRUE(contains(r, "not an image in one of the formats penumbra reads")) << r.output;
     }
 }
