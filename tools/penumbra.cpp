@@ -42,6 +42,7 @@
 #include "tools/cli_numbers.h"
 #include "tools/converge.h"
 #include "tools/crosscheck.h"
+#include "tools/help_formatter.h"
 #include "tools/merge_command.h"
 #include "tools/render_report.h"
 #include "tools/split_text.h"
@@ -353,6 +354,7 @@ int runConvertCommand(const std::string& scenePath, const std::string& outputPat
 
 int main(int argc, char** argv) {
     CLI::App app{"penumbra: a path / distribution ray tracer (Embree traversal, TBB tiles, OpenEXR output)"};
+    app.formatter(std::make_shared<HelpFormatter>());  // before the subcommands, which inherit it
     app.set_version_flag("--version", std::string("penumbra ") + kVersion);
     app.require_subcommand(1);
 

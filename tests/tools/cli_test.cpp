@@ -2,6 +2,7 @@
 // non-zero exit status and no output file; good input writes the EXR and the PNG.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -175,6 +176,40 @@ TEST_F(CommandLine, UnwritableOutputLeavesNothing) {
     const RunResult r = runPenumbra("render " + scene.string() + " -o " + (dir_ / "file" / "x.exr").string());
     EXPECT_NE(r.exitCode, 0);
     EXPECT_TRUE(contains(r, "penumbra: error: ")) << r.output;
+}
+
+}  // namespace
+
+namespace {
+
+// Every subcommand's help fits 100 columns (descriptions wrapped at words), and the wrapping
+// keeps every word of a description.
+TEST(CommandLineHelp, NoLineIsWiderThanAHundredColumns) {
+    for (const char* command :
+         {"", "render", "merge", "submit", "status", "convert", "converge", "crosscheck"}) {
+        const RunResult r = runPenumbra(std::string(command) + " --help");
+        EXPECT_EQ(r.exitCode, 0) << command << ": " << r.output;
+        size_t start = 0, widest = 0;
+        while (start < r.output.size()) {
+            size_t end = r.output.find('\n', start);
+            if (end == std::string::npos) end = r.output.size();
+            widest = std::max(widest, end - start);
+            start = end + 1;
+        }
+        EXPECT_LE(widest, 100u) << command << ":\n" << r.output;
+    }
+    const RunResult render = runPenumbra("render --help");
+    // A long description, whole: its words in order, whatever the line breaks.
+    std::string flattened;
+    for (const char c : render.output) flattened += (c == '\n' || c == ' ') ? ' ' : c;
+    std::string collapsed;
+    for (const char c : flattened)
+        if (!(c == ' ' && !collapsed.empty() && collapsed.back() == ' ')) collapsed += c;
+    EXPECT_NE(
+        collapsed.find("What the EXR holds: full (default: image, AOVs and the exact sums; resumable and "
+                       "mergeable, about 100 bytes a pixel)"),
+        std::string::npos)
+        << render.output;
 }
 
 }  // namespace
