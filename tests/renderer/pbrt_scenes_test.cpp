@@ -143,6 +143,35 @@ Blocks blocksOf(const Film& film, int blockPixels) {
     return b;
 }
 
+// Every Bitterli scene loads with its images (TGA and PFM among them) and renders a few samples
+// to finite values: what the importer leaves out is a warning, never a failure.
+TEST(PbrtScenes, EveryBitterliSceneLoadsAndRenders) {
+    const fs::path bitterli = kData / "bitterli";
+    if (!fs::is_directory(bitterli)) GTEST_SKIP() << "shared data not found at " << bitterli;
+    int scenes = 0;
+    for (const fs::directory_entry& folder : fs::directory_iterator(bitterli)) {
+        const fs::path file = folder.path() / "scene-v4.pbrt";
+        if (!fs::exists(file)) continue;
+        ++scenes;
+        Scene scene;
+        try {
+            scene = load(file);
+        } catch (const std::exception& e) {
+            ADD_FAILURE() << file << ": " << e.what();
+            continue;
+        }
+        scene.film.width = 8;
+        scene.film.height = 6;
+        scene.film.samplesPerPixel = 1;
+        scene.film.adaptive.reset();
+        const Film film = renderScene(scene);
+        for (int y = 0; y < film.height(); ++y)
+            for (int x = 0; x < film.width(); ++x)
+                for (int c = 0; c < 3; ++c) EXPECT_TRUE(std::isfinite(film.at(x, y).radiance[c])) << file;
+    }
+    EXPECT_EQ(scenes, 12);
+}
+
 TEST(PbrtScenes, CornellBoxMatchesTheReferenceAndTheHandTranslation) {
     const fs::path pbrt = kData / "cornell-box-bitterli" / "scene-v4.pbrt";
     const fs::path referencePath = kData / "cornell-box-bitterli" / "reference-tungsten.exr";
