@@ -9,6 +9,7 @@
 #include "core/input_limits.h"
 #include "core/resource_paths.h"
 #include "formats/pbrt/pbrt_reader.h"
+#include "scenes/emitter_orientation.h"
 #include "scenes/json_reader.h"
 #include "scenes/scene_loader.h"
 
@@ -116,7 +117,7 @@ Scene loadSceneFile(const fs::path& file, const SceneFileOptions& options) {
         applyPatch(conversion.document, options.patch);
         scene = pbrt::buildPbrtScene(conversion, file);
     } else if (options.patch.empty()) {
-        return loadScene(file);
+        scene = loadScene(file);
     } else {
         Json document =
             parseJsonText(InputFile(file, "scene file", limits::kMaxSceneFileBytes).readAll(), file.string());
@@ -125,6 +126,7 @@ Scene loadSceneFile(const fs::path& file, const SceneFileOptions& options) {
     }
     // The patch is part of the scene: the film's scene hash covers it (resume and merge checks).
     if (!options.patch.empty()) scene.includedFiles.push_back(options.patch);
+    emitWarnings(emittersFacingAway(scene), options.warnings);
     return scene;
 }
 
