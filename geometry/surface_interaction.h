@@ -295,8 +295,8 @@ template <bool kHitIsCanonical>
 [[gnu::always_inline]] inline SurfaceInteraction resolveHit(const SceneGeometry& scene, const Ray& ray,
                                                             Hit& hit,
                                                             const FaceFrames* faceFrames = nullptr) {
-    // One named result on every path, so that it is built in the caller's place (NRVO): a copy of
-    // it on return cost 4% of the render (bench/README.md, "Speed tricks").
+    // One named result on every path, so that it is built in the caller's place (NRVO), not
+    // copied on return (bench/README.md, "Speed tricks").
     SurfaceInteraction si;
     const ShapeRef shape = scene.shapeOf(hit);
     if (shape.kind == ShapeKind::Mesh && !scene.meshes[shape.index].moves()) [[likely]] {

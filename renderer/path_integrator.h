@@ -7,7 +7,7 @@
 // so the estimator stays unbiased and paths carrying little energy end early. The square root (as
 // Cycles takes it) ends them later than q = throughput would: on a glass sphere's caustic, paths
 // through the glass were cut at their second interface with half their weight left, which cost
-// 15% more mean squared error at the same time per sample (bench/README.md). The throughput used for q
+// error at the same time per sample (bench/README.md, "time_to_error.py"). The throughput used for q
 // leaves out the radiance scale 1 / eta^2 of refractions (pbrt-v4's etaScale): inside glass the
 // throughput is 1 / eta^2 smaller without carrying less energy, and it gets the factor back on leaving.
 //
@@ -357,7 +357,7 @@ struct PendingShadowRay {
 // Radiance arriving along `ray` (a camera ray) for the sample `sample`: the path's vertices, each
 // taking the steps above in this order: what the segment passed through, emission at the hit,
 // direct light (its shadow ray left pending), continuation (with Russian roulette), then the
-// pending shadow ray. The steps are always inlined: as calls they cost 3% more instructions
+// pending shadow ray. The steps are always inlined: as calls they cost more instructions
 // (bench/README.md, "Speed tricks"). When `firstHit` is given it receives the first hit's AOVs
 // (hit = false when the ray leaves the scene). When `traced` is given it is what tracing `ray`
 // found, and the ray is not traced again.
