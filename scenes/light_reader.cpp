@@ -95,7 +95,7 @@ void readGoniometricLight(const JsonValue& value, const fs::path& folder, Scene&
     if (path.is_relative()) path = folder / path;
     std::error_code ec;
     if (!fs::is_regular_file(path, ec))
-        fileValue.fail(fmt::format("the IES file {} {}", path.string(),
+        fileValue.fail(fmt::format("the profile {} {}", path.string(),
                                    fs::exists(path, ec) ? "is not a regular file" : "does not exist"));
     light.profile = std::make_shared<const IntensityProfile>(readIntensityProfile(fileValue, path));
     Vec3f nadir{0.0f, -1.0f, 0.0f};
