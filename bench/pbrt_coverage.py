@@ -53,6 +53,8 @@ import time
 import numpy as np
 import OpenImageIO as oiio
 
+from time_to_error import machine_description  # the same machine line as the other benchmarks
+
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DATA = os.path.normpath(os.path.join(REPO, "..", "shared", "data"))
 RESULTS = os.path.join(REPO, "bench", "results")
@@ -65,22 +67,6 @@ BENIGN = (re.compile(r'^Sampler .* is rendered with penumbra\'s stratified sampl
 
 def log(msg):
     print(msg, file=sys.stderr, flush=True)
-
-
-def machine_description():
-    model = "unknown CPU"
-    try:
-        for line in open("/proc/cpuinfo"):
-            if line.startswith("model name"):
-                model = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    try:
-        mem = next(int(l.split()[1]) for l in open("/proc/meminfo") if l.startswith("MemTotal")) / 2 ** 20
-    except (OSError, StopIteration):
-        mem = 0
-    return f"{model}, {os.cpu_count()} cores, {mem:.1f} GiB"
 
 
 def find_scenes():
