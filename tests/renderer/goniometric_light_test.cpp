@@ -18,32 +18,16 @@
 
 #include "core/error.h"
 #include "core/sampling.h"
-#include "film/film.h"
 #include "lights/light_set.h"
-#include "renderer/render.h"
 #include "scenes/scene_loader.h"
-#include "tests/support/scene_builders.h"
+#include "tests/support/rendered_mean.h"
 
 namespace penumbra {
 namespace {
 
 const std::filesystem::path kIesFolder = std::filesystem::path(PENUMBRA_TEST_DATA_DIR) / "ies";
 
-double renderedMeanAt(Vec3f target, const Scene& base) {
-    Scene scene = base;
-    scene.camera.lookFrom = target + Vec3f{0.0f, 1.0f, 0.0f};
-    scene.camera.lookAt = target;
-    scene.camera.up = {0.0f, 0.0f, -1.0f};
-    Film film(scene.film.width, scene.film.height);
-    render(scene, RenderOptions{}, film);
-    double sum = 0, count = 0;
-    for (int y = 0; y < film.height(); ++y)
-        for (int x = 0; x < film.width(); ++x) {
-            sum += film.at(x, y).radiance[0];
-            count += film.at(x, y).weight;
-        }
-    return sum / count;
-}
+using testing::renderedMeanAt;
 
 // A plane at y = 0 and a goniometric light at height 2 pointing down, its horizontal angle 0
 // towards +x: by LM-63's counterclockwise angles seen from above, angle 90 lies towards -z.

@@ -11,28 +11,13 @@
 #include <utility>
 
 #include "core/sampling.h"
-#include "film/film.h"
-#include "renderer/render.h"
+#include "tests/support/rendered_mean.h"
 #include "tests/support/scene_builders.h"
 
 namespace penumbra {
 namespace {
 
-double renderedMeanAt(Vec3f target, const Scene& base) {
-    Scene scene = base;
-    scene.camera.lookFrom = target + Vec3f{0.0f, 1.0f, 0.0f};
-    scene.camera.lookAt = target;
-    scene.camera.up = {0.0f, 0.0f, -1.0f};
-    Film film(scene.film.width, scene.film.height);
-    render(scene, RenderOptions{}, film);
-    double sum = 0, count = 0;
-    for (int y = 0; y < film.height(); ++y)
-        for (int x = 0; x < film.width(); ++x) {
-            sum += film.at(x, y).radiance[0];
-            count += film.at(x, y).weight;
-        }
-    return sum / count;
-}
+using testing::renderedMeanAt;
 
 TEST(PointLight, LambertPlaneMatchesClosedFormIrradiance) {
     const float albedo = 0.6f, intensity = 25.0f, height = 2.0f;
