@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <array>
-#include <system_error>
 
 #include "core/error.h"
 #include "core/transform.h"
@@ -23,12 +22,7 @@ EnvironmentLight readConstantEnvironment(const JsonValue& value, const fs::path&
 // An equirectangular image (lights/environment_light.h has its orientation), scaled and rotated.
 EnvironmentLight readImageEnvironment(const JsonValue& value, const fs::path& folder) {
     const JsonValue fileValue = value.requiredMember("file");
-    fs::path path = fileValue.string();
-    if (path.is_relative()) path = folder / path;
-    std::error_code ec;
-    if (!fs::is_regular_file(path, ec))
-        fileValue.fail(fmt::format("the image {} {}", path.string(),
-                                   fs::exists(path, ec) ? "is not a regular file" : "does not exist"));
+    const fs::path path = fileValue.existingFile(folder, "image");
     Rgb scale(1.0f);
     if (auto v = value.member("scale")) scale = v->rgb(0.0f);
     Transform rotation;

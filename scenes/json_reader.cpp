@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <set>
+#include <system_error>
 
 #include "core/error.h"
 #include "core/input_limits.h"
@@ -157,6 +158,17 @@ bool JsonValue::boolean() const {
 std::string JsonValue::string() const {
     if (!json_->is_string()) failExpected("a string");
     return json_->get<std::string>();
+}
+
+std::filesystem::path JsonValue::existingFile(const std::filesystem::path& folder,
+                                              std::string_view what) const {
+    std::filesystem::path path = string();
+    if (path.is_relative()) path = folder / path;
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec))
+        fail(fmt::format("the {} {} {}", what, path.string(),
+                         std::filesystem::exists(path, ec) ? "is not a regular file" : "does not exist"));
+    return path;
 }
 
 size_t JsonValue::choice(std::initializer_list<std::string_view> choices) const {

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
 #include <initializer_list>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -51,6 +52,9 @@ public:
 
     bool boolean() const;
     std::string string() const;
+    // The string as the name of a regular file, relative to `folder` unless absolute; otherwise
+    // fails with "the WHAT PATH does not exist" (or "is not a regular file").
+    std::filesystem::path existingFile(const std::filesystem::path& folder, std::string_view what) const;
     // The string, which must be one of `choices`; returns its position in them.
     size_t choice(std::initializer_list<std::string_view> choices) const;
     size_t choice(std::span<const std::string_view> choices) const;

@@ -8,7 +8,6 @@
 #include <cmath>
 #include <memory>
 #include <numbers>
-#include <system_error>
 
 #include "core/frame.h"
 #include "lights/goniometric_light.h"
@@ -91,12 +90,7 @@ void readGoniometricLight(const JsonValue& value, const fs::path& folder, Scene&
     GoniometricLight light;
     light.position = value.requiredMember("position").vec3();
     const JsonValue fileValue = value.requiredMember("file");
-    fs::path path = fileValue.string();
-    if (path.is_relative()) path = folder / path;
-    std::error_code ec;
-    if (!fs::is_regular_file(path, ec))
-        fileValue.fail(fmt::format("the profile {} {}", path.string(),
-                                   fs::exists(path, ec) ? "is not a regular file" : "does not exist"));
+    const fs::path path = fileValue.existingFile(folder, "profile");
     light.profile = std::make_shared<const IntensityProfile>(readIntensityProfile(fileValue, path));
     Vec3f nadir{0.0f, -1.0f, 0.0f};
     if (auto v = value.member("nadir")) {

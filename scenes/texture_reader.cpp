@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <array>
-#include <system_error>
 
 #include "core/error.h"
 #include "scenes/type_table.h"
@@ -50,13 +49,7 @@ TextureWrap readWrap(const JsonValue& value) {
 
 Texture readImage(const JsonValue& value, const TextureContext& context) {
     const JsonValue fileValue = value.requiredMember("file");
-    std::filesystem::path path = fileValue.string();
-    if (path.is_relative()) path = context.folder / path;
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec))
-        fileValue.fail(
-            fmt::format("the image {} {}", path.string(),
-                        std::filesystem::exists(path, ec) ? "is not a regular file" : "does not exist"));
+    const std::filesystem::path path = fileValue.existingFile(context.folder, "image");
     ImageTextureSource source;
     if (auto v = value.member("wrap")) {
         if (v->json().is_array()) {
