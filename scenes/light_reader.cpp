@@ -105,6 +105,13 @@ void readGoniometricLight(const JsonValue& value, const fs::path& folder, Scene&
     }
     light.frame = GoniometricLight::profileFrame(nadir, front);
     if (auto v = value.member("scale")) light.scale = v->rgb(0.0f);
+    // pbrt-v4's "power": the scale times power / the profile's flux.
+    if (auto v = value.member("power")) {
+        const float power = v->numberAbove(0.0f);
+        const double flux = profileFlux(*light.profile);
+        if (!(flux > 0.0)) v->fail("the profile emits no light, so no power can be given to it");
+        light.scale *= float(double(power) / flux);
+    }
     scene.lights.push_back(std::move(light));
 }
 
@@ -114,7 +121,7 @@ const std::array<TypeRow<LightReader>, 4> kLightTypes{{
     {"point", {"type", "position", "intensity"}, readPointLight},
     {"spot", {"type", "position", "direction", "intensity", "cone_angle", "cone_delta"}, readSpotLight},
     {"directional", {"type", "direction", "irradiance"}, readDirectionalLight},
-    {"goniometric", {"type", "position", "file", "nadir", "front", "scale"}, readGoniometricLight},
+    {"goniometric", {"type", "position", "file", "nadir", "front", "scale", "power"}, readGoniometricLight},
 }};
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 
 #include "core/input_file.h"
 #include "core/input_limits.h"
@@ -684,14 +685,7 @@ void SceneBuilder::lightSource(const Directive& d) {
                    fmt::format("LightSource \"goniometric\": image \"{}\" not found (looked for {})", file,
                                path.string()));
         Rgb intensity = readColor(p, "I", Rgb(1.0f), SpectrumUse::Emission, textures_, log_) * scale;
-        // pbrt-v4: power / (4 pi times the image's mean), the image's flux per unit of I.
-        if (auto power = p.getFloat("power"); power && *power > 0.0) {
-            const LinearRgbImage image = readLinearRgbImage(path, filename->where);
-            double sum = 0.0;
-            for (const Rgb& t : image.texels) sum += (double(t.r) + t.g + t.b) / 3.0;
-            const double flux = image.texels.empty() ? 0.0 : 4.0 * kPi * sum / double(image.texels.size());
-            if (flux > 0.0) intensity *= float(*power / flux);
-        }
+        const std::optional<double> power = p.getFloat("power");
         const Vec3d nadir = world.applyVector(Vec3d{0, 1, 0}), front = world.applyVector(Vec3d{1, 0, 0});
         if (!(length(nadir) > 0.0) || !(length(cross(front, nadir)) > 1e-6 * length(front) * length(nadir)))
             failAt(d.where, "goniometric light: its transform must not collapse the light's axes");
@@ -701,6 +695,9 @@ void SceneBuilder::lightSource(const Directive& d) {
                      {"nadir", vec3Json(normalize(nadir))},
                      {"front", vec3Json(normalize(front))},
                      {"scale", rgbJson(intensity)}};
+        // pbrt-v4 divides by the image's flux, 4 pi times its mean: the loader knows it (the key's
+        // meaning is pbrt-v4's), so the image is read once.
+        if (power && *power > 0.0) light["power"] = *power;
     } else if (type == "infinite") {
         if (const Parameter* f = p.find("filename", {ParamType::String})) {
             if (const Parameter* l = p.find("L", {ParamType::Rgb, ParamType::Spectrum, ParamType::Blackbody}))
