@@ -74,7 +74,8 @@ public:
     bool isDelta(uint32_t light) const { return isDeltaLight(lights_[light]); }
     const LightModel& light(uint32_t light) const { return lights_[light]; }
     // A point on the light `choice` names, seen from `reference`; its pdf includes the choice's
-    // probability. Point lights inline, the others out of line (bench/README.md, "Speed tricks").
+    // probability. Point lights, the common case, inline; the others out of line, built in place
+    // (bench/README.md, "Speed tricks", `LightSet::sampleOther`).
     std::optional<LightSample> sample(Choice choice, Vec3f reference, Vec2f uPoint) const {
         if (const auto* point = std::get_if<PointLight>(&lights_[choice.light])) {
             LightSample ls{};
