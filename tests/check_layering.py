@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Checks the library's folder layering: a file may include headers of its own folder and of the
-folders below it, never of a folder above it or beside it (materials, cameras and lights share a
+folders below it, never of a folder above it or beside it (materials, cameras, lights and media share a
 layer and do not include one another). Exits 1 and names every offending include otherwise.
 
     check_layering.py SOURCE_ROOT [--report]
@@ -12,7 +12,7 @@ import re
 import sys
 
 # Lowest first; folders in one tuple share a layer.
-LAYERS = [("core",), ("textures",), ("geometry",), ("materials", "cameras", "lights"), ("scenes",), ("formats",), ("accel",), ("film",),
+LAYERS = [("core",), ("textures",), ("geometry",), ("materials", "cameras", "lights", "media"), ("scenes",), ("formats",), ("accel",), ("film",),
           ("renderer",), ("tools",)]
 RANK = {folder: rank for rank, folders in enumerate(LAYERS) for folder in folders}
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"/]+)/[^"]+"', re.MULTILINE)
