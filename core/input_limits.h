@@ -69,6 +69,10 @@ constexpr float kMaxCoordinate = 1e18f;
 // samples over hundreds of others' and, at 3e38, off the image altogether.
 constexpr float kMaxFilterRadius = 64.0f;
 
+// Lattice points along each axis of a participating medium's grid given in the scene file
+// ("density.resolution"): the values themselves are bounded by the file's size.
+constexpr int kMaxGridSide = 4096;
+
 // Scattering events per path (scene "integrator.max_depth" and "roulette_start").
 constexpr int kMaxPathDepth = 1024;
 

@@ -48,7 +48,30 @@ enum class Dim : uint32_t {
     BsdfLobe,         // 1D: which lobe of the material is sampled
     BsdfDirection,    // 2D: direction within the lobe
     RussianRoulette,  // 1D: survival decision
+    // Participating media (renderer/volumetric_path_integrator.h). Their "bounce" is the path's
+    // segment (each ray between two vertices or interface crossings), not its scattering depth.
+    MediumChannel,        // 1D (segment 0): the colour channel whose majorant samples distances (hero)
+    MediumDistance,       // 1D: the first free-flight distance along the segment; SampleStream the rest
+    MediumEvent,          // 1D: the first collision's choice (absorb, scatter, null); SampleStream the rest
+    ShadowTransmittance,  // SampleStream only: ratio tracking's Russian roulette along a shadow ray
     Count
+};
+
+// The dimensions before the media's: their keys are those they had before media existed, so that
+// the images of scenes without media are unchanged.
+inline constexpr uint32_t kPathDimensions = uint32_t(Dim::MediumChannel);
+
+// Uniform values without end for a (dimension, segment) of one sample: delta tracking along a ray
+// makes as many collisions as it meets. Hashed from the dimension's key and a counter (pbrt-v4
+// seeds an RNG from the ray instead), so deterministic like every other sample value.
+class SampleStream {
+public:
+    explicit SampleStream(uint64_t key) : key_(key) {}
+    float next() { return bitsToUnitFloat(uint32_t(hashWords(key_, counter_++) >> 32)); }
+
+private:
+    uint64_t key_;
+    uint64_t counter_ = 0;
 };
 
 namespace detail {
@@ -215,6 +238,10 @@ public:
             detail::laineKarrasPermutation(detail::reversedSobolThirdDimension(index), uint32_t(key >> 32))));
     }
 
+    // The stream of uniform values of (dim, segment) for this sample (SampleStream).
+    SampleStream stream(Dim dim, uint32_t segment) const {
+        return SampleStream(hashWords(dimensionKey(dim, segment), sampleIndex_, uint64_t(kind_)));
+    }
     uint32_t sampleIndex() const { return sampleIndex_; }
 
     // Freezing: the dimensions in `mask` (a set of dimBit(Dim)) return the centre of their domain,
@@ -225,11 +252,17 @@ public:
     bool isFrozen(Dim dim) const { return (frozen_ & dimBit(dim)) != 0; }
 
 private:
-    // hashCombine(pixelKey_, bounce * Count + dim), its terms that depend on the pixel alone
+    // hashCombine(pixelKey_, bounce * kPathDimensions + dim), its terms that depend on the pixel alone
     // computed once per sample.
+    // The media's dimensions are keyed past 2^40, apart from the path's (kPathDimensions).
     uint64_t dimensionKey(Dim dim, uint32_t bounce) const {
-        return hashCombineWithSeedTerms(pixelKey_, pixelKeyTerms_,
-                                        uint64_t(bounce) * uint64_t(Dim::Count) + uint64_t(dim));
+        const uint64_t d = uint64_t(dim);
+        constexpr uint64_t kMediumDimensions = uint64_t(Dim::Count) - kPathDimensions;
+        const uint64_t index =
+            d < kPathDimensions
+                ? uint64_t(bounce) * kPathDimensions + d
+                : (uint64_t(1) << 40) + uint64_t(bounce) * kMediumDimensions + (d - kPathDimensions);
+        return hashCombineWithSeedTerms(pixelKey_, pixelKeyTerms_, index);
     }
     // The per-dimension shuffle: a permutation of every aligned power-of-two block of indices.
     uint32_t shuffledIndex(uint64_t key) const {

@@ -62,6 +62,8 @@ inline Vec3f normalize(Vec3f a) { return a / length(a); }
 inline Vec3f abs(Vec3f a) { return {std::abs(a.x), std::abs(a.y), std::abs(a.z)}; }
 inline Vec3f min(Vec3f a, Vec3f b) { return {std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)}; }
 inline Vec3f max(Vec3f a, Vec3f b) { return {std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)}; }
+// Each coordinate of `a` times the same coordinate of `b`.
+inline constexpr Vec3f scaleComponents(Vec3f a, Vec3f b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
 inline float maxComponent(Vec3f a) { return std::max(a.x, std::max(a.y, a.z)); }
 inline bool isFinite(Vec3f a) { return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z); }
 // The vector flipped, if needed, to lie in the hemisphere of `reference`.

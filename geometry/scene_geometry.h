@@ -77,6 +77,18 @@ struct SceneGeometry {
         }
         return {};
     }
+    // The media on the two sides of a shape's surface.
+    const MediumInterface& mediaOf(ShapeRef shape) const {
+        switch (shape.kind) {
+            case ShapeKind::Mesh:
+                return meshes[shape.index].media;
+            case ShapeKind::Sphere:
+                return spheres[shape.index].media;
+            case ShapeKind::Instance:
+                break;
+        }
+        return instances[shape.index].media;
+    }
     // Whether the shape's geometry is in a space of its own (toWorldOf is not the identity).
     bool inObjectSpace(ShapeRef shape) const {
         switch (shape.kind) {

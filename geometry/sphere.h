@@ -18,6 +18,7 @@
 #include "core/trig.h"
 #include "core/vec.h"
 #include "geometry/emission.h"
+#include "geometry/medium_interface.h"
 
 namespace penumbra {
 
@@ -28,6 +29,7 @@ struct Sphere {
     uint32_t material = 0;
     Emission emission;
     MotionTransform motion;
+    MediumInterface media{};  // the media on its two sides (none: not a boundary)
     // Whether hits need the sphere's (u, v): only for a textured material or emission. The loader
     // clears it for the others, which then skip an arctangent and an arccosine per hit.
     bool needsUv = true;

@@ -13,6 +13,7 @@
 #include "core/motion.h"
 #include "core/vec.h"
 #include "geometry/emission.h"
+#include "geometry/medium_interface.h"
 
 namespace penumbra {
 
@@ -30,6 +31,7 @@ struct TriangleMesh {
     // spaced over the shutter and interpolated linearly per vertex.
     std::vector<std::vector<Vec3f>> positionKeys;
     MotionTransform motion;
+    MediumInterface media{};  // the media on its two sides (none: not a boundary)
 
     size_t triangleCount() const { return indices.size() / 3; }
     bool deforms() const { return positionKeys.size() >= 2; }

@@ -44,6 +44,7 @@
 #include "materials/coated_diffuse.h"
 #include "materials/conductor.h"
 #include "materials/dielectric.h"
+#include "materials/interface.h"
 #include "materials/lambert.h"
 #include "materials/phong.h"
 #include "materials/rough_conductor.h"
@@ -68,8 +69,9 @@ concept HasInteriorAbsorption = requires(const M& m) {
     { m.interiorAbsorption() } -> std::same_as<Rgb>;
 };
 
-using MaterialModel = std::variant<Lambert, Phong, Dielectric, ThinDielectric, Mirror, Conductor,
-                                   RoughConductor, RoughDielectric, CoatedDiffuse, RoughCoatedDiffuse>;
+using MaterialModel =
+    std::variant<Lambert, Phong, Dielectric, ThinDielectric, Mirror, Conductor, RoughConductor,
+                 RoughDielectric, CoatedDiffuse, RoughCoatedDiffuse, Interface>;
 
 namespace detail {
 // Viable only for a BsdfModel: otherwise the compiler names the model and what it misses.
@@ -137,6 +139,8 @@ public:
     // Whether sample() chooses between lobes with its uLobe argument; when not, the integrator
     // need not draw that sample dimension.
     bool usesLobeSample() const { return usesLobeSample_; }
+    // Whether the surface is only a medium boundary (materials/interface.h): no path vertex.
+    bool isInterface() const { return std::holds_alternative<Interface>(model_); }
     // True when every lobe is a delta distribution, so next-event estimation is pointless.
     bool isPurelySpecular() const { return purelySpecular_; }
 

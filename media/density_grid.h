@@ -1,7 +1,7 @@
 // A scalar field sampled on a regular lattice, as heterogeneous media store density, temperature
 // or emission scale. pbrt-v4's SampledGrid convention: `bounds` split into nx * ny * nz cells,
-// the value of cell (x, y, z) at its centre, trilinear in between, and 0 outside the lattice (a
-// point within half a cell of the bounds' faces blends with that 0).
+// the value of cell (x, y, z) at its centre, trilinear in between, blending with 0 beyond the
+// outermost centres (a point within half a cell of the bounds' faces), and 0 outside the bounds.
 #pragma once
 
 #include <algorithm>
@@ -39,7 +39,9 @@ struct DensityGrid {
         const float gx = (p.x - bounds.lower.x) / extent.x * float(nx) - 0.5f;
         const float gy = (p.y - bounds.lower.y) / extent.y * float(ny) - 0.5f;
         const float gz = (p.z - bounds.lower.z) / extent.z * float(nz) - 0.5f;
-        if (!(gx > -1.0f && gy > -1.0f && gz > -1.0f && gx < float(nx) && gy < float(ny) && gz < float(nz)))
+        // Nothing outside the bounds (the majorant walk covers them alone), NaN included.
+        if (!(gx >= -0.5f && gy >= -0.5f && gz >= -0.5f && gx <= float(nx) - 0.5f && gy <= float(ny) - 0.5f &&
+              gz <= float(nz) - 0.5f))
             return 0.0f;
         const int x = int(std::floor(gx)), y = int(std::floor(gy)), z = int(std::floor(gz));
         const float fx = gx - float(x), fy = gy - float(y), fz = gz - float(z);

@@ -75,6 +75,8 @@ struct IntegratorContext {
     const FaceFrames* faceFrames =
         nullptr;                // optional: the still meshes' normals and frames, computed beforehand
     CameraFootprint footprint;  // for textures that filter by footprint (textures/texture_footprint.h)
+    // The medium camera rays start in (renderer/volumetric_path_integrator.h).
+    uint32_t cameraMedium = MediumInterface::kVacuum;
 
     // The context of a scene's render: its lights, and its integrator settings.
     static IntegratorContext forScene(const Scene& scene, const LightSet& lights,
@@ -87,7 +89,8 @@ struct IntegratorContext {
                 scene.settings.canonicalHits,
                 scene.integrator.strategy,
                 faceFrames,
-                footprint};
+                footprint,
+                scene.cameraMedium};
     }
 };
 

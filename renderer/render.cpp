@@ -20,6 +20,7 @@
 #include "renderer/adaptive_sampling.h"
 #include "renderer/camera_samples.h"
 #include "renderer/prepared_scene.h"
+#include "renderer/volumetric_path_integrator.h"
 #include "textures/image_texture.h"
 
 namespace penumbra {
@@ -37,12 +38,14 @@ struct TileResult {
     std::vector<NonFiniteSample> examples;
 };
 
-template <TraversalBackend Accel>
+// kThroughMedia: the volumetric integrator (Scene::hasMedia), whose camera rays are traced one
+// at a time; otherwise the surface integrator, with camera rays traced as packets.
+template <bool kThroughMedia, TraversalBackend Accel>
 TileResult renderTile(const Accel& accel, const Scene& scene, const ThinLensCamera& camera,
                       const IntegratorContext& ctx, const PixelWindow& tile, uint32_t firstSample,
                       uint32_t endSample, uint32_t frozenDims, bool sceneMoves, const ActivePixels* active,
                       Film& film) {
-    constexpr int kPacket = Accel::kPacketSize;
+    constexpr int kPacket = kThroughMedia ? 1 : Accel::kPacketSize;
     TileResult result;
     // A group's samples, camera rays and what they hit, declared once per tile: every entry used
     // is assigned first, so they need no zeroing per group (bench/README.md, "Speed tricks").
@@ -75,7 +78,12 @@ TileResult renderTile(const Accel& accel, const Scene& scene, const ThinLensCame
                 for (int i = 0; i < count; ++i) {
                     const uint32_t s = groupStart + i;
                     FirstHitAovs aovs;
-                    Rgb radiance = estimateRadiance(accel, ctx, cameraRays[i], *samples[i], result.rays,
+                    Rgb radiance;
+                    if constexpr (kThroughMedia)
+                        radiance = estimateRadianceThroughMedia(accel, ctx, cameraRays[i], *samples[i],
+                                                                result.rays, &aovs);
+                    else
+                        radiance = estimateRadiance(accel, ctx, cameraRays[i], *samples[i], result.rays,
                                                     &aovs, kPacket > 1 ? &traced[i] : nullptr);
                     if (!radiance.isFinite()) {
                         ++result.nonFinite;
@@ -98,6 +106,7 @@ RenderStats renderWith(const Accel& accel, const Scene& scene, const RenderOptio
     const ThinLensCamera& camera = prepared.camera();
     const IntegratorContext ctx = prepared.integratorContext();
     const bool sceneMoves = prepared.moves();  // otherwise no time sample is drawn
+    const bool throughMedia = scene.hasMedia();
     const PixelWindow window = options.crop.value_or(PixelWindow{0, scene.film.width, 0, scene.film.height});
     const uint32_t endSample = options.endSample ? options.endSample : uint32_t(scene.film.samplesPerPixel);
     const int tileSize = std::max(1, options.tileSize);
@@ -143,8 +152,12 @@ RenderStats renderWith(const Accel& accel, const Scene& scene, const RenderOptio
     uint32_t passBegin = firstSample, passEnd = firstSample;
     auto renderRange = [&](const tbb::blocked_range<size_t>& range) {
         for (size_t i = range.begin(); i != range.end(); ++i) {
-            TileResult r = renderTile(accel, scene, camera, ctx, tiles[i], passBegin, passEnd,
-                                      options.frozenDims, sceneMoves, active ? &*active : nullptr, film);
+            const ActivePixels* activePixels = active ? &*active : nullptr;
+            TileResult r = throughMedia
+                               ? renderTile<true>(accel, scene, camera, ctx, tiles[i], passBegin, passEnd,
+                                                  options.frozenDims, sceneMoves, activePixels, film)
+                               : renderTile<false>(accel, scene, camera, ctx, tiles[i], passBegin, passEnd,
+                                                   options.frozenDims, sceneMoves, activePixels, film);
             TileResult& total = results[i];
             total.rays += r.rays;
             total.samples += r.samples;

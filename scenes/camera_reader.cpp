@@ -27,7 +27,8 @@ CameraPose readCameraPose(const JsonValue& value, const CameraPose& defaults) {
 ThinLensCameraParams readCamera(const JsonValue& value) {
     const JsonObject object(
         value, {"look_from", "look_at", "up", "fov", "aperture_radius", "f_number", "focal_length",
-                "aperture_blades", "aperture_rotation", "focus_distance", "focus_on", "shutter", "motion"});
+                "aperture_blades", "aperture_rotation", "focus_distance", "focus_on", "shutter", "motion",
+                "medium"});  // "medium": read with the media (scenes/medium_reader.h)
     ThinLensCameraParams camera;
     const CameraPose pose = readCameraPose(value, {camera.lookFrom, camera.lookAt, camera.up});
     camera.lookFrom = pose.lookFrom;

@@ -252,9 +252,11 @@ Material readCoatedDiffuse(const JsonValue& material, MaterialContext& context) 
                     readTwoSided(material), std::move(context.textures));
 }
 
+Material readInterface(const JsonValue&, MaterialContext&) { return Material(Interface{}); }
+
 using MaterialReader = Material (*)(const JsonValue&, MaterialContext&);
 
-const std::array<TypeRow<MaterialReader>, 9> kMaterialTypes{{
+const std::array<TypeRow<MaterialReader>, 10> kMaterialTypes{{
     {"lambert", {"type", "albedo", "two_sided"}, readLambert},
     {"phong", {"type", "diffuse", "specular", "exponent", "two_sided"}, readPhong},
     {"dielectric", {"type", "eta", "fresnel", "absorption"}, readDielectric},
@@ -270,6 +272,7 @@ const std::array<TypeRow<MaterialReader>, 9> kMaterialTypes{{
     {"coated_diffuse",
      {"type", "albedo", "eta", "roughness", "alpha", "distribution", "two_sided"},
      readCoatedDiffuse},
+    {"interface", {"type"}, readInterface},
 }};
 
 }  // namespace

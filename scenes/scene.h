@@ -18,6 +18,7 @@
 #include "lights/environment_light.h"
 #include "lights/light.h"
 #include "materials/material.h"
+#include "media/medium.h"
 
 namespace penumbra {
 
@@ -84,6 +85,11 @@ struct Scene : SceneGeometry {
     // The lights the scene names besides its emitting shapes and its environment (point, spot,
     // goniometric, directional), in the file's order.
     std::vector<LightModel> lights;
+    // Participating media (media/medium.h), which shapes bound (their MediumInterface) and the
+    // camera may sit in; mediumNames[i] names media[i].
+    std::vector<MediumModel> media;
+    std::vector<std::string> mediumNames;
+    uint32_t cameraMedium = MediumInterface::kVacuum;
     // Light arriving along every direction that escapes the scene: black, a constant (the scene
     // file's "background") or an image (its "environment").
     EnvironmentLight environment;
@@ -91,6 +97,14 @@ struct Scene : SceneGeometry {
     // Whether any shape moves or deforms over the shutter or the camera moves: otherwise a ray's
     // time changes nothing.
     bool hasMotion() const { return shapesMove() || !camera.motion.empty(); }
+    // Whether paths may travel through media or cross medium boundaries: the scene is then
+    // rendered by the volumetric integrator (renderer/volumetric_path_integrator.h).
+    bool hasMedia() const {
+        if (!media.empty()) return true;
+        for (const Material& material : materials)
+            if (material.isInterface()) return true;
+        return false;
+    }
 };
 
 }  // namespace penumbra

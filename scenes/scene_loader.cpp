@@ -10,6 +10,7 @@
 #include "scenes/json_reader.h"
 #include "scenes/light_reader.h"
 #include "scenes/material_reader.h"
+#include "scenes/medium_reader.h"
 #include "scenes/settings_reader.h"
 #include "scenes/shape_reader.h"
 
@@ -26,7 +27,7 @@ Scene buildScene(const Json& document, const fs::path& file) {
     const JsonValue root(document, fileName, "");
     if (!document.is_object()) root.failExpected("a JSON object holding the scene's sections");
     const JsonObject top(root, {"camera", "film", "integrator", "render", "background", "environment",
-                                "materials", "prototypes", "shapes", "lights"});
+                                "materials", "media", "prototypes", "shapes", "lights"});
 
     Scene scene;
     scene.sourcePath = file;
@@ -43,6 +44,10 @@ Scene buildScene(const Json& document, const fs::path& file) {
         readMaterials(*v, file.parent_path(), scene.materials,
                       scene.materialNames);  // before the shapes that name them
     const fs::path folder = file.parent_path();
+    if (auto v = top.get("media")) readMedia(*v, folder, scene);  // before the shapes and camera naming them
+    if (auto camera = top.get("camera"))
+        if (auto v = camera->member("medium"))
+            scene.cameraMedium = readMediumReference(*v, scene.mediumNames);
     std::vector<std::string> prototypeNames;  // prototypeNames[i] names scene.prototypes[i]
     if (auto v = top.get("prototypes"))
         readPrototypes(*v, folder, scene, prototypeNames);  // before the instances that name them

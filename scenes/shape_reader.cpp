@@ -15,6 +15,7 @@
 #include "core/motion.h"
 #include "core/transform.h"
 #include "scenes/material_reader.h"
+#include "scenes/medium_reader.h"
 #include "scenes/mesh_import.h"
 #include "scenes/texture_reader.h"
 #include "scenes/type_table.h"
@@ -94,7 +95,8 @@ Transform readTransformStep(const JsonValue& step) {
     return *transform;
 }
 
-// The steps apply in order, the first entry first.
+}  // namespace
+
 Transform readTransform(const JsonValue& value) {
     Transform result;
     for (const JsonValue& step : value.elements()) result = readTransformStep(step) * result;
@@ -104,6 +106,8 @@ Transform readTransform(const JsonValue& value) {
                 value.fail("the combined transform overflows a 32-bit float");
     return result;
 }
+
+namespace {
 
 // The uniform scale factor of a transform that is a similarity (rotation, uniform scale,
 // translation, mirror), the only kind that maps a sphere to a sphere; empty otherwise.
@@ -358,6 +362,7 @@ void readSphere(const JsonValue& value, ShapeContext& context) {
     sphere.center = value.requiredMember("center").vec3();
     sphere.radius = value.requiredMember("radius").numberAbove(0.0f);
     sphere.material = readMaterialReference(value.requiredMember("material"), scene.materialNames);
+    sphere.media = readMediumInterface(value, scene.mediumNames);
     if (auto v = value.member("emission")) sphere.emission = readEmission(*v, context.folder);
     if (auto v = value.member("transform")) {
         const Transform transform = readTransform(*v);
@@ -408,6 +413,7 @@ void checkVerticesWithinLimit(const JsonValue& shape, const std::vector<Vec3f>& 
 void addMeshShape(TriangleMesh mesh, const JsonValue& value, bool allowPositionKeys, Scene& scene,
                   const fs::path& folder) {
     mesh.material = readMaterialReference(value.requiredMember("material"), scene.materialNames);
+    mesh.media = readMediumInterface(value, scene.mediumNames);
     if (auto v = value.member("emission")) mesh.emission = readEmission(*v, folder);
     if (auto v = value.member("motion")) {
         if (mesh.emission.emits())
@@ -504,6 +510,7 @@ void readInstance(const JsonValue& value, ShapeContext& context) {
     }
     instance.prototype = uint32_t(found - context.prototypeNames.begin());
     instance.material = readMaterialReference(value.requiredMember("material"), scene.materialNames);
+    instance.media = readMediumInterface(value, scene.mediumNames);
     if (auto v = value.member("emission"))
         v->fail(
             "an instance cannot emit light: give the emitting mesh as a shape of its own (triangle_mesh, "
@@ -534,17 +541,25 @@ using ShapeReader = void (*)(const JsonValue&, ShapeContext&);
 
 const std::array<TypeRow<ShapeReader>, 6> kShapeTypes{{
     {"triangle_mesh",
-     {"type", "positions", "indices", "normals", "uvs", "material", "emission", "transform", "motion"},
+     {"type", "positions", "indices", "normals", "uvs", "material", "emission", "transform", "motion",
+      "inside", "outside"},
      readTriangleMeshShape},
-    {"mesh_file", {"type", "file", "material", "emission", "transform", "motion"}, readMeshFileShape},
+    {"mesh_file",
+     {"type", "file", "material", "emission", "transform", "motion", "inside", "outside"},
+     readMeshFileShape},
     {"quad",
-     {"type", "corner", "edge1", "edge2", "material", "emission", "transform", "motion"},
+     {"type", "corner", "edge1", "edge2", "material", "emission", "transform", "motion", "inside", "outside"},
      readQuadShape},
-    {"sphere", {"type", "center", "radius", "material", "emission", "transform", "motion"}, readSphere},
+    {"sphere",
+     {"type", "center", "radius", "material", "emission", "transform", "motion", "inside", "outside"},
+     readSphere},
     {"disk",
-     {"type", "center", "normal", "radius", "segments", "material", "emission", "transform", "motion"},
+     {"type", "center", "normal", "radius", "segments", "material", "emission", "transform", "motion",
+      "inside", "outside"},
      readDiskShape},
-    {"instance", {"type", "prototype", "material", "emission", "transform", "motion"}, readInstance},
+    {"instance",
+     {"type", "prototype", "material", "emission", "transform", "motion", "inside", "outside"},
+     readInstance},
 }};
 
 // A prototype: a mesh in its own space, stored once and placed by "instance" shapes. Its geometry

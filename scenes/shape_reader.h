@@ -17,6 +17,10 @@ namespace penumbra {
 void readPrototypes(const JsonValue& section, const std::filesystem::path& folder, Scene& scene,
                     std::vector<std::string>& names);
 
+// A "transform": an array of steps (translate, scale, rotate, matrix), applied in order, the first
+// entry first. Media take one too.
+Transform readTransform(const JsonValue& value);
+
 // Appends the section's shapes to `scene`, in file order. They name the scene's materials (read
 // before) and the prototypes that `prototypeNames` names; motion keys span its camera's shutter.
 void readShapes(const JsonValue& section, const std::filesystem::path& folder,

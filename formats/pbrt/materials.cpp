@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "formats/pbrt/json_numbers.h"
 #include "formats/pbrt/spectrum.h"
 
 namespace penumbra::pbrt {
@@ -12,9 +13,6 @@ namespace penumbra::pbrt {
 namespace fs = std::filesystem;
 
 namespace {
-
-double shortest(float v) { return std::stod(fmt::format("{}", v)); }  // as in scene_builder.cpp
-Json rgbJson(Rgb c) { return Json::array({shortest(c.r), shortest(c.g), shortest(c.b)}); }
 
 Rgb clamp01(Rgb c, const Parameter* p, WarningLog& log, std::string_view what) {
     const Rgb clamped{std::clamp(c.r, 0.0f, 1.0f), std::clamp(c.g, 0.0f, 1.0f), std::clamp(c.b, 0.0f, 1.0f)};
@@ -393,14 +391,8 @@ Json mapMaterial(const std::string& type, const ParameterList& params, const Tex
         if (type == "coatedconductor")
             log.warn(where, "coatedconductor is rendered as its conductor alone (the coating is left out)");
     } else if (type == "interface" || type == "" || type == "none") {
-        // An invisible boundary (of a participating medium): a thin dielectric of index 1 lets
-        // every ray through unchanged.
-        m["type"] = "thin_dielectric";
-        m["eta"] = 1.0;
-        if (type == "interface")
-            log.warn(where,
-                     "interface material: rendered as an invisible surface (participating media are not "
-                     "supported)");
+        // pbrt-v4 gives all three no BSDF: the boundary of a participating medium.
+        m["type"] = "interface";
     } else if (type == "diffusetransmission") {
         m["type"] = "lambert";
         m["albedo"] = texturable("reflectance", Rgb(0.25f));

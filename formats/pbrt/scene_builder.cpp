@@ -9,6 +9,8 @@
 
 #include "core/input_file.h"
 #include "core/input_limits.h"
+#include "formats/pbrt/json_numbers.h"
+#include "formats/pbrt/media.h"
 #include "textures/image_file.h"
 
 namespace penumbra::pbrt {
@@ -21,10 +23,6 @@ constexpr double kPi = std::numbers::pi;
 constexpr double kDegrees = 180.0 / kPi;
 
 Json vec3Json(Vec3d v) { return Json::array({v.x, v.y, v.z}); }
-// A float as the shortest decimal that reads back as the same float ("0.63", not
-// "0.6299999952316284"): the loader reads floats, and the converted file stays readable.
-double shortest(float v) { return std::stod(fmt::format("{}", v)); }
-Json rgbJson(Rgb c) { return Json::array({shortest(c.r), shortest(c.g), shortest(c.b)}); }
 
 Matrix4d translation(Vec3d d) {
     Matrix4d m = Matrix4d::identity();
@@ -192,11 +190,12 @@ void SceneBuilder::directive(Directive&& d) {
         } else {
             addShape(shape, nullptr);
         }
-    } else if (n == "MakeNamedMedium" || n == "MediumInterface" || n == "Attribute") {
+    } else if (n == "MakeNamedMedium" || n == "MediumInterface") {
+        mediumDirective(d);
+    } else if (n == "Attribute") {
         d.parameters.markAllUsed();
-        log_.warn(d.where, fmt::format("{} is not supported and was ignored (participating media and default "
-                                       "attributes are not supported)",
-                                       n));
+        log_.warn(d.where,
+                  "Attribute is not supported and was ignored (default attributes are not supported)");
     } else {
         failAt(d.where, fmt::format("directive '{}' is not handled", n));
     }
@@ -298,6 +297,8 @@ void SceneBuilder::optionDirective(const Directive& d) {
         camera_.type = d.strings[0];
         camera_.where = d.where;
         camera_.given = true;
+        camera_.medium = state_.outsideMedium;
+        camera_.mediumWhere = state_.mediumWhere;
         // pbrt-v4 names the camera's coordinate system "camera".
         std::array<Matrix4d, 2> worldFromCamera;
         for (size_t i = 0; i < 2; ++i) {
@@ -903,10 +904,49 @@ void SceneBuilder::instantiate(const std::string& object, const std::array<Matri
             continue;
         }
         Json instance{{"type", "instance"}, {"prototype", prototype}, {"material", materialOf(shape)}};
+        addMediumInterface(instance, shape.state);
         addPlacement(instance, worldFromInstance, where);
         origins_.push_back({fmt::format("/shapes/{}", scene_["shapes"].size()), where});
         scene_["shapes"].push_back(std::move(instance));
     }
+}
+
+void SceneBuilder::mediumDirective(const Directive& d) {
+    if (d.name == "MediumInterface") {
+        state_.insideMedium = d.strings[0];
+        state_.outsideMedium = d.strings.size() > 1 ? d.strings[1] : d.strings[0];
+        state_.mediumWhere = d.where;
+        return;
+    }
+    // MakeNamedMedium "name" params, placed by the current transform.
+    const std::string& name = d.strings[0];
+    if (namedMedia_.contains(name)) failAt(d.where, fmt::format("medium \"{}\" is defined twice", name));
+    const Matrix4d world = toWorld(state_.ctm[0]);
+    const Json transform =
+        world == Matrix4d::identity() ? Json() : Json::array({Json{{"matrix", matrixJson(world)}}});
+    Json medium = mapMedium(d.parameters, transform, textures_, d.where, log_);
+    d.parameters.reportUnused(log_, fmt::format("MakeNamedMedium \"{}\"", name));
+    if (medium.is_null()) {
+        namedMedia_[name] = "";  // left out, with a warning: the vacuum
+        return;
+    }
+    const std::string jsonName = unusedName("media", name);
+    scene_["media"][jsonName] = std::move(medium);
+    namedMedia_[name] = jsonName;
+}
+
+std::string SceneBuilder::mediumOf(const std::string& name, const SourceLocation& where) {
+    if (name.empty()) return "";
+    usedMedia_.try_emplace(name, where);
+    const auto found = namedMedia_.find(name);
+    // Defined later in the file, or never (checked by finish()): the name as it is.
+    return found == namedMedia_.end() ? name : found->second;
+}
+
+void SceneBuilder::addMediumInterface(Json& shape, const GraphicsState& state) {
+    if (state.insideMedium == state.outsideMedium) return;
+    shape["inside"] = mediumOf(state.insideMedium, state.mediumWhere);
+    shape["outside"] = mediumOf(state.outsideMedium, state.mediumWhere);
 }
 
 void SceneBuilder::addPlacement(Json& shape, const std::array<Matrix4d, 2>& ctm,
@@ -937,6 +977,7 @@ void SceneBuilder::addShape(const ShapeRecord& record, const std::array<Matrix4d
     if (!geometry) return;
     Json& shape = *geometry;
     shape["material"] = materialOf(record);
+    addMediumInterface(shape, record.state);
     if (const auto& light = record.state.areaLight; light && !light->radiance.isBlack())
         shape["emission"] = Json{{"radiance", rgbJson(light->radiance)}, {"two_sided", light->twoSided}};
     addPlacement(shape, ctm, record.where);
@@ -1103,6 +1144,13 @@ Json SceneBuilder::finish() {
                fmt::format("{} is never closed",
                            stack_.back().attributes ? "AttributeBegin" : "TransformBegin"));
     if (!inWorld_) finishCamera(scene_);
+    if (!camera_.medium.empty()) {
+        const std::string medium = mediumOf(camera_.medium, camera_.mediumWhere);
+        if (!medium.empty()) scene_["camera"]["medium"] = medium;
+    }
+    for (const auto& [name, where] : usedMedia_)
+        if (!namedMedia_.contains(name))
+            failAt(where, fmt::format("medium \"{}\" is not defined (MakeNamedMedium)", name));
     return std::move(scene_);
 }
 

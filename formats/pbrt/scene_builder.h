@@ -60,6 +60,9 @@ private:
         bool reverseOrientation = false;
         std::string material;  // the JSON name of the current material; empty: pbrt's default
         std::optional<AreaLight> areaLight;
+        // MediumInterface's names ("" the vacuum): where they differ, shapes are medium boundaries.
+        std::string insideMedium, outsideMedium;
+        SourceLocation mediumWhere;  // of the MediumInterface that set them
     };
     struct PushedState {
         GraphicsState state;
@@ -142,6 +145,8 @@ private:
         std::string type = "perspective";
         SourceLocation where;
         bool given = false;
+        std::string medium;  // the outside medium of MediumInterface at Camera (pbrt-v4's CameraMedium)
+        SourceLocation mediumWhere;
     } camera_;
     // pbrt's camera may be mirrored (its LookAt is left-handed), penumbra's is not: the whole
     // world is mirrored across the camera's vertical plane instead, which leaves the image as it is.
@@ -150,6 +155,15 @@ private:
 
     TextureTable textures_;
     std::map<std::string, std::string> namedMaterials_;  // pbrt name -> JSON material name
+    // Media: the names MakeNamedMedium defined (those left out with a warning map to ""), and each
+    // name used with where it was first used, checked once the file is read.
+    std::map<std::string, std::string> namedMedia_;
+    std::map<std::string, SourceLocation> usedMedia_;
+    void mediumDirective(const Directive& d);
+    // The JSON name standing for the pbrt medium `name` ("" for the vacuum).
+    std::string mediumOf(const std::string& name, const SourceLocation& where);
+    // A shape's "inside" and "outside" keys, where `state` makes it a medium boundary.
+    void addMediumInterface(Json& shape, const GraphicsState& state);
     std::string defaultMaterial_;
     int anonymousMaterials_ = 0;
     bool filterGiven_ = false;

@@ -401,5 +401,46 @@ TEST(Sampler, ChiSquareUniformityOverManyPixels) {
         }
 }
 
+// The media's dimensions are keyed apart from the path's (dimensionKey): no value of a medium
+// dimension at any segment equals one of a path dimension at any bounce, for one sample (equal
+// floats by chance: about 1e-7 per pair, 1e-3 over the 10^4 pairs here, and the seed is fixed).
+TEST(Sampler, MediumDimensionsAreKeyedApartFromThePathDimensions) {
+    const PixelSample s(SamplerKind::Stratified, 7, 1234, 5);
+    std::vector<float> pathValues;
+    for (uint32_t bounce = 0; bounce < 32; ++bounce)
+        for (Dim d : {Dim::Time, Dim::BsdfLobe, Dim::RussianRoulette})
+            pathValues.push_back(s.get1D(d, bounce));
+    for (uint32_t segment = 0; segment < 32; ++segment)
+        for (Dim d : {Dim::MediumChannel, Dim::MediumDistance, Dim::MediumEvent})
+            for (float v : pathValues) EXPECT_NE(s.get1D(d, segment), v) << "segment " << segment;
+}
+
+// A SampleStream's values are uniform on [0, 1) (chi-square over 256 bins, 2^20 values drawn from
+// 2^10 streams of 2^10) and differ between streams of different segments and samples.
+TEST(Sampler, SampleStreamsAreUniformAndDistinct) {
+    constexpr int bins = 256, streams = 1 << 10, perStream = 1 << 10;
+    std::vector<double> observed(bins, 0.0);
+    for (uint32_t i = 0; i < streams; ++i) {
+        SampleStream stream =
+            PixelSample(SamplerKind::Stratified, 3, i / 32, i % 32).stream(Dim::MediumDistance, i % 7);
+        for (int k = 0; k < perStream; ++k) {
+            const float u = stream.next();
+            ASSERT_TRUE(u >= 0.0f && u < 1.0f);
+            ++observed[std::min(bins - 1, int(u * bins))];
+        }
+    }
+    const auto r =
+        test::chiSquareTest(observed, std::vector<double>(bins, double(streams) * perStream / bins));
+    EXPECT_GT(r.pValue, 1e-4) << r.describe();
+    const PixelSample a(SamplerKind::Stratified, 3, 10, 0), b(SamplerKind::Stratified, 3, 10, 1);
+    SampleStream s0 = a.stream(Dim::MediumDistance, 0), s1 = a.stream(Dim::MediumDistance, 1),
+                 s2 = b.stream(Dim::MediumDistance, 0), s3 = a.stream(Dim::MediumEvent, 0);
+    const float first = s0.next();
+    EXPECT_NE(first, s1.next());
+    EXPECT_NE(first, s2.next());
+    EXPECT_NE(first, s3.next());
+    EXPECT_NE(first, s0.next());
+}
+
 }  // namespace
 }  // namespace penumbra

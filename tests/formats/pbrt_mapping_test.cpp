@@ -19,6 +19,7 @@
 #include "formats/pbrt/spectrum.h"
 #include "formats/scene_file.h"
 #include "scenes/scene_loader.h"
+#include "tests/support/expect_input_error.h"
 
 namespace penumbra::pbrt {
 namespace {
@@ -248,7 +249,7 @@ TEST(PbrtMapping, Materials) {
     EXPECT_EQ(m["t"]["type"], "thin_dielectric");
     EXPECT_EQ(m["p"]["type"], "coated_diffuse");
     EXPECT_DOUBLE_EQ(m["p"]["alpha"].get<double>(), 0.2);
-    EXPECT_EQ(m["i"], Json::parse(R"({"type": "thin_dielectric", "eta": 1.0})"));
+    EXPECT_EQ(m["i"], Json::parse(R"({"type": "interface"})"));
     EXPECT_FALSE(m.contains("m"));  // mix resolves to the heavier of its two: the dielectric
     EXPECT_NEAR(m["x"]["albedo"][0].get<double>(), 0.6, 1e-6);
     EXPECT_TRUE(hasWarning(c, "mix materials are not supported yet"));
@@ -576,18 +577,63 @@ TEST(PbrtMapping, FilmSamplerFilterIntegrator) {
 
 TEST(PbrtMapping, UnsupportedDirectivesWarnOnceWithACount) {
     auto c = convert(
-        "WorldBegin\nMakeNamedMedium \"fog\" \"string type\" \"homogeneous\"\n"
-        "MakeNamedMedium \"fog2\" \"string type\" \"homogeneous\"\nShape \"sphere\" \"float nonsense\" 1\n");
-    int medium = 0;
+        "WorldBegin\nAttribute \"shape\" \"float radius\" 2\n"
+        "Attribute \"shape\" \"float radius\" 3\nShape \"sphere\" \"float nonsense\" 1\n");
+    int attribute = 0;
     for (const std::string& w : c.warnings)
-        if (w.find("MakeNamedMedium") != std::string::npos) {
-            ++medium;
+        if (w.find("Attribute is not supported") != std::string::npos) {
+            ++attribute;
             EXPECT_NE(w.find("test.pbrt:2:1: "), std::string::npos) << w;
             EXPECT_NE(w.find("(2 times)"), std::string::npos) << w;
         }
-    EXPECT_EQ(medium, 1);
+    EXPECT_EQ(attribute, 1);
     EXPECT_TRUE(
         hasWarning(c, "test.pbrt:4:16: parameter \"float nonsense\" of Shape \"sphere\" is not supported"));
+}
+
+// Participating media: MakeNamedMedium with pbrt-v4's defaults (media.cpp: sigma_a and sigma_s 1),
+// MediumInterface on the shapes after it where inside and outside differ, the camera's medium
+// (the outside one at Camera), and a name never defined refused where it is used.
+TEST(PbrtMapping, MediaBoundariesAndTheCameraMedium) {
+    auto c = convert(
+        "MediumInterface \"\" \"fog\"\n" + kCamera +
+        "WorldBegin\n"
+        "MakeNamedMedium \"fog\" \"string type\" \"homogeneous\" \"rgb sigma_s\" [0.1 0.2 0.3] \"float g\" "
+        "0.5\n"
+        "MakeNamedMedium \"plain\" \"string type\" \"homogeneous\" \"float scale\" 2\n"
+        "MakeNamedMedium \"ramp\" \"string type\" \"uniformgrid\" \"integer nx\" 2 \"float density\" [0 1] "
+        "\"point3 p1\" [2 1 1]\n"
+        "Shape \"sphere\"\n"
+        "AttributeBegin\nMediumInterface \"plain\" \"fog\"\nMaterial \"interface\"\nShape "
+        "\"sphere\"\nAttributeEnd\n"
+        "AttributeBegin\nMediumInterface \"fog\"\nShape \"sphere\"\nAttributeEnd\n");
+    const Json& media = c.document["media"];
+    EXPECT_EQ(media["fog"],
+              Json::parse(
+                  R"({"type": "homogeneous", "sigma_a": [1, 1, 1], "sigma_s": [0.1, 0.2, 0.3], "g": 0.5})"));
+    EXPECT_EQ(media["plain"]["scale"], 2.0);
+    EXPECT_EQ(media["ramp"]["type"], "grid");
+    EXPECT_EQ(media["ramp"]["density"], Json::parse(R"({"resolution": [2, 1, 1], "values": [0, 1]})"));
+    EXPECT_EQ(media["ramp"]["bounds"], Json::parse("[[0, 0, 0], [2, 1, 1]]"));
+    EXPECT_EQ(c.document["camera"]["medium"], "fog");
+    const Json& shapes = c.document["shapes"];
+    // The MediumInterface before the camera holds in the world too (pbrt-v4's WorldBegin keeps it).
+    EXPECT_EQ(shapes[0]["inside"], "");
+    EXPECT_EQ(shapes[0]["outside"], "fog");
+    EXPECT_EQ(shapes[1]["inside"], "plain");
+    EXPECT_EQ(shapes[1]["outside"], "fog");
+    EXPECT_FALSE(shapes[2].contains("inside"));  // the same medium on both sides: no boundary
+    const Scene scene = buildPbrtScene(c, "test.pbrt");
+    ASSERT_EQ(scene.media.size(), 3u);
+    EXPECT_TRUE(scene.hasMedia());
+    EXPECT_EQ(scene.spheres[1].media.inside, 1u);
+    EXPECT_EQ(scene.spheres[1].media.outside, 0u);
+    EXPECT_TRUE(scene.materials[scene.spheres[1].material].isInterface());
+
+    const InputError e = testing::catchInputError(
+        [] { convert("WorldBegin\nMediumInterface \"smoke\" \"\"\nShape \"sphere\"\n"); });
+    EXPECT_EQ(e.where().line, 2);
+    EXPECT_CONTAINS(e.message(), "medium \"smoke\" is not defined");
 }
 
 TEST(PbrtMapping, IncludedFilesAreCoveredByTheSceneHash) {

@@ -347,10 +347,10 @@ TEST(SceneErrors, SyntaxErrorHasLineAndColumn) {
 
 TEST(SceneErrors, UnknownKeys) {
     InputError e = catchInputError([] { parseScene(R"({"cameras": {}})", "scene.json"); });
-    EXPECT_EQ(
-        std::string(e.what()),
-        "scene.json: /cameras: unknown key (expected one of: camera, film, integrator, "
-        "render, background, environment, materials, prototypes, shapes, lights); did you mean 'camera'?");
+    EXPECT_EQ(std::string(e.what()),
+              "scene.json: /cameras: unknown key (expected one of: camera, film, integrator, "
+              "render, background, environment, materials, media, prototypes, shapes, lights); did you mean "
+              "'camera'?");
 
     e = catchInputError([] {
         parseScene(R"({"materials": {"m": {"type": "lambert"}}, "shapes": [
@@ -361,7 +361,7 @@ TEST(SceneErrors, UnknownKeys) {
     });
     EXPECT_EQ(std::string(e.what()),
               "scene.json: /shapes/2/radus: unknown key (expected one of: type, center, "
-              "radius, material, emission, transform, motion); did you mean 'radius'?");
+              "radius, material, emission, transform, motion, inside, outside); did you mean 'radius'?");
 
     e = catchInputError(
         [] { parseScene(R"({"film": {"filter": {"type": "box", "radius": 1, "width": 2}}})", "s.json"); });
@@ -396,7 +396,8 @@ TEST(SceneErrors, UnknownNamesGetTheLikelyOneSuggested) {
     EXPECT_EQ(
         std::string(e.what()),
         "s.json: /materials/m/type: expected one of: lambert, phong, dielectric, thin_dielectric, mirror, "
-        "conductor, rough_conductor, rough_dielectric, coated_diffuse, found the string \"diffuse\"; did you "
+        "conductor, rough_conductor, rough_dielectric, coated_diffuse, interface, found the string "
+        "\"diffuse\"; did you "
         "mean 'lambert'? (pbrt-v4 and Mitsuba 3 call it 'diffuse', Cycles 'Diffuse BSDF')");
     e = catchInputError([] { parseScene(R"({"materials": {"m": {"type": "roughconductor"}}})", "s.json"); });
     EXPECT_CONTAINS(e.what(), "did you mean 'rough_conductor'? (Mitsuba 3 calls it 'roughconductor')");

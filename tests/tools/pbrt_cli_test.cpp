@@ -40,8 +40,8 @@ Camera "perspective" "float fov" 40
 Film "rgb" "integer xresolution" 64 "integer yresolution" 48
 Sampler "sobol" "integer pixelsamples" 64
 WorldBegin
-MakeNamedMedium "fog" "string type" "homogeneous"
-MakeNamedMedium "mist" "string type" "homogeneous"
+Attribute "shape" "float radius" 2
+Attribute "shape" "float radius" 3
 LightSource "point" "rgb I" [5 5 5] "point3 from" [0 3 0]
 Shape "trianglemesh" "point3 P" [-2 0 -2 2 0 -2 2 0 2 -2 0 2] "integer indices" [0 2 1 0 3 2]
 )";
@@ -57,9 +57,8 @@ TEST_F(PbrtCommandLine, RenderTakesAPbrtSceneWithOverrides) {
     EXPECT_EQ(r.exitCode, 0) << r.output;
     EXPECT_TRUE(contains(r, "rendered 16x12, samples 0:2")) << r.output;
     EXPECT_TRUE(fs::exists(dir_ / "out.exr"));
-    // One line for both media, with its first place and the count.
-    EXPECT_TRUE(
-        contains(r, "penumbra: warning: " + scene.string() + ":7:1: MakeNamedMedium is not supported"))
+    // One line for both, with its first place and the count.
+    EXPECT_TRUE(contains(r, "penumbra: warning: " + scene.string() + ":7:1: Attribute is not supported"))
         << r.output;
     EXPECT_TRUE(contains(r, "(2 times)")) << r.output;
 }

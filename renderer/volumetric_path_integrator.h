@@ -1,0 +1,421 @@
+// The volumetric path tracer, for scenes with participating media (Scene::hasMedia): null-
+// scattering path tracing (Miller, Georgiev and Jarosz 2019, "A Null-Scattering Path Integral
+// Formulation of Light Transport"), as pbrt-v4's VolPathIntegrator does it. Scenes without media
+// keep the surface integrator (path_integrator.h), whose images and speed this leaves unchanged.
+//
+// Along each segment in a medium, delta tracking against the medium's majorants samples tentative
+// collisions (media/medium.h); each is an absorption (the path ends), a real scattering (a path
+// vertex: next-event estimation and a phase-function sample) or a null collision (the path goes
+// on), chosen by the coefficients' shares of the majorant. Shadow rays go through media by ratio
+// tracking and through medium boundaries (the `interface` material), and are blocked by any other
+// surface. A boundary is no path vertex: rays cross it unchanged, without counting a bounce.
+//
+// Colour: the densities of a path differ per channel in a chromatic medium. The path keeps, per
+// channel, its sampling density and its light-sampling density each divided by the density with
+// which it was actually sampled (pbrt-v4's rescaled r_u and r_l), and a contribution is divided by
+// their average over the channels: one-sample MIS (balance heuristic) over the three channels'
+// distance sampling, the channel that samples (the hero) chosen uniformly per path, and over light
+// and BSDF or phase sampling. Without media the weights reduce to the balance heuristic of the
+// surface integrator's power heuristic: the two integrators agree in expectation, not bit for bit.
+//
+// Sample dimensions: the surface dimensions are drawn per scattering depth as in the surface
+// integrator (a medium vertex uses LightPosition and BsdfDirection like a surface vertex); the
+// media's per segment (Dim::MediumDistance, MediumEvent and their SampleStreams), so that every
+// decision has a named dimension and no value is used twice along a path.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "media/medium.h"
+#include "renderer/path_integrator.h"
+
+namespace penumbra {
+
+namespace detail {
+
+// Rays that cross more medium boundaries than this in one segment are given up (as blocked):
+// a boundary seen edge-on repeatedly must not loop forever.
+inline constexpr int kMaxBoundaryCrossings = 256;
+
+// What a path carries through media and surfaces.
+struct VolumetricPath {
+    Radiance radiance{0.0f};
+    Radiance beta{1.0f};         // throughput over the hero channel's sampling density
+    Rgb rU{1.0f}, rL{1.0f};      // per channel: sampling and light-sampling densities over the hero's
+    float etaScale = 1.0f;       // as PathState::etaScale
+    bool specularBounce = true;  // the previous vertex was the camera or a delta lobe
+    Vec3f previousPosition;
+    Vec3f previousNormal;  // 0 at a medium vertex (LightSet::choose takes no normal there)
+    uint32_t medium = MediumInterface::kVacuum;
+    int hero = 0;          // the channel whose majorants sample distances
+    int depth = 0;         // scattering events so far (surface or medium)
+    uint32_t segment = 0;  // ray segments so far: the media's sample dimensions' index
+};
+
+inline bool anyPositive(Rgb c) { return c.r > 0.0f || c.g > 0.0f || c.b > 0.0f; }
+
+// The null-collision coefficient sigma_maj - sigma_t, never negative.
+inline Rgb nullCoefficient(const MediumProperties& mp, Rgb sigmaMaj) {
+    return {std::max(0.0f, sigmaMaj.r - mp.sigmaA.r - mp.sigmaS.r),
+            std::max(0.0f, sigmaMaj.g - mp.sigmaA.g - mp.sigmaS.g),
+            std::max(0.0f, sigmaMaj.b - mp.sigmaA.b - mp.sigmaS.b)};
+}
+
+// Emission found by a sampled direction (a hit or an escape), weighted against light sampling.
+// `lightPdf` is called only when the weight needs it.
+template <typename LightPdf>
+void addFoundEmission(const IntegratorContext& ctx, VolumetricPath& path, Rgb emitted, LightPdf&& lightPdf) {
+    if (emitted.isBlack()) return;
+    if (path.specularBounce || ctx.strategy == LightStrategy::Bsdf) {
+        path.radiance += path.beta * emitted / path.rU.average();
+        return;
+    }
+    const float pdf = lightPdf();
+    if (ctx.strategy == LightStrategy::Light) {
+        // What light sampling cannot reach stays with the sampled direction.
+        if (!(pdf > 0.0f)) path.radiance += path.beta * emitted / path.rU.average();
+        return;
+    }
+    path.radiance += path.beta * emitted / (path.rU + path.rL * pdf).average();
+}
+
+// Transmittance along a shadow ray to its end (ray.tfar: 1 - 2^-20 towards a point, infinity
+// towards a direction) through media and medium boundaries, by ratio tracking; 0 when a surface
+// other than a boundary blocks it. rL and rU are updated with the tracking's densities.
+template <TraversalBackend Accel>
+Rgb transmittanceAlong(const Accel& accel, const IntegratorContext& ctx, Ray ray, TriangleLeft left,
+                       uint32_t medium, int hero, SampleStream& stream, Rgb& rL, Rgb& rU, RayCounters& rays) {
+    const Scene& scene = *ctx.scene;
+    const bool towardsPoint = std::isfinite(ray.tfar);
+    const Vec3f target = ray.origin + ray.direction;
+    Rgb transmitted(1.0f);
+    for (int crossing = 0;; ++crossing) {
+        ++rays.shadow;
+        Hit hit;
+        const bool found = accel.intersect(ray, hit, left);
+        SurfaceInteraction si;
+        if (found) {
+            si = Accel::kReportsCanonicalHits || !ctx.canonicalHits
+                     ? resolveHit<true>(scene, ray, hit, ctx.faceFrames)
+                     : resolveHit<false>(scene, ray, hit, ctx.faceFrames);
+            if (!scene.materials[si.material].isInterface()) return Rgb(0.0f);
+        }
+        if (medium != MediumInterface::kVacuum) {
+            const float directionLength = length(ray.direction);
+            const float tEnd = (found ? hit.t : ray.tfar) * directionLength;
+            const Rgb tMaj = sampleFreeFlight(
+                scene.media[medium], ray.origin, ray.direction / directionLength, tEnd, hero, stream.next(),
+                [&] { return stream.next(); },
+                [&](float, Vec3f, const MediumProperties& mp, Rgb sigmaMaj, Rgb tMajHere) {
+                    const Rgb sigmaN = nullCoefficient(mp, sigmaMaj);
+                    const float pdf = tMajHere[hero] * sigmaMaj[hero];
+                    transmitted *= tMajHere * sigmaN / pdf;
+                    rL *= tMajHere * sigmaMaj / pdf;
+                    rU *= tMajHere * sigmaN / pdf;
+                    // Russian roulette once the estimate is small (pbrt-v4's threshold and odds).
+                    const Rgb estimate = transmitted / (rL + rU).average();
+                    if (estimate.maxComponent() < 0.05f) {
+                        if (stream.next() < 0.75f)
+                            transmitted = Rgb(0.0f);
+                        else
+                            transmitted *= 1.0f / 0.25f;
+                    }
+                    return anyPositive(transmitted);
+                });
+            if (!anyPositive(transmitted) || !(tMaj[hero] > 0.0f)) return Rgb(0.0f);
+            const Rgb ratio = tMaj / tMaj[hero];
+            transmitted *= ratio;
+            rL *= ratio;
+            rU *= ratio;
+        }
+        if (!found) return transmitted;
+        if (crossing >= kMaxBoundaryCrossings) return Rgb(0.0f);
+        // Through the boundary: on into the medium on its far side.
+        const float cosGeometric = dot(ray.direction, si.geometricNormal);
+        medium = scene.mediaOf(si.shape).mediumAlong(ray.direction, si.geometricNormal, medium);
+        ray.origin = offsetRayOrigin(si.position, si.positionError,
+                                     cosGeometric >= 0.0f ? si.geometricNormal : -si.geometricNormal);
+        left = si.shape.kind == ShapeKind::Sphere ? TriangleLeft{} : TriangleLeft{hit.geomId, hit.primId};
+        if (towardsPoint) ray.direction = target - ray.origin;
+    }
+}
+
+// Next-event estimation's light sample at a vertex at `p` (geometric normal `n`, 0 in a medium):
+// the choice of light and the point on it, or nothing.
+inline std::optional<LightSample> sampleLightAt(const IntegratorContext& ctx, const PixelSample& sample,
+                                                uint32_t depth, Vec3f p, Vec3f n) {
+    const LightSet& lights = *ctx.lights;
+    Vec2f uLight{0.5f, 0.5f};
+    LightSet::Choice light{0, 1.0f};
+    if (lights.drawsSampleValues()) {
+        uLight = sample.get2DUnfrozen(Dim::LightPosition, depth);
+        light = lights.choose(uLight, p, n);
+        if (sample.isFrozen(Dim::LightPosition)) [[unlikely]]
+            uLight = {0.5f, 0.5f};
+    }
+    auto ls = lights.sample(light, p, uLight);
+    if (ls && ls->radiance.isBlack()) return std::nullopt;
+    return ls;
+}
+
+// The contribution of a light sample whose path to the light has scattering value `f` (BSDF times
+// cosine, or phase function) and density `scatterPdf` for the same direction, once the shadow
+// ray's transmittance is known.
+template <TraversalBackend Accel>
+Radiance lightContribution(const Accel& accel, const IntegratorContext& ctx, const VolumetricPath& path,
+                           const LightSample& ls, Rgb f, float scatterPdf, const Ray& shadowRay,
+                           TriangleLeft left, uint32_t medium, SampleStream& stream, RayCounters& rays) {
+    Rgb rL = path.rU * ls.pdf;
+    Rgb rU = path.rU * (ls.isDelta || ctx.strategy == LightStrategy::Light ? 0.0f : scatterPdf);
+    const Rgb transmitted =
+        transmittanceAlong(accel, ctx, shadowRay, left, medium, path.hero, stream, rL, rU, rays);
+    if (transmitted.isBlack()) return Radiance(0.0f);
+    return path.beta * f * transmitted * ls.radiance / (rL + rU).average();
+}
+
+// Russian roulette on the throughput freed of the channels' densities and of refraction's scale.
+inline bool survivesVolumetricRoulette(const IntegratorContext& ctx, const PixelSample& sample,
+                                       VolumetricPath& path) {
+    if (path.depth < ctx.rouletteStartDepth) return true;
+    const float survival =
+        std::min(1.0f, std::sqrt((path.beta * (path.etaScale / path.rU.average())).maxComponent()));
+    if (survival < 1.0f) {
+        if (sample.get1D(Dim::RussianRoulette, uint32_t(path.depth)) >= survival) return false;
+        path.beta *= 1.0f / survival;
+    }
+    return true;
+}
+
+}  // namespace detail
+
+// Radiance arriving along the camera ray `ray` for the sample `sample`, through media: see the
+// file's comment. `firstHit` as for estimateRadiance (the first surface that is not a boundary).
+template <TraversalBackend Accel>
+Radiance estimateRadianceThroughMedia(const Accel& accel, const IntegratorContext& ctx, Ray ray,
+                                      const PixelSample& sample, RayCounters& rays,
+                                      FirstHitAovs* firstHit = nullptr) {
+    using namespace detail;
+    const Scene& scene = *ctx.scene;
+    const LightSet& lights = *ctx.lights;
+    VolumetricPath path;
+    path.medium = ctx.cameraMedium;
+    path.hero = std::min(2, int(sample.get1D(Dim::MediumChannel, 0) * 3.0f));
+    path.previousPosition = ray.origin;
+    TexturedMaterialSlot textured;
+    TriangleLeft left;
+    bool sawSurface = false;
+    float cameraDistance = 0.0f;  // the camera ray's length up to the last boundary it crossed
+    ++rays.primary;
+
+    for (;; ++path.segment) {
+        Hit hit;
+        const bool found = accel.intersect(ray, hit, left);
+        SurfaceInteraction si;
+        if (found)
+            si = Accel::kReportsCanonicalHits || !ctx.canonicalHits
+                     ? resolveHit<true>(scene, ray, hit, ctx.faceFrames)
+                     : resolveHit<false>(scene, ray, hit, ctx.faceFrames);
+        const float directionLength = length(ray.direction);
+        const Vec3f direction = ray.direction / directionLength;
+
+        if (path.medium != MediumInterface::kVacuum) {
+            bool scattered = false, ended = false;
+            SampleStream distances = sample.stream(Dim::MediumDistance, path.segment);
+            SampleStream events = sample.stream(Dim::MediumEvent, path.segment);
+            float uEvent = sample.get1D(Dim::MediumEvent, path.segment);
+            const float tEnd = found ? hit.t * directionLength : std::numeric_limits<float>::infinity();
+            const Rgb tMaj = sampleFreeFlight(
+                scene.media[path.medium], ray.origin, direction, tEnd, path.hero,
+                sample.get1D(Dim::MediumDistance, path.segment), [&] { return distances.next(); },
+                [&](float, Vec3f p, const MediumProperties& mp, Rgb sigmaMaj, Rgb tMajHere) {
+                    const int h = path.hero;
+                    if (path.depth < ctx.maxDepth && !mp.emission.isBlack()) {
+                        const float pdf = sigmaMaj[h] * tMajHere[h];
+                        const Rgb rE = path.rU * sigmaMaj * tMajHere / pdf;
+                        if (anyPositive(rE))
+                            path.radiance +=
+                                path.beta * tMajHere / pdf * mp.sigmaA * mp.emission / rE.average();
+                    }
+                    const Rgb sigmaN = nullCoefficient(mp, sigmaMaj);
+                    const float pAbsorb = mp.sigmaA[h] / sigmaMaj[h], pScatter = mp.sigmaS[h] / sigmaMaj[h];
+                    const float pNull = sigmaN[h] / sigmaMaj[h];
+                    // The three add up to 1 but for rounding, which must not pick an event of probability 0.
+                    const float u = uEvent * (pAbsorb + pScatter + pNull);
+                    uEvent = events.next();
+                    if (u < pAbsorb) {
+                        ended = true;
+                        return false;
+                    }
+                    if (u < pAbsorb + pScatter) {
+                        const uint32_t vertexDepth = uint32_t(path.depth);
+                        if (path.depth++ >= ctx.maxDepth) {
+                            ended = true;
+                            return false;
+                        }
+                        const float pdf = tMajHere[h] * mp.sigmaS[h];
+                        path.beta *= tMajHere * mp.sigmaS / pdf;
+                        path.rU *= tMajHere * mp.sigmaS / pdf;
+                        if (path.beta.isBlack() || path.rU.isBlack()) {
+                            ended = true;
+                            return false;
+                        }
+                        // A medium vertex: light sampling, then the phase function's sample.
+                        const Vec3f wo = -direction;
+                        if (!lights.empty() && ctx.strategy != LightStrategy::Bsdf)
+                            if (const auto ls = sampleLightAt(ctx, sample, vertexDepth, p, Vec3f{})) {
+                                Ray shadow;
+                                shadow.origin = p;
+                                shadow.time = ray.time;
+                                if (std::isinf(ls->distance)) {
+                                    shadow.direction = ls->direction;
+                                } else {
+                                    Vec3f target = ls->point;
+                                    if (!ls->isDelta)
+                                        target =
+                                            offsetRayOrigin(ls->point, ls->pointError,
+                                                            faceForward(ls->lightNormal, -ls->direction));
+                                    shadow.direction = target - p;
+                                    shadow.tfar = 1.0f - 0x1p-20f;
+                                }
+                                const float phase = mp.phase.p(wo, ls->direction);
+                                SampleStream shadowStream =
+                                    sample.stream(Dim::ShadowTransmittance, path.segment);
+                                path.radiance +=
+                                    lightContribution(accel, ctx, path, *ls, Rgb(phase), phase, shadow,
+                                                      TriangleLeft{}, path.medium, shadowStream, rays);
+                            }
+                        const PhaseSample ps =
+                            mp.phase.sample(wo, sample.get2D(Dim::BsdfDirection, vertexDepth));
+                        path.rL = path.rU / ps.pdf;  // the sample's weight p / pdf is 1
+                        path.specularBounce = false;
+                        path.previousPosition = p;
+                        path.previousNormal = Vec3f{};
+                        ray.origin = p;
+                        ray.direction = ps.wi;
+                        ray.tnear = 0.0f;
+                        ray.tfar = std::numeric_limits<float>::infinity();
+                        scattered = true;
+                        if (!survivesVolumetricRoulette(ctx, sample, path)) ended = true;
+                        return false;
+                    }
+                    // A null collision: on along the ray.
+                    const float pdf = tMajHere[h] * sigmaN[h];
+                    if (!(pdf > 0.0f)) {
+                        ended = true;
+                        return false;
+                    }
+                    path.beta *= tMajHere * sigmaN / pdf;
+                    path.rU *= tMajHere * sigmaN / pdf;
+                    path.rL *= tMajHere * sigmaMaj / pdf;
+                    if (path.beta.isBlack() || path.rU.isBlack()) {
+                        ended = true;
+                        return false;
+                    }
+                    return true;
+                });
+            if (ended) break;
+            if (scattered) {
+                left = TriangleLeft{};
+                ++rays.extension;
+                continue;
+            }
+            if (!(tMaj[path.hero] > 0.0f)) break;
+            const Rgb ratio = tMaj / tMaj[path.hero];
+            path.beta *= ratio;
+            path.rU *= ratio;
+            path.rL *= ratio;
+        }
+
+        if (!found) {
+            if (lights.hasEnvironment())
+                addFoundEmission(ctx, path, lights.environmentRadiance(ray.direction), [&] {
+                    return lights.pdfOfEnvironment(path.previousPosition, path.previousNormal, ray.direction);
+                });
+            break;
+        }
+        left = si.shape.kind == ShapeKind::Sphere ? TriangleLeft{} : TriangleLeft{hit.geomId, hit.primId};
+        const Vec3f wo = -direction;
+        const Material* shaded = &scene.materials[si.material];
+        if (shaded->isInterface()) {
+            // A medium boundary: the ray goes on unchanged, into the medium beyond it.
+            cameraDistance += hit.t * directionLength;
+            const float cosGeometric = dot(ray.direction, si.geometricNormal);
+            path.medium = scene.mediaOf(si.shape).mediumAlong(ray.direction, si.geometricNormal, path.medium);
+            ray.origin = offsetRayOrigin(si.position, si.positionError,
+                                         cosGeometric >= 0.0f ? si.geometricNormal : -si.geometricNormal);
+            ray.tnear = 0.0f;
+            ray.tfar = std::numeric_limits<float>::infinity();
+            ++rays.extension;
+            continue;
+        }
+        if (shaded->isTextured()) [[unlikely]]
+            shaded = &textured.fill(texturedMaterial(*shaded, ctx, si, ray.time));
+        const SurfaceVertex vertex{si, *shaded, wo, dot(wo, si.geometricNormal) > 0.0f};
+        if (!sawSurface) {
+            sawSurface = true;
+            if (firstHit && path.depth == 0)
+                *firstHit = {true, cameraDistance + hit.t * directionLength, si.shadingNormal,
+                             vertex.material.albedo()};
+        }
+        // Beer-Lambert absorption inside a dielectric that declares it (path_integrator.h).
+        if (!vertex.woAbove) {
+            const Rgb sigma = vertex.material.interiorAbsorption();
+            if (!sigma.isBlack()) path.beta *= transmittance(sigma, hit.t * directionLength);
+        }
+        addFoundEmission(ctx, path, lights.emitted(si, wo),
+                         [&] { return lights.pdfOfHit(path.previousPosition, path.previousNormal, si); });
+        if (path.depth >= ctx.maxDepth) break;
+        const uint32_t vertexDepth = uint32_t(path.depth++);
+
+        const LocalFrame local(si, wo);
+        // Light sampling at the surface.
+        if (!lights.empty() && !vertex.material.isPurelySpecular() && ctx.strategy != LightStrategy::Bsdf)
+            if (const auto ls = sampleLightAt(ctx, sample, vertexDepth, si.position, si.geometricNormal)) {
+                const Vec3f wiLocal = local.lanes.toLocal(ls->direction);
+                const bool reflects = local.woLocal.z * wiLocal.z > 0.0f;
+                const float cosLight = dot(ls->direction, si.geometricNormal);
+                if (((cosLight > 0.0f) == vertex.woAbove) == reflects) {
+                    const Rgb f =
+                        vertex.material.eval(local.woLocal, wiLocal, vertex.woAbove) * std::abs(wiLocal.z);
+                    if (!f.isBlack()) {
+                        const Ray shadow = spawnShadowRay(si, local.leaveDistance, *ls, cosLight, ray.time);
+                        const uint32_t shadowMedium = scene.mediaOf(si.shape).mediumAlong(
+                            ls->direction, si.geometricNormal, path.medium);
+                        SampleStream shadowStream = sample.stream(Dim::ShadowTransmittance, path.segment);
+                        path.radiance +=
+                            lightContribution(accel, ctx, path, *ls, f,
+                                              vertex.material.pdf(local.woLocal, wiLocal, vertex.woAbove),
+                                              shadow, left, shadowMedium, shadowStream, rays);
+                    }
+                }
+            }
+
+        // The continuation: a BSDF sample.
+        const float uLobe =
+            vertex.material.usesLobeSample() ? sample.get1D(Dim::BsdfLobe, vertexDepth) : 0.5f;
+        const auto bs = vertex.material.sample(local.woLocal, uLobe,
+                                               sample.get2D(Dim::BsdfDirection, vertexDepth), vertex.woAbove);
+        if (!bs) break;
+        const Vec3f wi = local.lanes.toWorld(bs->wi);
+        const float cosWi = dot(wi, si.geometricNormal);
+        if (((cosWi > 0.0f) != vertex.woAbove) != bs->isTransmission()) break;
+        path.beta *= bs->weight;
+        if (bs->isTransmission()) path.etaScale *= bs->eta * bs->eta;
+        if (path.beta.isBlack()) break;
+        path.rL = path.rU / bs->pdf;
+        path.specularBounce = bs->isSpecular();
+        path.previousPosition = si.position;
+        path.previousNormal = si.geometricNormal;
+        if (!survivesVolumetricRoulette(ctx, sample, path)) break;
+        path.medium = scene.mediaOf(si.shape).mediumAlong(wi, si.geometricNormal, path.medium);
+        continueRay(ray, si, local.leaveDistance, wi, cosWi);
+        ++rays.extension;
+    }
+    return path.radiance;
+}
+
+}  // namespace penumbra

@@ -1,0 +1,118 @@
+#include "scenes/medium_reader.h"
+
+#include <fmt/format.h>
+
+#include <array>
+#include <cstdint>
+
+#include "core/input_limits.h"
+#include "scenes/shape_reader.h"
+#include "scenes/type_table.h"
+
+namespace penumbra {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// What every medium has: its coefficients (times "scale") and its phase function.
+struct Coefficients {
+    Rgb sigmaA{0.0f}, sigmaS{0.0f};
+    HenyeyGreenstein phase;
+};
+
+Coefficients readCoefficients(const JsonValue& value) {
+    Coefficients c;
+    float scale = 1.0f;
+    if (auto v = value.member("scale")) scale = v->numberAtLeast(0.0f);
+    if (auto v = value.member("sigma_a")) c.sigmaA = v->rgb(0.0f) * scale;
+    if (auto v = value.member("sigma_s")) c.sigmaS = v->rgb(0.0f) * scale;
+    if (!(c.sigmaA + c.sigmaS).isFinite())
+        value.fail("sigma_a and sigma_s times scale do not fit a 32-bit float");
+    // |g| = 1 is a delta distribution, which the phase function's sampling cannot take.
+    if (auto v = value.member("g")) c.phase.g = v->numberInRange(-0.99f, 0.99f);
+    return c;
+}
+
+MediumModel readHomogeneous(const JsonValue& value, const fs::path&) {
+    const Coefficients c = readCoefficients(value);
+    HomogeneousMedium medium{c.sigmaA, c.sigmaS, Rgb(0.0f), c.phase};
+    if (auto v = value.member("emission")) medium.emission = v->rgb(0.0f);
+    return medium;
+}
+
+// "density": {"resolution": [nx, ny, nz], "values": [nx * ny * nz numbers >= 0, x fastest]}.
+DensityGrid readInlineGrid(const JsonValue& value) {
+    const JsonObject object(value, {"resolution", "values"});
+    const JsonValue resolution = object.require("resolution");
+    if (resolution.arraySize() != 3) resolution.failExpected("[nx, ny, nz]");
+    DensityGrid grid;
+    int* sizes[3] = {&grid.nx, &grid.ny, &grid.nz};
+    for (size_t i = 0; i < 3; ++i) *sizes[i] = int(resolution.element(i).integer(1, limits::kMaxGridSide));
+    const JsonValue values = object.require("values");
+    const uint64_t count = uint64_t(grid.nx) * uint64_t(grid.ny) * uint64_t(grid.nz);
+    if (values.arraySize() != count)
+        values.failExpected(
+            fmt::format("{} numbers (nx * ny * nz = {} x {} x {})", count, grid.nx, grid.ny, grid.nz));
+    grid.values.reserve(count);
+    for (const JsonValue& v : values.elements()) grid.values.push_back(v.numberAtLeast(0.0f));
+    return grid;
+}
+
+MediumModel readGrid(const JsonValue& value, const fs::path&) {
+    const Coefficients c = readCoefficients(value);
+    GridMedium medium;
+    medium.sigmaA = c.sigmaA;
+    medium.sigmaS = c.sigmaS;
+    medium.phase = c.phase;
+    medium.density = readInlineGrid(value.requiredMember("density"));
+    if (auto v = value.member("bounds")) {
+        if (v->arraySize() != 2) v->failExpected("[[x0, y0, z0], [x1, y1, z1]]");
+        medium.density.bounds = {v->element(0).vec3(), v->element(1).vec3()};
+        const Vec3f extent = medium.density.bounds.upper - medium.density.bounds.lower;
+        if (!(extent.x > 0.0f && extent.y > 0.0f && extent.z > 0.0f))
+            v->fail("the upper corner must exceed the lower one in x, y and z");
+    }
+    if (auto v = value.member("transform")) medium.toWorld = readTransform(*v);
+    medium.buildMajorants();
+    return medium;
+}
+
+using MediumReader = MediumModel (*)(const JsonValue&, const fs::path&);
+
+const std::array<TypeRow<MediumReader>, 2> kMediumTypes{{
+    {"homogeneous", {"type", "sigma_a", "sigma_s", "scale", "g", "emission"}, readHomogeneous},
+    {"grid", {"type", "sigma_a", "sigma_s", "scale", "g", "density", "bounds", "transform"}, readGrid},
+}};
+
+}  // namespace
+
+void readMedia(const JsonValue& section, const fs::path& folder, Scene& scene) {
+    for (const auto& [name, value] : section.members()) {
+        if (name.empty()) value.fail("a medium needs a name: \"\" stands for the vacuum");
+        scene.media.push_back(findTypeRow<MediumReader>(value, kMediumTypes).read(value, folder));
+        scene.mediumNames.push_back(name);
+    }
+}
+
+uint32_t readMediumReference(const JsonValue& value, const std::vector<std::string>& names) {
+    if (value.json().is_null()) return MediumInterface::kVacuum;
+    const std::string name = value.string();
+    if (name.empty()) return MediumInterface::kVacuum;
+    std::string known;
+    for (size_t i = 0; i < names.size(); ++i) {
+        if (names[i] == name) return uint32_t(i);
+        known += (known.empty() ? "" : ", ") + names[i];
+    }
+    value.fail(fmt::format("unknown medium \"{}\" ({}; \"\" is the vacuum)", name,
+                           known.empty() ? "the scene defines no media" : "known media: " + known));
+}
+
+MediumInterface readMediumInterface(const JsonValue& shape, const std::vector<std::string>& names) {
+    MediumInterface media;
+    if (auto v = shape.member("inside")) media.inside = readMediumReference(*v, names);
+    if (auto v = shape.member("outside")) media.outside = readMediumReference(*v, names);
+    return media;
+}
+
+}  // namespace penumbra
