@@ -60,6 +60,16 @@ constexpr uint64_t kMaxMeshFileBytes = uint64_t(4) << 30;
 constexpr uint64_t kMaxIesFileBytes = uint64_t(16) << 20;
 constexpr int kMaxIesAngles = 4096;
 
+// Heterogeneous media's grids (media/openvdb_grid.h, media/nanovdb_grid.h). Bytes of an OpenVDB or
+// NanoVDB file: a NanoVDB reader holds the chosen grid's bytes in memory, as the file stores them
+// (a grid at the voxel limit below, every voxel in a leaf, takes about 1.1 GiB).
+constexpr uint64_t kMaxVolumeFileBytes = uint64_t(4) << 30;
+// Voxels of the lattice a grid is densified into (the box of its active voxels): 2^28, 1 GiB of
+// floats (645^3, or a 1024 x 512 x 512 cloud). A file of a few kilobytes can place two voxels far
+// apart, or one active tile over 4096^3 voxels: the lattice is sized, and refused, before anything
+// is allocated for it.
+constexpr int64_t kMaxGridVoxels = int64_t(1) << 28;
+
 // Magnitude of a coordinate or a length in a scene (positions, corners, centres, radii, lens
 // sizes), after transforms: below it, squared distances stay within a 32-bit float (1e36 < 3.4e38);
 // beyond it, intersection tests overflow and geometry would silently vanish.

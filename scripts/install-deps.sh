@@ -12,10 +12,13 @@ cd "$(dirname "$0")/.."
 # The packages, by what needs them. One group per line of work, so that a user who only renders
 # installs only the first two.
 declare -A groups
-# Compiling penumbra (OpenImageIO is found through pkg-config: see CMakeLists.txt).
+# Compiling penumbra (OpenImageIO is found through pkg-config: see CMakeLists.txt). OpenVDB's
+# headers include Boost's and its CMake module asks for Boost.Iostreams, yet Debian's
+# libopenvdb-dev depends on neither: libboost-iostreams-dev brings both.
 groups[build]="cmake ninja-build g++ pkg-config
     libembree-dev libtbb-dev libopenimageio-dev libopenexr-dev libopencolorio-dev
-    libcli11-dev nlohmann-json3-dev libtinyobjloader-dev zlib1g-dev libfmt-dev"
+    libcli11-dev nlohmann-json3-dev libtinyobjloader-dev zlib1g-dev libfmt-dev
+    libopenvdb-dev libboost-iostreams-dev"
 # `penumbra converge`'s plot (tools/plot_convergence.py). python3-munkres satisfies fonttools's
 # "python3-scipy | python3-munkres" with 41 KB rather than SciPy and its dependencies.
 groups[tools]="python3 python3-matplotlib python3-munkres"

@@ -18,7 +18,8 @@ scripts/install-deps.sh build tools test
 # The CLI (the end-to-end hostile input tests run it) and the test programs of each build.
 asan_targets=(penumbra penumbra_scenes_test materials_loader_test film_exr_test film_merge_test hostile_film_test
             pixel_accumulator_test geometry_test bvh_test bvh_motion_test integrator_test render_job_test
-            hostile_input_test pbrt_reader_test hostile_texture_test submit_test ies_profile_test)
+            hostile_input_test pbrt_reader_test hostile_texture_test submit_test ies_profile_test
+            nanovdb_grid_test)
 tsan_targets=(integrator_test render_job_test)
 
 generator=()
