@@ -4,8 +4,13 @@
 
 #include <array>
 #include <cstdint>
+#include <string_view>
+#include <vector>
 
 #include "core/input_limits.h"
+#include "media/nanovdb_grid.h"
+#include "media/openvdb_grid.h"
+#include "media/scattering_presets.h"
 #include "scenes/shape_reader.h"
 #include "scenes/type_table.h"
 
@@ -35,15 +40,41 @@ Coefficients readCoefficients(const JsonValue& value) {
 }
 
 MediumModel readHomogeneous(const JsonValue& value, const fs::path&) {
-    const Coefficients c = readCoefficients(value);
+    Coefficients c = readCoefficients(value);
+    // A measured medium by name (media/scattering_presets.h), in mm^-1, times "scale".
+    if (auto v = value.member("preset")) {
+        if (value.member("sigma_a") || value.member("sigma_s"))
+            v->fail("give either \"preset\" or \"sigma_a\" and \"sigma_s\"");
+        std::vector<std::string_view> names;
+        for (const ScatteringPreset& preset : kScatteringPresets) names.push_back(preset.name);
+        const ScatteringPreset& preset = kScatteringPresets[v->choice(names)];
+        const float scale = value.member("scale") ? value.member("scale")->number() : 1.0f;
+        c.sigmaA = preset.absorption * scale;
+        c.sigmaS = preset.reducedScattering * scale;
+    }
     HomogeneousMedium medium{c.sigmaA, c.sigmaS, Rgb(0.0f), c.phase};
     if (auto v = value.member("emission")) medium.emission = v->rgb(0.0f);
     return medium;
 }
 
-// "density": {"resolution": [nx, ny, nz], "values": [nx * ny * nz numbers >= 0, x fastest]}.
-DensityGrid readInlineGrid(const JsonValue& value) {
-    const JsonObject object(value, {"resolution", "values"});
+// "density": {"resolution": [nx, ny, nz], "values": [nx * ny * nz numbers >= 0, x fastest]}, or
+// {"file": a .vdb (OpenVDB) or .nvdb (NanoVDB) file, "grid": the float grid's name (default
+// "density")}, placed where the file says.
+DensityGrid readDensity(const JsonValue& value, const fs::path& folder, bool& fromFile) {
+    const JsonObject object(value, {"resolution", "values", "file", "grid"});
+    fromFile = object.get("file").has_value();
+    if (fromFile) {
+        if (auto v = object.get("resolution"))
+            v->fail("give either \"file\" or \"resolution\" and \"values\"");
+        const JsonValue fileValue = object.require("file");
+        const fs::path file = fileValue.existingFile(folder, "volume file");
+        const std::string grid = object.get("grid") ? object.get("grid")->string() : "density";
+        const std::string extension = file.extension().string();
+        if (extension == ".vdb") return readOpenVdbGrid(file, grid);
+        if (extension == ".nvdb") return readNanoVdbGrid(file, grid);
+        fileValue.failExpected("an OpenVDB (.vdb) or NanoVDB (.nvdb) file");
+    }
+    if (auto v = object.get("grid")) v->fail("\"grid\" names a grid of a \"file\"");
     const JsonValue resolution = object.require("resolution");
     if (resolution.arraySize() != 3) resolution.failExpected("[nx, ny, nz]");
     DensityGrid grid;
@@ -59,14 +90,16 @@ DensityGrid readInlineGrid(const JsonValue& value) {
     return grid;
 }
 
-MediumModel readGrid(const JsonValue& value, const fs::path&) {
+MediumModel readGrid(const JsonValue& value, const fs::path& folder) {
     const Coefficients c = readCoefficients(value);
     GridMedium medium;
     medium.sigmaA = c.sigmaA;
     medium.sigmaS = c.sigmaS;
     medium.phase = c.phase;
-    medium.density = readInlineGrid(value.requiredMember("density"));
+    bool fromFile = false;
+    medium.density = readDensity(value.requiredMember("density"), folder, fromFile);
     if (auto v = value.member("bounds")) {
+        if (fromFile) v->fail("a grid read from a file is placed where the file says: give no \"bounds\"");
         if (v->arraySize() != 2) v->failExpected("[[x0, y0, z0], [x1, y1, z1]]");
         medium.density.bounds = {v->element(0).vec3(), v->element(1).vec3()};
         const Vec3f extent = medium.density.bounds.upper - medium.density.bounds.lower;
@@ -81,7 +114,7 @@ MediumModel readGrid(const JsonValue& value, const fs::path&) {
 using MediumReader = MediumModel (*)(const JsonValue&, const fs::path&);
 
 const std::array<TypeRow<MediumReader>, 2> kMediumTypes{{
-    {"homogeneous", {"type", "sigma_a", "sigma_s", "scale", "g", "emission"}, readHomogeneous},
+    {"homogeneous", {"type", "sigma_a", "sigma_s", "scale", "g", "emission", "preset"}, readHomogeneous},
     {"grid", {"type", "sigma_a", "sigma_s", "scale", "g", "density", "bounds", "transform"}, readGrid},
 }};
 

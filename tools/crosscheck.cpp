@@ -346,7 +346,9 @@ std::vector<CrosscheckRay> generateCrosscheckRays(const Scene& scene, const Embr
     }
 
     // Paths: a camera ray (or, when it escapes, a random ray) and up to kMaxBounces cosine-weighted
-    // bounces; every path vertex gives a bounce ray and a shadow ray to a random point elsewhere.
+    // bounces, straight on through medium boundaries (interface materials) as the volumetric
+    // integrator goes; every path vertex gives a bounce ray and a shadow ray to a random point
+    // elsewhere.
     std::vector<CrosscheckRay> bounces, shadows;
     const uint64_t maxPaths = 16 * perKind + 1024;  // enough unless the scene is nearly invisible
     for (uint64_t path = 0; path < maxPaths && (bounces.size() < perKind || shadows.size() < perKind);
@@ -374,8 +376,14 @@ std::vector<CrosscheckRay> generateCrosscheckRays(const Scene& scene, const Embr
                          CrosscheckRayKind::Shadow, shadows.size()}));
             }
             Ray next;
-            next.origin = offsetRayOrigin(si.position, si.positionError, normal);
-            next.direction = Frame::fromNormal(normal).toWorld(sampleCosineHemisphere(random.next2()));
+            if (scene.materials[si.material].isInterface()) {
+                // A medium boundary: the volumetric integrator's ray goes straight on through it.
+                next.origin = offsetRayOrigin(si.position, si.positionError, -normal);
+                next.direction = ray.direction;
+            } else {
+                next.origin = offsetRayOrigin(si.position, si.positionError, normal);
+                next.direction = Frame::fromNormal(normal).toWorld(sampleCosineHemisphere(random.next2()));
+            }
             next.time = ray.time;
             if (bounces.size() < perKind)
                 bounces.push_back(leaving(hit, si, {next, CrosscheckRayKind::Bounce, bounces.size()}));

@@ -6,6 +6,7 @@
 
 #include "core/input_limits.h"
 #include "formats/pbrt/json_numbers.h"
+#include "media/scattering_presets.h"
 
 namespace penumbra::pbrt {
 
@@ -30,18 +31,27 @@ void mapCoefficients(const ParameterList& p, const TextureTable& textures, Warni
 
 }  // namespace
 
-Json mapMedium(const ParameterList& p, const Json& transform, const TextureTable& textures,
-               const SourceLocation& where, WarningLog& log) {
+Json mapMedium(const ParameterList& p, const Json& transform, const std::filesystem::path& folder,
+               const TextureTable& textures, const SourceLocation& where, WarningLog& log) {
     const std::string type = p.getString("type").value_or("");
     Json medium = Json::object();
     if (type == "homogeneous") {
         medium["type"] = "homogeneous";
-        if (const Parameter* preset = p.find("preset", {ParamType::String}))
-            log.warn(
-                preset->where,
-                fmt::format("medium preset \"{}\" is not supported: sigma_a and sigma_s are used instead",
-                            preset->strings.at(0)));
         mapCoefficients(p, textures, log, medium);
+        // pbrt-v4 takes a preset it knows over sigma_a and sigma_s, and warns of one it does not.
+        if (const Parameter* preset = p.find("preset", {ParamType::String})) {
+            const std::string& name = preset->strings.at(0);
+            if (findScatteringPreset(name)) {
+                medium.erase("sigma_a");
+                medium.erase("sigma_s");
+                medium["preset"] = name;
+            } else {
+                log.warn(preset->where,
+                         fmt::format("medium preset \"{}\" is unknown: sigma_a and sigma_s are used "
+                                     "instead (as pbrt-v4 does)",
+                                     name));
+            }
+        }
         const Rgb emission = readColor(p, "Le", Rgb(0.0f), SpectrumUse::Emission, textures, log) *
                              float(p.getFloat("Lescale").value_or(1.0));
         if (!emission.isBlack()) medium["emission"] = rgbJson(emission);
@@ -84,7 +94,32 @@ Json mapMedium(const ParameterList& p, const Json& transform, const TextureTable
         p.markAllUsed();
         return medium;
     }
-    if (type == "rgbgrid" || type == "cloud" || type == "nanovdb") {
+    if (type == "nanovdb") {
+        // pbrt-v4's NanoVDBMedium: the "density" grid of the file, where the file places it.
+        medium["type"] = "grid";
+        mapCoefficients(p, textures, log, medium);
+        const Parameter* filename = p.find("filename", {ParamType::String});
+        if (!filename || filename->strings.size() != 1 || filename->strings[0].empty())
+            failAt(where, "a nanovdb medium needs its file as \"string filename\"");
+        const std::string& file = filename->strings[0];
+        const std::filesystem::path path =
+            std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : folder / file;
+        std::error_code error;
+        if (!std::filesystem::is_regular_file(path, error))
+            failAt(filename->where,
+                   fmt::format("nanovdb medium: \"{}\" not found (looked for {})", file, path.string()));
+        medium["density"] = Json{{"file", file}, {"grid", "density"}};
+        if (!transform.is_null()) medium["transform"] = transform;
+        for (const char* unsupported :
+             {"Le", "Lescale", "temperaturecutoff", "temperatureoffset", "temperaturescale"})
+            if (const Parameter* q = p.find(unsupported, {ParamType::Float, ParamType::Rgb,
+                                                          ParamType::Spectrum, ParamType::Blackbody}))
+                log.warn(q->where,
+                         fmt::format("nanovdb \"{}\" is not supported yet: the medium does not emit",
+                                     unsupported));
+        return medium;
+    }
+    if (type == "rgbgrid" || type == "cloud") {
         p.markAllUsed();
         log.warn(
             where,

@@ -924,7 +924,7 @@ void SceneBuilder::mediumDirective(const Directive& d) {
     const Matrix4d world = toWorld(state_.ctm[0]);
     const Json transform =
         world == Matrix4d::identity() ? Json() : Json::array({Json{{"matrix", matrixJson(world)}}});
-    Json medium = mapMedium(d.parameters, transform, textures_, d.where, log_);
+    Json medium = mapMedium(d.parameters, transform, folder_, textures_, d.where, log_);
     d.parameters.reportUnused(log_, fmt::format("MakeNamedMedium \"{}\"", name));
     if (medium.is_null()) {
         namedMedia_[name] = "";  // left out, with a warning: the vacuum

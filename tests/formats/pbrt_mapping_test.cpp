@@ -636,6 +636,33 @@ TEST(PbrtMapping, MediaBoundariesAndTheCameraMedium) {
     EXPECT_CONTAINS(e.message(), "medium \"smoke\" is not defined");
 }
 
+// pbrt-v4's nanovdb medium: the file's "density" grid, placed by the current transform; the file
+// is the fixture the NanoVDB library wrote (tests/data/nanovdb).
+TEST(PbrtMapping, NanoVdbMediaReadTheirFile) {
+    const std::string file = (fs::path(PENUMBRA_TEST_DATA_DIR) / "nanovdb" / "smoke.nvdb").string();
+    auto c = convert(
+        "WorldBegin\nTranslate 0 1 0\nMakeNamedMedium \"smoke\" \"string type\" \"nanovdb\" "
+        "\"string filename\" \"" +
+        file + "\" \"float scale\" 4\n");
+    const Json& smoke = c.document["media"]["smoke"];
+    EXPECT_EQ(smoke["type"], "grid");
+    EXPECT_EQ(smoke["density"], Json({{"file", file}, {"grid", "density"}}));
+    EXPECT_EQ(smoke["scale"], 4.0);
+    ASSERT_TRUE(smoke.contains("transform"));
+    const Scene scene = buildPbrtScene(c, "test.pbrt");
+    const auto& grid = std::get<GridMedium>(scene.media.at(0));
+    EXPECT_EQ(grid.density.nx * grid.density.ny * grid.density.nz, int(grid.density.values.size()));
+    EXPECT_FLOAT_EQ(grid.toWorld.applyPoint({0, 0, 0}).y, 1.0f);
+    EXPECT_FLOAT_EQ(grid.sigmaS.r, 4.0f);  // pbrt-v4's default sigma_s 1, times the scale
+
+    const InputError e = testing::catchInputError([] {
+        convert(
+            "WorldBegin\nMakeNamedMedium \"m\" \"string type\" \"nanovdb\" \"string filename\" "
+            "\"none.nvdb\"\n");
+    });
+    EXPECT_CONTAINS(e.message(), "none.nvdb");
+}
+
 TEST(PbrtMapping, IncludedFilesAreCoveredByTheSceneHash) {
     const fs::path dir = fs::temp_directory_path() / "penumbra_pbrt_hash_test";
     fs::create_directories(dir);
