@@ -7,6 +7,7 @@
 #include <cmath>
 #include <optional>
 
+#include "scenes/name_reference.h"
 #include "scenes/texture_reader.h"
 #include "scenes/type_table.h"
 
@@ -287,14 +288,7 @@ void readMaterials(const JsonValue& section, const std::filesystem::path& folder
 }
 
 uint32_t readMaterialReference(const JsonValue& value, const std::vector<std::string>& names) {
-    const std::string name = value.string();
-    std::string known;
-    for (size_t i = 0; i < names.size(); ++i) {
-        if (names[i] == name) return uint32_t(i);
-        known += (known.empty() ? "" : ", ") + names[i];
-    }
-    value.fail(fmt::format("unknown material \"{}\" ({})", name,
-                           known.empty() ? "the scene defines no materials" : "known materials: " + known));
+    return readNameReference(value, names, "material", "materials");
 }
 
 }  // namespace penumbra

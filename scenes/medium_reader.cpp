@@ -11,6 +11,7 @@
 #include "media/nanovdb_grid.h"
 #include "media/openvdb_grid.h"
 #include "media/scattering_presets.h"
+#include "scenes/name_reference.h"
 #include "scenes/shape_reader.h"
 #include "scenes/type_table.h"
 
@@ -130,15 +131,8 @@ void readMedia(const JsonValue& section, const fs::path& folder, Scene& scene) {
 
 uint32_t readMediumReference(const JsonValue& value, const std::vector<std::string>& names) {
     if (value.json().is_null()) return MediumInterface::kVacuum;
-    const std::string name = value.string();
-    if (name.empty()) return MediumInterface::kVacuum;
-    std::string known;
-    for (size_t i = 0; i < names.size(); ++i) {
-        if (names[i] == name) return uint32_t(i);
-        known += (known.empty() ? "" : ", ") + names[i];
-    }
-    value.fail(fmt::format("unknown medium \"{}\" ({}; \"\" is the vacuum)", name,
-                           known.empty() ? "the scene defines no media" : "known media: " + known));
+    if (value.string().empty()) return MediumInterface::kVacuum;
+    return readNameReference(value, names, "medium", "media", "; \"\" is the vacuum");
 }
 
 MediumInterface readMediumInterface(const JsonValue& shape, const std::vector<std::string>& names) {
