@@ -31,7 +31,9 @@ cy.use_denoising = False
 bounces = scene_desc["depth"] - 1
 cy.max_bounces = cy.diffuse_bounces = cy.glossy_bounces = cy.transmission_bounces = bounces
 cy.transparent_max_bounces = bounces
-cy.volume_bounces = 0
+# Volume scatterings count as bounces in both: max_bounces limits them with the others, and
+# volume_bounces (default 0: single scattering only) must not cut them first.
+cy.volume_bounces = bounces
 cy.sample_clamp_direct = 0.0
 cy.sample_clamp_indirect = 0.0
 cy.blur_glossy = 0.0
@@ -51,12 +53,60 @@ world.use_nodes = False
 world.color = (0.0, 0.0, 0.0)
 scene.world = world
 
+# How Cycles samples distances in the homogeneous media (penumbra: delta tracking, which for a
+# homogeneous medium is distance sampling): multiple importance sampling of distance and
+# equiangular sampling (Blender's default), the robust choice for a small light inside a fog.
+VOLUME_SAMPLING = spec.get("volume_sampling", "MULTIPLE_IMPORTANCE")
+
+def rgb(v):
+    return list(v) if isinstance(v, list) else [v] * 3
+
+def medium_material(name, medium):
+    """A pure volume boundary: a material with only a Volume output (no surface shader: rays pass
+    through it without a bounce), the medium inside. sigma_s = Volume Scatter's Color x Density,
+    sigma_a = (1 - Volume Absorption's Color) x Density (Cycles' svm_node_closure_volume), per
+    scene unit as penumbra's."""
+    desc = scene_desc["media"][medium]
+    assert desc["type"] == "homogeneous" and not desc.get("emission"), desc
+    scale = desc.get("scale", 1.0)
+    sigma_a = [scale * v for v in rgb(desc.get("sigma_a", 0.0))]
+    sigma_s = [scale * v for v in rgb(desc.get("sigma_s", 0.0))]
+    m = bpy.data.materials.new(f"{name}-{medium}")
+    m.use_nodes = True
+    nodes, links = m.node_tree.nodes, m.node_tree.links
+    nodes.clear()
+    out = nodes.new("ShaderNodeOutputMaterial")
+    scatter = nodes.new("ShaderNodeVolumeScatter")
+    density_s = max(sigma_s) or 1.0
+    scatter.inputs["Color"].default_value = (*[v / density_s for v in sigma_s], 1)
+    scatter.inputs["Density"].default_value = density_s if max(sigma_s) > 0 else 0.0
+    scatter.inputs["Anisotropy"].default_value = desc.get("g", 0.0)
+    absorb = nodes.new("ShaderNodeVolumeAbsorption")
+    density_a = max(sigma_a) or 1.0
+    absorb.inputs["Color"].default_value = (*[1 - v / density_a for v in sigma_a], 1)
+    absorb.inputs["Density"].default_value = density_a if max(sigma_a) > 0 else 0.0
+    add = nodes.new("ShaderNodeAddShader")
+    links.new(scatter.outputs[0], add.inputs[0])
+    links.new(absorb.outputs[0], add.inputs[1])
+    links.new(add.outputs[0], out.inputs["Volume"])
+    # Homogeneous: one step over the whole segment, transmittance in closed form (the shader has no
+    # spatially varying input, so Cycles would find this itself; said here for certain).
+    m.cycles.homogeneous_volume = True
+    m.cycles.volume_sampling = VOLUME_SAMPLING
+    return m
+
 materials = {}
-def material(name, emission=None):
-    key = (name, tuple(emission) if emission else None)
+def material(name, emission=None, inside=None, outside=None):
+    key = (name, tuple(emission) if emission else None, inside)
     if key in materials:
         return materials[key]
     desc = scene_desc["materials"][name]
+    if desc["type"] == "interface":
+        # Cycles' media are the insides of closed meshes, the vacuum around them.
+        assert inside and not outside and not emission, (name, inside, outside)
+        materials[key] = medium_material(name, inside)
+        return materials[key]
+    assert not inside and not outside, "media behind a surface that scatters: not described for Cycles"
     m = bpy.data.materials.new(name)
     m.use_nodes = True
     nodes, links = m.node_tree.nodes, m.node_tree.links
@@ -121,7 +171,7 @@ def uv_sphere(radius, segments=128, rings=64):
 
 moving = False
 for i, s in enumerate(scene_desc["shapes"]):
-    mat = material(s["material"], s.get("emission"))
+    mat = material(s["material"], s.get("emission"), s.get("inside"), s.get("outside"))
     if s["kind"] == "quad":
         c, e1, e2 = s["corner"], s["edge1"], s["edge2"]
         corners = [c, [c[k] + e1[k] for k in range(3)], [c[k] + e1[k] + e2[k] for k in range(3)],
@@ -183,4 +233,7 @@ bpy.data.images["Render Result"].save_render(spec["output"])
 print("CYCLES_RENDER_SECONDS", seconds, cpu_seconds, flush=True)
 print("CYCLES_SETTINGS", json.dumps({"blender": bpy.app.version_string, "sampling_pattern": cy.sampling_pattern,
       "light_sampling_threshold": cy.light_sampling_threshold, "threads": scene.render.threads,
+      "max_bounces": cy.max_bounces, "volume_bounces": cy.volume_bounces,
+      "volume_sampling": VOLUME_SAMPLING if scene_desc.get("media") else None,
+      "homogeneous_volume": True if scene_desc.get("media") else None,
       "lens_mm": cam_data.lens, "fstop": cam_data.dof.aperture_fstop if cam_data.dof.use_dof else None}), flush=True)
