@@ -48,18 +48,20 @@ enum class Dim : uint32_t {
     BsdfLobe,         // 1D: which lobe of the material is sampled
     BsdfDirection,    // 2D: direction within the lobe
     RussianRoulette,  // 1D: survival decision
-    // Participating media (renderer/volumetric_path_integrator.h). Their "bounce" is the path's
-    // segment (each ray between two vertices or interface crossings), not its scattering depth.
-    MediumChannel,        // 1D (segment 0): the colour channel whose majorant samples distances (hero)
-    MediumDistance,       // 1D: the first free-flight distance along the segment; SampleStream the rest
-    MediumEvent,          // 1D: the first collision's choice (absorb, scatter, null); SampleStream the rest
-    ShadowTransmittance,  // SampleStream only: ratio tracking's Russian roulette along a shadow ray
     Count
 };
 
-// The dimensions before the media's: their keys are those they had before media existed, so that
-// the images of scenes without media are unchanged.
-inline constexpr uint32_t kPathDimensions = uint32_t(Dim::MediumChannel);
+// The dimensions of participating media (renderer/volumetric_path_integrator.h), apart from Dim:
+// their "bounce" is the path's segment (each ray between two vertices or boundary crossings), not
+// its scattering depth, and their keys lie apart from Dim's, whose keys (and so the images of
+// scenes without media) stay as they were.
+enum class MediumDim : uint32_t {
+    Channel,              // 1D (segment 0): the colour channel whose majorant samples distances (hero)
+    Distance,             // 1D: the first free-flight distance along the segment; a SampleStream the rest
+    Event,                // 1D: the first collision's choice (absorb, scatter, null); a SampleStream the rest
+    ShadowTransmittance,  // SampleStream only: ratio tracking's Russian roulette along a shadow ray
+    Count
+};
 
 // Uniform values without end for a (dimension, segment) of one sample: delta tracking along a ray
 // makes as many collisions as it meets. Hashed from the dimension's key and a counter (pbrt-v4
@@ -203,6 +205,13 @@ public:
         const uint32_t index = shuffledIndex(key);
         return bitsToUnitFloat(reverseBits32(detail::laineKarrasPermutation(index, uint32_t(key >> 32))));
     }
+    // A medium dimension's value at `segment` (never frozen), drawn as get1D's.
+    float get1D(MediumDim dim, uint32_t segment) const {
+        const uint64_t key = mediumDimensionKey(dim, segment);
+        if (kind_ == SamplerKind::Independent) return bitsToUnitFloat(uint32_t(hashWords(key, sampleIndex_)));
+        const uint32_t index = shuffledIndex(key);
+        return bitsToUnitFloat(reverseBits32(detail::laineKarrasPermutation(index, uint32_t(key >> 32))));
+    }
 
     Vec2f get2D(Dim dim, uint32_t bounce = 0) const {
         if (frozen_ & dimBit(dim)) [[unlikely]]
@@ -239,8 +248,8 @@ public:
     }
 
     // The stream of uniform values of (dim, segment) for this sample (SampleStream).
-    SampleStream stream(Dim dim, uint32_t segment) const {
-        return SampleStream(hashWords(dimensionKey(dim, segment), sampleIndex_, uint64_t(kind_)));
+    SampleStream stream(MediumDim dim, uint32_t segment) const {
+        return SampleStream(hashWords(mediumDimensionKey(dim, segment), sampleIndex_, uint64_t(kind_)));
     }
     uint32_t sampleIndex() const { return sampleIndex_; }
 
@@ -252,17 +261,17 @@ public:
     bool isFrozen(Dim dim) const { return (frozen_ & dimBit(dim)) != 0; }
 
 private:
-    // hashCombine(pixelKey_, bounce * kPathDimensions + dim), its terms that depend on the pixel alone
+    // hashCombine(pixelKey_, bounce * Count + dim), its terms that depend on the pixel alone
     // computed once per sample.
-    // The media's dimensions are keyed past 2^40, apart from the path's (kPathDimensions).
     uint64_t dimensionKey(Dim dim, uint32_t bounce) const {
-        const uint64_t d = uint64_t(dim);
-        constexpr uint64_t kMediumDimensions = uint64_t(Dim::Count) - kPathDimensions;
-        const uint64_t index =
-            d < kPathDimensions
-                ? uint64_t(bounce) * kPathDimensions + d
-                : (uint64_t(1) << 40) + uint64_t(bounce) * kMediumDimensions + (d - kPathDimensions);
-        return hashCombineWithSeedTerms(pixelKey_, pixelKeyTerms_, index);
+        return hashCombineWithSeedTerms(pixelKey_, pixelKeyTerms_,
+                                        uint64_t(bounce) * uint64_t(Dim::Count) + uint64_t(dim));
+    }
+    // The media's keys, from 2^40 on: apart from every (dim, bounce) of Dim's.
+    uint64_t mediumDimensionKey(MediumDim dim, uint32_t segment) const {
+        return hashCombineWithSeedTerms(
+            pixelKey_, pixelKeyTerms_,
+            (uint64_t(1) << 40) + uint64_t(segment) * uint64_t(MediumDim::Count) + uint64_t(dim));
     }
     // The per-dimension shuffle: a permutation of every aligned power-of-two block of indices.
     uint32_t shuffledIndex(uint64_t key) const {

@@ -1,5 +1,6 @@
 // Heterogeneous media's grids from OpenVDB files (.vdb), through the OpenVDB library (Debian's
-// libopenvdb-dev, OpenVDB 10; its headers stay in openvdb_grid.cpp).
+// libopenvdb-dev, OpenVDB 10), which the volume plugin holds (media/volume_plugin.h): it is loaded
+// the first time a .vdb file is read (its headers stay in openvdb_library_reader.cpp).
 //
 // A float grid's active voxels (and active tiles) are densified into the box that holds them;
 // inactive voxels in it read as the grid's background value. The grid's transform must be linear
@@ -23,6 +24,10 @@ namespace penumbra {
 // any bad input: not a regular file, not an OpenVDB file, no such grid (the message lists those the
 // file holds), another type than float, a transform that is not a scale and a translation, no
 // active voxels, too many, values that are not finite.
+// A plugin that cannot be loaded is an InputError naming the plugin's file.
 DensityGrid readOpenVdbGrid(const std::filesystem::path& file, const std::string& gridName);
+
+// True once readOpenVdbGrid has loaded the volume plugin (for tests).
+bool volumePluginLoaded();
 
 }  // namespace penumbra

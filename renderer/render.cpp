@@ -20,7 +20,7 @@
 #include "renderer/adaptive_sampling.h"
 #include "renderer/camera_samples.h"
 #include "renderer/prepared_scene.h"
-#include "renderer/volumetric_path_integrator.h"
+#include "renderer/render_tile.h"
 #include "textures/image_texture.h"
 
 namespace penumbra {
@@ -28,77 +28,10 @@ namespace penumbra {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-constexpr size_t kMaxNonFiniteExamples = 8;
-
-struct TileResult {
-    RayCounters rays;
-    uint64_t samples = 0;
-    uint64_t nonFinite = 0;
-    std::vector<NonFiniteSample> examples;
-};
-
-// kThroughMedia: the volumetric integrator (Scene::hasMedia), whose camera rays are traced one
-// at a time; otherwise the surface integrator, with camera rays traced as packets.
-template <bool kThroughMedia, TraversalBackend Accel>
-TileResult renderTile(const Accel& accel, const Scene& scene, const ThinLensCamera& camera,
-                      const IntegratorContext& ctx, const PixelWindow& tile, uint32_t firstSample,
-                      uint32_t endSample, uint32_t frozenDims, bool sceneMoves, const ActivePixels* active,
-                      Film& film) {
-    constexpr int kPacket = kThroughMedia ? 1 : Accel::kPacketSize;
-    TileResult result;
-    // A group's samples, camera rays and what they hit, declared once per tile: every entry used
-    // is assigned first, so they need no zeroing per group (bench/README.md, "Speed tricks").
-    std::optional<PixelSample> samples[kPacket];  // made once, for the camera ray and the path
-    Ray cameraRays[kPacket];
-    TracedRay traced[kPacket];
-    Hit hits[kPacket];
-    bool found[kPacket];
-    for (int y = tile.y0; y < tile.y1; ++y)
-        for (int x = tile.x0; x < tile.x1; ++x) {
-            if (active && !active->active(x, y)) continue;  // stopped by adaptive sampling
-            PixelAccumulator pixel(film.at(x, y));  // adds the samples to the film when the pixel is done
-            const uint64_t pixelIndex = uint64_t(y) * uint64_t(scene.film.width) + uint64_t(x);
-            const PixelKey pixelKey = PixelKey::of(scene.settings.seed, pixelIndex);
-            // A pixel's camera rays are traced in packets of sample indices aligned to multiples of
-            // the packet size, so every sample's camera ray meets the same kernel in the same lane
-            // whatever range [firstSample, endSample) is rendered (resumes and merges stay exact).
-            for (uint32_t groupStart = firstSample; groupStart < endSample;) {
-                const uint32_t groupEnd = std::min(endSample, (groupStart / kPacket + 1) * kPacket);
-                const int count = int(groupEnd - groupStart);
-                for (int i = 0; i < count; ++i) {
-                    samples[i].emplace(scene.settings.sampler, pixelKey, groupStart + i);
-                    samples[i]->freeze(frozenDims);
-                    cameraRays[i] = generateCameraRay(camera, scene.film, sceneMoves, *samples[i], x, y);
-                }
-                if constexpr (kPacket > 1) {
-                    accel.intersectPacket(cameraRays, count, hits, found);
-                    for (int i = 0; i < count; ++i) traced[i] = {found[i], hits[i]};
-                }
-                for (int i = 0; i < count; ++i) {
-                    const uint32_t s = groupStart + i;
-                    FirstHitAovs aovs;
-                    Rgb radiance;
-                    if constexpr (kThroughMedia)
-                        radiance = estimateRadianceThroughMedia(accel, ctx, cameraRays[i], *samples[i],
-                                                                result.rays, &aovs);
-                    else
-                        radiance = estimateRadiance(accel, ctx, cameraRays[i], *samples[i], result.rays,
-                                                    &aovs, kPacket > 1 ? &traced[i] : nullptr);
-                    if (!radiance.isFinite()) {
-                        ++result.nonFinite;
-                        if (result.examples.size() < kMaxNonFiniteExamples)
-                            result.examples.push_back({x, y, s});
-                        radiance = Rgb(0.0f);
-                    }
-                    pixel.add(radiance, 1.0f, aovs);
-                    ++result.samples;
-                }
-                groupStart = groupEnd;
-            }
-        }
-    return result;
-}
+using detail::kMaxNonFiniteExamples;
+using detail::renderTile;
+using detail::renderTileThroughMedia;
+using detail::TileResult;
 
 template <TraversalBackend Accel>
 RenderStats renderWith(const Accel& accel, const Scene& scene, const RenderOptions& options, Film& film) {
@@ -153,11 +86,11 @@ RenderStats renderWith(const Accel& accel, const Scene& scene, const RenderOptio
     auto renderRange = [&](const tbb::blocked_range<size_t>& range) {
         for (size_t i = range.begin(); i != range.end(); ++i) {
             const ActivePixels* activePixels = active ? &*active : nullptr;
-            TileResult r = throughMedia
-                               ? renderTile<true>(accel, scene, camera, ctx, tiles[i], passBegin, passEnd,
-                                                  options.frozenDims, sceneMoves, activePixels, film)
-                               : renderTile<false>(accel, scene, camera, ctx, tiles[i], passBegin, passEnd,
-                                                   options.frozenDims, sceneMoves, activePixels, film);
+            TileResult r =
+                throughMedia ? renderTileThroughMedia(accel, scene, camera, ctx, tiles[i], passBegin, passEnd,
+                                                      options.frozenDims, sceneMoves, activePixels, film)
+                             : renderTile<false>(accel, scene, camera, ctx, tiles[i], passBegin, passEnd,
+                                                 options.frozenDims, sceneMoves, activePixels, film);
             TileResult& total = results[i];
             total.rays += r.rays;
             total.samples += r.samples;

@@ -20,7 +20,7 @@
 //
 // Sample dimensions: the surface dimensions are drawn per scattering depth as in the surface
 // integrator (a medium vertex uses LightPosition and BsdfDirection like a surface vertex); the
-// media's per segment (Dim::MediumDistance, MediumEvent and their SampleStreams), so that every
+// media's per segment (core/sampler.h's MediumDim: Distance, Event and their SampleStreams), so that every
 // decision has a named dimension and no value is used twice along a path.
 #pragma once
 
@@ -196,14 +196,13 @@ inline bool survivesVolumetricRoulette(const IntegratorContext& ctx, const Pixel
 // file's comment. `firstHit` as for estimateRadiance (the first surface that is not a boundary).
 template <TraversalBackend Accel>
 Radiance estimateRadianceThroughMedia(const Accel& accel, const IntegratorContext& ctx, Ray ray,
-                                      const PixelSample& sample, RayCounters& rays,
-                                      FirstHitAovs* firstHit = nullptr) {
+                                      const PixelSample& sample, RayCounters& rays, FirstHitAovs* firstHit) {
     using namespace detail;
     const Scene& scene = *ctx.scene;
     const LightSet& lights = *ctx.lights;
     VolumetricPath path;
     path.medium = ctx.cameraMedium;
-    path.hero = std::min(2, int(sample.get1D(Dim::MediumChannel, 0) * 3.0f));
+    path.hero = std::min(2, int(sample.get1D(MediumDim::Channel, 0) * 3.0f));
     path.previousPosition = ray.origin;
     TexturedMaterialSlot textured;
     TriangleLeft left;
@@ -224,13 +223,13 @@ Radiance estimateRadianceThroughMedia(const Accel& accel, const IntegratorContex
 
         if (path.medium != MediumInterface::kVacuum) {
             bool scattered = false, ended = false;
-            SampleStream distances = sample.stream(Dim::MediumDistance, path.segment);
-            SampleStream events = sample.stream(Dim::MediumEvent, path.segment);
-            float uEvent = sample.get1D(Dim::MediumEvent, path.segment);
+            SampleStream distances = sample.stream(MediumDim::Distance, path.segment);
+            SampleStream events = sample.stream(MediumDim::Event, path.segment);
+            float uEvent = sample.get1D(MediumDim::Event, path.segment);
             const float tEnd = found ? hit.t * directionLength : std::numeric_limits<float>::infinity();
             const Rgb tMaj = sampleFreeFlight(
                 scene.media[path.medium], ray.origin, direction, tEnd, path.hero,
-                sample.get1D(Dim::MediumDistance, path.segment), [&] { return distances.next(); },
+                sample.get1D(MediumDim::Distance, path.segment), [&] { return distances.next(); },
                 [&](float, Vec3f p, const MediumProperties& mp, Rgb sigmaMaj, Rgb tMajHere) {
                     const int h = path.hero;
                     if (path.depth < ctx.maxDepth && !mp.emission.isBlack()) {
@@ -283,7 +282,7 @@ Radiance estimateRadianceThroughMedia(const Accel& accel, const IntegratorContex
                                 }
                                 const float phase = mp.phase.p(wo, ls->direction);
                                 SampleStream shadowStream =
-                                    sample.stream(Dim::ShadowTransmittance, path.segment);
+                                    sample.stream(MediumDim::ShadowTransmittance, path.segment);
                                 path.radiance +=
                                     lightContribution(accel, ctx, path, *ls, Rgb(phase), phase, shadow,
                                                       TriangleLeft{}, path.medium, shadowStream, rays);
@@ -385,7 +384,8 @@ Radiance estimateRadianceThroughMedia(const Accel& accel, const IntegratorContex
                         const Ray shadow = spawnShadowRay(si, local.leaveDistance, *ls, cosLight, ray.time);
                         const uint32_t shadowMedium = scene.mediaOf(si.shape).mediumAlong(
                             ls->direction, si.geometricNormal, path.medium);
-                        SampleStream shadowStream = sample.stream(Dim::ShadowTransmittance, path.segment);
+                        SampleStream shadowStream =
+                            sample.stream(MediumDim::ShadowTransmittance, path.segment);
                         path.radiance +=
                             lightContribution(accel, ctx, path, *ls, f,
                                               vertex.material.pdf(local.woLocal, wiLocal, vertex.woAbove),

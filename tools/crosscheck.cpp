@@ -376,7 +376,8 @@ std::vector<CrosscheckRay> generateCrosscheckRays(const Scene& scene, const Embr
                          CrosscheckRayKind::Shadow, shadows.size()}));
             }
             Ray next;
-            if (scene.materials[si.material].isInterface()) {
+            // (Scenes made for traversal alone may name no materials.)
+            if (si.material < scene.materials.size() && scene.materials[si.material].isInterface()) {
                 // A medium boundary: the volumetric integrator's ray goes straight on through it.
                 next.origin = offsetRayOrigin(si.position, si.positionError, -normal);
                 next.direction = ray.direction;

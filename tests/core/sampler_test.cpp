@@ -411,7 +411,7 @@ TEST(Sampler, MediumDimensionsAreKeyedApartFromThePathDimensions) {
         for (Dim d : {Dim::Time, Dim::BsdfLobe, Dim::RussianRoulette})
             pathValues.push_back(s.get1D(d, bounce));
     for (uint32_t segment = 0; segment < 32; ++segment)
-        for (Dim d : {Dim::MediumChannel, Dim::MediumDistance, Dim::MediumEvent})
+        for (MediumDim d : {MediumDim::Channel, MediumDim::Distance, MediumDim::Event})
             for (float v : pathValues) EXPECT_NE(s.get1D(d, segment), v) << "segment " << segment;
 }
 
@@ -422,7 +422,7 @@ TEST(Sampler, SampleStreamsAreUniformAndDistinct) {
     std::vector<double> observed(bins, 0.0);
     for (uint32_t i = 0; i < streams; ++i) {
         SampleStream stream =
-            PixelSample(SamplerKind::Stratified, 3, i / 32, i % 32).stream(Dim::MediumDistance, i % 7);
+            PixelSample(SamplerKind::Stratified, 3, i / 32, i % 32).stream(MediumDim::Distance, i % 7);
         for (int k = 0; k < perStream; ++k) {
             const float u = stream.next();
             ASSERT_TRUE(u >= 0.0f && u < 1.0f);
@@ -433,8 +433,8 @@ TEST(Sampler, SampleStreamsAreUniformAndDistinct) {
         test::chiSquareTest(observed, std::vector<double>(bins, double(streams) * perStream / bins));
     EXPECT_GT(r.pValue, 1e-4) << r.describe();
     const PixelSample a(SamplerKind::Stratified, 3, 10, 0), b(SamplerKind::Stratified, 3, 10, 1);
-    SampleStream s0 = a.stream(Dim::MediumDistance, 0), s1 = a.stream(Dim::MediumDistance, 1),
-                 s2 = b.stream(Dim::MediumDistance, 0), s3 = a.stream(Dim::MediumEvent, 0);
+    SampleStream s0 = a.stream(MediumDim::Distance, 0), s1 = a.stream(MediumDim::Distance, 1),
+                 s2 = b.stream(MediumDim::Distance, 0), s3 = a.stream(MediumDim::Event, 0);
     const float first = s0.next();
     EXPECT_NE(first, s1.next());
     EXPECT_NE(first, s2.next());

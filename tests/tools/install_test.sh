@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The installed program is relocatable: `cmake --install` into a scratch prefix, the whole tree
 # moved elsewhere, and the moved `penumbra` renders (EXR and PNG, so the image plugin and the
-# OpenColorIO config are found; a textured scene, so the texture plugin is found) and runs `converge` with its plot. No path of the source or build
+# OpenColorIO config are found; a textured scene, so the texture plugin is found; the smoke scene,
+# so the volume plugin and its OpenVDB file are found) and runs `converge` with its plot. No path of the source or build
 # tree may appear in any installed file.
 #   install_test.sh CMAKE BUILD_DIR SOURCE_DIR
 set -euo pipefail
@@ -12,6 +13,7 @@ fail() { echo "FAILED: $*" >&2; exit 1; }
 
 "$cmake" --install "$build" --prefix "$scratch/prefix" > "$scratch/install.log"
 for f in bin/penumbra lib/penumbra/libpenumbra_image_plugin.so lib/penumbra/libpenumbra_texture_plugin.so \
+         lib/penumbra/libpenumbra_volume_plugin.so share/penumbra/scenes/volumes/smoke.vdb \
          share/penumbra/ocio/config.ocio share/penumbra/scenes/textures/sky.exr \
          share/penumbra/plot_convergence.py share/penumbra/scenes/cornell-box.json; do
     [ -f "$scratch/prefix/$f" ] || fail "the install has no $f"
@@ -30,6 +32,9 @@ cd "$scratch/work"  # no scenes/ or build/ here
 # Image textures and an HDR environment: the texture plugin is found in the moved tree too.
 "$penumbra" render "$scratch/moved/share/penumbra/scenes/outdoor.json" --res 32x24 --spp 2 -o out/outdoor.exr --quiet
 [ -s out/outdoor.png ] || fail "no PNG of the textured scene written"
+# An OpenVDB volume: the volume plugin is found in the moved tree too.
+"$penumbra" render "$scratch/moved/share/penumbra/scenes/smoke.json" --res 32x20 --spp 2 -o out/smoke.exr --quiet
+[ -s out/smoke.png ] || fail "no PNG of the smoke scene written"
 "$penumbra" converge "$scratch/moved/share/penumbra/scenes/soft-shadows.json" --spp 1,2,4 --res 24x16 \
     --reference-spp 16 -o out/conv --quiet 2> converge.err || { cat converge.err >&2; fail "converge failed"; }
 [ -s out/conv/convergence.csv ] || fail "converge wrote no convergence.csv"

@@ -1,0 +1,26 @@
+// The render loop's body with the volumetric integrator (renderer/render_tile.h says why it is
+// compiled here, apart from the surface integrator's).
+#include "renderer/render_tile.h"
+#include "renderer/volumetric_path_integrator.h"
+
+namespace penumbra::detail {
+
+TileResult renderTileThroughMedia(const EmbreeAccelerator& accel, const Scene& scene,
+                                  const ThinLensCamera& camera, const IntegratorContext& ctx,
+                                  const PixelWindow& tile, uint32_t firstSample, uint32_t endSample,
+                                  uint32_t frozenDims, bool sceneMoves, const ActivePixels* active,
+                                  Film& film) {
+    return renderTile<true>(accel, scene, camera, ctx, tile, firstSample, endSample, frozenDims, sceneMoves,
+                            active, film);
+}
+
+TileResult renderTileThroughMedia(const BvhAccelerator& accel, const Scene& scene,
+                                  const ThinLensCamera& camera, const IntegratorContext& ctx,
+                                  const PixelWindow& tile, uint32_t firstSample, uint32_t endSample,
+                                  uint32_t frozenDims, bool sceneMoves, const ActivePixels* active,
+                                  Film& film) {
+    return renderTile<true>(accel, scene, camera, ctx, tile, firstSample, endSample, frozenDims, sceneMoves,
+                            active, film);
+}
+
+}  // namespace penumbra::detail
