@@ -245,7 +245,7 @@ struct PendingShadowRay {
 
 // Step: what the segment that arrived at the vertex passed through. A segment that reached the
 // back side of a surface travelled inside its material: Beer-Lambert absorption by its interior.
-// (Participating media will be a step here, between surface hits.)
+// (Scenes with participating media are rendered by volumetric_path_integrator.h instead.)
 [[gnu::always_inline]] inline void attenuateAlongSegment(const SurfaceVertex& v, const Ray& ray, float hitT,
                                                          PathState& path) {
     if (v.woAbove) return;

@@ -15,13 +15,13 @@
 // which it was actually sampled (pbrt-v4's rescaled r_u and r_l), and a contribution is divided by
 // their average over the channels: one-sample MIS (balance heuristic) over the three channels'
 // distance sampling, the channel that samples (the hero) chosen uniformly per path, and over light
-// and BSDF or phase sampling. Without media the weights reduce to the balance heuristic of the
-// surface integrator's power heuristic: the two integrators agree in expectation, not bit for bit.
+// and BSDF or phase sampling. Without media this is the balance heuristic where the surface
+// integrator takes the power heuristic: the two agree in expectation, not bit for bit.
 //
 // Sample dimensions: the surface dimensions are drawn per scattering depth as in the surface
 // integrator (a medium vertex uses LightPosition and BsdfDirection like a surface vertex); the
-// media's per segment (core/sampler.h's MediumDim: Distance, Event and their SampleStreams), so that every
-// decision has a named dimension and no value is used twice along a path.
+// media's per segment (core/sampler.h's MediumDim: Distance, Event and their SampleStreams), so
+// that every decision has a named dimension and no value is used twice along a path.
 #pragma once
 
 #include <algorithm>
