@@ -36,13 +36,20 @@ inline Rgb transmittance(Rgb sigma, float distance) {
     return {std::exp(-sigma.r * d), std::exp(-sigma.g * d), std::exp(-sigma.b * d)};
 }
 
+// At most this many tentative collisions along one ray through a medium; beyond them the ray is
+// given up, its majorant transmittance 0. A real medium makes a few per optical depth of its
+// majorant; a hostile one (a majorant of 1e30 over a long ray) would be tracked without end.
+inline constexpr int kMaxCollisionsPerRay = 1 << 22;
+
 namespace detail {
 
 // Delta tracking along one segment of constant majorant sigmaMaj over [tMin, tMax): see
-// sampleFreeFlight. Returns false when the callback stopped.
+// sampleFreeFlight. Returns false when the tracking stops: the callback stopped it (tMaj then all
+// 1) or the ray made kMaxCollisionsPerRay collisions (tMaj then 0).
 template <typename Properties, typename NextUniform, typename Callback>
-bool trackSegment(float tMin, float tMax, Rgb sigmaMaj, int hero, float& u, Rgb& tMaj, Vec3f origin,
-                  Vec3f direction, Properties&& properties, NextUniform&& nextUniform, Callback&& callback) {
+bool trackSegment(float tMin, float tMax, Rgb sigmaMaj, int hero, float& u, Rgb& tMaj, int& collisions,
+                  Vec3f origin, Vec3f direction, Properties&& properties, NextUniform&& nextUniform,
+                  Callback&& callback) {
     if (sigmaMaj[hero] == 0.0f) {
         tMaj *= transmittance(sigmaMaj, tMax - tMin);
         return true;
@@ -54,8 +61,15 @@ bool trackSegment(float tMin, float tMax, Rgb sigmaMaj, int hero, float& u, Rgb&
             tMaj *= transmittance(sigmaMaj, tMax - t);
             return true;
         }
+        if (++collisions > kMaxCollisionsPerRay) {
+            tMaj = Rgb(0.0f);
+            return false;
+        }
         tMaj *= transmittance(sigmaMaj, tNext - t);
-        if (!callback(tNext, origin + direction * tNext, properties(tNext), sigmaMaj, tMaj)) return false;
+        if (!callback(tNext, origin + direction * tNext, properties(tNext), sigmaMaj, tMaj)) {
+            tMaj = Rgb(1.0f);
+            return false;
+        }
         tMaj = Rgb(1.0f);
         t = tNext;
     }
@@ -67,18 +81,20 @@ bool trackSegment(float tMin, float tMax, Rgb sigmaMaj, int hero, float& u, Rgb&
 // tentative collisions at distances drawn from the hero channel's majorant, the first with `u`,
 // the rest with nextUniform(). At each, callback(t, p, properties, sigmaMaj, tMaj) with tMaj the
 // majorant transmittance since the previous collision; it returns whether to go on. Returns the
-// majorant transmittance from the last collision to tMax (all 1 when the callback stopped).
+// majorant transmittance from the last collision to tMax (all 1 when the callback stopped, all 0
+// after kMaxCollisionsPerRay collisions).
 template <typename NextUniform, typename Callback>
 Rgb sampleFreeFlight(const MediumModel& medium, Vec3f origin, Vec3f direction, float tMax, int hero, float u,
                      NextUniform&& nextUniform, Callback&& callback) {
     Rgb tMaj(1.0f);
+    int collisions = 0;
     if (const auto* homogeneous = std::get_if<HomogeneousMedium>(&medium)) {
         const MediumProperties properties{homogeneous->sigmaA, homogeneous->sigmaS, homogeneous->emission,
                                           homogeneous->phase};
-        const bool going = detail::trackSegment(
-            0.0f, tMax, homogeneous->sigmaA + homogeneous->sigmaS, hero, u, tMaj, origin, direction,
-            [&](float) { return properties; }, nextUniform, callback);
-        return going ? tMaj : Rgb(1.0f);
+        detail::trackSegment(
+            0.0f, tMax, homogeneous->sigmaA + homogeneous->sigmaS, hero, u, tMaj, collisions, origin,
+            direction, [&](float) { return properties; }, nextUniform, callback);
+        return tMaj;
     }
     const GridMedium& grid = std::get<GridMedium>(medium);
     const Transform toMedium = grid.toWorld.inverse();
@@ -92,9 +108,9 @@ Rgb sampleFreeFlight(const MediumModel& medium, Vec3f origin, Vec3f direction, f
     GridMajorantWalk walk(grid, originInMedium, directionInMedium, 0.0f, tMax);
     // The walk skips the stretches outside the grid, where the majorant is 0.
     for (GridMajorantWalk::Segment s; walk.next(s);) {
-        if (!detail::trackSegment(s.tMin, s.tMax, sigmaT * s.maxDensity, hero, u, tMaj, origin, direction,
-                                  properties, nextUniform, callback))
-            return Rgb(1.0f);
+        if (!detail::trackSegment(s.tMin, s.tMax, sigmaT * s.maxDensity, hero, u, tMaj, collisions, origin,
+                                  direction, properties, nextUniform, callback))
+            return tMaj;
     }
     return tMaj;
 }

@@ -52,6 +52,8 @@ MediumModel readHomogeneous(const JsonValue& value, const fs::path&) {
         const float scale = value.member("scale") ? value.member("scale")->number() : 1.0f;
         c.sigmaA = preset.absorption * scale;
         c.sigmaS = preset.reducedScattering * scale;
+        if (!(c.sigmaA + c.sigmaS).isFinite())
+            value.fail("the preset's coefficients times scale do not fit a 32-bit float");
     }
     HomogeneousMedium medium{c.sigmaA, c.sigmaS, Rgb(0.0f), c.phase};
     if (auto v = value.member("emission")) medium.emission = v->rgb(0.0f);

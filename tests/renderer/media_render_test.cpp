@@ -215,5 +215,36 @@ TEST(Media, RatioTrackingOfShadowRaysThroughAGridMatchesItsOpticalDepth) {
     }
 }
 
+// A hostile grid: one voxel of density 1e30 in a corner, everything else empty. Its coarse
+// majorant cell (2 voxels a side) is 1e30 too, so a ray through that cell but out of the voxel's
+// reach (trilinear: within one voxel of its centre; here along z at x = y = 1.75 voxels, where the
+// density is exactly 0) meets only null collisions, some 1e28 of them. The tracking gives up after
+// kMaxCollisionsPerRay: the render ends, and the ray counts as blocked (black), not as crossing
+// empty space (1).
+// With a density of 1e3 instead, the same ray makes a few hundred null collisions, each of weight
+// exactly 1, and sees the background.
+TEST(Media, AHostileMajorantEndsTheRayInsteadOfTrackingForEver) {
+    auto pixel = [](float cornerDensity) {
+        GridMedium grid;
+        grid.sigmaA = Rgb(1.0f);
+        grid.sigmaS = Rgb(0.0f);
+        grid.density.nx = grid.density.ny = grid.density.nz = 32;
+        grid.density.values.assign(32 * 32 * 32, 0.0f);
+        grid.density.values[0] = cornerDensity;
+        grid.buildMajorants();
+        Scene scene;
+        scene.film = {1, 1, 1, FilterKind::Box, 0.5f};
+        scene.environment = EnvironmentLight::constant(Rgb(1.0f));
+        scene.media.push_back(grid);
+        scene.mediumNames = {"corner"};
+        scene.cameraMedium = 0;
+        const float side = 1.75f / 32.0f;
+        lookNarrowly(scene, {side, side, -1.0f}, {side, side, 2.0f});
+        return renderedChannelMean(scene, 0).mean;
+    };
+    EXPECT_EQ(pixel(1e3f), 1.0);
+    EXPECT_EQ(pixel(1e30f), 0.0);
+}
+
 }  // namespace
 }  // namespace penumbra
