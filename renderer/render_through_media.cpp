@@ -5,22 +5,20 @@
 
 namespace penumbra::detail {
 
-TileResult renderTileThroughMedia(const EmbreeAccelerator& accel, const Scene& scene,
-                                  const ThinLensCamera& camera, const IntegratorContext& ctx,
-                                  const PixelWindow& tile, uint32_t firstSample, uint32_t endSample,
-                                  uint32_t frozenDims, bool sceneMoves, const ActivePixels* active,
-                                  Film& film) {
+template <TraversalBackend Accel>
+TileResult renderTileThroughMedia(const Accel& accel, const Scene& scene, const ThinLensCamera& camera,
+                                  const IntegratorContext& ctx, const PixelWindow& tile, uint32_t firstSample,
+                                  uint32_t endSample, uint32_t frozenDims, bool sceneMoves,
+                                  const ActivePixels* active, Film& film) {
     return renderTile<true>(accel, scene, camera, ctx, tile, firstSample, endSample, frozenDims, sceneMoves,
                             active, film);
 }
 
-TileResult renderTileThroughMedia(const BvhAccelerator& accel, const Scene& scene,
-                                  const ThinLensCamera& camera, const IntegratorContext& ctx,
-                                  const PixelWindow& tile, uint32_t firstSample, uint32_t endSample,
-                                  uint32_t frozenDims, bool sceneMoves, const ActivePixels* active,
-                                  Film& film) {
-    return renderTile<true>(accel, scene, camera, ctx, tile, firstSample, endSample, frozenDims, sceneMoves,
-                            active, film);
-}
+template TileResult renderTileThroughMedia(const EmbreeAccelerator&, const Scene&, const ThinLensCamera&,
+                                           const IntegratorContext&, const PixelWindow&, uint32_t, uint32_t,
+                                           uint32_t, bool, const ActivePixels*, Film&);
+template TileResult renderTileThroughMedia(const BvhAccelerator&, const Scene&, const ThinLensCamera&,
+                                           const IntegratorContext&, const PixelWindow&, uint32_t, uint32_t,
+                                           uint32_t, bool, const ActivePixels*, Film&);
 
 }  // namespace penumbra::detail

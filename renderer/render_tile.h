@@ -100,17 +100,12 @@ TileResult renderTile(const Accel& accel, const Scene& scene, const ThinLensCame
     return result;
 }
 
-// renderTile<true> for either backend, instantiated in render_through_media.cpp.
-TileResult renderTileThroughMedia(const EmbreeAccelerator& accel, const Scene& scene,
-                                  const ThinLensCamera& camera, const IntegratorContext& ctx,
-                                  const PixelWindow& tile, uint32_t firstSample, uint32_t endSample,
-                                  uint32_t frozenDims, bool sceneMoves, const ActivePixels* active,
-                                  Film& film);
-TileResult renderTileThroughMedia(const BvhAccelerator& accel, const Scene& scene,
-                                  const ThinLensCamera& camera, const IntegratorContext& ctx,
-                                  const PixelWindow& tile, uint32_t firstSample, uint32_t endSample,
-                                  uint32_t frozenDims, bool sceneMoves, const ActivePixels* active,
-                                  Film& film);
+// renderTile<true>, instantiated for both backends in render_through_media.cpp.
+template <TraversalBackend Accel>
+TileResult renderTileThroughMedia(const Accel& accel, const Scene& scene, const ThinLensCamera& camera,
+                                  const IntegratorContext& ctx, const PixelWindow& tile, uint32_t firstSample,
+                                  uint32_t endSample, uint32_t frozenDims, bool sceneMoves,
+                                  const ActivePixels* active, Film& film);
 
 }  // namespace detail
 }  // namespace penumbra
