@@ -2,8 +2,9 @@
 # The sanitizer builds (docs/fuzzing-and-sanitizers.md):
 #  - "asan", build-asan/: AddressSanitizer + UndefinedBehaviorSanitizer (g++, -O1, invariant checks
 #    on) over the test programs of the parsers (the pbrt reader's bombs included), the film, the
-#    BVH and the render loop, and the command-line program end to end on hostile input (scenes,
-#    textures, submit's scripts and manifests). CI runs it after the test suites.
+#    BVH, the render loop and the volumetric integrator's closed forms, and the command-line
+#    program end to end on hostile input (scenes, textures, submit's scripts and manifests). CI
+#    runs it after the test suites.
 #  - "tsan", build-tsan/: ThreadSanitizer over the render loop's tests (determinism across thread
 #    counts, resume and checkpoints), with tests/tsan.supp. Linked against Debian's oneTBB source
 #    built with ThreadSanitizer (scripts/build-tsan-tbb.sh, into build-tsan/onetbb/): Debian's
@@ -19,7 +20,7 @@ scripts/install-deps.sh build tools test
 asan_targets=(penumbra penumbra_scenes_test materials_loader_test film_exr_test film_merge_test hostile_film_test
             pixel_accumulator_test geometry_test bvh_test bvh_motion_test integrator_test render_job_test
             hostile_input_test pbrt_reader_test hostile_texture_test submit_test ies_profile_test
-            nanovdb_grid_test)
+            nanovdb_grid_test media_render_test)
 tsan_targets=(integrator_test render_job_test)
 
 generator=()
