@@ -1,7 +1,6 @@
 #include "media/openvdb_grid.h"
 
 #include <array>
-#include <atomic>
 
 #include "core/error.h"
 #include "core/input_file.h"
@@ -14,22 +13,16 @@ namespace penumbra {
 
 namespace {
 
-std::atomic<bool> loaded{false};
-
 const PenumbraVolumePlugin& volumePlugin() {
     static const PenumbraVolumePlugin& plugin = []() -> const PenumbraVolumePlugin& {
-        const PenumbraVolumePlugin& p = loadPlugin<PenumbraVolumePlugin>(
-            pluginPath(PENUMBRA_VOLUME_PLUGIN_FILE), PENUMBRA_VOLUME_PLUGIN_ENTRY, "volume plugin",
-            kPenumbraVolumePluginVersion);
-        loaded = true;
-        return p;
+        return loadPlugin<PenumbraVolumePlugin>(pluginPath(PENUMBRA_VOLUME_PLUGIN_FILE),
+                                                PENUMBRA_VOLUME_PLUGIN_ENTRY, "volume plugin",
+                                                kPenumbraVolumePluginVersion);
     }();  // a failed load is retried on the next call
     return plugin;
 }
 
 }  // namespace
-
-bool volumePluginLoaded() { return loaded; }
 
 DensityGrid readOpenVdbGrid(const std::filesystem::path& path, const std::string& gridName) {
     // OpenVDB opens the file by its path: it is checked first to be a regular file (not a FIFO,

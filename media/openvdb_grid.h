@@ -27,7 +27,4 @@ namespace penumbra {
 // A plugin that cannot be loaded is an InputError naming the plugin's file.
 DensityGrid readOpenVdbGrid(const std::filesystem::path& file, const std::string& gridName);
 
-// True once readOpenVdbGrid has loaded the volume plugin (for tests).
-bool volumePluginLoaded();
-
 }  // namespace penumbra
