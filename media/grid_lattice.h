@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <string>
 
-#include "media/density_grid.h"
+#include "media/sampled_grid.h"
 
 namespace penumbra {
 

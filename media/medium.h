@@ -16,12 +16,14 @@
 #include "core/check.h"
 #include "core/rgb.h"
 #include "core/vec.h"
+#include "media/cloud_medium.h"
 #include "media/grid_medium.h"
 #include "media/homogeneous_medium.h"
+#include "media/rgb_grid_medium.h"
 
 namespace penumbra {
 
-using MediumModel = std::variant<HomogeneousMedium, GridMedium>;
+using MediumModel = std::variant<HomogeneousMedium, GridMedium, RgbGridMedium, CloudMedium>;
 
 // A medium's coefficients at a point.
 struct MediumProperties {
@@ -96,22 +98,40 @@ Rgb sampleFreeFlight(const MediumModel& medium, Vec3f origin, Vec3f direction, f
             direction, [&](float) { return properties; }, nextUniform, callback);
         return tMaj;
     }
-    const GridMedium& grid = std::get<GridMedium>(medium);
-    const Transform toMedium = grid.toWorld.inverse();
-    const Vec3f originInMedium = toMedium.applyPoint(origin),
-                directionInMedium = toMedium.applyVector(direction);
-    const Rgb sigmaT = grid.sigmaA + grid.sigmaS;
-    auto properties = [&](float t) {
-        const float d = grid.densityAt(originInMedium + directionInMedium * t);
-        return MediumProperties{grid.sigmaA * d, grid.sigmaS * d, Rgb(0.0f), grid.phase};
+    // A grid medium: its coefficients at a distance along the ray, and its majorants.
+    auto track = [&](const MajorantGrid& majorants, const Transform& toWorld, auto&& propertiesAt) {
+        const Transform toMedium = toWorld.inverse();
+        const Vec3f originInMedium = toMedium.applyPoint(origin),
+                    directionInMedium = toMedium.applyVector(direction);
+        auto properties = [&](float t) { return propertiesAt(originInMedium + directionInMedium * t); };
+        GridMajorantWalk walk(majorants, originInMedium, directionInMedium, 0.0f, tMax);
+        // The walk skips the stretches outside the grid, where the majorant is 0.
+        for (GridMajorantWalk::Segment s; walk.next(s);) {
+            if (!detail::trackSegment(s.tMin, s.tMax, s.sigmaMaj, hero, u, tMaj, collisions, origin,
+                                      direction, properties, nextUniform, callback))
+                return;
+        }
     };
-    GridMajorantWalk walk(grid, originInMedium, directionInMedium, 0.0f, tMax);
-    // The walk skips the stretches outside the grid, where the majorant is 0.
-    for (GridMajorantWalk::Segment s; walk.next(s);) {
-        if (!detail::trackSegment(s.tMin, s.tMax, sigmaT * s.maxDensity, hero, u, tMaj, collisions, origin,
-                                  direction, properties, nextUniform, callback))
-            return tMaj;
+    if (const auto* grid = std::get_if<GridMedium>(&medium)) {
+        track(grid->majorants, grid->toWorld, [&](Vec3f p) {
+            const float d = grid->densityAt(p);
+            return MediumProperties{grid->sigmaA * d, grid->sigmaS * d,
+                                    grid->emission.emits() ? grid->emission.at(p) : Rgb(0.0f), grid->phase};
+        });
+        return tMaj;
     }
+    if (const auto* rgbGrid = std::get_if<RgbGridMedium>(&medium)) {
+        track(rgbGrid->majorants, rgbGrid->toWorld, [&](Vec3f p) {
+            return MediumProperties{rgbGrid->sigmaAAt(p), rgbGrid->sigmaSAt(p), rgbGrid->emissionAt(p),
+                                    rgbGrid->phase};
+        });
+        return tMaj;
+    }
+    const CloudMedium& cloud = std::get<CloudMedium>(medium);
+    track(cloud.majorants, cloud.toWorld, [&](Vec3f p) {
+        const float d = cloud.densityAt(p);
+        return MediumProperties{cloud.sigmaA * d, cloud.sigmaS * d, Rgb(0.0f), cloud.phase};
+    });
     return tMaj;
 }
 

@@ -456,10 +456,11 @@ DensityGrid readNanoVdbGridBytes(std::span<const std::byte> bytes, const std::st
     return readFloatGrid(bytes.subspan(grid.offset, grid.gridSize), fileForMessages, gridName);
 }
 
-DensityGrid readNanoVdbGrid(const std::filesystem::path& path, const std::string& gridName) {
-    InputFile in(path, "NanoVDB file", limits::kMaxVolumeFileBytes);
-    const std::string file = path.string();
-    const ReadAt readAt = [&](uint64_t offset, void* out, size_t n) {
+namespace {
+
+// Reads from an open file at an offset, all of the bytes asked for.
+ReadAt fileReader(const InputFile& in, const std::string& file) {
+    return [&in, file](uint64_t offset, void* out, size_t n) {
         size_t done = 0;
         while (done < n) {
             const ssize_t got =
@@ -471,6 +472,22 @@ DensityGrid readNanoVdbGrid(const std::filesystem::path& path, const std::string
             done += size_t(got);
         }
     };
+}
+
+}  // namespace
+
+std::vector<std::string> readNanoVdbGridNames(const std::filesystem::path& path) {
+    InputFile in(path, "NanoVDB file", limits::kMaxVolumeFileBytes);
+    std::vector<std::string> names;
+    for (const GridEntry& grid : readDirectory(in.size(), fileReader(in, path.string()), path.string()))
+        names.push_back(grid.name);
+    return names;
+}
+
+DensityGrid readNanoVdbGrid(const std::filesystem::path& path, const std::string& gridName) {
+    InputFile in(path, "NanoVDB file", limits::kMaxVolumeFileBytes);
+    const std::string file = path.string();
+    const ReadAt readAt = fileReader(in, file);
     const std::vector<GridEntry> grids = readDirectory(in.size(), readAt, file);
     const GridEntry& grid = chooseGrid(grids, file, gridName);
     // Only the chosen grid's bytes are held (within the file's size, so within the limit).

@@ -19,8 +19,9 @@
 #include <filesystem>
 #include <span>
 #include <string>
+#include <vector>
 
-#include "media/density_grid.h"
+#include "media/sampled_grid.h"
 
 namespace penumbra {
 
@@ -33,5 +34,9 @@ DensityGrid readNanoVdbGrid(const std::filesystem::path& file, const std::string
 // The same from the file's bytes; `fileForMessages` names them in errors.
 DensityGrid readNanoVdbGridBytes(std::span<const std::byte> bytes, const std::string& fileForMessages,
                                  const std::string& gridName);
+
+// The names of the grids the NanoVDB file holds (of any type), in the file's order. Throws as
+// readNanoVdbGrid does for a file that cannot be read.
+std::vector<std::string> readNanoVdbGridNames(const std::filesystem::path& file);
 
 }  // namespace penumbra

@@ -16,7 +16,7 @@
 #include <filesystem>
 #include <string>
 
-#include "media/density_grid.h"
+#include "media/sampled_grid.h"
 
 namespace penumbra {
 

@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "media/density_grid.h"
+#include "media/sampled_grid.h"
 
 namespace penumbra {
 

@@ -2,31 +2,86 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "core/input_limits.h"
 #include "formats/pbrt/json_numbers.h"
+#include "media/nanovdb_grid.h"
 #include "media/scattering_presets.h"
 
 namespace penumbra::pbrt {
 
 namespace {
 
-// What both types share: the coefficients (pbrt-v4's defaults: 1 each), scale and g.
-void mapCoefficients(const ParameterList& p, const TextureTable& textures, WarningLog& log, Json& medium) {
-    medium["sigma_a"] = rgbJson(readColor(p, "sigma_a", Rgb(1.0f), SpectrumUse::Unbounded, textures, log));
-    medium["sigma_s"] = rgbJson(readColor(p, "sigma_s", Rgb(1.0f), SpectrumUse::Unbounded, textures, log));
-    if (auto scale = p.getFloat("scale")) {
-        if (!(*scale >= 0.0 && std::isfinite(*scale)))
-            failAt(p.find("scale", {ParamType::Float})->where, "\"float scale\" must be finite and >= 0");
-        medium["scale"] = *scale;
+// A float parameter that must be finite and >= 0, as `key` of the JSON medium if given.
+void mapNonNegative(const ParameterList& p, const char* name, const char* key, Json& medium) {
+    if (auto v = p.getFloat(name)) {
+        if (!(*v >= 0.0 && std::isfinite(*v)))
+            failAt(p.find(name, {ParamType::Float})->where,
+                   fmt::format("\"float {}\" must be finite and >= 0", name));
+        medium[key] = *v;
     }
+}
+
+void mapPhase(const ParameterList& p, Json& medium) {
     if (auto g = p.getFloat("g")) {
         if (!(std::abs(*g) < 1.0))
             failAt(p.find("g", {ParamType::Float})->where, "\"float g\" must lie strictly between -1 and 1");
         // |g| = 1 is a delta distribution; penumbra's phase function takes |g| <= 0.99.
         medium["g"] = std::clamp(*g, -0.99, 0.99);
     }
+}
+
+// What the spectral types share: the coefficients (pbrt-v4's defaults: 1 each), scale and g.
+void mapCoefficients(const ParameterList& p, const TextureTable& textures, WarningLog& log, Json& medium) {
+    medium["sigma_a"] = rgbJson(readColor(p, "sigma_a", Rgb(1.0f), SpectrumUse::Unbounded, textures, log));
+    medium["sigma_s"] = rgbJson(readColor(p, "sigma_s", Rgb(1.0f), SpectrumUse::Unbounded, textures, log));
+    mapNonNegative(p, "scale", "scale", medium);
+    mapPhase(p, medium);
+}
+
+// nx, ny, nz (pbrt-v4's defaults 1), checked.
+std::array<int64_t, 3> readResolution(const ParameterList& p) {
+    std::array<int64_t, 3> n{};
+    const char* names[3] = {"nx", "ny", "nz"};
+    for (int i = 0; i < 3; ++i) {
+        n[size_t(i)] = p.getInt(names[i]).value_or(1);
+        if (n[size_t(i)] < 1 || n[size_t(i)] > limits::kMaxGridSide)
+            failAt(p.find(names[i], {ParamType::Integer})->where,
+                   fmt::format("\"integer {}\" must be from 1 to {} (docs/limits.md)", names[i],
+                               limits::kMaxGridSide));
+    }
+    return n;
+}
+
+// The values of a per-cell parameter: `perCell` numbers for each of the n[0] * n[1] * n[2] cells,
+// finite and >= 0.
+const Parameter& checkCells(const Parameter& q, const std::array<int64_t, 3>& n, size_t perCell) {
+    const uint64_t cells = uint64_t(n[0] * n[1] * n[2]);
+    if (uint64_t(q.numbers.size()) != cells * perCell)
+        failAt(q.where, fmt::format("{} values for \"{}\"; nx * ny * nz = {} x {} x {} = {} {}expected",
+                                    q.numbers.size() / perCell, q.name, n[0], n[1], n[2], cells,
+                                    perCell == 3 ? "colours " : ""));
+    for (double v : q.numbers)
+        if (!(v >= 0.0 && std::isfinite(v)))
+            failAt(q.where, fmt::format("\"{}\" values must be finite and >= 0", q.name));
+    return q;
+}
+
+Json boundsJson(const ParameterList& p) {
+    const Vec3d p0 = p.getPoint3("p0").value_or(Vec3d{0, 0, 0}),
+                p1 = p.getPoint3("p1").value_or(Vec3d{1, 1, 1});
+    return Json::array({Json::array({p0.x, p0.y, p0.z}), Json::array({p1.x, p1.y, p1.z})});
+}
+
+// pbrt-v4's temperatureoffset (or its older name temperaturecutoff) and temperaturescale.
+void mapTemperatureTransform(const ParameterList& p, Json& medium) {
+    const std::optional<double> offset =
+        p.getFloat("temperatureoffset") ? p.getFloat("temperatureoffset") : p.getFloat("temperaturecutoff");
+    if (offset) medium["temperature_offset"] = *offset;
+    mapNonNegative(p, "temperaturescale", "temperature_scale", medium);
 }
 
 }  // namespace
@@ -61,41 +116,42 @@ Json mapMedium(const ParameterList& p, const Json& transform, const std::filesys
     if (type == "uniformgrid") {
         medium["type"] = "grid";
         mapCoefficients(p, textures, log, medium);
-        const std::vector<double> density = p.getFloats("density");
-        if (density.empty()) failAt(where, "a uniformgrid medium needs \"float density\" values");
-        int64_t n[3];
-        const char* names[3] = {"nx", "ny", "nz"};
-        for (int i = 0; i < 3; ++i) {
-            n[i] = p.getInt(names[i]).value_or(1);
-            if (n[i] < 1 || n[i] > limits::kMaxGridSide)
-                failAt(p.find(names[i], {ParamType::Integer})->where,
-                       fmt::format("\"integer {}\" must be from 1 to {} (docs/limits.md)", names[i],
-                                   limits::kMaxGridSide));
-        }
-        if (uint64_t(density.size()) != uint64_t(n[0] * n[1] * n[2]))
-            failAt(p.find("density", {ParamType::Float})->where,
-                   fmt::format("{} density values; nx * ny * nz = {} x {} x {} = {} expected", density.size(),
-                               n[0], n[1], n[2], n[0] * n[1] * n[2]));
-        for (double d : density)
-            if (!(d >= 0.0 && std::isfinite(d)))
-                failAt(p.find("density", {ParamType::Float})->where,
-                       "density values must be finite and >= 0");
-        medium["density"] = Json{{"resolution", {n[0], n[1], n[2]}}, {"values", density}};
-        const Vec3d p0 = p.getPoint3("p0").value_or(Vec3d{0, 0, 0}),
-                    p1 = p.getPoint3("p1").value_or(Vec3d{1, 1, 1});
-        medium["bounds"] = Json::array({Json::array({p0.x, p0.y, p0.z}), Json::array({p1.x, p1.y, p1.z})});
+        const Parameter* density = p.find("density", {ParamType::Float});
+        if (!density || density->numbers.empty())
+            failAt(where, "a uniformgrid medium needs \"float density\" values");
+        const std::array<int64_t, 3> n = readResolution(p);
+        const Json resolution = {n[0], n[1], n[2]};
+        medium["density"] = Json{{"resolution", resolution}, {"values", checkCells(*density, n, 1).numbers}};
+        medium["bounds"] = boundsJson(p);
         if (!transform.is_null()) medium["transform"] = transform;
-        for (const char* unsupported : {"temperature", "Le", "Lescale"})
-            if (const Parameter* q = p.find(unsupported, {ParamType::Float, ParamType::Rgb,
-                                                          ParamType::Spectrum, ParamType::Blackbody}))
-                log.warn(q->where,
-                         fmt::format("uniformgrid \"{}\" is not supported yet: the medium does not emit",
-                                     unsupported));
+        // Emission: a temperature grid (a blackbody) or a radiance "Le", times "Lescale".
+        const Parameter* temperature = p.find("temperature", {ParamType::Float});
+        const Parameter* le = p.find("Le", {ParamType::Rgb, ParamType::Spectrum, ParamType::Blackbody});
+        if (temperature && le)
+            failAt(le->where, "give either \"Le\" or \"temperature\" (as pbrt-v4 requires)");
+        if (temperature)
+            medium["temperature"] =
+                Json{{"resolution", resolution}, {"values", checkCells(*temperature, n, 1).numbers}};
+        if (le) {
+            const Rgb emission = readColor(p, "Le", Rgb(0.0f), SpectrumUse::Emission, textures, log);
+            if (!emission.isBlack()) medium["emission"] = rgbJson(emission);
+        }
+        if (medium.contains("temperature") || medium.contains("emission")) {
+            mapTemperatureTransform(p, medium);
+            // Without "Lescale", pbrt-v4 scales the emission by a lattice of one cell of value 1:
+            // by its SampledGrid's convention that is 1 at the box's centre, falling linearly to 1/8
+            // at its corners. The same lattice here gives the same image.
+            const Parameter* scale = p.find("Lescale", {ParamType::Float});
+            medium["emission_scale"] =
+                scale ? Json{{"resolution", resolution}, {"values", checkCells(*scale, n, 1).numbers}}
+                      : Json{{"resolution", {1, 1, 1}}, {"values", {1.0}}};
+        }
         p.markAllUsed();
         return medium;
     }
     if (type == "nanovdb") {
-        // pbrt-v4's NanoVDBMedium: the "density" grid of the file, where the file places it.
+        // pbrt-v4's NanoVDBMedium: the file's "density" grid (or "gridname"), and its "temperature"
+        // grid (or "temperaturename") if the file has one, emitting as a blackbody times "Lescale".
         medium["type"] = "grid";
         mapCoefficients(p, textures, log, medium);
         const Parameter* filename = p.find("filename", {ParamType::String});
@@ -108,23 +164,55 @@ Json mapMedium(const ParameterList& p, const Json& transform, const std::filesys
         if (!std::filesystem::is_regular_file(path, error))
             failAt(filename->where,
                    fmt::format("nanovdb medium: \"{}\" not found (looked for {})", file, path.string()));
-        medium["density"] = Json{{"file", file}, {"grid", "density"}};
+        medium["density"] = Json{{"file", file}, {"grid", p.getString("gridname").value_or("density")}};
+        const std::string temperatureName = p.getString("temperaturename").value_or("temperature");
+        const std::vector<std::string> grids = readNanoVdbGridNames(path);
+        if (std::find(grids.begin(), grids.end(), temperatureName) != grids.end()) {
+            medium["temperature"] = Json{{"file", file}, {"grid", temperatureName}};
+            mapTemperatureTransform(p, medium);
+            mapNonNegative(p, "Lescale", "emission_scale", medium);
+        }
         if (!transform.is_null()) medium["transform"] = transform;
-        for (const char* unsupported :
-             {"Le", "Lescale", "temperaturecutoff", "temperatureoffset", "temperaturescale"})
-            if (const Parameter* q = p.find(unsupported, {ParamType::Float, ParamType::Rgb,
-                                                          ParamType::Spectrum, ParamType::Blackbody}))
-                log.warn(q->where,
-                         fmt::format("nanovdb \"{}\" is not supported yet: the medium does not emit",
-                                     unsupported));
+        p.markAllUsed();
         return medium;
     }
-    if (type == "rgbgrid" || type == "cloud") {
+    if (type == "rgbgrid") {
+        // pbrt-v4's RGBGridMedium: RGB lattices of sigma_a, sigma_s (each 1 where not given) and Le
+        // (which needs sigma_a), over the box p0-p1, times "scale" and "Lescale".
+        medium["type"] = "rgb_grid";
+        const std::array<int64_t, 3> n = readResolution(p);
+        medium["resolution"] = {n[0], n[1], n[2]};
+        const Parameter* sigmaA = p.find("sigma_a", {ParamType::Rgb});
+        const Parameter* sigmaS = p.find("sigma_s", {ParamType::Rgb});
+        const Parameter* le = p.find("Le", {ParamType::Rgb});
+        if (!sigmaA && !sigmaS)
+            failAt(where, "an rgbgrid medium needs \"rgb sigma_a\", \"rgb sigma_s\" or both");
+        if (le && !sigmaA)
+            failAt(le->where, "an rgbgrid medium with \"Le\" needs \"rgb sigma_a\" (as pbrt-v4 requires)");
+        medium["sigma_a"] =
+            sigmaA ? Json{{"values", checkCells(*sigmaA, n, 3).numbers}} : Json::array({1, 1, 1});
+        medium["sigma_s"] =
+            sigmaS ? Json{{"values", checkCells(*sigmaS, n, 3).numbers}} : Json::array({1, 1, 1});
+        if (le) medium["emission"] = Json{{"values", checkCells(*le, n, 3).numbers}};
+        mapNonNegative(p, "scale", "scale", medium);
+        mapNonNegative(p, "Lescale", "emission_scale", medium);
+        mapPhase(p, medium);
+        medium["bounds"] = boundsJson(p);
+        if (!transform.is_null()) medium["transform"] = transform;
         p.markAllUsed();
-        log.warn(
-            where,
-            fmt::format("medium type \"{}\" is not supported yet: the medium is left out (vacuum)", type));
-        return Json();
+        return medium;
+    }
+    if (type == "cloud") {
+        // pbrt-v4's CloudMedium: procedural noise in the box p0-p1.
+        medium["type"] = "cloud";
+        mapCoefficients(p, textures, log, medium);
+        mapNonNegative(p, "density", "density", medium);
+        mapNonNegative(p, "wispiness", "wispiness", medium);
+        mapNonNegative(p, "frequency", "frequency", medium);
+        medium["bounds"] = boundsJson(p);
+        if (!transform.is_null()) medium["transform"] = transform;
+        p.markAllUsed();
+        return medium;
     }
     failAt(where, fmt::format("unknown medium type \"{}\" (pbrt-v4's are homogeneous, uniformgrid, rgbgrid, "
                               "cloud and nanovdb)",

@@ -3,54 +3,11 @@
 #include <array>
 #include <cmath>
 
+#include "core/colorimetry.h"
+
 namespace penumbra::pbrt {
 
 namespace {
-
-constexpr double kLambdaMin = 360.0, kLambdaMax = 830.0;
-
-double lobe(double lambda, double mu, double sigmaBelow, double sigmaAbove) {
-    const double t = (lambda - mu) / (lambda < mu ? sigmaBelow : sigmaAbove);
-    return std::exp(-0.5 * t * t);
-}
-
-// CIE 1931 2-degree colour matching functions, Wyman, Sloan and Shirley's multi-lobe fit (JCGT 2013).
-std::array<double, 3> cmf(double lambda) {
-    const double x = 1.056 * lobe(lambda, 599.8, 37.9, 31.0) + 0.362 * lobe(lambda, 442.0, 16.0, 26.7) -
-                     0.065 * lobe(lambda, 501.1, 20.4, 26.2);
-    const double y = 0.821 * lobe(lambda, 568.8, 46.9, 40.5) + 0.286 * lobe(lambda, 530.9, 16.3, 31.1);
-    const double z = 1.217 * lobe(lambda, 437.0, 11.8, 36.0) + 0.681 * lobe(lambda, 459.0, 26.0, 13.8);
-    return {x, y, z};
-}
-
-Rgb xyzToRgb(const std::array<double, 3>& xyz) {
-    const double r = 3.2404542 * xyz[0] - 1.5371385 * xyz[1] - 0.4985314 * xyz[2];
-    const double g = -0.9692660 * xyz[0] + 1.8760108 * xyz[1] + 0.0415560 * xyz[2];
-    const double b = 0.0556434 * xyz[0] - 0.2040259 * xyz[1] + 1.0572252 * xyz[2];
-    return {float(r), float(g), float(b)};
-}
-
-double planck(double lambdaNm, double kelvin) {
-    constexpr double c = 299792458.0, h = 6.62606957e-34, kb = 1.3806488e-23;
-    const double l = lambdaNm * 1e-9;
-    return (2.0 * h * c * c) / (std::pow(l, 5) * (std::exp((h * c) / (l * kb * kelvin)) - 1.0));
-}
-
-template <typename Spectrum>
-std::array<double, 3> integrateXyz(const Spectrum& s) {
-    std::array<double, 3> xyz{};
-    for (double lambda = kLambdaMin; lambda <= kLambdaMax; lambda += 1.0) {
-        const double v = s(lambda);
-        const auto m = cmf(lambda);
-        for (int i = 0; i < 3; ++i) xyz[i] += v * m[i];
-    }
-    return xyz;
-}
-
-Rgb normalizedToLuminance(const std::array<double, 3>& xyz) {
-    if (!(xyz[1] > 0.0)) return Rgb(0.0f);
-    return xyzToRgb({xyz[0] / xyz[1], 1.0, xyz[2] / xyz[1]});
-}
 
 double piecewiseLinear(const std::vector<double>& pairs, double lambda) {
     const size_t n = pairs.size() / 2;
@@ -68,20 +25,15 @@ double piecewiseLinear(const std::vector<double>& pairs, double lambda) {
 
 }  // namespace
 
-Rgb blackbodyRgb(double kelvin) {
-    if (!(kelvin > 0.0)) return Rgb(0.0f);
-    return normalizedToLuminance(integrateXyz([&](double l) { return planck(l, kelvin); }));
-}
-
 Rgb emissionSpectrumRgb(const std::vector<double>& pairs) {
-    return normalizedToLuminance(integrateXyz([&](double l) { return piecewiseLinear(pairs, l); }));
+    return unitLuminanceLinearSrgb(spectrumToXyz([&](double l) { return piecewiseLinear(pairs, l); }));
 }
 
 Rgb reflectanceSpectrumRgb(const std::vector<double>& pairs) {
     constexpr double kWhite = 6504.0;
-    const Rgb lit =
-        xyzToRgb(integrateXyz([&](double l) { return piecewiseLinear(pairs, l) * planck(l, kWhite); }));
-    const Rgb white = xyzToRgb(integrateXyz([&](double l) { return planck(l, kWhite); }));
+    const Rgb lit = xyzToLinearSrgb(
+        spectrumToXyz([&](double l) { return piecewiseLinear(pairs, l) * planckRadiance(l, kWhite); }));
+    const Rgb white = xyzToLinearSrgb(spectrumToXyz([&](double l) { return planckRadiance(l, kWhite); }));
     return {lit.r / white.r, lit.g / white.g, lit.b / white.b};
 }
 

@@ -3,9 +3,8 @@
 //  - "rgb" values pass through: pbrt-v4 makes lights' RGB values RGBIlluminantSpectrum (the RGB
 //    times the colour space's illuminant, D65 for sRGB) and divides by that illuminant's
 //    luminance, which nets out to the RGB value on an sRGB film; reflectances are the RGB.
-//  - "blackbody" T: Planck's law at T kelvin, integrated against the CIE 1931 colour matching
-//    functions (the multi-lobe fit of Wyman, Sloan and Shirley 2013, within about 1% of the
-//    tabulated ones), XYZ to linear sRGB, normalized to luminance Y = 1: pbrt-v4 normalizes an
+//  - "blackbody" T: Planck's law at T kelvin seen through the CIE 1931 colour matching functions
+//    (core/colorimetry.h), normalized to luminance Y = 1 (blackbodyRgb): pbrt-v4 normalizes an
 //    emitter's spectrum to 1 nit before applying its "scale" / "power".
 //  - (wavelength, value) pairs: piecewise linear. As an emitter, like a blackbody (Y = 1). As a
 //    reflectance or an index of refraction, the spectrum seen under a 6504 K blackbody (close to
@@ -20,12 +19,10 @@
 #include <string_view>
 #include <vector>
 
+#include "core/colorimetry.h"
 #include "core/rgb.h"
 
 namespace penumbra::pbrt {
-
-// The colour of a blackbody at `kelvin`, with luminance 1.
-Rgb blackbodyRgb(double kelvin);
 
 // (wavelength in nm, value) pairs, sorted by wavelength.
 Rgb emissionSpectrumRgb(const std::vector<double>& pairs);

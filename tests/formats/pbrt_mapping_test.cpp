@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "core/colorimetry.h"
 #include "core/error.h"
 #include "formats/pbrt/pbrt_reader.h"
 #include "formats/pbrt/spectrum.h"
@@ -654,6 +655,10 @@ TEST(PbrtMapping, NanoVdbMediaReadTheirFile) {
     EXPECT_EQ(grid.density.nx * grid.density.ny * grid.density.nz, int(grid.density.values.size()));
     EXPECT_FLOAT_EQ(grid.toWorld.applyPoint({0, 0, 0}).y, 1.0f);
     EXPECT_FLOAT_EQ(grid.sigmaS.r, 4.0f);  // pbrt-v4's default sigma_s 1, times the scale
+    // The file has a "temperature" grid too: pbrt-v4 makes the medium glow as its blackbody.
+    EXPECT_EQ(smoke["temperature"], Json({{"file", file}, {"grid", "temperature"}}));
+    ASSERT_TRUE(grid.emission.temperature.has_value());
+    EXPECT_TRUE(grid.emission.emits());
 
     const InputError e = testing::catchInputError([] {
         convert(
@@ -661,6 +666,74 @@ TEST(PbrtMapping, NanoVdbMediaReadTheirFile) {
             "\"none.nvdb\"\n");
     });
     EXPECT_CONTAINS(e.message(), "none.nvdb");
+}
+
+// Emitting grids and the procedural cloud: uniformgrid's temperature lattice with its offset and scale (and,
+// without "Lescale", pbrt-v4's one-cell lattice of 1), its "Le" with a "Lescale" lattice, and rgbgrid's
+// lattices (sigma_s 1 where not given, as pbrt-v4), cloud's parameters.
+TEST(PbrtMapping, EmittingRgbGridAndCloudMedia) {
+    auto c = convert(
+        "WorldBegin\n"
+        "MakeNamedMedium \"fire\" \"string type\" \"uniformgrid\" \"integer nx\" 2 \"float density\" [1 2] "
+        "\"float temperature\" [900 1500] \"float temperaturecutoff\" 100 \"float temperaturescale\" 2\n"
+        "MakeNamedMedium \"lamp\" \"string type\" \"uniformgrid\" \"integer nx\" 2 \"float density\" [1 1] "
+        "\"rgb Le\" [1 0.5 0.25] \"float Lescale\" [0 3]\n"
+        "MakeNamedMedium \"tinted\" \"string type\" \"rgbgrid\" \"integer nx\" 2 \"rgb sigma_a\" [1 2 3 4 5 "
+        "6] "
+        "\"rgb Le\" [0 0 0 7 8 9] \"float Lescale\" 0.5 \"float scale\" 2 \"point3 p1\" [2 1 1]\n"
+        "MakeNamedMedium \"puff\" \"string type\" \"cloud\" \"float density\" 2 \"float wispiness\" 0.5 "
+        "\"float frequency\" 3 \"rgb sigma_s\" [10 10 10]\n");
+    const Json& media = c.document["media"];
+    const Json& fire = media["fire"];
+    EXPECT_EQ(fire["temperature"], Json::parse(R"({"resolution": [2, 1, 1], "values": [900, 1500]})"));
+    EXPECT_EQ(fire["temperature_offset"], 100.0);
+    EXPECT_EQ(fire["temperature_scale"], 2.0);
+    EXPECT_EQ(fire["emission_scale"], Json::parse(R"({"resolution": [1, 1, 1], "values": [1]})"));
+    const Json& lamp = media["lamp"];
+    EXPECT_EQ(lamp["emission"], Json::parse("[1, 0.5, 0.25]"));
+    EXPECT_EQ(lamp["emission_scale"], Json::parse(R"({"resolution": [2, 1, 1], "values": [0, 3]})"));
+    const Json& tinted = media["tinted"];
+    EXPECT_EQ(tinted["type"], "rgb_grid");
+    EXPECT_EQ(tinted["sigma_a"], Json::parse(R"({"values": [1, 2, 3, 4, 5, 6]})"));
+    EXPECT_EQ(tinted["sigma_s"], Json::parse("[1, 1, 1]"));
+    EXPECT_EQ(tinted["emission_scale"], 0.5);
+
+    Json puff = media["puff"];
+    puff.erase("transform");  // the world's: pbrt-v4's handedness flip
+    EXPECT_EQ(puff, Json::parse(R"({"type": "cloud", "sigma_a": [1, 1, 1], "sigma_s": [10, 10, 10],
+        "density": 2, "wispiness": 0.5, "frequency": 3, "bounds": [[0, 0, 0], [1, 1, 1]]})"));
+
+    const Scene scene = buildPbrtScene(c, "test.pbrt");
+    ASSERT_EQ(scene.media.size(), 4u);
+    EXPECT_FLOAT_EQ(std::get<CloudMedium>(scene.media[3]).frequency, 3.0f);
+    // The fire at its hotter cell's centre, x = 0.75: (1500 - 100) * 2 = 2800 K, times the one-cell
+    // lattice there, which is 1 at the box's centre and blends to 0 one cell (the box's width)
+    // beyond it: 1 - 0.25 = 0.75.
+    const GridMedium& fireGrid = std::get<GridMedium>(scene.media[0]);
+    const Rgb atHotCell = fireGrid.emission.at({0.75f, 0.5f, 0.5f});
+    const Rgb blackbody = blackbodyPeakNormalizedRgb(2800.0);
+    for (int ch = 0; ch < 3; ++ch)
+        EXPECT_NEAR(atHotCell[ch], 0.75f * blackbody[ch], 2e-4f * blackbody.maxComponent());
+    const RgbGridMedium& tintedGrid = std::get<RgbGridMedium>(scene.media[2]);
+    const Vec3f second{1.5f, 0.5f, 0.5f};                             // the second cell's centre
+    EXPECT_EQ(tintedGrid.sigmaAAt(second), Rgb(8.0f, 10.0f, 12.0f));  // times scale 2
+    EXPECT_EQ(tintedGrid.sigmaSAt(second), Rgb(2.0f));
+    EXPECT_EQ(tintedGrid.emissionAt(second), Rgb(3.5f, 4.0f, 4.5f));  // times Lescale 0.5
+
+    const InputError both = testing::catchInputError([] {
+        convert(
+            "WorldBegin\nMakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"float density\" [1] "
+            "\"float temperature\" [1000] \"rgb Le\" [1 1 1]\n");
+    });
+    EXPECT_EQ(both.where().line, 2);
+    EXPECT_CONTAINS(both.message(), "either \"Le\" or \"temperature\"");
+    const InputError count = testing::catchInputError([] {
+        convert(
+            "WorldBegin\nMakeNamedMedium \"m\" \"string type\" \"rgbgrid\" \"integer nx\" 2 "
+            "\"rgb sigma_s\" [1 1 1]\n");
+    });
+    EXPECT_CONTAINS(count.message(),
+                    "1 values for \"sigma_s\"; nx * ny * nz = 2 x 1 x 1 = 2 colours expected");
 }
 
 TEST(PbrtMapping, IncludedFilesAreCoveredByTheSceneHash) {

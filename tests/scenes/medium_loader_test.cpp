@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <string>
 
+#include "media/nanovdb_grid.h"
 #include "scenes/scene_loader.h"
 #include "tests/support/expect_input_error.h"
 
@@ -73,7 +74,7 @@ TEST(MediumLoader, PresetsAreMeasuredCoefficientsTimesTheScale) {
 
 TEST(MediumLoader, GridsFromOpenVdbAndNanoVdbFilesAgree) {
     const Scene scene = parseIn(kVolumes, R"({"media": {
-        "a": {"type": "grid", "density": {"file": "smoke.vdb"}},
+        "a": {"type": "grid", "sigma_s": 1, "density": {"file": "smoke.vdb"}},
         "b": {"type": "grid", "density": {"file": "smoke.nvdb", "grid": "density"}}}})");
     const DensityGrid& a = std::get<GridMedium>(scene.media[0]).density;
     const DensityGrid& b = std::get<GridMedium>(scene.media[1]).density;
@@ -83,13 +84,51 @@ TEST(MediumLoader, GridsFromOpenVdbAndNanoVdbFilesAgree) {
     EXPECT_EQ(a.values, b.values);
     EXPECT_EQ(a.bounds.lower, b.bounds.lower);
     EXPECT_EQ(a.bounds.upper, b.bounds.upper);
-    // The majorants bound the density: the coarse cell over the whole grid's largest value.
+    // The majorants bound sigma_t = the density: the coarse cell over the whole grid's largest value.
     float largest = 0.0f;
     for (float v : a.values) largest = std::max(largest, v);
     float largestMajorant = 0.0f;
-    for (float m : std::get<GridMedium>(scene.media[0]).maxDensity)
-        largestMajorant = std::max(largestMajorant, m);
+    for (Rgb m : std::get<GridMedium>(scene.media[0]).majorants.sigmaMaj)
+        largestMajorant = std::max(largestMajorant, m.maxComponent());
     EXPECT_EQ(largestMajorant, largest);
+}
+
+// Emission: a temperature grid from a file (placed where the file says) with its offset and scale,
+// times an emission scale; an inline emission-scale lattice spans the density's bounds; an
+// rgb_grid's lattices and uniform colours; a cloud's keys.
+TEST(MediumLoader, EmittingGridsRgbGridsAndClouds) {
+    const Scene scene = parseIn(kVolumes, R"({"media": {
+        "fire": {"type": "grid", "sigma_a": 1, "density": {"file": "smoke.nvdb"},
+                 "temperature": {"file": "smoke.nvdb", "grid": "temperature"}, "temperature_offset": 10,
+                 "temperature_scale": 3, "emission_scale": 2},
+        "lamp": {"type": "grid", "density": {"resolution": [1, 1, 1], "values": [1]}, "bounds": [[0, 0, 0], [4, 4, 4]],
+                 "emission": [1, 2, 3], "emission_scale": {"resolution": [2, 1, 1], "values": [5, 7]}},
+        "tint": {"type": "rgb_grid", "resolution": [2, 1, 1], "sigma_a": {"values": [1, 2, 3, 4, 5, 6]},
+                 "sigma_s": 0.5, "emission": [1, 1, 0], "scale": 2, "bounds": [[0, 0, 0], [2, 1, 1]]},
+        "puff": {"type": "cloud", "sigma_s": 4, "density": 0, "wispiness": 0, "frequency": 2,
+                 "bounds": [[0, 0, 0], [1, 2, 1]]}}})");
+    const auto& fire = std::get<GridMedium>(scene.media[0]);
+    ASSERT_TRUE(fire.emission.temperature.has_value());
+    const DensityGrid temperature = readNanoVdbGrid(kVolumes / "smoke.nvdb", "temperature");
+    EXPECT_EQ(fire.emission.temperature->values, temperature.values);
+    EXPECT_EQ(fire.emission.temperature->bounds.lower, temperature.bounds.lower);
+    EXPECT_FLOAT_EQ(fire.emission.temperatureOffset, 10.0f);
+    EXPECT_FLOAT_EQ(fire.emission.temperatureScale, 3.0f);
+    EXPECT_FLOAT_EQ(fire.emission.scale, 2.0f);
+    const auto& lamp = std::get<GridMedium>(scene.media[1]);
+    ASSERT_TRUE(lamp.emission.scaleGrid.has_value());
+    EXPECT_EQ(lamp.emission.scaleGrid->bounds.upper, Vec3f(4, 4, 4));
+    EXPECT_EQ(lamp.emission.at({3.0f, 2.0f, 2.0f}), Rgb(7.0f, 14.0f, 21.0f));  // the second cell's centre
+    const auto& tint = std::get<RgbGridMedium>(scene.media[2]);
+    EXPECT_EQ(tint.sigmaAAt({1.5f, 0.5f, 0.5f}), Rgb(8.0f, 10.0f, 12.0f));
+    EXPECT_EQ(tint.sigmaSAt({1.9f, 0.1f, 0.9f}), Rgb(1.0f));  // uniform in the box, times scale
+    EXPECT_EQ(tint.sigmaSAt({2.1f, 0.5f, 0.5f}), Rgb(0.0f));  // nothing outside it
+    EXPECT_EQ(tint.emissionAt({0.2f, 0.5f, 0.5f}), Rgb(1.0f, 1.0f, 0.0f));
+    const auto& puff = std::get<CloudMedium>(scene.media[3]);
+    EXPECT_FLOAT_EQ(puff.frequency, 2.0f);
+    EXPECT_EQ(puff.bounds.upper, Vec3f(1, 2, 1));
+    EXPECT_FLOAT_EQ(puff.densityAt({0.5f, 0.25f, 0.5f}), 0.5f);  // density 0: the base alone, 1 - 2y
+    EXPECT_EQ(puff.majorants.sigmaMaj[0], Rgb(4.0f));
 }
 
 TEST(MediumLoader, MistakesAreRefusedAtTheirPointer) {
@@ -113,6 +152,17 @@ TEST(MediumLoader, MistakesAreRefusedAtTheirPointer) {
                  "/media/g/density/file", ".vdb"},
             Case{R"({"media": {"g": {"type": "grid", "density": {"file": "none.vdb"}}}})",
                  "/media/g/density/file", "does not exist"},
+            Case{R"({"media": {"g": {"type": "grid", "density": {"resolution": [1, 1, 1], "values": [1]},
+                  "emission": 1, "temperature": {"resolution": [1, 1, 1], "values": [1000]}}}})",
+                 "/media/g/emission", "either"},
+            Case{R"({"media": {"g": {"type": "grid", "density": {"resolution": [1, 1, 1], "values": [1]},
+                  "temperature_scale": 2}}})",
+                 "/media/g/temperature_scale", "there is none"},
+            Case{
+                R"({"media": {"c": {"type": "rgb_grid", "resolution": [2, 1, 1], "sigma_a": {"values": [1, 2, 3]}}}})",
+                "/media/c/sigma_a/values", "6 numbers"},
+            Case{R"({"media": {"c": {"type": "rgb_grid", "resolution": [2, 1, 1], "emission": 1}}})",
+                 "/media/c", "sigma_a, sigma_s or both"},
             Case{R"({"camera": {"medium": "smoke"}})", "/camera/medium", "unknown medium \"smoke\""},
             Case{
                 R"({"materials": {"m": {"type": "interface"}}, "shapes": [{"type": "sphere", "center": [0, 0, 0],

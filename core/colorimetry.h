@@ -1,0 +1,63 @@
+// Light as the eye and the film see it: the CIE 1931 2-degree colour matching functions, XYZ to the
+// linear Rec.709 (sRGB primaries, D65 white) RGB that penumbra renders in, and Planck's blackbody.
+//
+// The matching functions are the multi-lobe Gaussian fit of Wyman, Sloan and Shirley ("Simple
+// Analytic Approximations to the CIE XYZ Color Matching Functions", JCGT 2013), within about 1% of
+// CIE 015:2004's tables over the visible range. A spectrum's XYZ is its Riemann sum at 1 nm from 360
+// to 830 nm divided by that of y-bar, so a spectrum of constant value 1 has Y = 1 (pbrt-v4's film
+// divides by CIE_Y_integral the same way).
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <vector>
+
+#include "core/rgb.h"
+
+namespace penumbra {
+
+using Xyz = std::array<double, 3>;
+
+inline constexpr double kVisibleLambdaMin = 360.0, kVisibleLambdaMax = 830.0;  // nm
+
+// x-bar, y-bar and z-bar at `lambda` nm.
+Xyz cieMatching(double lambdaNm);
+// cieMatching at 360, 361, ..., 830 nm, computed once.
+const std::vector<Xyz>& cieMatchingAt1nm();
+// The sum of y-bar over the 1 nm steps from 360 to 830 nm.
+double cieYIntegral();
+Rgb xyzToLinearSrgb(const Xyz& xyz);
+// The colour of `xyz` scaled to luminance Y = 1 (black where Y is not positive).
+Rgb unitLuminanceLinearSrgb(const Xyz& xyz);
+
+// The sum of spectrum(lambda) times the matching functions over the 1 nm steps of the visible range,
+// divided by cieYIntegral().
+template <typename Spectrum>
+Xyz spectrumToXyz(const Spectrum& spectrum) {
+    Xyz xyz{};
+    const std::vector<Xyz>& matching = cieMatchingAt1nm();
+    for (size_t k = 0; k < matching.size(); ++k) {
+        const double v = spectrum(kVisibleLambdaMin + double(k));
+        for (int i = 0; i < 3; ++i) xyz[i] += v * matching[k][i];
+    }
+    const double norm = 1.0 / cieYIntegral();
+    return {xyz[0] * norm, xyz[1] * norm, xyz[2] * norm};
+}
+
+// Planck's law: a blackbody's spectral radiance at `lambdaNm` and `kelvin`, W / (sr m^2 m).
+double planckRadiance(double lambdaNm, double kelvin);
+
+// The colour of a blackbody at `kelvin` with luminance 1 (an emitter whose brightness is given
+// separately: pbrt-v4's "blackbody" parameter of lights).
+Rgb blackbodyRgb(double kelvin);
+
+// The colour of pbrt-v4's BlackbodySpectrum: Planck's law divided by its value at the peak (Wien's
+// displacement law), so its largest spectral value is 1; the emission of a temperature grid.
+Rgb blackbodyPeakNormalizedRgb(double kelvin);
+
+// blackbodyPeakNormalizedRgb from a table built once, interpolated linearly in log temperature:
+// per-lookup cost for media that emit from a temperature at every collision. 0 at or below 0 K
+// (and NaN); the table spans 100 K to 10^6 K, the value at 10^6 K beyond.
+Rgb blackbodyPeakNormalizedRgbTabulated(float kelvin);
+
+}  // namespace penumbra
