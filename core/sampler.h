@@ -60,6 +60,8 @@ enum class MediumDim : uint32_t {
     Distance,             // 1D: the first free-flight distance along the segment; a SampleStream the rest
     Event,                // 1D: the first collision's choice (absorb, scatter, null); a SampleStream the rest
     ShadowTransmittance,  // SampleStream only: ratio tracking's Russian roulette along a shadow ray
+    EquiangularDistance,  // 1D: the distance of the segment's equiangular light sample
+    EquiangularLight,  // SampleStream only: that sample's light and point (2 values), then its shadow ray's
     Count
 };
 

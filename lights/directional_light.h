@@ -16,6 +16,8 @@ struct DirectionalLight {
     Rgb irradiance;   // W/m^2 per channel on a surface facing the light
 
     static constexpr bool kIsDelta = true, kIsInfinite = true;
+
+    static constexpr bool kPointIndependentOfReference = false;
     // The power crossing a disk the size of the scene (pbrt-v4's DistantLight::Phi).
     double power(double sceneRadius) const {
         return kPi * sceneRadius * sceneRadius * double(irradiance.luminance());

@@ -101,6 +101,8 @@ struct EnvironmentEmitter {
     std::shared_ptr<const EnvironmentLight> environment;
 
     static constexpr bool kIsDelta = false, kIsInfinite = true;
+
+    static constexpr bool kPointIndependentOfReference = false;
     // Power through a disk the size of the scene, from every direction (pbrt-v4's estimate), with
     // the radiance averaged over the sphere.
     double power(double sceneRadius) const {

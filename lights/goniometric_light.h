@@ -49,6 +49,8 @@ struct GoniometricLight {
     Rgb intensity(Vec3f w) const { return scale * profileIntensity(*profile, frame.toLocal(w)); }
 
     static constexpr bool kIsDelta = true, kIsInfinite = false;
+
+    static constexpr bool kPointIndependentOfReference = true;
     // The profile's flux (its intensity integrated over the sphere) times the scale.
     double power(double /*sceneRadius*/) const { return profileFlux(*profile) * double(scale.luminance()); }
     LightBounds bounds(float power) const {

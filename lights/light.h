@@ -24,6 +24,9 @@ namespace penumbra {
 //  - kIsDelta: its light comes from a point or along one direction, which rays never hit, so that
 //    next-event estimation alone finds it (sample() ignores u);
 //  - kIsInfinite: it is infinitely far (directional, environment), chosen by its share of the power;
+//  - kPointIndependentOfReference: sample() picks the same point for the same u from any reference
+//    (a point light's position, a triangle's uniform area sample; not a sphere's visible cap), so a
+//    point can be chosen before the reference it lights (equiangular sampling in media);
 //  - power(sceneRadius): its power in luminance, by which a light is chosen (infinite lights: through
 //    a disk of the scene's radius, as pbrt-v4 estimates it);
 //  - bounds(power): the bounds by which a finite light is chosen at a vertex (light_bounds.h);
@@ -36,6 +39,7 @@ concept LightModelType = requires(const L& light, Vec3f p, Vec2f u, LightSample&
                                   float power) {
     { L::kIsDelta } -> std::convertible_to<bool>;
     { L::kIsInfinite } -> std::convertible_to<bool>;
+    { L::kPointIndependentOfReference } -> std::convertible_to<bool>;
     { light.power(sceneRadius) } -> std::same_as<double>;
     { light.bounds(power) } -> std::same_as<LightBounds>;
     { light.sample(p, u, ls) } -> std::same_as<bool>;
@@ -61,6 +65,10 @@ inline bool isDeltaLight(const LightModel& light) {
 }
 inline bool isInfiniteLight(const LightModel& light) {
     return std::visit([](const auto& l) { return std::decay_t<decltype(l)>::kIsInfinite; }, light);
+}
+inline bool isPointIndependentOfReference(const LightModel& light) {
+    return std::visit([](const auto& l) { return std::decay_t<decltype(l)>::kPointIndependentOfReference; },
+                      light);
 }
 
 }  // namespace penumbra

@@ -114,6 +114,9 @@ LightSet::LightSet(const SceneGeometry& scene, const std::vector<LightModel>& sc
         power.push_back(std::visit([sceneRadius](const auto& l) { return l.power(sceneRadius); }, light));
     choice_ = DiscreteDistribution(power);
     drawsSampleValues_ = lights_.size() > 1 || (lights_.size() == 1 && !isDelta(0));
+    for (const LightModel& light : lights_)
+        hasPointIndependentLights_ =
+            hasPointIndependentLights_ || penumbra::isPointIndependentOfReference(light);
 
     groupEmitters(emitterSizes, power);
 }
@@ -270,6 +273,13 @@ float LightSet::pdfOfHit(Vec3f reference, Vec3f referenceNormal, const SurfaceIn
     const int32_t index = lightIndexOf(si.shape);
     if (index < 0) return 0.0f;
     return choiceProbability(uint32_t(index), reference, referenceNormal) *
+           std::visit([&](const auto& light) { return light.pdf(reference, si.position); }, lights_[index]);
+}
+
+float LightSet::pdfOfHitChosenAt(Vec3f choiceReference, Vec3f reference, const SurfaceInteraction& si) const {
+    const int32_t index = lightIndexOf(si.shape);
+    if (index < 0 || !isPointIndependentOfReference(uint32_t(index))) return 0.0f;
+    return choiceProbability(uint32_t(index), choiceReference, Vec3f{}) *
            std::visit([&](const auto& light) { return light.pdf(reference, si.position); }, lights_[index]);
 }
 

@@ -72,6 +72,11 @@ public:
     // Whether next-event estimation uses sample values at all: not for one delta light.
     bool drawsSampleValues() const { return drawsSampleValues_; }
     bool isDelta(uint32_t light) const { return isDeltaLight(lights_[light]); }
+    bool isPointIndependentOfReference(uint32_t light) const {
+        return penumbra::isPointIndependentOfReference(lights_[light]);
+    }
+    // Whether any light is (LightModelType's kPointIndependentOfReference).
+    bool hasPointIndependentLights() const { return hasPointIndependentLights_; }
     const LightModel& light(uint32_t light) const { return lights_[light]; }
     // A point on the light `choice` names, seen from `reference`; its pdf includes the choice's
     // probability. Point lights, the common case, inline; the others out of line, built in place
@@ -100,6 +105,11 @@ public:
     float pdfOfHit(Vec3f reference, Vec3f referenceNormal, const SurfaceInteraction& si) const;
     // The same for a ray that escaped along `direction` (the ray's own: it need not be unit).
     float pdfOfEnvironment(Vec3f reference, Vec3f referenceNormal, Vec3f direction) const;
+    // The density, per solid angle at `reference`, of next-event estimation sampling the hit `si`
+    // with the light chosen at the medium point `choiceReference` instead (equiangular sampling
+    // chooses before it knows the point it lights); 0 for lights whose points depend on the
+    // reference (isPointIndependentOfReference).
+    float pdfOfHitChosenAt(Vec3f choiceReference, Vec3f reference, const SurfaceInteraction& si) const;
 
 private:
     std::optional<LightSample> sampleOther(Choice choice, Vec3f reference, Vec2f uPoint) const;
@@ -140,7 +150,8 @@ private:
     int32_t environmentLight_ = -1;
     bool hasAreaLights_ = false;
     bool hasEnvironment_ = false;
-    bool drawsSampleValues_ = false;  // more than one light, or one that is not a delta light
+    bool drawsSampleValues_ = false;
+    bool hasPointIndependentLights_ = false;  // more than one light, or one that is not a delta light
     std::shared_ptr<const EnvironmentLight> environment_;  // black where the scene has none
 };
 

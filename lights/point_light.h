@@ -32,6 +32,8 @@ struct PointLight {
     Rgb intensity;  // radiant intensity, W/sr per channel
 
     static constexpr bool kIsDelta = true, kIsInfinite = false;
+
+    static constexpr bool kPointIndependentOfReference = true;
     double power(double /*sceneRadius*/) const { return 4.0 * kPi * double(intensity.luminance()); }
     LightBounds bounds(float power) const {
         LightBounds b;

@@ -27,6 +27,8 @@ struct SphereLight {
     }
 
     static constexpr bool kIsDelta = false, kIsInfinite = false;
+
+    static constexpr bool kPointIndependentOfReference = false;
     double power(double /*sceneRadius*/) const {
         const double area = 4.0 * kPi * double(radius) * radius;
         return double(radiance.luminance()) * area * kPi * (twoSided ? 2 : 1);

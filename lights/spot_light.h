@@ -36,6 +36,8 @@ struct SpotLight {
     }
 
     static constexpr bool kIsDelta = true, kIsInfinite = false;
+
+    static constexpr bool kPointIndependentOfReference = true;
     double power(double /*sceneRadius*/) const { return solidAngle() * double(intensity.luminance()); }
     // The falloff's start bounds the full intensity; beyond it, to the cone's end, the emission angle.
     LightBounds bounds(float power) const {

@@ -49,6 +49,8 @@ struct TriangleLight {
     }
 
     static constexpr bool kIsDelta = false, kIsInfinite = false;
+
+    static constexpr bool kPointIndependentOfReference = true;
     double power(double /*sceneRadius*/) const {
         return double(radiance.luminance()) * area * kPi * (twoSided ? 2 : 1);
     }

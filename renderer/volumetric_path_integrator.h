@@ -6,9 +6,16 @@
 // Along each segment in a medium, delta tracking against the medium's majorants samples tentative
 // collisions (media/medium.h); each is an absorption (the path ends), a real scattering (a path
 // vertex: next-event estimation and a phase-function sample) or a null collision (the path goes
-// on), chosen by the coefficients' shares of the majorant. Shadow rays go through media by ratio
-// tracking and through medium boundaries (the `interface` material), and are blocked by any other
-// surface. A boundary is no path vertex: rays cross it unchanged, without counting a bounce.
+// on), chosen by the coefficients' shares of the majorant. Shadow rays go through homogeneous media
+// with their exact transmittance and through other media by ratio tracking, through medium
+// boundaries (the `interface` material), and are blocked by any other surface. A boundary is no
+// path vertex: rays cross it unchanged, without counting a bounce.
+//
+// In a homogeneous medium, next-event estimation has a second strategy besides the scattering
+// distance delta tracking samples: per segment, a light point chosen at the segment's start and a
+// distance sampled equiangularly towards it (Kulla and Fajardo 2012, as Cycles does), where light
+// from a lamp in fog concentrates (EquiangularSegment). The balance heuristic weighs it with the
+// other two (distance sampling with light sampling, and with phase sampling).
 //
 // Colour: the densities of a path differ per channel in a chromatic medium. The path keeps, per
 // channel, its sampling density and its light-sampling density each divided by the density with
@@ -30,6 +37,7 @@
 #include <limits>
 #include <vector>
 
+#include "core/equiangular.h"
 #include "media/medium.h"
 #include "renderer/path_integrator.h"
 
@@ -41,13 +49,47 @@ namespace detail {
 // a boundary seen edge-on repeatedly must not loop forever.
 inline constexpr int kMaxBoundaryCrossings = 256;
 
+// A segment through a homogeneous medium on which next-event estimation has a second strategy:
+// equiangular sampling of the scattering distance towards a point of a light chosen at the segment's
+// start (core/equiangular.h), besides the distance that delta tracking samples (here distance
+// sampling, since the majorant is sigma_t). Both estimate the light scattered once along the
+// segment; they and phase-function sampling are weighed by the balance heuristic over all three and
+// the three channels (as pbrt-v4's rL and rU do for two). Only for lights whose point does not
+// depend on the reference (LightModelType's kPointIndependentOfReference: point, spot,
+// goniometric, triangle lights), so that a point can be chosen before the distance.
+struct EquiangularSegment {
+    bool active = false;
+    Vec3f origin, direction;  // direction unit
+    float tEnd = 0.0f;
+    Rgb rU0{1.0f};  // the path's rU at the segment's start
+    Rgb sigmaT{0.0f}, sigmaS{0.0f};
+    int hero = 0;
+
+    // Per channel, the equiangular strategy's density of a scattering at distance t towards the
+    // light point y (solid-angle density lightPdf at the scattering point, the light chosen at the
+    // segment's start) over the hero's density of distance sampling scattering there: the term it
+    // adds to rL.
+    Rgb relativeDensity(float t, Vec3f y, float lightPdf) const {
+        const float pE = EquiangularDistance(origin, direction, tEnd, y).pdf(t);
+        const float heroDistancePdf = std::exp(-sigmaT[hero] * t) * sigmaS[hero];
+        if (!(pE > 0.0f) || !(heroDistancePdf > 0.0f)) return Rgb(0.0f);
+        return rU0 * (lightPdf * pE / heroDistancePdf);
+    }
+};
+
 // What a path carries through media and surfaces.
 struct VolumetricPath {
     Radiance radiance{0.0f};
-    Radiance beta{1.0f};         // throughput over the hero channel's sampling density
-    Rgb rU{1.0f}, rL{1.0f};      // per channel: sampling and light-sampling densities over the hero's
-    float etaScale = 1.0f;       // as PathState::etaScale
-    bool specularBounce = true;  // the previous vertex was the camera or a delta lobe
+    Radiance beta{1.0f};     // throughput over the hero channel's sampling density
+    Rgb rU{1.0f}, rL{1.0f};  // per channel: sampling and light-sampling densities over the hero's
+    // Per channel, after a medium vertex on an equiangular segment: the equiangular strategy's
+    // density over the hero's but for the light's density and the equiangular pdf (known once an
+    // emitter is hit), updated as rL; 0 elsewhere.
+    Rgb rE{0.0f};
+    EquiangularSegment vertexSegment;  // that segment
+    float vertexDistance = 0.0f;       // and the vertex's distance along it
+    float etaScale = 1.0f;             // as PathState::etaScale
+    bool specularBounce = true;        // the previous vertex was the camera or a delta lobe
     Vec3f previousPosition;
     Vec3f previousNormal;  // 0 at a medium vertex (LightSet::choose takes no normal there)
     uint32_t medium = MediumInterface::kVacuum;
@@ -66,9 +108,11 @@ inline Rgb nullCoefficient(const MediumProperties& mp, Rgb sigmaMaj) {
 }
 
 // Emission found by a sampled direction (a hit or an escape), weighted against light sampling.
-// `lightPdf` is called only when the weight needs it.
-template <typename LightPdf>
-void addFoundEmission(const IntegratorContext& ctx, VolumetricPath& path, Rgb emitted, LightPdf&& lightPdf) {
+// `lightPdf` is called only when the weight needs it; `equiangularPdf` (the light's density and the
+// equiangular distance's, for the hit point) only after a vertex on an equiangular segment.
+template <typename LightPdf, typename EquiangularPdf>
+void addFoundEmission(const IntegratorContext& ctx, VolumetricPath& path, Rgb emitted, LightPdf&& lightPdf,
+                      EquiangularPdf&& equiangularPdf) {
     if (emitted.isBlack()) return;
     if (path.specularBounce || ctx.strategy == LightStrategy::Bsdf) {
         path.radiance += path.beta * emitted / path.rU.average();
@@ -80,12 +124,17 @@ void addFoundEmission(const IntegratorContext& ctx, VolumetricPath& path, Rgb em
         if (!(pdf > 0.0f)) path.radiance += path.beta * emitted / path.rU.average();
         return;
     }
-    path.radiance += path.beta * emitted / (path.rU + path.rL * pdf).average();
+    Rgb denominator = path.rU + path.rL * pdf;
+    if (anyPositive(path.rE)) denominator += path.rE * equiangularPdf();
+    path.radiance += path.beta * emitted / denominator.average();
 }
 
 // Transmittance along a shadow ray to its end (ray.tfar: 1 - 2^-20 towards a point, infinity
-// towards a direction) through media and medium boundaries, by ratio tracking; 0 when a surface
-// other than a boundary blocks it. rL and rU are updated with the tracking's densities.
+// towards a direction) through media and medium boundaries; 0 when a surface other than a
+// boundary blocks it. Through a homogeneous medium it is exact (Beer-Lambert: nothing sampled);
+// through others it is estimated by ratio tracking, and rL and rU are updated with the tracking's
+// densities. (Ratio tracking against a homogeneous medium's own sigma_t, its majorant, has no null
+// collisions and so estimates 0 or 1: pbrt-v4 does that; Cycles, as here, does not.)
 template <TraversalBackend Accel>
 Rgb transmittanceAlong(const Accel& accel, const IntegratorContext& ctx, Ray ray, TriangleLeft left,
                        uint32_t medium, int hero, SampleStream& stream, Rgb& rL, Rgb& rU, RayCounters& rays) {
@@ -107,30 +156,35 @@ Rgb transmittanceAlong(const Accel& accel, const IntegratorContext& ctx, Ray ray
         if (medium != MediumInterface::kVacuum) {
             const float directionLength = length(ray.direction);
             const float tEnd = (found ? hit.t : ray.tfar) * directionLength;
-            const Rgb tMaj = sampleFreeFlight(
-                scene.media[medium], ray.origin, ray.direction / directionLength, tEnd, hero, stream.next(),
-                [&] { return stream.next(); },
-                [&](float, Vec3f, const MediumProperties& mp, Rgb sigmaMaj, Rgb tMajHere) {
-                    const Rgb sigmaN = nullCoefficient(mp, sigmaMaj);
-                    const float pdf = tMajHere[hero] * sigmaMaj[hero];
-                    transmitted *= tMajHere * sigmaN / pdf;
-                    rL *= tMajHere * sigmaMaj / pdf;
-                    rU *= tMajHere * sigmaN / pdf;
-                    // Russian roulette once the estimate is small (pbrt-v4's threshold and odds).
-                    const Rgb estimate = transmitted / (rL + rU).average();
-                    if (estimate.maxComponent() < 0.05f) {
-                        if (stream.next() < 0.75f)
-                            transmitted = Rgb(0.0f);
-                        else
-                            transmitted *= 1.0f / 0.25f;
-                    }
-                    return anyPositive(transmitted);
-                });
-            if (!anyPositive(transmitted) || !(tMaj[hero] > 0.0f)) return Rgb(0.0f);
-            const Rgb ratio = tMaj / tMaj[hero];
-            transmitted *= ratio;
-            rL *= ratio;
-            rU *= ratio;
+            if (const auto* homogeneous = std::get_if<HomogeneousMedium>(&scene.media[medium])) {
+                transmitted *= transmittance(homogeneous->sigmaA + homogeneous->sigmaS, tEnd);
+                if (!anyPositive(transmitted)) return Rgb(0.0f);
+            } else {
+                const Rgb tMaj = sampleFreeFlight(
+                    scene.media[medium], ray.origin, ray.direction / directionLength, tEnd, hero,
+                    stream.next(), [&] { return stream.next(); },
+                    [&](float, Vec3f, const MediumProperties& mp, Rgb sigmaMaj, Rgb tMajHere) {
+                        const Rgb sigmaN = nullCoefficient(mp, sigmaMaj);
+                        const float pdf = tMajHere[hero] * sigmaMaj[hero];
+                        transmitted *= tMajHere * sigmaN / pdf;
+                        rL *= tMajHere * sigmaMaj / pdf;
+                        rU *= tMajHere * sigmaN / pdf;
+                        // Russian roulette once the estimate is small (pbrt-v4's threshold and odds).
+                        const Rgb estimate = transmitted / (rL + rU).average();
+                        if (estimate.maxComponent() < 0.05f) {
+                            if (stream.next() < 0.75f)
+                                transmitted = Rgb(0.0f);
+                            else
+                                transmitted *= 1.0f / 0.25f;
+                        }
+                        return anyPositive(transmitted);
+                    });
+                if (!anyPositive(transmitted) || !(tMaj[hero] > 0.0f)) return Rgb(0.0f);
+                const Rgb ratio = tMaj / tMaj[hero];
+                transmitted *= ratio;
+                rL *= ratio;
+                rU *= ratio;
+            }
         }
         if (!found) return transmitted;
         if (crossing >= kMaxBoundaryCrossings) return Rgb(0.0f);
@@ -145,9 +199,10 @@ Rgb transmittanceAlong(const Accel& accel, const IntegratorContext& ctx, Ray ray
 }
 
 // Next-event estimation's light sample at a vertex at `p` (geometric normal `n`, 0 in a medium):
-// the choice of light and the point on it, or nothing.
+// the choice of light (into `chosen`, where given) and the point on it, or nothing.
 inline std::optional<LightSample> sampleLightAt(const IntegratorContext& ctx, const PixelSample& sample,
-                                                uint32_t depth, Vec3f p, Vec3f n) {
+                                                uint32_t depth, Vec3f p, Vec3f n,
+                                                uint32_t* chosen = nullptr) {
     const LightSet& lights = *ctx.lights;
     Vec2f uLight{0.5f, 0.5f};
     LightSet::Choice light{0, 1.0f};
@@ -157,24 +212,92 @@ inline std::optional<LightSample> sampleLightAt(const IntegratorContext& ctx, co
         if (sample.isFrozen(Dim::LightPosition)) [[unlikely]]
             uLight = {0.5f, 0.5f};
     }
+    if (chosen) *chosen = light.light;
     auto ls = lights.sample(light, p, uLight);
     if (ls && ls->radiance.isBlack()) return std::nullopt;
     return ls;
 }
 
-// The contribution of a light sample whose path to the light has scattering value `f` (BSDF times
-// cosine, or phase function) and density `scatterPdf` for the same direction, once the shadow
-// ray's transmittance is known.
+// The contribution of a light sample whose path to the light has throughput `beta` and scattering
+// value `f` (BSDF times cosine, or phase function), once the shadow ray's transmittance is known:
+// rL and rU are, per channel, the densities of the strategies that sample the light's point (light
+// sampling) and its direction from the vertex (BSDF or phase sampling) over the hero's sampling
+// density, before the shadow ray's.
 template <TraversalBackend Accel>
-Radiance lightContribution(const Accel& accel, const IntegratorContext& ctx, const VolumetricPath& path,
-                           const LightSample& ls, Rgb f, float scatterPdf, const Ray& shadowRay,
-                           TriangleLeft left, uint32_t medium, SampleStream& stream, RayCounters& rays) {
-    Rgb rL = path.rU * ls.pdf;
-    Rgb rU = path.rU * (ls.isDelta || ctx.strategy == LightStrategy::Light ? 0.0f : scatterPdf);
+Radiance lightContribution(const Accel& accel, const IntegratorContext& ctx, Radiance beta, Rgb rL, Rgb rU,
+                           int hero, const LightSample& ls, Rgb f, const Ray& shadowRay, TriangleLeft left,
+                           uint32_t medium, SampleStream& stream, RayCounters& rays) {
     const Rgb transmitted =
-        transmittanceAlong(accel, ctx, shadowRay, left, medium, path.hero, stream, rL, rU, rays);
+        transmittanceAlong(accel, ctx, shadowRay, left, medium, hero, stream, rL, rU, rays);
     if (transmitted.isBlack()) return Radiance(0.0f);
-    return path.beta * f * transmitted * ls.radiance / (rL + rU).average();
+    return beta * f * transmitted * ls.radiance / (rL + rU).average();
+}
+
+// The density of sampling the light sample's direction by the BSDF or phase function (`scatterPdf`)
+// as next-event estimation weighs it: none for delta lights, which it cannot hit, or when only
+// light sampling counts.
+inline float scatterDensityAgainst(const IntegratorContext& ctx, const LightSample& ls, float scatterPdf) {
+    return ls.isDelta || ctx.strategy == LightStrategy::Light ? 0.0f : scatterPdf;
+}
+
+// A shadow ray from the medium point `p` to the light sample `ls`.
+inline Ray shadowRayFromMedium(Vec3f p, const LightSample& ls, float time) {
+    Ray shadow;
+    shadow.origin = p;
+    shadow.time = time;
+    if (std::isinf(ls.distance)) {
+        shadow.direction = ls.direction;
+    } else {
+        Vec3f target = ls.point;
+        if (!ls.isDelta)
+            target = offsetRayOrigin(ls.point, ls.pointError, faceForward(ls.lightNormal, -ls.direction));
+        shadow.direction = target - p;
+        shadow.tfar = 1.0f - 0x1p-20f;
+    }
+    return shadow;
+}
+
+// Whether the segment through `medium` gets equiangular light samples (EquiangularSegment).
+inline bool samplesEquiangularly(const IntegratorContext& ctx, const VolumetricPath& path,
+                                 const MediumModel& medium) {
+    const auto* homogeneous = std::get_if<HomogeneousMedium>(&medium);
+    return homogeneous && ctx.strategy == LightStrategy::Mis && path.depth < ctx.maxDepth &&
+           ctx.lights->hasPointIndependentLights() && anyPositive(homogeneous->sigmaS);
+}
+
+// The equiangular light sample of a segment (EquiangularSegment): a light and a point on it chosen
+// at the segment's start, a distance towards the point, next-event estimation there.
+template <TraversalBackend Accel>
+Radiance equiangularLightSample(const Accel& accel, const IntegratorContext& ctx, const PixelSample& sample,
+                                const VolumetricPath& path, const EquiangularSegment& segment,
+                                const HenyeyGreenstein& phase, uint32_t medium, float time,
+                                RayCounters& rays) {
+    const LightSet& lights = *ctx.lights;
+    SampleStream stream = sample.stream(MediumDim::EquiangularLight, path.segment);
+    Vec2f uLight{stream.next(), stream.next()};
+    LightSet::Choice choice{0, 1.0f};
+    if (lights.drawsSampleValues()) choice = lights.choose(uLight, segment.origin, Vec3f{});
+    if (!lights.isPointIndependentOfReference(choice.light)) return Radiance(0.0f);
+    const auto atStart = lights.sample(choice, segment.origin, uLight);
+    if (!atStart) return Radiance(0.0f);
+    const EquiangularDistance distance(segment.origin, segment.direction, segment.tEnd, atStart->point);
+    if (!distance.valid()) return Radiance(0.0f);
+    const float t = std::clamp(distance.sample(sample.get1D(MediumDim::EquiangularDistance, path.segment)),
+                               0.0f, segment.tEnd);
+    const float pE = distance.pdf(t);
+    const Vec3f p = segment.origin + segment.direction * t;
+    const auto ls = lights.sample(choice, p, uLight);  // the same point, seen from p
+    if (!ls || ls->radiance.isBlack() || !(pE > 0.0f) || !(ls->pdf > 0.0f)) return Radiance(0.0f);
+    // The densities of the other two strategies for this point and direction: distance sampling with
+    // the light chosen at p, then light sampling or phase sampling there.
+    const Rgb scattered = transmittance(segment.sigmaT, t) * segment.sigmaS;
+    const float distanceLightPdf =
+        ls->pdf * lights.choiceProbability(choice.light, p, Vec3f{}) / choice.probability;
+    const float phaseValue = phase.p(-segment.direction, ls->direction);
+    const Rgb rL = segment.rU0 * (ls->pdf * pE) + segment.rU0 * scattered * distanceLightPdf;
+    const Rgb rU = segment.rU0 * scattered * scatterDensityAgainst(ctx, *ls, phaseValue);
+    return lightContribution(accel, ctx, path.beta * scattered, rL, rU, path.hero, *ls, Rgb(phaseValue),
+                             shadowRayFromMedium(p, *ls, time), TriangleLeft{}, medium, stream, rays);
 }
 
 // Russian roulette on the throughput freed of the channels' densities and of refraction's scale.
@@ -227,10 +350,24 @@ Radiance estimateRadianceThroughMedia(const Accel& accel, const IntegratorContex
             SampleStream events = sample.stream(MediumDim::Event, path.segment);
             float uEvent = sample.get1D(MediumDim::Event, path.segment);
             const float tEnd = found ? hit.t * directionLength : std::numeric_limits<float>::infinity();
+            EquiangularSegment segment;
+            if (samplesEquiangularly(ctx, path, scene.media[path.medium])) {
+                const auto& homogeneous = std::get<HomogeneousMedium>(scene.media[path.medium]);
+                segment = {true,
+                           ray.origin,
+                           direction,
+                           tEnd,
+                           path.rU,
+                           homogeneous.sigmaA + homogeneous.sigmaS,
+                           homogeneous.sigmaS,
+                           path.hero};
+                path.radiance += equiangularLightSample(accel, ctx, sample, path, segment, homogeneous.phase,
+                                                        path.medium, ray.time, rays);
+            }
             const Rgb tMaj = sampleFreeFlight(
                 scene.media[path.medium], ray.origin, direction, tEnd, path.hero,
                 sample.get1D(MediumDim::Distance, path.segment), [&] { return distances.next(); },
-                [&](float, Vec3f p, const MediumProperties& mp, Rgb sigmaMaj, Rgb tMajHere) {
+                [&](float t, Vec3f p, const MediumProperties& mp, Rgb sigmaMaj, Rgb tMajHere) {
                     const int h = path.hero;
                     if (path.depth < ctx.maxDepth && !mp.emission.isBlack()) {
                         const float pdf = sigmaMaj[h] * tMajHere[h];
@@ -264,32 +401,38 @@ Radiance estimateRadianceThroughMedia(const Accel& accel, const IntegratorContex
                         }
                         // A medium vertex: light sampling, then the phase function's sample.
                         const Vec3f wo = -direction;
-                        if (!lights.empty() && ctx.strategy != LightStrategy::Bsdf)
-                            if (const auto ls = sampleLightAt(ctx, sample, vertexDepth, p, Vec3f{})) {
-                                Ray shadow;
-                                shadow.origin = p;
-                                shadow.time = ray.time;
-                                if (std::isinf(ls->distance)) {
-                                    shadow.direction = ls->direction;
-                                } else {
-                                    Vec3f target = ls->point;
-                                    if (!ls->isDelta)
-                                        target =
-                                            offsetRayOrigin(ls->point, ls->pointError,
-                                                            faceForward(ls->lightNormal, -ls->direction));
-                                    shadow.direction = target - p;
-                                    shadow.tfar = 1.0f - 0x1p-20f;
-                                }
+                        if (!lights.empty() && ctx.strategy != LightStrategy::Bsdf) {
+                            uint32_t light = 0;
+                            if (const auto ls = sampleLightAt(ctx, sample, vertexDepth, p, Vec3f{}, &light)) {
+                                // The equiangular strategy's density for this light point, if it has one.
+                                Rgb equiangularDensity(0.0f);
+                                if (segment.active && lights.isPointIndependentOfReference(light))
+                                    equiangularDensity = segment.relativeDensity(
+                                        t, ls->point,
+                                        ls->pdf * lights.choiceProbability(light, segment.origin, Vec3f{}) /
+                                            lights.choiceProbability(light, p, Vec3f{}));
                                 const float phase = mp.phase.p(wo, ls->direction);
                                 SampleStream shadowStream =
                                     sample.stream(MediumDim::ShadowTransmittance, path.segment);
-                                path.radiance +=
-                                    lightContribution(accel, ctx, path, *ls, Rgb(phase), phase, shadow,
-                                                      TriangleLeft{}, path.medium, shadowStream, rays);
+                                path.radiance += lightContribution(
+                                    accel, ctx, path.beta, path.rU * ls->pdf + equiangularDensity,
+                                    path.rU * scatterDensityAgainst(ctx, *ls, phase), path.hero, *ls,
+                                    Rgb(phase), shadowRayFromMedium(p, *ls, ray.time), TriangleLeft{},
+                                    path.medium, shadowStream, rays);
                             }
+                        }
                         const PhaseSample ps =
                             mp.phase.sample(wo, sample.get2D(Dim::BsdfDirection, vertexDepth));
                         path.rL = path.rU / ps.pdf;  // the sample's weight p / pdf is 1
+                        // An emitter the phase sample hits weighs the equiangular strategy too.
+                        path.rE = Rgb(0.0f);
+                        if (segment.active) {
+                            const float heroDistancePdf =
+                                std::exp(-segment.sigmaT[h] * t) * segment.sigmaS[h];
+                            path.rE = segment.rU0 / (heroDistancePdf * ps.pdf);
+                        }
+                        path.vertexSegment = segment;
+                        path.vertexDistance = t;
                         path.specularBounce = false;
                         path.previousPosition = p;
                         path.previousNormal = Vec3f{};
@@ -310,6 +453,7 @@ Radiance estimateRadianceThroughMedia(const Accel& accel, const IntegratorContex
                     path.beta *= tMajHere * sigmaN / pdf;
                     path.rU *= tMajHere * sigmaN / pdf;
                     path.rL *= tMajHere * sigmaMaj / pdf;
+                    path.rE *= tMajHere * sigmaMaj / pdf;
                     if (path.beta.isBlack() || path.rU.isBlack()) {
                         ended = true;
                         return false;
@@ -327,13 +471,18 @@ Radiance estimateRadianceThroughMedia(const Accel& accel, const IntegratorContex
             path.beta *= ratio;
             path.rU *= ratio;
             path.rL *= ratio;
+            path.rE *= ratio;
         }
 
         if (!found) {
             if (lights.hasEnvironment())
-                addFoundEmission(ctx, path, lights.environmentRadiance(ray.direction), [&] {
-                    return lights.pdfOfEnvironment(path.previousPosition, path.previousNormal, ray.direction);
-                });
+                addFoundEmission(
+                    ctx, path, lights.environmentRadiance(ray.direction),
+                    [&] {
+                        return lights.pdfOfEnvironment(path.previousPosition, path.previousNormal,
+                                                       ray.direction);
+                    },
+                    [] { return 0.0f; });
             break;
         }
         left = si.shape.kind == ShapeKind::Sphere ? TriangleLeft{} : TriangleLeft{hit.geomId, hit.primId};
@@ -365,8 +514,15 @@ Radiance estimateRadianceThroughMedia(const Accel& accel, const IntegratorContex
             const Rgb sigma = vertex.material.interiorAbsorption();
             if (!sigma.isBlack()) path.beta *= transmittance(sigma, hit.t * directionLength);
         }
-        addFoundEmission(ctx, path, lights.emitted(si, wo),
-                         [&] { return lights.pdfOfHit(path.previousPosition, path.previousNormal, si); });
+        addFoundEmission(
+            ctx, path, lights.emitted(si, wo),
+            [&] { return lights.pdfOfHit(path.previousPosition, path.previousNormal, si); },
+            [&] {
+                const EquiangularSegment& segment = path.vertexSegment;
+                return lights.pdfOfHitChosenAt(segment.origin, path.previousPosition, si) *
+                       EquiangularDistance(segment.origin, segment.direction, segment.tEnd, si.position)
+                           .pdf(path.vertexDistance);
+            });
         if (path.depth >= ctx.maxDepth) break;
         const uint32_t vertexDepth = uint32_t(path.depth++);
 
@@ -386,10 +542,11 @@ Radiance estimateRadianceThroughMedia(const Accel& accel, const IntegratorContex
                             ls->direction, si.geometricNormal, path.medium);
                         SampleStream shadowStream =
                             sample.stream(MediumDim::ShadowTransmittance, path.segment);
+                        const float bsdfPdf = vertex.material.pdf(local.woLocal, wiLocal, vertex.woAbove);
                         path.radiance +=
-                            lightContribution(accel, ctx, path, *ls, f,
-                                              vertex.material.pdf(local.woLocal, wiLocal, vertex.woAbove),
-                                              shadow, left, shadowMedium, shadowStream, rays);
+                            lightContribution(accel, ctx, path.beta, path.rU * ls->pdf,
+                                              path.rU * scatterDensityAgainst(ctx, *ls, bsdfPdf), path.hero,
+                                              *ls, f, shadow, left, shadowMedium, shadowStream, rays);
                     }
                 }
             }
@@ -407,6 +564,7 @@ Radiance estimateRadianceThroughMedia(const Accel& accel, const IntegratorContex
         if (bs->isTransmission()) path.etaScale *= bs->eta * bs->eta;
         if (path.beta.isBlack()) break;
         path.rL = path.rU / bs->pdf;
+        path.rE = Rgb(0.0f);
         path.specularBounce = bs->isSpecular();
         path.previousPosition = si.position;
         path.previousNormal = si.geometricNormal;
