@@ -14,7 +14,7 @@ fi
 out=out/docs
 mkdir -p "$out"
 
-for scene in cornell-box depth-of-field soft-shadows motion-blur distribution materials rough-materials outdoor instancing smoke; do
+for scene in cornell-box depth-of-field soft-shadows motion-blur distribution materials rough-materials outdoor instancing smoke fire; do
     echo "docs/$scene.png"
     "$penumbra" render "scenes/$scene.json" -o "$out/$scene.exr" --quiet
     cp "$out/$scene.png" "docs/$scene.png"

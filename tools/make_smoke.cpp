@@ -1,6 +1,7 @@
-// make_smoke: writes a procedural plume of smoke as an OpenVDB file with one float grid, "density",
-// through the OpenVDB library. The example scene's volume (scenes/volumes/smoke.vdb, used by
-// scenes/smoke.json) is its output with the defaults:
+// make_smoke: writes a procedural plume of smoke as an OpenVDB file with two float grids, "density"
+// and "temperature", through the OpenVDB library. The example scenes' volume
+// (scenes/volumes/smoke.vdb, used by scenes/smoke.json and, with its temperature, scenes/fire.json)
+// is its output with the defaults:
 //
 //   make_smoke OUTPUT.vdb [VOXELS_ACROSS [FLOOR]]
 //
@@ -10,7 +11,10 @@
 // 48 across the plume's widest 1.6 units). Every voxel of the box around the plume is stored, with
 // FLOOR (default 0) added to the plume's density: a medium with the grid's coefficients times FLOOR
 // around the box then continues into it unbroken (the haze of scenes/smoke.json: its FLOOR is the
-// haze's sigma_s over the smoke's). The box's corners, where the lattice's cells end, are printed.
+// haze's sigma_s over the smoke's). The temperature, in kelvin, is that of a fire burning in the
+// plume: hottest (2300 K) at the base of its core, cooling with height and towards its edge, and
+// flickering with the same noise; 0 outside the plume. The box's corners, where the lattice's cells
+// end, are printed.
 #include <openvdb/openvdb.h>
 
 #include <algorithm>
@@ -57,19 +61,34 @@ double fractalNoise(double x, double y, double z) {
     return sum / norm;
 }
 
-// The plume's density at (x, y, z).
-double plumeDensity(double x, double y, double z) {
-    constexpr double kHeight = 2.5;
-    if (y < 0 || y > kHeight) return 0;
-    const double h = y / kHeight;
-    // The axis sways as it rises.
+constexpr double kHeight = 2.5;
+
+// Where (x, y, z) lies in the plume: h its height over kHeight, r its distance from the swaying
+// axis over the radius there; false outside.
+bool plumeCoordinates(double x, double y, double z, double& h, double& r) {
+    if (y < 0 || y > kHeight) return false;
+    h = y / kHeight;
     const double cx = 0.15 * std::sin(2.5 * y), cz = 0.1 * std::sin(1.7 * y + 1.0);
     const double radius = 0.25 + 0.45 * h;
-    const double r = std::hypot(x - cx, z - cz) / radius;
-    if (r >= 1) return 0;
+    r = std::hypot(x - cx, z - cz) / radius;
+    return r < 1;
+}
+
+// The plume's density at (x, y, z).
+double plumeDensity(double x, double y, double z) {
+    double h, r;
+    if (!plumeCoordinates(x, y, z, h, r)) return 0;
     const double profile = (1 - r * r) * (1 - h * h) * std::min(1.0, y / 0.1);
     const double noise = fractalNoise(3 * x, 3 * y - 1.5, 3 * z);
     return std::max(0.0, profile * (2.2 * noise - 0.6));
+}
+
+// The fire's temperature at (x, y, z), kelvin.
+double plumeTemperature(double x, double y, double z) {
+    double h, r;
+    if (!plumeCoordinates(x, y, z, h, r)) return 0;
+    const double noise = fractalNoise(3 * x, 3 * y - 1.5, 3 * z);
+    return 2300.0 * std::exp(-1.0 * h) * (1 - 0.5 * r * r) * (0.75 + 0.5 * noise);
 }
 
 }  // namespace
@@ -91,16 +110,23 @@ int main(int argc, char** argv) {
     grid->setName("density");
     grid->setGridClass(openvdb::GRID_FOG_VOLUME);
     grid->setTransform(openvdb::math::Transform::createLinearTransform(voxel));
+    openvdb::FloatGrid::Ptr temperature = openvdb::FloatGrid::create(0.0f);
+    temperature->setName("temperature");
+    temperature->setGridClass(openvdb::GRID_FOG_VOLUME);
+    temperature->setTransform(grid->transform().copy());
     auto accessor = grid->getAccessor();
+    auto temperatureAccessor = temperature->getAccessor();
     const int half = across / 2 + 2, height = int(std::ceil(2.5 / voxel)) + 1;
     for (int i = -half; i <= half; ++i)
         for (int j = 0; j <= height; ++j)
             for (int k = -half; k <= half; ++k) {
                 const double d = plumeDensity(i * voxel, j * voxel, k * voxel) + floor;
                 if (d > 0.01 || floor > 0.0) accessor.setValue(openvdb::Coord(i, j, k), float(d));
+                const double t = plumeTemperature(i * voxel, j * voxel, k * voxel);
+                if (t > 0.0) temperatureAccessor.setValue(openvdb::Coord(i, j, k), float(t));
             }
     openvdb::io::File file(argv[1]);
-    file.write({grid});
+    file.write({grid, temperature});
     file.close();
     std::printf(
         "wrote %s: %llu active voxels of %g units; with every voxel stored, the lattice spans "

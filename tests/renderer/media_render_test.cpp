@@ -48,6 +48,21 @@ PixelMean renderedChannelMean(const Scene& scene, int channel,
     return {mean, std::sqrt(variance / double(values.size()))};
 }
 
+// Simpson's rule for f over [a, b] in `steps` (even) steps.
+template <typename F>
+double simpson(F&& f, double a, double b, int steps) {
+    const double h = (b - a) / steps;
+    double sum = f(a) + f(b);
+    for (int i = 1; i < steps; ++i) sum += f(a + i * h) * (i % 2 ? 4 : 2);
+    return sum * h / 3;
+}
+
+// The Henyey-Greenstein phase function of mean cosine g, cosTheta the cosine between wo and wi,
+// both pointing away from the scattering point (pbrt-v4's convention, whence + 2 g cosTheta).
+double henyeyGreenstein(double g, double cosTheta) {
+    return (1 - g * g) / (4 * M_PI * std::pow(1 + g * g + 2 * g * cosTheta, 1.5));
+}
+
 // A camera at `from` looking at `to` with a field of view so narrow that every pixel sees the
 // same ray (to within 1e-4 radians).
 void lookNarrowly(Scene& scene, Vec3f from, Vec3f to, Vec3f up = {0.0f, 1.0f, 0.0f}) {
@@ -124,14 +139,10 @@ double singleScatteringIntegral(double sigmaS, double sigmaT, double g, double i
         const double dx = light.x, dy = light.y, dz = light.z - t;  // the ray runs along +z from 0
         const double r2 = dx * dx + dy * dy + dz * dz, r = std::sqrt(r2);
         const double cosTheta = -dz / r;  // between wo = -z and the direction to the light
-        const double hg = (1 - g * g) / (4 * M_PI * std::pow(1 + g * g + 2 * g * cosTheta, 1.5));
-        return sigmaS * std::exp(-sigmaT * t) * hg * intensity * std::exp(-sigmaT * r) / r2;
+        return sigmaS * std::exp(-sigmaT * t) * henyeyGreenstein(g, cosTheta) * intensity *
+               std::exp(-sigmaT * r) / r2;
     };
-    const int steps = 1 << 18;
-    const double a = 0.0, b = 80.0, h = (b - a) / steps;
-    double sum = integrand(a) + integrand(b);
-    for (int i = 1; i < steps; ++i) sum += integrand(a + i * h) * (i % 2 ? 4 : 2);
-    return sum * h / 3;
+    return simpson(integrand, 0.0, 80.0, 1 << 18);
 }
 
 TEST(Media, SingleScatteringOfAPointLightMatchesItsIntegral) {
@@ -204,17 +215,11 @@ double singleScatteringOfAQuadLight(double sigmaS, double sigmaT, double g, doub
                 const double r2 = dx * dx + dy * dy + dz * dz, r = std::sqrt(r2);
                 const double cosY = -(normal.x * dx + normal.y * dy + normal.z * dz) / r;
                 if (cosY <= 0.0) continue;
-                const double cosTheta = -dz / r;
-                const double hg = (1 - g * g) / (4 * M_PI * std::pow(1 + g * g + 2 * g * cosTheta, 1.5));
-                sum += hg * le * cosY * std::exp(-sigmaT * r) / r2;
+                sum += henyeyGreenstein(g, -dz / r) * le * cosY * std::exp(-sigmaT * r) / r2;
             }
         return sigmaS * std::exp(-sigmaT * t) * sum * area / (n * n);
     };
-    const int steps = 1 << 12;
-    const double a = 0.0, b = 60.0, h = (b - a) / steps;
-    double sum = atDistance(a) + atDistance(b);
-    for (int i = 1; i < steps; ++i) sum += atDistance(a + i * h) * (i % 2 ? 4 : 2);
-    return sum * h / 3;
+    return simpson(atDistance, 0.0, 60.0, 1 << 12);
 }
 
 TEST(Media, SingleScatteringOfAQuadLightMatchesItsIntegral) {
@@ -385,11 +390,12 @@ TEST(Media, AnRgbGridGlowsAndAbsorbsPerChannel) {
 // and the density is 1 - 2y below y = 0.5, so a vertical ray sees sigma_t / 4 of optical depth.
 TEST(Media, DeltaTrackingThroughACloudMatchesTheIntegralOfItsDensity) {
     auto transmittanceAlongX = [](const CloudMedium& cloud, float y, float z) {
-        const int steps = 1 << 14;
-        auto d = [&](int i) { return double(cloud.densityAt({float(i) / steps, y, z})); };
-        double sum = d(0) + d(steps);
-        for (int i = 1; i < steps; ++i) sum += d(i) * (i % 2 ? 4 : 2);
-        return std::exp(-double(cloud.sigmaA.r + cloud.sigmaS.r) * sum / (3.0 * steps));
+        const double depth = simpson(
+            [&](double x) {
+                return double(cloud.densityAt({float(x), y, z}));
+            },
+            0.0, 1.0, 1 << 14);
+        return std::exp(-double(cloud.sigmaA.r + cloud.sigmaS.r) * depth);
     };
     auto rendered = [](const CloudMedium& cloud, Vec3f from, Vec3f to) {
         Scene scene;
