@@ -7,6 +7,7 @@
 #include <string>
 
 #include "media/nanovdb_grid.h"
+#include "media/openvdb_grid.h"
 #include "scenes/scene_loader.h"
 #include "tests/support/expect_input_error.h"
 
@@ -95,7 +96,7 @@ TEST(MediumLoader, GridsFromOpenVdbAndNanoVdbFilesAgree) {
 
 // Emission: a temperature grid from a file (placed where the file says) with its offset and scale,
 // times an emission scale; an inline emission-scale lattice spans the density's bounds; an
-// rgb_grid's lattices and uniform colours; a cloud's keys.
+// rgb_grid's lattices and uniform colours; a cloud's keys; a file's float grid as the emission scale.
 TEST(MediumLoader, EmittingGridsRgbGridsAndClouds) {
     const Scene scene = parseIn(kVolumes, R"({"media": {
         "fire": {"type": "grid", "sigma_a": 1, "density": {"file": "smoke.nvdb"},
@@ -106,7 +107,9 @@ TEST(MediumLoader, EmittingGridsRgbGridsAndClouds) {
         "tint": {"type": "rgb_grid", "resolution": [2, 1, 1], "sigma_a": {"values": [1, 2, 3, 4, 5, 6]},
                  "sigma_s": 0.5, "emission": [1, 1, 0], "scale": 2, "bounds": [[0, 0, 0], [2, 1, 1]]},
         "puff": {"type": "cloud", "sigma_s": 4, "density": 0, "wispiness": 0, "frequency": 2,
-                 "bounds": [[0, 0, 0], [1, 2, 1]]}}})");
+                 "bounds": [[0, 0, 0], [1, 2, 1]]},
+        "glow": {"type": "grid", "density": {"file": "smoke.vdb"}, "emission": [1, 0.5, 0.25],
+                 "emission_scale": {"file": "smoke.vdb", "grid": "temperature"}}}})");
     const auto& fire = std::get<GridMedium>(scene.media[0]);
     ASSERT_TRUE(fire.emission.temperature.has_value());
     const DensityGrid temperature = readNanoVdbGrid(kVolumes / "smoke.nvdb", "temperature");
@@ -129,6 +132,11 @@ TEST(MediumLoader, EmittingGridsRgbGridsAndClouds) {
     EXPECT_EQ(puff.bounds.upper, Vec3f(1, 2, 1));
     EXPECT_FLOAT_EQ(puff.densityAt({0.5f, 0.25f, 0.5f}), 0.5f);  // density 0: the base alone, 1 - 2y
     EXPECT_EQ(puff.majorants.sigmaMaj[0], Rgb(4.0f));
+    // An OpenVDB file's float grid as the emission's scale (a Houdini or Blender "emission" grid).
+    const auto& glow = std::get<GridMedium>(scene.media[4]);
+    ASSERT_TRUE(glow.emission.scaleGrid.has_value());
+    EXPECT_EQ(glow.emission.scaleGrid->values, readOpenVdbGrid(kVolumes / "smoke.vdb", "temperature").values);
+    EXPECT_EQ(glow.emission.radiance, Rgb(1.0f, 0.5f, 0.25f));
 }
 
 TEST(MediumLoader, MistakesAreRefusedAtTheirPointer) {
