@@ -58,7 +58,7 @@ std::array<int64_t, 3> readResolution(const ParameterList& p) {
 
 // The values of a per-cell parameter: `perCell` numbers for each of the n[0] * n[1] * n[2] cells,
 // finite and >= 0.
-const Parameter& checkCells(const Parameter& q, const std::array<int64_t, 3>& n, size_t perCell) {
+void checkCells(const Parameter& q, const std::array<int64_t, 3>& n, size_t perCell) {
     const uint64_t cells = uint64_t(n[0] * n[1] * n[2]);
     if (uint64_t(q.numbers.size()) != cells * perCell)
         failAt(q.where, fmt::format("{} values for \"{}\"; nx * ny * nz = {} x {} x {} = {} {}expected",
@@ -67,7 +67,25 @@ const Parameter& checkCells(const Parameter& q, const std::array<int64_t, 3>& n,
     for (double v : q.numbers)
         if (!(v >= 0.0 && std::isfinite(v)))
             failAt(q.where, fmt::format("\"{}\" values must be finite and >= 0", q.name));
-    return q;
+}
+
+// The JSON format's lattice of a per-cell parameter, {"resolution": [nx, ny, nz], "values": [...]},
+// checked before anything is built (an error thrown inside a braced JSON initializer would leave
+// it half made).
+Json latticeJson(const Parameter& q, const std::array<int64_t, 3>& n) {
+    checkCells(q, n, 1);
+    Json lattice = Json::object();
+    lattice["resolution"] = Json::array({n[0], n[1], n[2]});
+    lattice["values"] = q.numbers;
+    return lattice;
+}
+
+// An rgb_grid's lattice of a per-cell colour parameter, {"values": [r, g, b, ...]}, checked first.
+Json rgbLatticeJson(const Parameter& q, const std::array<int64_t, 3>& n) {
+    checkCells(q, n, 3);
+    Json lattice = Json::object();
+    lattice["values"] = q.numbers;
+    return lattice;
 }
 
 Json boundsJson(const ParameterList& p) {
@@ -120,8 +138,7 @@ Json mapMedium(const ParameterList& p, const Json& transform, const std::filesys
         if (!density || density->numbers.empty())
             failAt(where, "a uniformgrid medium needs \"float density\" values");
         const std::array<int64_t, 3> n = readResolution(p);
-        const Json resolution = {n[0], n[1], n[2]};
-        medium["density"] = Json{{"resolution", resolution}, {"values", checkCells(*density, n, 1).numbers}};
+        medium["density"] = latticeJson(*density, n);
         medium["bounds"] = boundsJson(p);
         if (!transform.is_null()) medium["transform"] = transform;
         // Emission: a temperature grid (a blackbody) or a radiance "Le", times "Lescale".
@@ -129,9 +146,7 @@ Json mapMedium(const ParameterList& p, const Json& transform, const std::filesys
         const Parameter* le = p.find("Le", {ParamType::Rgb, ParamType::Spectrum, ParamType::Blackbody});
         if (temperature && le)
             failAt(le->where, "give either \"Le\" or \"temperature\" (as pbrt-v4 requires)");
-        if (temperature)
-            medium["temperature"] =
-                Json{{"resolution", resolution}, {"values", checkCells(*temperature, n, 1).numbers}};
+        if (temperature) medium["temperature"] = latticeJson(*temperature, n);
         if (le) {
             const Rgb emission = readColor(p, "Le", Rgb(0.0f), SpectrumUse::Emission, textures, log);
             if (!emission.isBlack()) medium["emission"] = rgbJson(emission);
@@ -143,8 +158,7 @@ Json mapMedium(const ParameterList& p, const Json& transform, const std::filesys
             // at its corners. The same lattice here gives the same image.
             const Parameter* scale = p.find("Lescale", {ParamType::Float});
             medium["emission_scale"] =
-                scale ? Json{{"resolution", resolution}, {"values", checkCells(*scale, n, 1).numbers}}
-                      : Json{{"resolution", {1, 1, 1}}, {"values", {1.0}}};
+                scale ? latticeJson(*scale, n) : Json{{"resolution", {1, 1, 1}}, {"values", {1.0}}};
         }
         p.markAllUsed();
         return medium;
@@ -189,11 +203,9 @@ Json mapMedium(const ParameterList& p, const Json& transform, const std::filesys
             failAt(where, "an rgbgrid medium needs \"rgb sigma_a\", \"rgb sigma_s\" or both");
         if (le && !sigmaA)
             failAt(le->where, "an rgbgrid medium with \"Le\" needs \"rgb sigma_a\" (as pbrt-v4 requires)");
-        medium["sigma_a"] =
-            sigmaA ? Json{{"values", checkCells(*sigmaA, n, 3).numbers}} : Json::array({1, 1, 1});
-        medium["sigma_s"] =
-            sigmaS ? Json{{"values", checkCells(*sigmaS, n, 3).numbers}} : Json::array({1, 1, 1});
-        if (le) medium["emission"] = Json{{"values", checkCells(*le, n, 3).numbers}};
+        medium["sigma_a"] = sigmaA ? rgbLatticeJson(*sigmaA, n) : Json::array({1, 1, 1});
+        medium["sigma_s"] = sigmaS ? rgbLatticeJson(*sigmaS, n) : Json::array({1, 1, 1});
+        if (le) medium["emission"] = rgbLatticeJson(*le, n);
         mapNonNegative(p, "scale", "scale", medium);
         mapNonNegative(p, "Lescale", "emission_scale", medium);
         mapPhase(p, medium);
