@@ -145,18 +145,25 @@ double singleScatteringIntegral(double sigmaS, double sigmaT, double g, double i
     return simpson(integrand, 0.0, 80.0, 1 << 18);
 }
 
-TEST(Media, SingleScatteringOfAPointLightMatchesItsIntegral) {
-    const Rgb sigmaA(0.1f, 0.05f, 0.2f), sigmaS(0.2f, 0.4f, 0.3f);
-    const float g = 0.4f, intensity = 10.0f;
-    const Vec3f light{1.0f, 0.0f, 2.0f};
+// A camera at the origin looking along +z from inside an infinite homogeneous medium, one
+// scattering event (max_depth 1): the single-scattering tests' scene, lights to be added.
+Scene singleScatteringScene(Rgb sigmaA, Rgb sigmaS, float g) {
     Scene scene;
     scene.film = {16, 16, 1024, FilterKind::Box, 0.5f};
     scene.integrator.maxDepth = 1;
     scene.media.push_back(HomogeneousMedium{sigmaA, sigmaS, Rgb(0.0f), {g}});
     scene.mediumNames = {"fog"};
     scene.cameraMedium = 0;
-    scene.lights.push_back(PointLight{light, Rgb(intensity)});
     lookNarrowly(scene, {0, 0, 0}, {0, 0, 1});
+    return scene;
+}
+
+TEST(Media, SingleScatteringOfAPointLightMatchesItsIntegral) {
+    const Rgb sigmaA(0.1f, 0.05f, 0.2f), sigmaS(0.2f, 0.4f, 0.3f);
+    const float g = 0.4f, intensity = 10.0f;
+    const Vec3f light{1.0f, 0.0f, 2.0f};
+    Scene scene = singleScatteringScene(sigmaA, sigmaS, g);
+    scene.lights.push_back(PointLight{light, Rgb(intensity)});
     for (int c = 0; c < 3; ++c) {
         const double exact = singleScatteringIntegral(sigmaS[c], sigmaA[c] + sigmaS[c], g, intensity, light);
         const PixelMean m = renderedChannelMean(scene, c);
@@ -226,17 +233,11 @@ TEST(Media, SingleScatteringOfAQuadLightMatchesItsIntegral) {
     const Rgb sigmaA(0.05f, 0.1f, 0.02f), sigmaS(0.3f, 0.2f, 0.4f);
     const float g = 0.3f, le = 20.0f;
     const Vec3f corner{1.0f, -0.25f, 1.75f}, edge1{0.0f, 0.0f, 0.5f}, edge2{0.0f, 0.5f, 0.0f};  // faces -x
-    Scene scene;
-    scene.film = {16, 16, 1024, FilterKind::Box, 0.5f};
-    scene.integrator.maxDepth = 1;
-    scene.media.push_back(HomogeneousMedium{sigmaA, sigmaS, Rgb(0.0f), {g}});
-    scene.mediumNames = {"fog"};
-    scene.cameraMedium = 0;
+    Scene scene = singleScatteringScene(sigmaA, sigmaS, g);
     scene.materials = {testing::makeLambert(Rgb(0.0f))};
     TriangleMesh light = testing::makeQuad(corner, edge1, edge2, 0);
     light.emission.radiance = Rgb(le);
     scene.meshes.push_back(light);
-    lookNarrowly(scene, {0, 0, 0}, {0, 0, 1});
     for (int c = 0; c < 3; ++c) {
         const double exact =
             singleScatteringOfAQuadLight(sigmaS[c], sigmaA[c] + sigmaS[c], g, le, corner, edge1, edge2);
