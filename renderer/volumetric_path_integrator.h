@@ -65,15 +65,21 @@ struct EquiangularSegment {
     Rgb sigmaT{0.0f}, sigmaS{0.0f};
     int hero = 0;
 
+    // Per channel, the prefix's density over the hero's density of distance sampling a scattering
+    // at distance t: the equiangular strategy's relative density but for the light's density and
+    // the equiangular pdf (rE carries it until an emitter's hit gives those).
+    Rgb densityRatioAt(float t) const {
+        const float heroDistancePdf = std::exp(-sigmaT[hero] * t) * sigmaS[hero];
+        return heroDistancePdf > 0.0f ? rU0 / heroDistancePdf : Rgb(0.0f);
+    }
     // Per channel, the equiangular strategy's density of a scattering at distance t towards the
     // light point y (solid-angle density lightPdf at the scattering point, the light chosen at the
     // segment's start) over the hero's density of distance sampling scattering there: the term it
     // adds to rL.
     Rgb relativeDensity(float t, Vec3f y, float lightPdf) const {
         const float pE = EquiangularDistance(origin, direction, tEnd, y).pdf(t);
-        const float heroDistancePdf = std::exp(-sigmaT[hero] * t) * sigmaS[hero];
-        if (!(pE > 0.0f) || !(heroDistancePdf > 0.0f)) return Rgb(0.0f);
-        return rU0 * (lightPdf * pE / heroDistancePdf);
+        if (!(pE > 0.0f)) return Rgb(0.0f);
+        return densityRatioAt(t) * (lightPdf * pE);
     }
 };
 
@@ -199,10 +205,11 @@ Rgb transmittanceAlong(const Accel& accel, const IntegratorContext& ctx, Ray ray
 }
 
 // Next-event estimation's light sample at a vertex at `p` (geometric normal `n`, 0 in a medium):
-// the choice of light (into `chosen`, where given) and the point on it, or nothing.
+// the choice of light (into `chosen`, where given: the light and its probability) and the point on
+// it, or nothing.
 inline std::optional<LightSample> sampleLightAt(const IntegratorContext& ctx, const PixelSample& sample,
                                                 uint32_t depth, Vec3f p, Vec3f n,
-                                                uint32_t* chosen = nullptr) {
+                                                LightSet::Choice* chosen = nullptr) {
     const LightSet& lights = *ctx.lights;
     Vec2f uLight{0.5f, 0.5f};
     LightSet::Choice light{0, 1.0f};
@@ -212,7 +219,7 @@ inline std::optional<LightSample> sampleLightAt(const IntegratorContext& ctx, co
         if (sample.isFrozen(Dim::LightPosition)) [[unlikely]]
             uLight = {0.5f, 0.5f};
     }
-    if (chosen) *chosen = light.light;
+    if (chosen) *chosen = light;
     auto ls = lights.sample(light, p, uLight);
     if (ls && ls->radiance.isBlack()) return std::nullopt;
     return ls;
@@ -402,15 +409,16 @@ Radiance estimateRadianceThroughMedia(const Accel& accel, const IntegratorContex
                         // A medium vertex: light sampling, then the phase function's sample.
                         const Vec3f wo = -direction;
                         if (!lights.empty() && ctx.strategy != LightStrategy::Bsdf) {
-                            uint32_t light = 0;
+                            LightSet::Choice light{0, 1.0f};
                             if (const auto ls = sampleLightAt(ctx, sample, vertexDepth, p, Vec3f{}, &light)) {
                                 // The equiangular strategy's density for this light point, if it has one.
                                 Rgb equiangularDensity(0.0f);
-                                if (segment.active && lights.isPointIndependentOfReference(light))
+                                if (segment.active && lights.isPointIndependentOfReference(light.light))
                                     equiangularDensity = segment.relativeDensity(
                                         t, ls->point,
-                                        ls->pdf * lights.choiceProbability(light, segment.origin, Vec3f{}) /
-                                            lights.choiceProbability(light, p, Vec3f{}));
+                                        ls->pdf *
+                                            lights.choiceProbability(light.light, segment.origin, Vec3f{}) /
+                                            light.probability);
                                 const float phase = mp.phase.p(wo, ls->direction);
                                 SampleStream shadowStream =
                                     sample.stream(MediumDim::ShadowTransmittance, path.segment);
@@ -425,12 +433,7 @@ Radiance estimateRadianceThroughMedia(const Accel& accel, const IntegratorContex
                             mp.phase.sample(wo, sample.get2D(Dim::BsdfDirection, vertexDepth));
                         path.rL = path.rU / ps.pdf;  // the sample's weight p / pdf is 1
                         // An emitter the phase sample hits weighs the equiangular strategy too.
-                        path.rE = Rgb(0.0f);
-                        if (segment.active) {
-                            const float heroDistancePdf =
-                                std::exp(-segment.sigmaT[h] * t) * segment.sigmaS[h];
-                            path.rE = segment.rU0 / (heroDistancePdf * ps.pdf);
-                        }
+                        path.rE = segment.active ? segment.densityRatioAt(t) / ps.pdf : Rgb(0.0f);
                         path.vertexSegment = segment;
                         path.vertexDistance = t;
                         path.specularBounce = false;
