@@ -76,11 +76,11 @@ BenchScene* benchScene(const std::string& file) {
     b->bvh = std::make_unique<BvhAccelerator>(b->scene);
     b->embree = std::make_unique<EmbreeAccelerator>(b->scene);
 
-    const ThinLensCamera camera(b->scene.camera, b->scene.film.width, b->scene.film.height);
+    const Camera camera(b->scene.camera, b->scene.film.width, b->scene.film.height);
     for (int y = 0; y < kImageSize; ++y)
         for (int x = 0; x < kImageSize; ++x)
             b->coherent.rays.push_back(
-                camera.generateRay({float(x) + 0.5f, float(y) + 0.5f}, {0.5f, 0.5f}, 0.0f));
+                camera.generateRay({float(x) + 0.5f, float(y) + 0.5f}, {0.5f, 0.5f}, 0.0f).ray);
     b->coherent.left.resize(b->coherent.rays.size());
     CrosscheckOptions options;
     options.rays = 4 * kIncoherentRays;

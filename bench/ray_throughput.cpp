@@ -106,7 +106,7 @@ struct Recording {
 Recording recordPaths(const Scene& scene, const EmbreeAccelerator& accel, const std::vector<uint64_t>& pixels,
                       uint32_t spp) {
     const PreparedScene prepared(scene);
-    const ThinLensCamera& camera = prepared.camera();
+    const Camera& camera = prepared.camera();
     const IntegratorContext ctx = prepared.integratorContext();
     const bool sceneMoves = prepared.moves();
 
@@ -118,7 +118,7 @@ Recording recordPaths(const Scene& scene, const EmbreeAccelerator& accel, const 
         const int y = int(pixelIndex / uint64_t(scene.film.width));
         for (uint32_t s = 0; s < spp; ++s) {
             const PixelSample sample(scene.settings.sampler, scene.settings.seed, pixelIndex, s);
-            const Ray ray = generateCameraRay(camera, scene.film, sceneMoves, sample, x, y);
+            const Ray ray = generateCameraRay(camera, scene.film, sceneMoves, sample, x, y).ray;
             recorder.first = true;
             estimateRadiance(recorder, ctx, ray, sample, rec.counters);
         }

@@ -1,11 +1,20 @@
-// The thin-lens camera (Cook et al. 1984; pbrt's PerspectiveCamera): rays leave a point on a
-// circular lens and pass through the point of the focus plane that the film position images to.
-// With a zero aperture it is a pinhole camera. The aperture is a disk, or a regular polygon whose
-// vertices lie on the aperture radius (the shape of out-of-focus highlights).
+// The camera: a pose (moving over the shutter or not) and one of the projections, which turns a
+// film position and a lens sample into a weighted world-space ray. The projections are a closed
+// set (std::variant), each in a header of its own: the thin-lens perspective (thin_lens.h), the
+// orthographic (orthographic.h), the spherical (spherical.h), the fisheye (fisheye.h) and the lens
+// system (lens_system.h).
 #pragma once
 
+#include <variant>
 #include <vector>
 
+#include "cameras/camera_params.h"
+#include "cameras/camera_ray.h"
+#include "cameras/fisheye.h"
+#include "cameras/lens_system.h"
+#include "cameras/orthographic.h"
+#include "cameras/spherical.h"
+#include "cameras/thin_lens.h"
 #include "core/ray.h"
 #include "core/transform.h"
 #include "core/vec.h"
@@ -13,67 +22,67 @@
 
 namespace penumbra {
 
-// Where the camera is and what it looks at. A moving camera has several poses, evenly spaced over
-// the shutter; between them the three points are interpolated linearly.
-struct CameraPose {
-    Vec3f lookFrom, lookAt, up;
+using Projection = std::variant<ThinLensProjection, OrthographicProjection, SphericalProjection,
+                                FisheyeProjection, LensSystemProjection>;
+
+// A world-space camera ray and what it carries to the film: the radiance along the ray times
+// `weight` (0: no light reaches the film along it; the ray need not be traced).
+struct CameraRay {
+    Ray ray;
+    float weight = 1.0f;
 };
 
-// The camera as the scene gives it (scenes/README.md, `camera`).
-struct ThinLensCameraParams {
-    Vec3f lookFrom{0.0f, 0.0f, 0.0f};
-    Vec3f lookAt{0.0f, 0.0f, -1.0f};
-    Vec3f up{0.0f, 1.0f, 0.0f};
-    // Camera motion: empty, or >= 2 poses evenly spaced over the shutter, interpolated linearly;
-    // they replace lookFrom / lookAt / up.
-    std::vector<CameraPose> motion;
-    float verticalFovDegrees = 40.0f;
-    float apertureRadius = 0.0f;  // lens radius in scene units; 0 is a pinhole
-    float focusDistance = 0.0f;   // along the view direction; 0 means |lookAt - lookFrom|
-    int apertureBlades = 0;       // 0: a circular aperture; >= 3: a regular polygon (shaped bokeh)
-    float apertureRotationDegrees = 0.0f;
-    // The shutter interval, in the scene's time unit; motion keys are spread over it. Rays carry
-    // the shutter fraction (0 = open, 1 = closed).
-    float shutterOpen = 0.0f;
-    float shutterClose = 0.0f;
-};
-
-class ThinLensCamera {
+class Camera {
 public:
     // Parameters are validated by the scene loader; throws InputError on degenerate ones anyway.
-    ThinLensCamera(const ThinLensCameraParams& params, int filmWidth, int filmHeight);
+    Camera(const CameraParams& params, int filmWidth, int filmHeight);
 
     // filmPosition in raster space: x to the right, y down, (0, 0) the top-left corner of the
     // image and (width, height) the bottom-right. lensSample and timeSample are uniform in [0, 1);
     // the ray's time is the shutter fraction timeSample.
-    Ray generateRay(Vec2f filmPosition, Vec2f lensSample, float timeSample) const;
+    CameraRay generateRay(Vec2f filmPosition, Vec2f lensSample, float timeSample) const {
+        // The thin lens inline, the other projections out of line: inlining them all into the
+        // render loop made its body larger and the loop slower (bench/README.md, "Speed tricks").
+        if (const auto* thinLens = std::get_if<ThinLensProjection>(&projection_))
+            return toWorld(thinLens->generate(filmPosition, lensSample), timeSample);
+        return generateOtherRay(filmPosition, lensSample, timeSample);
+    }
 
-    // Whether generateRay reads lensSample (a lens of non-zero aperture): a sample that is not read
-    // need not be drawn.
-    bool usesLensSample() const { return apertureRadius_ > 0.0f; }
+    // Whether generateRay reads lensSample (a lens of non-zero aperture, a lens system): a sample
+    // that is not read need not be drawn.
+    bool usesLensSample() const { return usesLensSample_; }
 
     // The camera-to-world transform at a shutter fraction.
     Transform cameraToWorld(float time = 0.0f) const;
     // What a texture lookup's footprint needs of the camera (textures/texture_footprint.h), at
     // shutter open, for `samplesPerPixel` samples per pixel.
     CameraFootprint footprint(int samplesPerPixel) const;
+    const Projection& projection() const { return projection_; }
 
 private:
-    // A point on the unit aperture (disk or polygon) from a uniform 2D sample.
-    Vec2f sampleAperture(Vec2f u) const;
+    CameraRay generateOtherRay(Vec2f filmPosition, Vec2f lensSample, float timeSample) const;
+    CameraRay toWorld(const CameraSpaceRay& local, float timeSample) const {
+        CameraRay out;
+        out.weight = local.weight;
+        Ray& ray = out.ray;
+        ray.time = timeSample;
+        if (motion_.empty()) {
+            ray.origin = fromOrigin_ ? pinholeOrigin_ : cameraToWorld_.applyPoint(local.origin);
+            ray.direction = normalize(cameraToWorld_.applyVector(local.direction));
+        } else {
+            const Transform toWorld = cameraToWorld(ray.time);
+            ray.origin = toWorld.applyPoint(local.origin);
+            ray.direction = normalize(toWorld.applyVector(local.direction));
+        }
+        return out;
+    }
 
+    Projection projection_;
     Transform cameraToWorld_;
-    Vec3f pinholeOrigin_;  // cameraToWorld_ applied to the camera-space origin, once
+    Vec3f pinholeOrigin_;      // cameraToWorld_ applied to the camera-space origin, once
+    bool fromOrigin_ = false;  // every ray starts at the camera-space origin (a pinhole, spherical, fisheye)
+    bool usesLensSample_ = false;
     std::vector<CameraPose> motion_;
-    float halfHeight_ = 1.0f;  // of the image plane at z = 1
-    float halfWidth_ = 1.0f;
-    float apertureRadius_ = 0.0f;
-    int apertureBlades_ = 0;
-    float apertureRotation_ = 0.0f;  // radians
-    std::vector<Vec2f>
-        bladeVertices_;  // the polygon's vertices on the unit circle, the first repeated at the end
-    float focusDistance_ = 1.0f;
-    float invWidth_ = 1.0f, invHeight_ = 1.0f;
 };
 
 }  // namespace penumbra

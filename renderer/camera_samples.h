@@ -25,8 +25,8 @@ inline Vec2f sampleFilterOffset(const FilmSettings& film, Vec2f u) {
 // sample for a pinhole camera, the time sample when nothing in the scene moves (`sceneMoves`,
 // Scene::hasMotion()); the other dimensions do not depend on them. The time is stratified jointly
 // with the position in the pixel (PixelSample::get1DJointWith).
-inline Ray generateCameraRay(const ThinLensCamera& camera, const FilmSettings& film, bool sceneMoves,
-                             const PixelSample& sample, int x, int y) {
+inline CameraRay generateCameraRay(const Camera& camera, const FilmSettings& film, bool sceneMoves,
+                                   const PixelSample& sample, int x, int y) {
     const Vec2f offset = sampleFilterOffset(film, sample.get2D(Dim::Pixel));
     const Vec2f filmPosition{float(x) + 0.5f + offset.x, float(y) + 0.5f + offset.y};
     const Vec2f lens = camera.usesLensSample() ? sample.get2D(Dim::Lens) : Vec2f{0.5f, 0.5f};

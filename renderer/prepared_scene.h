@@ -24,7 +24,7 @@ public:
     PreparedScene& operator=(const PreparedScene&) = delete;
 
     const Scene& scene() const { return scene_; }
-    const ThinLensCamera& camera() const { return camera_; }
+    const Camera& camera() const { return camera_; }
     const LightSet& lights() const { return lights_; }
     // Whether a ray's time matters (otherwise no time sample is drawn).
     bool moves() const { return moves_; }
@@ -35,7 +35,7 @@ public:
 
 private:
     const Scene& scene_;
-    ThinLensCamera camera_;
+    Camera camera_;
     LightSet lights_;
     FaceFrames faceFrames_;
     bool moves_;

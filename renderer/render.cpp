@@ -36,7 +36,7 @@ using detail::TileResult;
 template <TraversalBackend Accel>
 RenderStats renderWith(const Accel& accel, const Scene& scene, const RenderOptions& options, Film& film) {
     const PreparedScene prepared(scene);
-    const ThinLensCamera& camera = prepared.camera();
+    const Camera& camera = prepared.camera();
     const IntegratorContext ctx = prepared.integratorContext();
     const bool sceneMoves = prepared.moves();  // otherwise no time sample is drawn
     const bool throughMedia = scene.hasMedia();

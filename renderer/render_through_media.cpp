@@ -6,7 +6,7 @@
 namespace penumbra::detail {
 
 template <TraversalBackend Accel>
-TileResult renderTileThroughMedia(const Accel& accel, const Scene& scene, const ThinLensCamera& camera,
+TileResult renderTileThroughMedia(const Accel& accel, const Scene& scene, const Camera& camera,
                                   const IntegratorContext& ctx, const PixelWindow& tile, uint32_t firstSample,
                                   uint32_t endSample, uint32_t frozenDims, bool sceneMoves,
                                   const ActivePixels* active, Film& film) {
@@ -14,10 +14,10 @@ TileResult renderTileThroughMedia(const Accel& accel, const Scene& scene, const 
                             active, film);
 }
 
-template TileResult renderTileThroughMedia(const EmbreeAccelerator&, const Scene&, const ThinLensCamera&,
+template TileResult renderTileThroughMedia(const EmbreeAccelerator&, const Scene&, const Camera&,
                                            const IntegratorContext&, const PixelWindow&, uint32_t, uint32_t,
                                            uint32_t, bool, const ActivePixels*, Film&);
-template TileResult renderTileThroughMedia(const BvhAccelerator&, const Scene&, const ThinLensCamera&,
+template TileResult renderTileThroughMedia(const BvhAccelerator&, const Scene&, const Camera&,
                                            const IntegratorContext&, const PixelWindow&, uint32_t, uint32_t,
                                            uint32_t, bool, const ActivePixels*, Film&);
 

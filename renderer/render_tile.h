@@ -41,7 +41,7 @@ struct TileResult {
 // kThroughMedia: the volumetric integrator (Scene::hasMedia), whose camera rays are traced one
 // at a time; otherwise the surface integrator, with camera rays traced as packets.
 template <bool kThroughMedia, TraversalBackend Accel>
-TileResult renderTile(const Accel& accel, const Scene& scene, const ThinLensCamera& camera,
+TileResult renderTile(const Accel& accel, const Scene& scene, const Camera& camera,
                       const IntegratorContext& ctx, const PixelWindow& tile, uint32_t firstSample,
                       uint32_t endSample, uint32_t frozenDims, bool sceneMoves, const ActivePixels* active,
                       Film& film) {
@@ -51,6 +51,7 @@ TileResult renderTile(const Accel& accel, const Scene& scene, const ThinLensCame
     // is assigned first, so they need no zeroing per group (bench/README.md, "Speed tricks").
     std::optional<PixelSample> samples[kPacket];  // made once, for the camera ray and the path
     Ray cameraRays[kPacket];
+    float cameraWeights[kPacket];  // 0: the camera sees nothing along the ray (cameras/camera_ray.h)
     TracedRay traced[kPacket];
     Hit hits[kPacket];
     bool found[kPacket];
@@ -69,7 +70,10 @@ TileResult renderTile(const Accel& accel, const Scene& scene, const ThinLensCame
                 for (int i = 0; i < count; ++i) {
                     samples[i].emplace(scene.settings.sampler, pixelKey, groupStart + i);
                     samples[i]->freeze(frozenDims);
-                    cameraRays[i] = generateCameraRay(camera, scene.film, sceneMoves, *samples[i], x, y);
+                    const CameraRay cameraRay =
+                        generateCameraRay(camera, scene.film, sceneMoves, *samples[i], x, y);
+                    cameraRays[i] = cameraRay.ray;
+                    cameraWeights[i] = cameraRay.weight;
                 }
                 if constexpr (kPacket > 1) {
                     accel.intersectPacket(cameraRays, count, hits, found);
@@ -78,8 +82,10 @@ TileResult renderTile(const Accel& accel, const Scene& scene, const ThinLensCame
                 for (int i = 0; i < count; ++i) {
                     const uint32_t s = groupStart + i;
                     FirstHitAovs aovs;
-                    Rgb radiance;
-                    if constexpr (kThroughMedia)
+                    Rgb radiance(0.0f);
+                    if (cameraWeights[i] == 0.0f) {
+                        // No light reaches the film along this ray: the sample counts, as black.
+                    } else if constexpr (kThroughMedia)
                         radiance = estimateRadianceThroughMedia(accel, ctx, cameraRays[i], *samples[i],
                                                                 result.rays, &aovs);
                     else
@@ -91,6 +97,7 @@ TileResult renderTile(const Accel& accel, const Scene& scene, const ThinLensCame
                             result.examples.push_back({x, y, s});
                         radiance = Rgb(0.0f);
                     }
+                    if (cameraWeights[i] != 1.0f) radiance = radiance * cameraWeights[i];
                     pixel.add(radiance, 1.0f, aovs);
                     ++result.samples;
                 }
@@ -102,7 +109,7 @@ TileResult renderTile(const Accel& accel, const Scene& scene, const ThinLensCame
 
 // renderTile<true>, instantiated for both backends in render_through_media.cpp.
 template <TraversalBackend Accel>
-TileResult renderTileThroughMedia(const Accel& accel, const Scene& scene, const ThinLensCamera& camera,
+TileResult renderTileThroughMedia(const Accel& accel, const Scene& scene, const Camera& camera,
                                   const IntegratorContext& ctx, const PixelWindow& tile, uint32_t firstSample,
                                   uint32_t endSample, uint32_t frozenDims, bool sceneMoves,
                                   const ActivePixels* active, Film& film);

@@ -76,7 +76,7 @@ struct Scene : SceneGeometry {
     // The files the scene file includes (pbrt's Include and Import) and a patch applied to it
     // (scene_file.h), also covered by the hash.
     std::vector<std::filesystem::path> includedFiles;
-    ThinLensCameraParams camera;
+    CameraParams camera;
     FilmSettings film;
     IntegratorSettings integrator;
     RenderSettings settings;

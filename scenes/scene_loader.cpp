@@ -31,7 +31,8 @@ Scene buildScene(const Json& document, const fs::path& file) {
 
     Scene scene;
     scene.sourcePath = file;
-    if (auto v = top.get("camera")) scene.camera = readCamera(*v);
+    const fs::path folder = file.parent_path();
+    if (auto v = top.get("camera")) scene.camera = readCamera(*v, folder);
     if (auto v = top.get("film")) scene.film = readFilm(*v);
     if (auto v = top.get("integrator")) scene.integrator = readIntegrator(*v);
     if (auto v = top.get("render")) scene.settings = readRender(*v);
@@ -40,10 +41,8 @@ Scene buildScene(const Json& document, const fs::path& file) {
         if (top.get("background")) v->fail("give either \"background\" or \"environment\", not both");
         scene.environment = readEnvironment(*v, file.parent_path());
     }
-    if (auto v = top.get("materials"))
-        readMaterials(*v, file.parent_path(), scene.materials,
-                      scene.materialNames);  // before the shapes that name them
-    const fs::path folder = file.parent_path();
+    // Materials before the shapes that name them.
+    if (auto v = top.get("materials")) readMaterials(*v, folder, scene.materials, scene.materialNames);
     if (auto v = top.get("media")) readMedia(*v, folder, scene);  // before the shapes and camera naming them
     if (auto camera = top.get("camera"))
         if (auto v = camera->member("medium"))

@@ -150,7 +150,7 @@ TransformKey readTransformKey(const JsonValue& value) {
 
 // Key times, when a scene gives them, must be what penumbra assumes: evenly spaced from the
 // shutter opening to its closing.
-void checkKeyTimes(const JsonValue& times, size_t keyCount, const ThinLensCameraParams& camera) {
+void checkKeyTimes(const JsonValue& times, size_t keyCount, const CameraParams& camera) {
     if (times.arraySize() != keyCount) times.failExpected(fmt::format("{} times, one per key", keyCount));
     const float open = camera.shutterOpen, close = camera.shutterClose;
     const float tolerance = 1e-4f * std::max(1.0f, std::abs(close - open));
@@ -174,7 +174,7 @@ struct ShapeMotion {
 
 // "motion": {"times": [...], "transforms": [key, ...], "positions": [[p, ...], ...]}; keys are
 // evenly spaced over the shutter. Deformation ("positions") is for inline triangle meshes only.
-ShapeMotion readMotion(const JsonValue& value, const ThinLensCameraParams& camera, bool allowPositions,
+ShapeMotion readMotion(const JsonValue& value, const CameraParams& camera, bool allowPositions,
                        size_t vertexCount) {
     const JsonObject object(value, {"times", "transforms", "positions"});
     if (camera.shutterClose <= camera.shutterOpen)

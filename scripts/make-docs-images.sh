@@ -14,11 +14,21 @@ fi
 out=out/docs
 mkdir -p "$out"
 
-for scene in cornell-box depth-of-field soft-shadows motion-blur distribution materials rough-materials outdoor instancing smoke fire; do
+for scene in cornell-box depth-of-field soft-shadows motion-blur distribution materials rough-materials outdoor instancing smoke fire \
+    panorama fisheye orthographic; do
     echo "docs/$scene.png"
     "$penumbra" render "scenes/$scene.json" -o "$out/$scene.exr" --quiet
     cp "$out/$scene.png" "docs/$scene.png"
 done
+
+# The lens system's image is exposed as through the lens (0.19 of the light at f/2): shown 2.4
+# stops brighter; the thin lens beside it has no exposure model.
+echo "docs/lens-bokeh.png, docs/lens-bokeh-thin-lens.png"
+"$penumbra" render scenes/lens-bokeh.json --exposure 2.4 -o "$out/lens-bokeh.exr" --quiet
+cp "$out/lens-bokeh.png" docs/lens-bokeh.png
+"$penumbra" render scenes/lens-bokeh.json --patch scenes/patches/thin-lens-bokeh.json \
+    -o "$out/lens-bokeh-thin-lens.exr" --quiet
+cp "$out/lens-bokeh-thin-lens.png" docs/lens-bokeh-thin-lens.png
 
 echo "docs/convergence-soft-shadows.png, docs/convergence-soft-shadows-strip.png"
 "$penumbra" converge scenes/soft-shadows.json --spp 1,2,4,...,256 --seeds 3 --res 160x108 \

@@ -21,12 +21,15 @@ struct TextureQuery {
 };
 
 // The camera as the footprint needs it: the lens centre, the image's right and up axes (unit), the
-// angular spacing of pixels at the image centre, and the sample-count scale.
+// angular spacing of pixels at the image centre, and the sample-count scale. An orthographic
+// camera's rays are parallel: then `parallelDirection` is their direction and pixelSpacing the
+// distance between neighbouring rays.
 struct CameraFootprint {
     Vec3f origin;
     Vec3f right, up;
     float pixelSpacing = 0.0f;  // distance between neighbouring pixels on the image plane at distance 1
     float sampleScale = 1.0f;   // max(1/8, 1 / sqrt(spp))
+    Vec3f parallelDirection{0.0f, 0.0f, 0.0f};  // zero unless the rays are parallel
 };
 
 // The query at point p (normal n, uv) of a surface with partial derivatives dpdu, dpdv.
@@ -36,14 +39,20 @@ inline TextureQuery textureQueryAt(const CameraFootprint& camera, Vec3f p, Vec3f
     query.uv = uv;
     const Vec3f toPoint = p - camera.origin;
     const float distance = length(toPoint);
-    if (!(distance > 0.0f)) return query;
-    const Vec3f forward = toPoint / distance;
+    const bool parallel = lengthSquared(camera.parallelDirection) > 0.0f;
+    if (!(distance > 0.0f) && !parallel) return query;
+    const Vec3f forward = parallel ? camera.parallelDirection : toPoint / distance;
     const float planeOffset = dot(n, toPoint);
-    // The neighbouring rays, and where they meet the tangent plane.
+    // The neighbouring rays, and where they meet the tangent plane: turned by the pixel spacing
+    // from the lens centre, or displaced by it along the parallel direction.
     auto offsetOnPlane = [&](Vec3f axis) {
-        const Vec3f direction = forward + axis * camera.pixelSpacing;
+        const Vec3f direction = parallel ? forward : forward + axis * camera.pixelSpacing;
         const float cosine = dot(n, direction);
         if (!(std::abs(cosine) > 1e-6f)) return Vec3f{0.0f, 0.0f, 0.0f};
+        if (parallel) {
+            const Vec3f start = axis * camera.pixelSpacing;  // relative to p
+            return (start - direction * (dot(n, start) / cosine)) * camera.sampleScale;
+        }
         const Vec3f hit = camera.origin + direction * (planeOffset / cosine);
         return (hit - p) * camera.sampleScale;
     };

@@ -186,11 +186,13 @@ Ray makeRandomRay(const SceneExtent& extent, RayRandom& random) {
     return ray;
 }
 
-Ray makeCameraRay(const Scene& scene, const ThinLensCamera& camera, RayRandom& random) {
+Ray makeCameraRay(const Scene& scene, const Camera& camera, RayRandom& random) {
     const Vec2f film = random.next2();
     const Vec2f lens = random.next2();
-    return camera.generateRay({film.x * float(scene.film.width), film.y * float(scene.film.height)}, lens,
-                              random.next());
+    return camera
+        .generateRay({film.x * float(scene.film.width), film.y * float(scene.film.height)}, lens,
+                     random.next())
+        .ray;
 }
 
 // A segment from a surface point to a point on another surface, both ends moved off their
@@ -334,7 +336,7 @@ std::vector<CrosscheckRay> generateCrosscheckRays(const Scene& scene, const Embr
                                                   const CrosscheckOptions& options) {
     const uint64_t perKind = options.rays / kCrosscheckRayKindCount;
     const uint64_t randomCount = options.rays - 3 * perKind;
-    const ThinLensCamera camera(scene.camera, scene.film.width, scene.film.height);
+    const Camera camera(scene.camera, scene.film.width, scene.film.height);
     const SceneExtent extent = measureScene(scene);
     const PrimitiveIndex primitives(scene);
 

@@ -318,6 +318,12 @@ void SceneBuilder::optionDirective(const Directive& d) {
         if (w < 1 || h < 1 || w > 65536 || h > 65536)
             failAt(d.where, fmt::format("Film: resolution {}x{} is outside 1 to 65536 pixels a side", w, h));
         filmWidth_ = int(w), filmHeight_ = int(h);
+        if (auto diagonal = p.getFloat("diagonal")) {
+            if (!(*diagonal > 0.0 && *diagonal <= 1e4))
+                failAt(p.find("diagonal", {ParamType::Float})->where,
+                       fmt::format("Film: diagonal must be > 0 and <= 10000 mm, found {}", *diagonal));
+            filmDiagonalMm_ = *diagonal;
+        }
         film["resolution"] = {w, h};
         origins_.push_back({"/film/resolution", d.where});
         if (auto f = p.getString("filename"))
@@ -438,10 +444,11 @@ void SceneBuilder::optionDirective(const Directive& d) {
 void SceneBuilder::finishCamera(Json& scene) {
     const ParameterList& p = camera_.params;
     const SourceLocation& where = camera_.where;
-    if (camera_.type != "perspective") {
+    const std::string& type = camera_.type;
+    if (type != "perspective" && type != "orthographic" && type != "spherical" && type != "realistic") {
         p.markAllUsed();
-        log_.warn(where, fmt::format("Camera \"{}\" is not supported: rendered as a perspective camera",
-                                     camera_.type));
+        log_.warn(where,
+                  fmt::format("Camera \"{}\" is not supported: rendered as a perspective camera", type));
     }
     std::array<Matrix4d, 2> worldFromCamera;
     for (size_t i = 0; i < 2; ++i) worldFromCamera[i] = *camera_.cameraFromWorld[i].inverse();
@@ -467,15 +474,78 @@ void SceneBuilder::finishCamera(Json& scene) {
     }
 
     Json camera = Json::object();
+    // pbrt-v4's spherical images in penumbra's camera frame (cameras/spherical.h): the
+    // equirectangular one has its centre on the camera's -x and its columns reversed, the equal-area
+    // one is penumbra's turned half round the up axis; the pose turns to match.
+    auto viewOf = [&](const std::array<Vec3d, 3>& pz) {
+        if (type != "spherical") return pz[1];
+        if (p.getString("mapping").value_or("equalarea") == "equirectangular")
+            return normalize(cross(pz[1], pz[2])) * -1.0;
+        return pz[1] * -1.0;
+    };
     auto addPose = [&](Json& target, const std::array<Vec3d, 3>& pz) {
         target["look_from"] = vec3Json(pz[0]);
-        target["look_at"] = vec3Json(pz[0] + pz[1]);
+        target["look_at"] = vec3Json(pz[0] + viewOf(pz));
         target["up"] = vec3Json(pz[2]);
     };
     addPose(camera, pose);
 
+    if (type == "spherical") {
+        camera["type"] = "spherical";
+        const std::string mapping = p.getString("mapping").value_or("equalarea");
+        if (mapping != "equalarea" && mapping != "equirectangular")
+            failAt(p.find("mapping", {ParamType::String})->where,
+                   fmt::format(
+                       "Camera \"spherical\": mapping must be \"equalarea\" or \"equirectangular\", found "
+                       "\"{}\"",
+                       mapping));
+        if (mapping == "equirectangular") {
+            camera["mirror"] = true;
+        } else {
+            camera["mapping"] = "equal_area";
+            if (filmWidth_ != filmHeight_)
+                failAt(where,
+                       fmt::format("Camera \"spherical\": an equal-area image is square; the film is {}x{}",
+                                   filmWidth_, filmHeight_));
+        }
+        p.getFloat("lensradius");  // pbrt-v4 reads and ignores them
+        p.getFloat("focaldistance");
+        p.getFloat("frameaspectratio");
+        p.find("screenwindow", {ParamType::Float});
+    } else if (type == "realistic") {
+        realisticCamera(camera);
+    } else {
+        projectiveCamera(camera);
+    }
+    const double open = p.getFloat("shutteropen").value_or(0.0),
+                 close = p.getFloat("shutterclose").value_or(1.0);
+    if (close < open) failAt(where, "Camera: shutterclose must not be before shutteropen");
+    if (!(camera_.cameraFromWorld[0] == camera_.cameraFromWorld[1])) {
+        Json second = Json::object();
+        addPose(second, poseOf(worldFromCamera[1]));
+        Json first = Json::object();
+        addPose(first, pose);
+        camera["motion"] = Json::array({first, second});
+    }
+    camera["shutter"] = Json::array({open, close});
+    scene["camera"] = camera;
+    if (camera_.given) origins_.push_back({"/camera", where});
+    p.reportUnused(log_, fmt::format("Camera \"{}\"", camera_.type));
+    if (!filterGiven_)
+        log_.warn({mainFile_.string(), 0, 0, {}},
+                  "no PixelFilter: pbrt-v4's default Gaussian filter is rendered as a tent of the same "
+                  "standard deviation "
+                  "(radius 1.22)");
+    if (!filterGiven_) scene_["film"]["filter"] = Json{{"type", "tent"}, {"radius", 0.5 * std::sqrt(6.0)}};
+}
+
+// pbrt-v4's perspective and orthographic cameras: a screen window, a thin lens.
+void SceneBuilder::projectiveCamera(Json& camera) {
+    const ParameterList& p = camera_.params;
+    const SourceLocation& where = camera_.where;
+    const bool orthographic = camera_.type == "orthographic";
     // fov is the shorter image axis's; penumbra's is the vertical one.
-    const double fov = p.getFloat("fov").value_or(90.0);
+    const double fov = orthographic ? 90.0 : p.getFloat("fov").value_or(90.0);
     if (!(fov > 0.0 && fov < 180.0))
         failAt(where, fmt::format("Camera: fov must be between 0 and 180 degrees, found {}", fov));
     const double aspect = double(filmWidth_) / double(filmHeight_);
@@ -502,8 +572,13 @@ void SceneBuilder::finishCamera(Json& scene) {
                       "Camera screenwindow that is off-centre or of another aspect ratio is not supported: "
                       "the default one is used");
     }
-    const double verticalFov = 2.0 * std::atan(std::tan(fov / 2.0 / kDegrees) * halfHeight) * kDegrees;
-    camera["fov"] = verticalFov;
+    if (orthographic) {
+        // The screen window in scene units: its height is the image's.
+        camera["type"] = "orthographic";
+        camera["height"] = 2.0 * halfHeight;
+    } else {
+        camera["fov"] = 2.0 * std::atan(std::tan(fov / 2.0 / kDegrees) * halfHeight) * kDegrees;
+    }
     const double lensRadius = p.getFloat("lensradius").value_or(0.0);
     const double focus = p.getFloat("focaldistance").value_or(1e6);
     if (lensRadius < 0.0) failAt(where, "Camera: lensradius must be >= 0");
@@ -512,26 +587,41 @@ void SceneBuilder::finishCamera(Json& scene) {
         camera["aperture_radius"] = lensRadius;
         camera["focus_distance"] = focus;
     }
-    const double open = p.getFloat("shutteropen").value_or(0.0),
-                 close = p.getFloat("shutterclose").value_or(1.0);
-    if (close < open) failAt(where, "Camera: shutterclose must not be before shutteropen");
-    if (!(camera_.cameraFromWorld[0] == camera_.cameraFromWorld[1])) {
-        Json second = Json::object();
-        addPose(second, poseOf(worldFromCamera[1]));
-        Json first = Json::object();
-        addPose(first, pose);
-        camera["motion"] = Json::array({first, second});
+}
+
+// pbrt-v4's realistic camera: its lens file, stop diameter (mm), focus distance (m) and aperture
+// shape, with the film's diagonal (mm); the scene is in metres.
+void SceneBuilder::realisticCamera(Json& camera) {
+    const ParameterList& p = camera_.params;
+    const SourceLocation& where = camera_.where;
+    camera["type"] = "lens_system";
+    const Parameter* lensFile = p.find("lensfile", {ParamType::String});
+    if (!lensFile || lensFile->strings.size() != 1 || lensFile->strings[0].empty())
+        failAt(where, "Camera \"realistic\": give its lens description as \"string lensfile\"");
+    auto existing = [&](const Parameter& parameter, const std::string& what) {
+        const std::string& file = parameter.strings[0];
+        const fs::path path = fs::path(file).is_absolute() ? fs::path(file) : folder_ / file;
+        std::error_code error;
+        if (!fs::is_regular_file(path, error))
+            failAt(parameter.where, fmt::format("Camera \"realistic\": {} \"{}\" not found (looked for {})",
+                                                what, file, path.string()));
+        return path.string();
+    };
+    camera["lens_file"] = existing(*lensFile, "lens file");
+    const double diameter = p.getFloat("aperturediameter").value_or(1.0);
+    if (!(diameter > 0.0)) failAt(where, "Camera \"realistic\": aperturediameter must be > 0");
+    camera["aperture_diameter"] = diameter;
+    const double focus = p.getFloat("focusdistance").value_or(10.0);
+    if (!(focus > 0.0)) failAt(where, "Camera \"realistic\": focusdistance must be > 0");
+    camera["focus_distance"] = focus;
+    camera["film_diagonal"] = filmDiagonalMm_;
+    if (const Parameter* aperture = p.find("aperture", {ParamType::String})) {
+        if (aperture->strings.size() != 1)
+            failAt(aperture->where, "parameter \"string aperture\" takes one name");
+        const std::string& name = aperture->strings[0];
+        const bool builtin = name == "gaussian" || name == "square" || name == "pentagon" || name == "star";
+        camera["aperture"] = builtin ? name : existing(*aperture, "aperture image");
     }
-    camera["shutter"] = Json::array({open, close});
-    scene["camera"] = camera;
-    if (camera_.given) origins_.push_back({"/camera", where});
-    p.reportUnused(log_, fmt::format("Camera \"{}\"", camera_.type));
-    if (!filterGiven_)
-        log_.warn({mainFile_.string(), 0, 0, {}},
-                  "no PixelFilter: pbrt-v4's default Gaussian filter is rendered as a tent of the same "
-                  "standard deviation "
-                  "(radius 1.22)");
-    if (!filterGiven_) scene_["film"]["filter"] = Json{{"type", "tent"}, {"radius", 0.5 * std::sqrt(6.0)}};
 }
 
 std::string SceneBuilder::materialOf(const ShapeRecord& shape) {

@@ -125,6 +125,8 @@ private:
     void addPlacement(Json& shape, const std::array<Matrix4d, 2>& ctm, const SourceLocation& where);
 
     void finishCamera(Json& scene);
+    void projectiveCamera(Json& camera);
+    void realisticCamera(Json& camera);
     Matrix4d toWorld(const Matrix4d& m) const { return mirror_ * m; }
 
     std::filesystem::path mainFile_, folder_;
@@ -152,6 +154,7 @@ private:
     // world is mirrored across the camera's vertical plane instead, which leaves the image as it is.
     Matrix4d mirror_ = Matrix4d::identity();
     int filmWidth_ = 1280, filmHeight_ = 720;
+    double filmDiagonalMm_ = 35.0;  // Film "diagonal": the realistic camera's film size
 
     TextureTable textures_;
     std::map<std::string, std::string> namedMaterials_;  // pbrt name -> JSON material name

@@ -251,12 +251,12 @@ Scene sphereScene() {
 TEST(Aovs, SphereNormalDepthAndAlbedoMatchTheClosedForm) {
     const Scene scene = sphereScene();
     const Film film = renderRange(scene, 0, 4);
-    const ThinLensCamera camera(scene.camera, scene.film.width, scene.film.height);
+    const Camera camera(scene.camera, scene.film.width, scene.film.height);
     int hits = 0, misses = 0;
     for (int y = 0; y < scene.film.height; ++y)
         for (int x = 0; x < scene.film.width; ++x) {
             const PixelSums& p = film.at(x, y);
-            const Ray ray = camera.generateRay({x + 0.5f, y + 0.5f}, {0.5f, 0.5f}, 0.0f);
+            const Ray ray = camera.generateRay({x + 0.5f, y + 0.5f}, {0.5f, 0.5f}, 0.0f).ray;
             // |o + t d|^2 = 1 with |d| = 1 (double precision).
             const double ox = ray.origin.x, oy = ray.origin.y, oz = ray.origin.z;
             const double dx = ray.direction.x, dy = ray.direction.y, dz = ray.direction.z;

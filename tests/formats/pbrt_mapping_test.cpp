@@ -14,7 +14,9 @@
 #include <string>
 #include <vector>
 
+#include "cameras/camera.h"
 #include "core/colorimetry.h"
+#include "core/equal_area.h"
 #include "core/error.h"
 #include "formats/pbrt/pbrt_reader.h"
 #include "formats/pbrt/spectrum.h"
@@ -68,6 +70,70 @@ TEST(PbrtMapping, FovIsTheShorterAxisAndTheScreenWindowScalesIt) {
         convert("Camera \"perspective\" \"float lensradius\" 0.1 \"float focaldistance\" 7\nWorldBegin\n");
     EXPECT_DOUBLE_EQ(lens.document["camera"]["aperture_radius"].get<double>(), 0.1);
     EXPECT_DOUBLE_EQ(lens.document["camera"]["focus_distance"].get<double>(), 7.0);
+}
+
+// pbrt-v4's spherical camera: the world direction it gives a pixel (its GenerateRay written out:
+// the equirectangular theta = pi t, phi = 2 pi s, or the equal-area square, then y and z swapped),
+// from the camera frame of kCamera (camera x, y, z = world x, y, -z), against penumbra's camera
+// built from the converted file, on both mappings and on and off the image's centre lines.
+TEST(PbrtMapping, SphericalCameraSeesWhatPbrtsSees) {
+    for (const char* mapping : {"equirectangular", "equalarea"}) {
+        const std::string text =
+            "Scale -1 1 1\nLookAt 0 0 5  0 0 0  0 1 0\nCamera \"spherical\" \"string mapping\" \"" +
+            std::string(mapping) +
+            "\"\nFilm \"rgb\" \"integer xresolution\" 64 \"integer yresolution\" 64\nWorldBegin\n";
+        const auto c = convert(text);
+        EXPECT_EQ(c.document["camera"]["type"], "spherical");
+        const Scene scene = buildPbrtScene(c, "test.pbrt");
+        const Camera camera(scene.camera, 64, 64);
+        for (Vec2f st : {Vec2f{0.1f, 0.3f}, Vec2f{0.3f, 0.8f}, Vec2f{0.55f, 0.45f}, Vec2f{0.9f, 0.6f}}) {
+            Vec3f cameraSpace;
+            if (std::string(mapping) == "equirectangular") {
+                const float theta = kPi * st.y, phi = 2.0f * kPi * st.x;
+                cameraSpace = {std::sin(theta) * std::cos(phi), std::cos(theta),
+                               std::sin(theta) * std::sin(phi)};
+            } else {
+                const Vec3f abc = equalAreaSquareToSphere(st);
+                cameraSpace = {abc.x, abc.z, abc.y};
+            }
+            const Vec3f expected{cameraSpace.x, cameraSpace.y, -cameraSpace.z};
+            const Vec3f seen =
+                camera.generateRay({st.x * 64.0f, st.y * 64.0f}, {0.5f, 0.5f}, 0.0f).ray.direction;
+            EXPECT_NEAR(seen.x, expected.x, 1e-5f) << mapping << " " << st.x << "," << st.y;
+            EXPECT_NEAR(seen.y, expected.y, 1e-5f) << mapping << " " << st.x << "," << st.y;
+            EXPECT_NEAR(seen.z, expected.z, 1e-5f) << mapping << " " << st.x << "," << st.y;
+        }
+    }
+}
+
+TEST(PbrtMapping, OrthographicAndRealisticCameras) {
+    // The default screen window of a 2:1 film is [-2, 2] x [-1, 1]: 2 units high.
+    auto ortho =
+        convert(kCamera +
+                "Camera \"orthographic\" \"float lensradius\" 0.1 \"float focaldistance\" 3\n"
+                "Film \"rgb\" \"integer xresolution\" 200 \"integer yresolution\" 100\nWorldBegin\n");
+    EXPECT_EQ(ortho.document["camera"]["type"], "orthographic");
+    EXPECT_DOUBLE_EQ(ortho.document["camera"]["height"].get<double>(), 2.0);
+    EXPECT_DOUBLE_EQ(ortho.document["camera"]["aperture_radius"].get<double>(), 0.1);
+    const std::string lens = std::string(PENUMBRA_SOURCE_DIR) + "/scenes/lenses/wide.22mm.dat";
+    auto realistic =
+        convert(kCamera + "Camera \"realistic\" \"string lensfile\" \"" + lens +
+                "\" \"float aperturediameter\" 5 \"float focusdistance\" 3 \"string aperture\" \"star\"\n"
+                "Film \"rgb\" \"float diagonal\" 43.3\nWorldBegin\n");
+    const Json& camera = realistic.document["camera"];
+    EXPECT_EQ(camera["type"], "lens_system");
+    EXPECT_EQ(camera["lens_file"], lens);
+    EXPECT_DOUBLE_EQ(camera["aperture_diameter"].get<double>(), 5.0);
+    EXPECT_DOUBLE_EQ(camera["focus_distance"].get<double>(), 3.0);
+    EXPECT_DOUBLE_EQ(camera["film_diagonal"].get<double>(), 43.3);
+    EXPECT_EQ(camera["aperture"], "star");
+    EXPECT_FALSE(hasWarning(realistic, "not supported"));
+    const Scene scene = buildPbrtScene(realistic, "test.pbrt");
+    EXPECT_EQ(scene.camera.lensSystem.surfaces.size(), 13u);
+    const InputError missing = testing::catchInputError(
+        [&] { convert(kCamera + "Camera \"realistic\" \"string lensfile\" \"no-such.dat\"\nWorldBegin\n"); });
+    EXPECT_CONTAINS(missing.what(), "no-such.dat");
+    EXPECT_CONTAINS(missing.what(), "test.pbrt:");
 }
 
 TEST(PbrtMapping, LookAtIsLeftHandedSoTheWorldIsMirrored) {

@@ -58,6 +58,43 @@ TEST(CameraFields, TwoBladesAreNotAnAperture) {
     EXPECT_CONTAINS(e.what(), "/camera/aperture_blades");
 }
 
+TEST(CameraTypes, EachProjectionReadsItsKeys) {
+    Scene scene = parse(R"("camera": {"type": "orthographic", "height": 3, "aperture_radius": 0.1,
+        "aperture": "pentagon", "focus_distance": 4})");
+    EXPECT_EQ(scene.camera.projection, CameraProjection::Orthographic);
+    EXPECT_FLOAT_EQ(scene.camera.orthographicHeight, 3.0f);
+    EXPECT_EQ(scene.camera.apertureImage.width, 256);
+    scene = parse(R"("camera": {"type": "spherical", "mapping": "equal_area", "mirror": true})");
+    EXPECT_EQ(scene.camera.sphericalMapping, SphericalMapping::EqualArea);
+    EXPECT_TRUE(scene.camera.mirrorColumns);
+    scene = parse(R"("camera": {"type": "fisheye", "fov": 220, "mapping": "equisolid"})");
+    EXPECT_EQ(scene.camera.fisheyeMapping, FisheyeMapping::Equisolid);
+    EXPECT_FLOAT_EQ(scene.camera.verticalFovDegrees, 220.0f);
+    scene = parseScene(R"({"camera": {"type": "lens_system", "lens_file": "lenses/dgauss.50mm.dat",
+        "aperture_diameter": 8, "film_diagonal": 43.3, "focus_distance": 2, "aperture": "star"}})",
+                       std::string(PENUMBRA_SOURCE_DIR) + "/scenes/scene.json");
+    EXPECT_EQ(scene.camera.projection, CameraProjection::LensSystem);
+    EXPECT_EQ(scene.camera.lensSystem.surfaces.size(), 11u);
+    EXPECT_FLOAT_EQ(scene.camera.lensSystem.apertureDiameterMm, 8.0f);
+    EXPECT_FLOAT_EQ(scene.camera.lensSystem.filmDiagonalMm, 43.3f);
+    EXPECT_FLOAT_EQ(scene.camera.focusDistance, 2.0f);
+    EXPECT_FALSE(scene.camera.apertureImage.empty());
+}
+
+TEST(CameraTypes, MistakesAreNamedAtTheirKey) {
+    auto errorOf = [](const std::string& camera) {
+        return std::string(catchInputError([&] { parse(R"("camera": )" + camera); }).what());
+    };
+    EXPECT_CONTAINS(errorOf(R"({"type": "panoramic"})"), "/camera/type");
+    EXPECT_CONTAINS(errorOf(R"({"type": "spherical", "fov": 90})"), "fov");
+    EXPECT_CONTAINS(errorOf(R"({"type": "fisheye", "fov": 400})"), "/camera/fov");
+    EXPECT_CONTAINS(errorOf(R"({"type": "orthographic", "height": 0})"), "/camera/height");
+    EXPECT_CONTAINS(errorOf(R"({"aperture_radius": 0.1, "aperture": "hexagon"})"), "/camera/aperture");
+    EXPECT_CONTAINS(errorOf(R"({"aperture_radius": 0.1, "aperture": "missing.png"})"), "missing.png");
+    EXPECT_CONTAINS(errorOf(R"({"type": "lens_system"})"), "lens_file");
+    EXPECT_CONTAINS(errorOf(R"({"type": "lens_system", "lens_file": "none.dat"})"), "/camera/lens_file");
+}
+
 TEST(ShapeMotion, TransformKeysAndVertexKeysAreRead) {
     const Scene scene = parse(std::string(kMaterials) + R"(, "camera": {"shutter": [0, 1]}, "shapes": [
         {"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "grey",

@@ -146,6 +146,31 @@ TEST(TextureFootprint, FacingPlaneMatchesPixelSpacing) {
     EXPECT_NEAR(q.dudy, 0.0f, 1e-7f);
 }
 
+// The same under parallel rays (an orthographic camera, pixelSpacing in world units): one pixel
+// covers `spacing` world units whatever the distance, and on a plane tilted by 60 degrees about
+// the x axis the neighbouring ray one pixel up lands spacing / cos(60) = 2 spacing along it.
+TEST(TextureFootprint, ParallelRaysCoverTheSameAreaAtEveryDistance) {
+    CameraFootprint camera;
+    camera.origin = {0.0f, 0.0f, 0.0f};
+    camera.right = {1.0f, 0.0f, 0.0f};
+    camera.up = {0.0f, 1.0f, 0.0f};
+    camera.parallelDirection = {0.0f, 0.0f, 1.0f};
+    camera.pixelSpacing = 0.01f;
+    const float size = 2.0f;
+    for (float d : {1.0f, 40.0f}) {
+        const TextureQuery q = textureQueryAt(camera, {0.3f, 0.2f, d}, {0.0f, 0.0f, -1.0f}, {0.5f, 0.5f},
+                                              {size, 0.0f, 0.0f}, {0.0f, size, 0.0f});
+        EXPECT_NEAR(q.dudx, 0.01f / size, 1e-6f) << d;
+        EXPECT_NEAR(q.dvdy, 0.01f / size, 1e-6f) << d;
+    }
+    const float c = 0.5f, sn = std::sqrt(3.0f) / 2.0f;  // cos and sin of 60 degrees
+    const Vec3f along{0.0f, c, sn};                     // the tilted plane's v direction
+    const TextureQuery tilted = textureQueryAt(camera, {0.0f, 0.0f, 5.0f}, {0.0f, -sn, c}, {0.5f, 0.5f},
+                                               {size, 0.0f, 0.0f}, along * size);
+    EXPECT_NEAR(tilted.dvdy, 2.0f * 0.01f / size, 1e-5f);
+    EXPECT_NEAR(tilted.dudx, 0.01f / size, 1e-6f);
+}
+
 TEST(TextureImage, UnreadableFileIsAnError) {
     const fs::path path = temporaryFile("garbage.png");
     {
