@@ -1,6 +1,7 @@
 #include "cameras/lens_system.h"
 
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -92,9 +93,12 @@ LensSystemProjection::LensSystemProjection(const CameraParams& p, float focusDis
     if (!(surfaces_.back().thickness > 0.0f))
         throw InputError("camera: focusing the lens system would put the film inside the lens");
 
-    for (int i = 0; i < kPupilIntervals; ++i)
-        exitPupil_.push_back(boundExitPupil(float(i) / kPupilIntervals * filmHalfDiagonal_,
-                                            float(i + 1) / kPupilIntervals * filmHalfDiagonal_));
+    // Each interval's bound is found on its own (the same bounds whatever the thread count).
+    exitPupil_.resize(kPupilIntervals);
+    tbb::parallel_for(0, kPupilIntervals, [&](int i) {
+        exitPupil_[size_t(i)] = boundExitPupil(float(i) / kPupilIntervals * filmHalfDiagonal_,
+                                               float(i + 1) / kPupilIntervals * filmHalfDiagonal_);
+    });
     if (std::all_of(exitPupil_.begin(), exitPupil_.end(), [](const PupilBounds& b) { return b.empty(); }))
         throw InputError("camera: no ray from the film passes through the lens system");
 }

@@ -147,6 +147,52 @@ TEST(Projections, OrthographicImagesAPointAtItsOffsetWhateverItsDepth) {
         expectEmittersAt(camera, width, height, {positions[i]}, {predicted[i]}, 0.1f, 0.1);
 }
 
+// The inverse: the ray through a raster position points where the formula says, for pixels
+// across each image (world space as in cameraAtOrigin: camera space with z negated).
+TEST(Projections, RaysLeaveInTheDirectionsTheFormulasGive) {
+    auto expectDirection = [](const Camera& camera, Vec2f raster, Vec3f expected, const char* what) {
+        const Vec3f d = camera.generateRay(raster, {0.5f, 0.5f}, 0.0f).ray.direction;
+        const Vec3f e = normalize(expected);
+        EXPECT_NEAR(d.x, e.x, 2e-5f) << what << " at " << raster.x << ", " << raster.y;
+        EXPECT_NEAR(d.y, e.y, 2e-5f) << what << " at " << raster.x << ", " << raster.y;
+        EXPECT_NEAR(d.z, e.z, 2e-5f) << what << " at " << raster.x << ", " << raster.y;
+    };
+    const Camera equirectangular(cameraAtOrigin(CameraProjection::Spherical), 128, 64);
+    for (Vec2f raster : {Vec2f{10.5f, 7.25f}, Vec2f{64.0f, 32.0f}, Vec2f{100.0f, 50.0f}}) {
+        const float azimuth = (raster.x / 128.0f - 0.5f) * 360.0f,
+                    elevation = (0.5f - raster.y / 64.0f) * 180.0f;
+        expectDirection(equirectangular, raster, worldDirection(azimuth, elevation), "equirectangular");
+    }
+    for (FisheyeMapping mapping : {FisheyeMapping::Equidistant, FisheyeMapping::Equisolid}) {
+        CameraParams params = cameraAtOrigin(CameraProjection::Fisheye);
+        params.fisheyeMapping = mapping;
+        params.verticalFovDegrees = 200.0f;
+        const Camera fisheye(params, 96, 96);
+        for (Vec2f raster : {Vec2f{60.0f, 20.0f}, Vec2f{48.0f, 48.0f}, Vec2f{5.0f, 70.0f}}) {
+            const float x = (raster.x - 48.0f) / 48.0f, y = (48.0f - raster.y) / 48.0f, r = std::hypot(x, y);
+            const float halfFov = 100.0f * kDegree;
+            const float theta = mapping == FisheyeMapping::Equidistant
+                                    ? r * halfFov
+                                    : 2.0f * std::asin(r * std::sin(0.5f * halfFov));
+            const float phi = std::atan2(y, x);
+            expectDirection(
+                fisheye, raster,
+                {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), -std::cos(theta)},
+                "fisheye");
+        }
+    }
+    CameraParams params = cameraAtOrigin(CameraProjection::Orthographic);
+    params.orthographicHeight = 4.0f;
+    const Camera orthographic(params, 96, 64);
+    for (Vec2f raster : {Vec2f{10.0f, 5.0f}, Vec2f{80.5f, 60.0f}}) {
+        const Ray ray = orthographic.generateRay(raster, {0.5f, 0.5f}, 0.0f).ray;
+        EXPECT_NEAR(ray.origin.x, (raster.x - 48.0f) / 16.0f, 1e-5f);
+        EXPECT_NEAR(ray.origin.y, (32.0f - raster.y) / 16.0f, 1e-5f);
+        EXPECT_NEAR(ray.origin.z, 0.0f, 1e-6f);
+        expectDirection(orthographic, raster, {0.0f, 0.0f, -1.0f}, "orthographic");
+    }
+}
+
 // A spherical image of nothing but an environment, at the environment map's resolution, looking
 // along +z with +y up: every pixel sees exactly its own texel.
 TEST(Projections, SphericalImageOfAnEnvironmentIsItsMap) {
