@@ -38,5 +38,5 @@ cp "$out/convergence-soft-shadows/strip.png" docs/convergence-soft-shadows-strip
 
 echo "docs/veach-mis-convergence.png"
 "$penumbra" converge scenes/veach-mis.json --spp 1,2,4,...,32 --sampler stratified --res 320x180 \
-    --strategy mis,bsdf,light --reference-spp 1024 -o "$out/veach"
+    --strategy mis,bsdf,light --seeds 3 --reference-spp 1024 -o "$out/veach"
 cp "$out/veach/convergence.png" docs/veach-mis-convergence.png

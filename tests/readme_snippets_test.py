@@ -17,6 +17,8 @@ What a block's info string (the word after the opening fence) says is done with 
   sh not-run REASON a command that cannot run inside the test suite (it installs packages,
                     builds the project or runs a benchmark); the reason is required.
 Any other info string, or none, fails the test: every block either runs or says why it does not.
+With PENUMBRA_SNIPPETS_KEEP=DIR set, the convergence studies the README's commands ran are kept in
+DIR (their convergence.json files, by folder) for docs_figures_test.py.
 """
 
 import os
@@ -86,6 +88,21 @@ def render_scene(text, workdir, env, where, failures, wrap):
     return ok
 
 
+def keep_outputs(md, source, workdir):
+    """The convergence studies' results of the README's commands (their out/*/convergence.json), for
+    docs_figures_test.py: copied to $PENUMBRA_SNIPPETS_KEEP when it is set."""
+    keep = os.environ.get("PENUMBRA_SNIPPETS_KEEP")
+    if not keep or os.path.relpath(md, source) != "README.md":
+        return
+    shutil.rmtree(keep, ignore_errors=True)
+    out = os.path.join(workdir, "out")
+    for root, _, files in os.walk(out):
+        if "convergence.json" in files:
+            target = os.path.join(keep, os.path.relpath(root, out))
+            os.makedirs(target, exist_ok=True)
+            shutil.copy(os.path.join(root, "convergence.json"), target)
+
+
 def main():
     source, binary = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
     files = [os.path.abspath(p) for p in sys.argv[3:]] or list(markdown_files(source))
@@ -125,6 +142,7 @@ def main():
                         failures.append(f"{where}: fenced block with info string '{info}': mark it 'sh', 'jsonc', "
                                         f"'jsonc fragment', 'text' or 'sh not-run REASON' (tests/readme_snippets_test.py)")
             finally:
+                keep_outputs(md, source, workdir)
                 shutil.rmtree(workdir, ignore_errors=True)
     finally:
         shutil.rmtree(bindir, ignore_errors=True)
