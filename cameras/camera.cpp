@@ -1,5 +1,7 @@
 #include "cameras/camera.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -19,6 +21,10 @@ Projection makeProjection(const CameraParams& p, int filmWidth, int filmHeight) 
         case CameraProjection::Orthographic:
             return OrthographicProjection(p, focusDistance, filmWidth, filmHeight);
         case CameraProjection::Spherical:
+            if (p.sphericalMapping == SphericalMapping::EqualArea && filmWidth != filmHeight)
+                throw InputError(
+                    fmt::format("camera: an equal-area spherical image is square; the film is {}x{}",
+                                filmWidth, filmHeight));
             return SphericalProjection(p, filmWidth, filmHeight);
         case CameraProjection::Fisheye:
             return FisheyeProjection(p, filmWidth, filmHeight);

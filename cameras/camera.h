@@ -57,7 +57,6 @@ public:
     // What a texture lookup's footprint needs of the camera (textures/texture_footprint.h), at
     // shutter open, for `samplesPerPixel` samples per pixel.
     CameraFootprint footprint(int samplesPerPixel) const;
-    const Projection& projection() const { return projection_; }
 
 private:
     CameraRay generateOtherRay(Vec2f filmPosition, Vec2f lensSample, float timeSample) const;

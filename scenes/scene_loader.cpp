@@ -1,5 +1,7 @@
 #include "scenes/scene_loader.h"
 
+#include <fmt/format.h>
+
 #include <string>
 #include <vector>
 
@@ -34,6 +36,12 @@ Scene buildScene(const Json& document, const fs::path& file) {
     const fs::path folder = file.parent_path();
     if (auto v = top.get("camera")) scene.camera = readCamera(*v, folder);
     if (auto v = top.get("film")) scene.film = readFilm(*v);
+    // An equal-area spherical image is square (its octahedral map covers the square).
+    if (scene.camera.projection == CameraProjection::Spherical &&
+        scene.camera.sphericalMapping == SphericalMapping::EqualArea && scene.film.width != scene.film.height)
+        top.get("camera")->requiredMember("mapping").fail(
+            fmt::format("an equal-area spherical image is square; the film is {}x{}", scene.film.width,
+                        scene.film.height));
     if (auto v = top.get("integrator")) scene.integrator = readIntegrator(*v);
     if (auto v = top.get("render")) scene.settings = readRender(*v);
     if (auto v = top.get("background")) scene.environment = readBackground(*v);

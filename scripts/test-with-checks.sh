@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The test suite again in an optimised build with the invariant checks on (PENUMBRA_CHECK,
 # core/check.h), in build-checks/. CI runs it after scripts/test.sh. Left out: the tests of the
-# tooling around renders (a Slurm cluster, the README's commands, the moved install), which run
+# tooling around renders (a Slurm cluster, the README's commands and its figures, the moved install), which run
 # no invariant that the rest does not, and take a third of the suite's time.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -14,6 +14,6 @@ fi
 cmake --build build-checks --parallel "$(nproc)"
 status=0
 ctest --test-dir build-checks --output-on-failure --parallel "$(nproc)" \
-    --exclude-regex "^SlurmCluster\.|^readme_snippets_test|^install_relocatable_test" "$@" || status=$?
+    --exclude-regex "^SlurmCluster\.|^readme_snippets_test|^docs_figures_test|^install_relocatable_test" "$@" || status=$?
 scripts/skip-reasons.sh build-checks
 exit $status

@@ -19,7 +19,11 @@ import sys
 
 
 def load(outputs, folder):
-    with open(os.path.join(outputs, folder, "convergence.json"), encoding="utf-8") as f:
+    path = os.path.join(outputs, folder, "convergence.json")
+    if not os.path.isfile(path):
+        raise SystemExit(f"{path} is missing: the README's commands must have run first "
+                         "(readme_snippets_test.py with PENUMBRA_SNIPPETS_KEEP set; ctest runs it before this test)")
+    with open(path, encoding="utf-8") as f:
         return json.load(f)
 
 

@@ -92,6 +92,12 @@ TEST(CameraTypes, MistakesAreNamedAtTheirKey) {
     EXPECT_CONTAINS(errorOf(R"({"aperture_radius": 0.1, "aperture": "hexagon"})"), "/camera/aperture");
     EXPECT_CONTAINS(errorOf(R"({"aperture_radius": 0.1, "aperture": "missing.png"})"), "missing.png");
     EXPECT_CONTAINS(errorOf(R"({"type": "lens_system"})"), "lens_file");
+    const InputError notSquare = catchInputError([] {
+        parse(
+            R"("camera": {"type": "spherical", "mapping": "equal_area"}, "film": {"resolution": [64, 32]})");
+    });
+    EXPECT_CONTAINS(notSquare.what(), "/camera/mapping");
+    EXPECT_CONTAINS(notSquare.what(), "64x32");
     EXPECT_CONTAINS(errorOf(R"({"type": "lens_system", "lens_file": "none.dat"})"), "/camera/lens_file");
 }
 
