@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The test suite again in an optimised build with the invariant checks on (PENUMBRA_CHECK,
 # core/check.h), in build-checks/. CI runs it after scripts/test.sh. Left out: the tests of the
-# tooling around renders (a Slurm cluster, the README's commands and its figures, the moved install), which run
-# no invariant that the rest does not, and take a third of the suite's time.
+# tooling around renders (a Slurm cluster, the README's commands and its figures, the moved
+# install), which run no invariant that the rest does not, and take a third of the suite's time.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh build tools test
