@@ -12,6 +12,7 @@
 #include "core/sampling.h"
 #include "film/film.h"
 #include "renderer/render.h"
+#include "tests/support/aperture_correlation.h"
 #include "tests/support/scene_builders.h"
 
 namespace penumbra {
@@ -128,26 +129,11 @@ TEST(Aperture, OutOfFocusPointImagesToTheApertureImage) {
     const float blurRadius = aperture * std::abs(1.0f / focus - 1.0f / depth) * pixelsPerUnit;
     ASSERT_GT(blurRadius, 20.0f);
     const Aperture star = Aperture::image(scene.camera.apertureImage);
-    // Pearson correlation of the film with the aperture's transmission (or its mirror image) on
-    // a 24 x 24 grid over [-1, 1]^2, each cell the mean of the 3 x 3 pixels around its centre (the
-    // noise of a pixel is about 20%).
-    auto correlation = [&](bool mirrored) {
-        constexpr int kGrid = 24;
-        double sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0;
-        for (int j = 0; j < kGrid; ++j)
-            for (int i = 0; i < kGrid; ++i) {
-                const float u = -1.0f + 2.0f * (i + 0.5f) / kGrid, v = 1.0f - 2.0f * (j + 0.5f) / kGrid;
-                const int x = int(0.5f * kSize + u * blurRadius), y = int(0.5f * kSize - v * blurRadius);
-                double a = 0;
-                for (int dy = -1; dy <= 1; ++dy)
-                    for (int dx = -1; dx <= 1; ++dx) a += film.at(x + dx, y + dy).mean().g / 9.0;
-                const double b = star.transmission({mirrored ? -u : u, v});
-                sa += a, sb += b, saa += a * a, sbb += b * b, sab += a * b;
-            }
-        const double n = kGrid * kGrid;
-        return (sab - sa * sb / n) / std::sqrt((saa - sa * sa / n) * (sbb - sb * sb / n));
-    };
-    const double upright = correlation(false), mirrored = correlation(true);
+    // The blur is centred on the image's centre (the chief ray); a pixel's noise is about 20%.
+    const double upright =
+        testing::apertureCorrelation(film, star, 0.5 * kSize, 0.5 * kSize, blurRadius, false);
+    const double mirrored =
+        testing::apertureCorrelation(film, star, 0.5 * kSize, 0.5 * kSize, blurRadius, true);
     EXPECT_GT(upright, 0.9);
     EXPECT_LT(mirrored, upright - 0.1);
 }

@@ -15,6 +15,7 @@
 #include "core/sampling.h"
 #include "film/film.h"
 #include "renderer/render.h"
+#include "tests/support/aperture_correlation.h"
 #include "tests/support/scene_builders.h"
 
 namespace penumbra {
@@ -305,23 +306,8 @@ TEST(LensSystem, OutOfFocusPointImagesToTheStopsApertureImage) {
     const double scale = std::sqrt(r2 / (imageR2 / imageTotal));  // pixels per unit of the image
     ASSERT_GT(scale, 15.0);
     ASSERT_LT(scale, 0.45 * kSize);
-    auto correlation = [&](bool mirrored) {
-        constexpr int kGrid = 24;
-        double sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0;
-        for (int j = 0; j < kGrid; ++j)
-            for (int i = 0; i < kGrid; ++i) {
-                const float u = -1.0f + 2.0f * (i + 0.5f) / kGrid, v = 1.0f - 2.0f * (j + 0.5f) / kGrid;
-                const int x = int(cx + u * scale), y = int(cy - v * scale);
-                double a = 0;
-                for (int dy = -1; dy <= 1; ++dy)
-                    for (int dx = -1; dx <= 1; ++dx) a += film.at(x + dx, y + dy).mean().g / 9.0;
-                const double b = star.transmission({mirrored ? -u : u, v});
-                sa += a, sb += b, saa += a * a, sbb += b * b, sab += a * b;
-            }
-        const double n = kGrid * kGrid;
-        return (sab - sa * sb / n) / std::sqrt((saa - sa * sa / n) * (sbb - sb * sb / n));
-    };
-    const double upright = correlation(false), mirrored = correlation(true);
+    const double upright = testing::apertureCorrelation(film, star, cx, cy, scale, false);
+    const double mirrored = testing::apertureCorrelation(film, star, cx, cy, scale, true);
     EXPECT_GT(upright, 0.8) << "mirrored " << mirrored << ", scale " << scale;
     EXPECT_LT(mirrored, upright - 0.1);
 }
