@@ -4,7 +4,7 @@ much light reaches it. Run with Debian's Python (python3-numpy, python3-openimag
 built by ../shared/peers/build-pbrt-v4.sh:
 
     /usr/bin/python3 bench/pbrt_cameras.py [--binary build/tools/penumbra]
-        [--pbrt /work/pbrt-peer/build/pbrt] [--threads 2] [--out build/pbrt-cameras]
+        --pbrt OUT_DIR/build/pbrt [--threads 2] [--out build/pbrt-cameras]
 
 Writes the scenes below to --out, renders each with both programs (--threads each, one after the
 other) and writes bench/results/pbrt-cameras.md:
@@ -137,14 +137,16 @@ def match(a, b):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--binary", default=os.path.join(ROOT, "build/tools/penumbra"))
-    parser.add_argument("--pbrt", default="/work/pbrt-peer/build/pbrt")
+    parser.add_argument("--pbrt", default=os.environ.get("PENUMBRA_PBRT_PEER"), required="PENUMBRA_PBRT_PEER" not in os.environ,
+                        help="pbrt-v4's binary, OUT_DIR/build/pbrt of ../shared/peers/build-pbrt-v4.sh OUT_DIR "
+                             "(default: $PENUMBRA_PBRT_PEER)")
     parser.add_argument("--threads", type=int, default=2)
     parser.add_argument("--out", default=os.path.join(ROOT, "build/pbrt-cameras"))
     args = parser.parse_args()
     os.makedirs(args.out, exist_ok=True)
     shutil.copy(os.path.join(ROOT, "scenes/lenses/dgauss.50mm.dat"), args.out)
     lines = ["# penumbra's cameras against pbrt-v4's", "",
-             "`/usr/bin/python3 bench/pbrt_cameras.py` (the scenes are in its docstring); both programs render the",
+             "`/usr/bin/python3 bench/pbrt_cameras.py --pbrt PBRT` (the scenes are in its docstring); both programs render the",
              f"same pbrt-v4 file with {args.threads} threads. Positions in pixels, ratios penumbra / pbrt-v4.", ""]
     for name, text in scenes().items():
         folder = os.path.join(args.out, name)

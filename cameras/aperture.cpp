@@ -28,6 +28,12 @@ Aperture Aperture::image(const ApertureImage& image) {
     return aperture;
 }
 
+Aperture Aperture::ofThinLens(const CameraParams& p) {
+    if (!p.apertureImage.empty()) return image(p.apertureImage);
+    if (p.apertureBlades >= 3) return polygon(p.apertureBlades, p.apertureRotationDegrees);
+    return {};
+}
+
 Vec2f Aperture::sample(Vec2f u) const {
     if (blades_ < 3) {
         if (image_.empty()) return sampleUniformDiskConcentric(u);

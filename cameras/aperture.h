@@ -20,6 +20,8 @@ public:
     static Aperture polygon(int blades, float rotationDegrees);
     // The image over [-1, 1]^2 (camera_params.h); throws InputError when it lets no light through.
     static Aperture image(const ApertureImage& image);
+    // The thin lens's aperture a camera's parameters describe: its image, else its blades, else round.
+    static Aperture ofThinLens(const CameraParams& params);
 
     // A point of the unit aperture (the disk, polygon or square [-1, 1]^2) from a uniform sample,
     // with density proportional to the transmission. Continuous and monotone in each coordinate of

@@ -18,12 +18,9 @@ public:
           invWidth_(1.0f / float(filmWidth)),
           invHeight_(1.0f / float(filmHeight)),
           apertureRadius_(p.apertureRadius),
-          focusDistance_(focusDistance) {
+          focusDistance_(focusDistance),
+          aperture_(Aperture::ofThinLens(p)) {
         if (!(p.orthographicHeight > 0.0f)) throw InputError("camera: an orthographic height must be > 0");
-        if (!p.apertureImage.empty())
-            aperture_ = Aperture::image(p.apertureImage);
-        else if (p.apertureBlades >= 3)
-            aperture_ = Aperture::polygon(p.apertureBlades, p.apertureRotationDegrees);
     }
 
     CameraSpaceRay generate(Vec2f filmPosition, Vec2f lensSample) const {

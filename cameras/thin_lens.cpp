@@ -17,10 +17,7 @@ ThinLensProjection::ThinLensProjection(const CameraParams& p, float focusDistanc
     invHeight_ = 1.0f / float(filmHeight);
     apertureRadius_ = p.apertureRadius;
     focusDistance_ = focusDistance;
-    if (!p.apertureImage.empty())
-        aperture_ = Aperture::image(p.apertureImage);
-    else if (p.apertureBlades >= 3)
-        aperture_ = Aperture::polygon(p.apertureBlades, p.apertureRotationDegrees);
+    aperture_ = Aperture::ofThinLens(p);
 }
 
 }  // namespace penumbra
