@@ -90,6 +90,11 @@ constexpr int kMaxPathDepth = 1024;
 // the square of the corners; 1024 take no time worth noticing (bench/README.md, "Speed tricks").
 constexpr int kMaxObjFaceCorners = 1024;
 
+// Triangles a subdivision surface is refined into (geometry/loop_subdivision.h): each level makes
+// four of one, so a small file asking for many levels would otherwise ask for any amount of memory.
+// 2^26 triangles take 1.5 GiB with their vertices, and a traversal structure several more.
+constexpr uint64_t kMaxSubdividedTriangles = uint64_t(1) << 26;
+
 // Worker threads (--threads). TBB's arena teardown crashes beyond 65536; no machine has 4096 cores.
 constexpr int kMaxThreads = 4096;
 

@@ -14,6 +14,7 @@
 #include "core/input_limits.h"
 #include "core/motion.h"
 #include "core/transform.h"
+#include "geometry/loop_subdivision.h"
 #include "scenes/material_reader.h"
 #include "scenes/medium_reader.h"
 #include "scenes/mesh_import.h"
@@ -308,6 +309,25 @@ TriangleMesh readMeshFile(const JsonValue& value, const fs::path& folder, std::v
     return mesh;
 }
 
+// "subdivision": {"scheme": "loop", "levels": 3}: the mesh as the control mesh of a subdivision
+// surface, refined at load (geometry/loop_subdivision.h).
+TriangleMesh subdividedIfAsked(TriangleMesh mesh, const JsonValue& shape) {
+    const auto value = shape.member("subdivision");
+    if (!value) return mesh;
+    const JsonObject object(*value, {"scheme", "levels"});
+    if (auto scheme = object.get("scheme")) scheme->choice({"loop"});
+    int levels = 3;
+    if (auto v = object.get("levels")) levels = int(v->integer(0, 16));
+    if (auto motion = shape.member("motion"); motion && motion->member("positions"))
+        value->fail(
+            "a subdivision surface cannot deform (motion \"positions\"): move it with \"transforms\"");
+    try {
+        return loopSubdivide(mesh, levels);
+    } catch (const InputError& e) {
+        value->fail(e.message());
+    }
+}
+
 TriangleMesh readQuad(const JsonValue& value) {
     const Vec3f corner = value.requiredMember("corner").vec3();
     const Vec3f edge1 = value.requiredMember("edge1").vec3();
@@ -454,14 +474,14 @@ void addMeshShape(TriangleMesh mesh, const JsonValue& value, bool allowPositionK
 }
 
 void readTriangleMeshShape(const JsonValue& value, ShapeContext& context) {
-    TriangleMesh mesh = readInlineMesh(value);
+    TriangleMesh mesh = subdividedIfAsked(readInlineMesh(value), value);
     mesh.name = value.pointer();
     addMeshShape(std::move(mesh), value, true, context.scene, context.folder);
 }
 
 void readMeshFileShape(const JsonValue& value, ShapeContext& context) {
-    addMeshShape(readMeshFile(value, context.folder, context.scene.meshFiles), value, false, context.scene,
-                 context.folder);
+    addMeshShape(subdividedIfAsked(readMeshFile(value, context.folder, context.scene.meshFiles), value),
+                 value, false, context.scene, context.folder);
 }
 
 void readQuadShape(const JsonValue& value, ShapeContext& context) {
@@ -541,11 +561,11 @@ using ShapeReader = void (*)(const JsonValue&, ShapeContext&);
 
 const std::array<TypeRow<ShapeReader>, 6> kShapeTypes{{
     {"triangle_mesh",
-     {"type", "positions", "indices", "normals", "uvs", "material", "emission", "transform", "motion",
-      "inside", "outside"},
+     {"type", "positions", "indices", "normals", "uvs", "subdivision", "material", "emission", "transform",
+      "motion", "inside", "outside"},
      readTriangleMeshShape},
     {"mesh_file",
-     {"type", "file", "material", "emission", "transform", "motion", "inside", "outside"},
+     {"type", "file", "subdivision", "material", "emission", "transform", "motion", "inside", "outside"},
      readMeshFileShape},
     {"quad",
      {"type", "corner", "edge1", "edge2", "material", "emission", "transform", "motion", "inside", "outside"},
@@ -567,16 +587,20 @@ const std::array<TypeRow<ShapeReader>, 6> kShapeTypes{{
 // motion belong to the instances.
 using PrototypeReader = TriangleMesh (*)(const JsonValue&, ShapeContext&);
 
-TriangleMesh readInlinePrototype(const JsonValue& value, ShapeContext&) { return readInlineMesh(value); }
+TriangleMesh readInlinePrototype(const JsonValue& value, ShapeContext&) {
+    return subdividedIfAsked(readInlineMesh(value), value);
+}
 TriangleMesh readMeshFilePrototype(const JsonValue& value, ShapeContext& context) {
-    return readMeshFile(value, context.folder, context.scene.meshFiles);
+    return subdividedIfAsked(readMeshFile(value, context.folder, context.scene.meshFiles), value);
 }
 TriangleMesh readQuadPrototype(const JsonValue& value, ShapeContext&) { return readQuad(value); }
 TriangleMesh readDiskPrototype(const JsonValue& value, ShapeContext&) { return readDisk(value); }
 
 const std::array<TypeRow<PrototypeReader>, 4> kPrototypeTypes{{
-    {"triangle_mesh", {"type", "positions", "indices", "normals", "uvs", "transform"}, readInlinePrototype},
-    {"mesh_file", {"type", "file", "transform"}, readMeshFilePrototype},
+    {"triangle_mesh",
+     {"type", "positions", "indices", "normals", "uvs", "subdivision", "transform"},
+     readInlinePrototype},
+    {"mesh_file", {"type", "file", "subdivision", "transform"}, readMeshFilePrototype},
     {"quad", {"type", "corner", "edge1", "edge2", "transform"}, readQuadPrototype},
     {"disk", {"type", "center", "normal", "radius", "segments", "transform"}, readDiskPrototype},
 }};

@@ -1082,7 +1082,7 @@ std::optional<Json> SceneBuilder::shapeGeometry(const ShapeRecord& record, bool 
     const bool reverse = record.state.reverseOrientation;
     Json shape = Json::object();
 
-    if (type == "trianglemesh" || type == "bilinearmesh") {
+    if (type == "trianglemesh" || type == "bilinearmesh" || type == "loopsubdiv") {
         const bool bilinear = type == "bilinearmesh";
         const std::vector<Vec3d> positions = p.getPoint3s("P");
         if (positions.empty()) failAt(where, fmt::format("{} needs vertex positions (\"point3 P\")", type));
@@ -1142,6 +1142,14 @@ std::optional<Json> SceneBuilder::shapeGeometry(const ShapeRecord& record, bool 
             }
         }
         shape["type"] = "triangle_mesh";
+        if (type == "loopsubdiv") {
+            // The triangles are the control mesh, refined at load (geometry/loop_subdivision.h).
+            const int64_t levels = p.getInt("levels").value_or(3);
+            if (levels < 0 || levels > 16)
+                failAt(p.find("levels", {ParamType::Integer})->where,
+                       fmt::format("loopsubdiv: \"levels\" must be from 0 to 16, found {}", levels));
+            shape["subdivision"] = Json{{"scheme", "loop"}, {"levels", levels}};
+        }
         Json jp = Json::array();
         jp.get_ref<Json::array_t&>().reserve(positions.size());
         for (const Vec3d& v : positions) jp.push_back(vec3Json(v));

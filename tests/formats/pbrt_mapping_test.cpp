@@ -802,6 +802,53 @@ TEST(PbrtMapping, EmittingRgbGridAndCloudMedia) {
                     "1 values for \"sigma_s\"; nx * ny * nz = 2 x 1 x 1 = 2 colours expected");
 }
 
+// A killeroo's shape: pbrt-v4's loopsubdiv, here a cube's control mesh of 12 triangles, refined
+// at load into 12 * 4^levels triangles on the limit surface (inside the control cube, rounded),
+// facing outward as the control mesh's winding does, inward under ReverseOrientation.
+TEST(PbrtMapping, LoopSubdivisionSurfacesAreRefinedAtLoad) {
+    const std::string cube =
+        "Shape \"loopsubdiv\" \"integer levels\" 2 \"point3 P\" [-1 -1 -1 1 -1 -1 -1 1 -1 1 1 -1 -1 -1 1 1 "
+        "-1 1 "
+        "-1 1 1 1 1 1] \"integer indices\" [0 2 3 0 3 1 4 5 7 4 7 6 0 1 5 0 5 4 2 6 7 2 7 3 0 4 6 0 6 2 1 3 "
+        "7 "
+        "1 7 5]\n";
+    for (const bool reverse : {false, true}) {
+        const fs::path dir = fs::temp_directory_path() / "penumbra_pbrt_loopsubdiv_test";
+        fs::create_directories(dir);
+        std::ofstream(dir / "scene.pbrt") << kCamera << "WorldBegin\n"
+                                          << (reverse ? "ReverseOrientation\n" : "") << cube;
+        const PbrtConversion c = convertPbrtFile(dir / "scene.pbrt");
+        EXPECT_EQ(c.document["shapes"][0]["subdivision"], (Json{{"scheme", "loop"}, {"levels", 2}}));
+        EXPECT_FALSE(hasWarning(c, "left out"));
+        std::vector<std::string> warnings;
+        const Scene scene = loadSceneFile(dir / "scene.pbrt", {{}, &warnings});
+        fs::remove_all(dir);
+        ASSERT_EQ(scene.meshes.size(), 1u);
+        const TriangleMesh& mesh = scene.meshes[0];
+        ASSERT_EQ(mesh.triangleCount(), 12u * 16u);
+        ASSERT_EQ(mesh.normals.size(), mesh.positions.size());
+        float nearest = 2.0f, outermost = 0.0f;
+        for (size_t i = 0; i < mesh.positions.size(); ++i) {
+            const Vec3f p = mesh.positions[i];
+            nearest = std::min(nearest, length(p));
+            outermost = std::max({outermost, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+            const float side = dot(mesh.normals[i], normalize(p));
+            EXPECT_GT(reverse ? -side : side, 0.5f) << i;
+        }
+        // Rounded, inside the control cube: measured 0.858 from the centre at the nearest, 0.870 at
+        // the outermost coordinate (the control cube's faces are at 1, its corners at 1.73).
+        EXPECT_GT(nearest, 0.8f);
+        EXPECT_LT(outermost, 0.9f);
+    }
+    const InputError levels = testing::catchInputError([&] {
+        convert(
+            "WorldBegin\nShape \"loopsubdiv\" \"integer levels\" -1 \"point3 P\" [0 0 0 1 0 0 0 1 0] "
+            "\"integer indices\" [0 1 2]\n");
+    });
+    EXPECT_CONTAINS(levels.what(), "test.pbrt:2");
+    EXPECT_CONTAINS(levels.message(), "\"levels\" must be from 0 to 16, found -1");
+}
+
 TEST(PbrtMapping, IncludedFilesAreCoveredByTheSceneHash) {
     const fs::path dir = fs::temp_directory_path() / "penumbra_pbrt_hash_test";
     fs::create_directories(dir);

@@ -292,6 +292,38 @@ TEST(SceneTransforms, InlineMeshNormalsAreTransformed) {
     expectNear(windingNormal(mesh, 0), {0, 0, -1});  // winding agrees with the mirrored normals
 }
 
+// A subdivision surface is refined at load (geometry/loop_subdivision.h has the scheme's tests):
+// a tetrahedron's 4 triangles become 4 * 4^2, a transform applies to the refined surface.
+TEST(SceneLoader, SubdivisionRefinesAMeshAtLoad) {
+    const std::string tetrahedron = R"("positions": [[1, 1, 1], [1, -1, -1], [-1, 1, -1], [-1, -1, 1]],
+        "indices": [0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2])";
+    const Scene scene = sceneWithShape(R"({"type": "triangle_mesh", "material": "m", )" + tetrahedron +
+                                       R"(, "subdivision": {"scheme": "loop", "levels": 2},
+        "transform": [{"translate": [10, 0, 0]}]})");
+    const TriangleMesh& mesh = scene.meshes[0];
+    ASSERT_EQ(mesh.triangleCount(), 64u);
+    // Vertex 0 keeps its index; its limit is (1, 1, 1) / 5 (the closed form of the scheme's test).
+    expectNear(mesh.positions[0], {10.2f, 0.2f, 0.2f});
+
+    InputError e = catchInputError([&] {
+        sceneWithShape(R"({"type": "triangle_mesh", "material": "m", )" + tetrahedron +
+                       R"(, "subdivision": {"scheme": "catmull"}})");
+    });
+    EXPECT_CONTAINS(e.what(), "/shapes/0/subdivision/scheme: expected one of: loop");
+    e = catchInputError([&] {
+        sceneWithShape(R"({"type": "triangle_mesh", "material": "m", )" + tetrahedron +
+                       R"(, "subdivision": {"levels": 14}})");
+    });
+    EXPECT_CONTAINS(
+        e.what(), "/shapes/0/subdivision: 14 levels of subdivision would make more than 67108864 triangles");
+    e = catchInputError([] {
+        sceneWithShape(R"({"type": "triangle_mesh", "material": "m", "subdivision": {},
+            "positions": [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1]],
+            "indices": [0, 1, 2, 1, 0, 3, 0, 1, 4]})");
+    });
+    EXPECT_CONTAINS(e.what(), "/shapes/0/subdivision: Loop subdivision needs a manifold mesh");
+}
+
 // ---- Bad input ----
 
 // Spot lights: the cone from the axis to its edge and the falloff band inside it, in degrees
