@@ -3,10 +3,12 @@
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#include <zlib.h>
 
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <vector>
 
 #include "core/error.h"
 
@@ -36,7 +38,8 @@ std::string describeBytes(uint64_t bytes) {
     return text;
 }
 
-InputFile::InputFile(const std::filesystem::path& path, const char* what, uint64_t maxBytes) : path_(path) {
+InputFile::InputFile(const std::filesystem::path& path, const char* what, uint64_t maxBytes)
+    : path_(path), what_(what), maxBytes_(maxBytes) {
     // O_NONBLOCK: opening a FIFO for reading would otherwise wait for a writer, forever.
     fd_ = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
     if (fd_ < 0) {
@@ -86,6 +89,31 @@ std::string InputFile::readAll() {
     }
     bytes.resize(done);
     return bytes;
+}
+
+std::string InputFile::readAllGzip() {
+    gzFile gz = gzdopen(fd_, "rb");
+    if (!gz) throwFileError(path_, "cannot open the " + what_ + " for reading");
+    release();  // gzclose closes it now
+    std::string out;
+    std::vector<char> buffer(1 << 20);
+    int n = 0;
+    while ((n = gzread(gz, buffer.data(), unsigned(buffer.size()))) > 0) {
+        if (out.size() + size_t(n) > maxBytes_) {
+            gzclose(gz);
+            throwFileError(path_, "the " + what_ + " decompresses to more than " + describeBytes(maxBytes_) +
+                                      ", penumbra's limit (docs/limits.md)");
+        }
+        out.append(buffer.data(), size_t(n));
+    }
+    // A truncated stream reads as a short file; zlib reports it through gzerror and gzclose.
+    int code = Z_OK;
+    const std::string reason = gzerror(gz, &code);
+    const int closed = gzclose(gz);
+    if (n < 0 || code != Z_OK || closed != Z_OK)
+        throwFileError(path_, "cannot decompress the gzip data: " +
+                                  (n < 0 || code != Z_OK ? reason : "the compressed stream is truncated"));
+    return out;
 }
 
 }  // namespace penumbra

@@ -1,6 +1,6 @@
-// Opening what the user names as input (scene, mesh, film files) safely: a FIFO would block
-// open() forever and /dev/zero would be read until memory runs out, so only regular files are
-// read, opened without blocking, and only up to a documented size (core/input_limits.h).
+// Opening what the user names as input (scene, mesh, film files, gzip-compressed or not) safely: a FIFO would
+// block open() forever and /dev/zero would be read until memory runs out, so only regular files are read,
+// opened without blocking, and only up to a documented size (core/input_limits.h).
 #pragma once
 
 #include <cstdint>
@@ -26,11 +26,17 @@ public:
     int release();
     // The whole file; throws InputError on a read error.
     std::string readAll();
+    // The whole file decompressed from gzip (zlib reads an uncompressed file unchanged), at most
+    // the `maxBytes` the file was opened with: a few megabytes of gzip can inflate to any size.
+    // Throws InputError naming the file on corrupt or truncated data or beyond the limit.
+    std::string readAllGzip();
 
 private:
     std::filesystem::path path_;
+    std::string what_;
     int fd_ = -1;
     uint64_t size_ = 0;
+    uint64_t maxBytes_ = 0;
 };
 
 // "1.5 GiB", "300.0 MiB", "12 bytes": a size for messages.

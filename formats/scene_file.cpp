@@ -106,7 +106,10 @@ void requireSceneOrPointAtExamples(const fs::path& file) {
 
 }  // namespace
 
-bool isPbrtScene(const fs::path& file) { return file.extension() == ".pbrt"; }
+bool isPbrtScene(const fs::path& file) {
+    const std::string name = file.filename().string();
+    return name.ends_with(".pbrt") || name.ends_with(".pbrt.gz");
+}
 
 Scene loadSceneFile(const fs::path& file, const SceneFileOptions& options) {
     requireSceneOrPointAtExamples(file);
@@ -156,7 +159,7 @@ void rebaseFileNames(Json& value, const fs::path& from, const fs::path& to) {
 
 std::string convertSceneToJson(const fs::path& file, const fs::path& output,
                                std::vector<std::string>* warnings) {
-    if (!isPbrtScene(file)) throwFileError(file, "convert reads pbrt-v4 scenes (.pbrt)");
+    if (!isPbrtScene(file)) throwFileError(file, "convert reads pbrt-v4 scenes (.pbrt, or .pbrt.gz)");
     pbrt::PbrtConversion conversion = pbrt::convertPbrtFile(file);
     emitWarnings(conversion.warnings, warnings);
     // Check that the scene builds before anything is written.

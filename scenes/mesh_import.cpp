@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 #include <tiny_obj_loader.h>
-#include <zlib.h>
 
 #include <algorithm>
 #include <bit>
@@ -93,35 +92,6 @@ void forEachObjLine(std::string_view text, Visit visit) {
 
 std::string readPlainFile(const fs::path& path, uint64_t maxBytes) {
     return InputFile(path, "mesh file", maxBytes).readAll();
-}
-
-// Decompresses a whole gzip file in memory (zlib reads an uncompressed file unchanged), up to
-// `maxBytes` of output: a few megabytes of gzip can inflate to any size.
-std::string readGzipFile(const fs::path& path, uint64_t maxBytes) {
-    InputFile file(path, "mesh file", maxBytes);
-    gzFile gz = gzdopen(file.fd(), "rb");
-    if (!gz) fail(path.string(), "cannot open the file for reading");
-    file.release();  // gzclose closes it now
-    std::string out;
-    std::vector<char> buffer(1 << 20);
-    int n = 0;
-    while ((n = gzread(gz, buffer.data(), unsigned(buffer.size()))) > 0) {
-        if (out.size() + size_t(n) > maxBytes) {
-            gzclose(gz);
-            fail(path.string(), fmt::format("the mesh file decompresses to more than {}, penumbra's limit "
-                                            "(docs/limits.md)",
-                                            describeBytes(maxBytes)));
-        }
-        out.append(buffer.data(), size_t(n));
-    }
-    // A truncated stream reads as a short file; zlib reports it through gzerror and gzclose.
-    int code = Z_OK;
-    const std::string reason = gzerror(gz, &code);
-    const int closed = gzclose(gz);
-    if (n < 0 || code != Z_OK || closed != Z_OK)
-        fail(path.string(), "cannot decompress the gzip data: " +
-                                (n < 0 || code != Z_OK ? reason : "the compressed stream is truncated"));
-    return out;
 }
 
 // Defence in depth: whatever a loader produced, the mesh handed on must be one that the rest of the
@@ -798,7 +768,8 @@ TriangleMesh importMesh(const fs::path& file, uint64_t maxBytes) {
                    [](unsigned char c) { return char(std::tolower(c)); });
     if (lower.ends_with(".obj")) return importObj(readPlainFile(file, maxBytes), name);
     if (lower.ends_with(".ply")) return importPly(readPlainFile(file, maxBytes), name);
-    if (lower.ends_with(".ply.gz")) return importPly(readGzipFile(file, maxBytes), name);
+    if (lower.ends_with(".ply.gz"))
+        return importPly(InputFile(file, "mesh file", maxBytes).readAllGzip(), name);
     fail(name, "unsupported mesh file type (expected a name ending in .obj, .ply or .ply.gz)");
 }
 
@@ -808,6 +779,24 @@ void transformMesh(TriangleMesh& mesh, const Transform& transform) {
     if (transform.swapsHandedness())
         for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3)
             std::swap(mesh.indices[t + 1], mesh.indices[t + 2]);
+}
+
+void orientFaces(TriangleMesh& mesh, FrontSide side) {
+    const bool reverse = side == FrontSide::Reversed || side == FrontSide::ReversedNormals;
+    const bool byNormals =
+        (side == FrontSide::Normals || side == FrontSide::ReversedNormals) && !mesh.normals.empty();
+    if (reverse)
+        for (Vec3f& n : mesh.normals) n = -n;
+    for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+        uint32_t* i = &mesh.indices[t];
+        bool swap = reverse && !byNormals;
+        if (byNormals) {
+            const Vec3f winding = cross(mesh.positions[i[1]] - mesh.positions[i[0]],
+                                        mesh.positions[i[2]] - mesh.positions[i[0]]);
+            swap = dot(winding, mesh.normals[i[0]] + mesh.normals[i[1]] + mesh.normals[i[2]]) < 0.0f;
+        }
+        if (swap) std::swap(i[1], i[2]);
+    }
 }
 
 }  // namespace penumbra

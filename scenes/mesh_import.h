@@ -8,6 +8,7 @@
 // files), which reports the line (ASCII) or the element (binary) of what is wrong.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -36,5 +37,15 @@ TriangleMesh importPly(std::string_view bytes, const std::string& fileForMessage
 // renormalized). A mirroring transform (negative determinant) would turn the winding, and so the
 // front face, inside out; each triangle's winding is swapped to keep front faces in front.
 void transformMesh(TriangleMesh& mesh, const Transform& transform);
+
+// Which side of a mesh file's triangles is the front (a "mesh_file"'s `front`).
+enum class FrontSide : uint8_t {
+    Winding,          // counter-clockwise (the default)
+    Reversed,         // clockwise
+    Normals,          // the side of each triangle's vertex normals (pbrt-v4's rule), else Winding
+    ReversedNormals,  // the other side, the normals turned too (pbrt-v4's ReverseOrientation)
+};
+// Swaps the winding of the triangles whose front is not already on `side`.
+void orientFaces(TriangleMesh& mesh, FrontSide side);
 
 }  // namespace penumbra

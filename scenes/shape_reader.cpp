@@ -305,6 +305,8 @@ TriangleMesh readMeshFile(const JsonValue& value, const fs::path& folder, std::v
         throw InputError(e.where(), fmt::format("{} (mesh file of {}: {})", e.message(), fileValue.file(),
                                                 fileValue.pointer()));
     }
+    if (auto front = value.member("front"))
+        orientFaces(mesh, FrontSide(front->choice({"winding", "reversed", "normals", "reversed_normals"})));
     mesh.name = fmt::format("{} ({})", value.pointer(), path.filename().string());
     return mesh;
 }
@@ -565,7 +567,8 @@ const std::array<TypeRow<ShapeReader>, 6> kShapeTypes{{
       "motion", "inside", "outside"},
      readTriangleMeshShape},
     {"mesh_file",
-     {"type", "file", "subdivision", "material", "emission", "transform", "motion", "inside", "outside"},
+     {"type", "file", "front", "subdivision", "material", "emission", "transform", "motion", "inside",
+      "outside"},
      readMeshFileShape},
     {"quad",
      {"type", "corner", "edge1", "edge2", "material", "emission", "transform", "motion", "inside", "outside"},
@@ -600,7 +603,7 @@ const std::array<TypeRow<PrototypeReader>, 4> kPrototypeTypes{{
     {"triangle_mesh",
      {"type", "positions", "indices", "normals", "uvs", "subdivision", "transform"},
      readInlinePrototype},
-    {"mesh_file", {"type", "file", "subdivision", "transform"}, readMeshFilePrototype},
+    {"mesh_file", {"type", "file", "front", "subdivision", "transform"}, readMeshFilePrototype},
     {"quad", {"type", "corner", "edge1", "edge2", "transform"}, readQuadPrototype},
     {"disk", {"type", "center", "normal", "radius", "segments", "transform"}, readDiskPrototype},
 }};

@@ -119,7 +119,10 @@ public:
     void parseFile(const fs::path& file) {
         InputFile input(file, "scene file", limits::kMaxSceneFileBytes);
         firstReading(input);
-        parseFile(input, file, 0);
+        const std::string text = readText(input, file);
+        distinctBytes_ += text.size();
+        filesRead_.push_back(file);
+        parseText(text, file, 0);
     }
 
     // Scene text given in memory: as a file read for the first time.
@@ -174,47 +177,49 @@ private:
                             "files, each Include or Import counted every time it is read (docs/limits.md)",
                             d.name, name.string(), fileReads_ + 1, limits::kMaxPbrtFileReads));
         InputFile input(path, "scene file", limits::kMaxSceneFileBytes);
-        if (textBytes_ + input.size() > limits::kMaxPbrtTextBytes)
+        const bool first = firstReading(input);
+        const std::string text = readText(input, path);
+        if (textBytes_ + text.size() > limits::kMaxPbrtTextBytes)
             tokens.fail(
                 at, fmt::format(
                         "{} \"{}\" ({}) would bring the text read for this scene to {}: a pbrt scene reads "
                         "at most {} of text, each Include or Import counted every time it is read "
                         "(docs/limits.md)",
-                        d.name, name.string(), describeBytes(input.size()),
-                        describeBytes(textBytes_ + input.size()), describeBytes(limits::kMaxPbrtTextBytes)));
+                        d.name, name.string(), describeBytes(text.size()),
+                        describeBytes(textBytes_ + text.size()), describeBytes(limits::kMaxPbrtTextBytes)));
         // Reading a file again adds nothing to the input, but the scene made of it grows (to about
         // nine times the text): as much text again as the distinct files hold, or a little.
-        if (!firstReading(input)) {
+        if (first) {
+            distinctBytes_ += text.size();
+        } else {
             const uint64_t allowed = std::max(limits::kMinPbrtRereadBytes, distinctBytes_);
-            if (rereadBytes_ + input.size() > allowed)
+            if (rereadBytes_ + text.size() > allowed)
                 tokens.fail(
                     at, fmt::format(
                             "{} \"{}\" ({}, read before) would bring the text read again to {}: a pbrt scene "
                             "reads its files again for at most {}, as much as its distinct files hold ({}) "
                             "or {} if that is more (docs/limits.md)",
-                            d.name, name.string(), describeBytes(input.size()),
-                            describeBytes(rereadBytes_ + input.size()), describeBytes(allowed),
+                            d.name, name.string(), describeBytes(text.size()),
+                            describeBytes(rereadBytes_ + text.size()), describeBytes(allowed),
                             describeBytes(distinctBytes_), describeBytes(limits::kMinPbrtRereadBytes)));
-            rereadBytes_ += input.size();
+            rereadBytes_ += text.size();
         }
-        parseFile(input, path, depth + 1);
+        filesRead_.push_back(path);
+        parseText(text, path, depth + 1);
     }
 
     // Whether this is the first reading of the file (by device and inode: "b.pbrt" and
-    // "./b.pbrt" are one file); the first counts towards the distinct files' text.
+    // "./b.pbrt" are one file); the first counts towards the distinct files' text. Asked before
+    // the file is read (a gzip reading closes it).
     bool firstReading(const InputFile& input) {
         struct stat status {};
-        if (::fstat(input.fd(), &status) != 0 || !filesSeen_.insert({status.st_dev, status.st_ino}).second)
-            return false;
-        distinctBytes_ += input.size();
-        return true;
+        return ::fstat(input.fd(), &status) == 0 && filesSeen_.insert({status.st_dev, status.st_ino}).second;
     }
 
-    void parseFile(InputFile& input, const fs::path& file, int depth) {
-        // The text outlives this call's tokens: directives copy what they keep.
-        const std::string text = input.readAll();
-        filesRead_.push_back(file);
-        parseText(text, file, depth);
+    // The file's text, decompressed when its name ends in ".gz" (as pbrt-v4 reads it). It
+    // outlives the tokens made of it: directives copy what they keep.
+    static std::string readText(InputFile& input, const fs::path& file) {
+        return file.extension() == ".gz" ? input.readAllGzip() : input.readAll();
     }
 
     double number(Tokenizer& tokens, const Token& t) {
@@ -299,16 +304,21 @@ private:
         std::vector<Parameter> parameters;
         while (tokens.peek().kind == Token::Kind::String) {
             const Token declaration = tokens.next();
-            const std::string text = tokens.stringValue(declaration);
+            const std::string quoted = tokens.stringValue(declaration);
+            // pbrt-v4 skips white space around the type and the name: the official bunny-fur scene
+            // declares " float beta_n".
+            constexpr const char* kSpace = " \t\r\n";
+            const size_t first = quoted.find_first_not_of(kSpace), last = quoted.find_last_not_of(kSpace);
+            const std::string text = first == std::string::npos ? "" : quoted.substr(first, last - first + 1);
             Parameter p;
             p.where = tokens.locationOf(declaration);
-            const size_t space = text.find_first_of(" \t");
+            const size_t space = text.find_first_of(kSpace);
             const size_t nameStart =
-                space == std::string::npos ? std::string::npos : text.find_first_not_of(" \t", space);
-            if (nameStart == std::string::npos || text.find_first_of(" \t", nameStart) != std::string::npos)
+                space == std::string::npos ? std::string::npos : text.find_first_not_of(kSpace, space);
+            if (nameStart == std::string::npos || text.find_first_of(kSpace, nameStart) != std::string::npos)
                 tokens.fail(
                     declaration,
-                    fmt::format("expected a parameter declaration \"TYPE NAME\", found \"{}\"", text));
+                    fmt::format("expected a parameter declaration \"TYPE NAME\", found \"{}\"", quoted));
             const std::string typeName = text.substr(0, space);
             const std::optional<ParamType> type = paramTypeFromName(typeName);
             if (!type)

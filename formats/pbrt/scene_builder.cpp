@@ -1185,10 +1185,9 @@ std::optional<Json> SceneBuilder::shapeGeometry(const ShapeRecord& record, bool 
                    fmt::format("plymesh: mesh file \"{}\" not found (looked for {})", *file, path.string()));
         shape["type"] = "mesh_file";
         shape["file"] = *file;
-        if (reverse)
-            log_.warn(
-                where,
-                "ReverseOrientation on a plymesh is not supported: its faces keep the winding of the file");
+        // pbrt-v4 faces each triangle to the file's normals where it has them, and turns both
+        // under ReverseOrientation.
+        shape["front"] = reverse ? "reversed_normals" : "normals";
         if (p.has("displacement")) log_.warn(where, "plymesh displacement is not supported");
         p.markAllUsed();
     } else if (type == "sphere") {

@@ -200,6 +200,14 @@ TEST(PbrtMapping, ReverseOrientationAndNormalsChooseTheFrontFace) {
     EXPECT_EQ(normals.document["shapes"][0]["indices"], Json::array({0, 2, 1}));
     // A mirroring transform keeps a triangle's front (the loader swaps the winding with it), but
     // turns a disk's (pbrt-v4 flips the normals of quadrics then).
+    // A PLY mesh faces its file's normals, the other way under ReverseOrientation (the loader's
+    // "front": tests/scenes/scene_loader_test.cpp).
+    const std::string ply =
+        "Shape \"plymesh\" \"string filename\" \"" +
+        (fs::path(PENUMBRA_SOURCE_DIR) / "tests/data/scenes/meshes/square_ascii.ply").string() + "\"\n";
+    EXPECT_EQ(convert(kCamera + "WorldBegin\n" + ply).document["shapes"][0]["front"], "normals");
+    EXPECT_EQ(convert(kCamera + "WorldBegin\nReverseOrientation\n" + ply).document["shapes"][0]["front"],
+              "reversed_normals");
     auto disk = convert(kCamera + "WorldBegin\nScale 1 1 -1\nShape \"disk\" \"float height\" 2\n");
     EXPECT_EQ(disk.document["shapes"][0]["normal"], Json::array({0.0, 0.0, -1.0}));
     EXPECT_EQ(disk.document["shapes"][0]["center"], Json::array({0.0, 0.0, 2.0}));

@@ -2,6 +2,7 @@
 // their places, every parameter type with and without brackets, each directive's arguments, and
 // Include / Import.
 #include <gtest/gtest.h>
+#include <zlib.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -10,9 +11,11 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/input_limits.h"
 #include "formats/pbrt/parser.h"
 #include "formats/pbrt/tokenizer.h"
 #include "formats/pbrt/warning_log.h"
+#include "formats/scene_file.h"
 
 namespace penumbra::pbrt {
 namespace {
@@ -105,6 +108,25 @@ TEST(PbrtParameters, EveryTypeWithAndWithoutBrackets) {
     }
 }
 
+// pbrt-v4 skips white space around a declaration's type and name: the official bunny-fur scene
+// declares " float beta_n". A declaration is still two words.
+TEST(PbrtParameters, WhiteSpaceAroundTheTypeAndNameIsSkipped) {
+    const auto d =
+        parse("Shape \"x\" \" float beta_n\" 0.3 \"\\tinteger  levels \" 2 \"point3\\nP\" [1 2 3]");
+    ASSERT_EQ(d.size(), 1u);
+    EXPECT_EQ(*d[0].parameters.getFloat("beta_n"), 0.3);
+    EXPECT_EQ(*d[0].parameters.getInt("levels"), 2);
+    EXPECT_EQ(d[0].parameters.getPoint3s("P").size(), 1u);
+    for (const char* bad : {"\" float \"", "\"float a b\"", "\"  \""}) try {
+            parse(std::string("Shape \"x\" ") + bad + " 1");
+            ADD_FAILURE() << bad << " was read";
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find("expected a parameter declaration \"TYPE NAME\""),
+                      std::string::npos)
+                << e.what();
+        }
+}
+
 TEST(PbrtParameters, UnusedAreReportedWithCounts) {
     const auto d = parse("Shape \"x\" \"float used\" 1 \"float unused\" 2\nShape \"x\" \"float unused\" 3");
     WarningLog log;
@@ -163,6 +185,72 @@ TEST(PbrtParser, IncludeAndImportReadFilesRelativeToTheSceneFile) {
     EXPECT_EQ(r.directives[2].strings[0], "disk");
     ASSERT_EQ(files.size(), 3u);
     EXPECT_EQ(files[0], dir / "main.pbrt");
+    fs::remove_all(dir);
+}
+
+void writeGzip(const fs::path& file, const std::string& text) {
+    gzFile gz = gzopen(file.c_str(), "wb");
+    ASSERT_NE(gz, nullptr);
+    ASSERT_EQ(gzwrite(gz, text.data(), unsigned(text.size())), int(text.size()));
+    ASSERT_EQ(gzclose(gz), Z_OK);
+}
+
+// Scenes ship their big meshes as gzip-compressed includes (pbrt-v4 reads any file whose name ends
+// in ".gz" so); a truncated one is an error naming it, and one that inflates beyond the scene-file
+// limit stops there.
+TEST(PbrtParser, GzipCompressedIncludesAreDecompressed) {
+    const fs::path dir = fs::temp_directory_path() / "penumbra_pbrt_gzip_test";
+    fs::create_directories(dir);
+    writeGzip(dir / "geometry.pbrt.gz", "Shape \"sphere\"\n# a comment\nShape \"disk\"\n");
+    std::ofstream(dir / "main.pbrt") << "WorldBegin\nImport \"geometry.pbrt.gz\"\n";
+    Recorder r;
+    std::vector<fs::path> files;
+    parseSceneFile(dir / "main.pbrt", r, files);
+    ASSERT_EQ(r.directives.size(), 3u);
+    EXPECT_EQ(r.directives[2].strings[0], "disk");
+    EXPECT_EQ(r.directives[2].where.file, (dir / "geometry.pbrt.gz").string());
+    EXPECT_EQ(r.directives[2].where.line, 3);
+    // The main file too, which the renderer takes for a pbrt scene by its name.
+    writeGzip(dir / "whole.pbrt.gz", "WorldBegin\nShape \"sphere\"\n");
+    Recorder whole;
+    parseSceneFile(dir / "whole.pbrt.gz", whole, files);
+    EXPECT_EQ(whole.directives.size(), 2u);
+    EXPECT_TRUE(isPbrtScene(dir / "whole.pbrt.gz"));
+    EXPECT_FALSE(isPbrtScene(dir / "mesh.ply.gz"));
+
+    // A download cut short: the first half of a gzip stream.
+    writeGzip(dir / "broken.pbrt.gz", std::string(4000, '#') + "\nShape \"sphere\"\n");
+    fs::resize_file(dir / "broken.pbrt.gz", fs::file_size(dir / "broken.pbrt.gz") / 2);
+    std::ofstream(dir / "broken.pbrt") << "WorldBegin\nInclude \"broken.pbrt.gz\"\n";
+    try {
+        parseSceneFile(dir / "broken.pbrt", r, files);
+        ADD_FAILURE() << "a corrupt gzip file was read";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("broken.pbrt.gz: cannot decompress the gzip data"),
+                  std::string::npos)
+            << e.what();
+    }
+
+    // Zeros compress about a thousandfold: a 0.3 MiB file that inflates past 256 MiB.
+    {
+        gzFile gz = gzopen((dir / "bomb.pbrt.gz").c_str(), "wb9");
+        ASSERT_NE(gz, nullptr);
+        const std::string zeros(1 << 20, ' ');
+        for (uint64_t written = 0; written <= limits::kMaxSceneFileBytes; written += zeros.size())
+            ASSERT_EQ(gzwrite(gz, zeros.data(), unsigned(zeros.size())), int(zeros.size()));
+        ASSERT_EQ(gzclose(gz), Z_OK);
+    }
+    EXPECT_LT(fs::file_size(dir / "bomb.pbrt.gz"), uint64_t(1) << 20);
+    std::ofstream(dir / "bomb.pbrt") << "WorldBegin\nInclude \"bomb.pbrt.gz\"\n";
+    try {
+        parseSceneFile(dir / "bomb.pbrt", r, files);
+        ADD_FAILURE() << "a gzip bomb was read";
+    } catch (const InputError& e) {
+        EXPECT_NE(
+            std::string(e.what()).find("bomb.pbrt.gz: the scene file decompresses to more than 256.0 MiB"),
+            std::string::npos)
+            << e.what();
+    }
     fs::remove_all(dir);
 }
 

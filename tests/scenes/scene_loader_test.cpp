@@ -324,6 +324,36 @@ TEST(SceneLoader, SubdivisionRefinesAMeshAtLoad) {
     EXPECT_CONTAINS(e.what(), "/shapes/0/subdivision: Loop subdivision needs a manifold mesh");
 }
 
+// A mesh file's front side: its winding (the default), the other side, or pbrt-v4's rule, the
+// side of the vertex normals (turned with the normals under ReverseOrientation). The file's one
+// triangle winds to +z while its normals point to -z.
+TEST(SceneLoader, AMeshFilesFrontIsItsWindingOrItsNormals) {
+    const fs::path dir = fs::temp_directory_path() / "penumbra_mesh_front_test";
+    fs::create_directories(dir);
+    std::ofstream(dir / "tri.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 -1\nf 1//1 2//1 3//1\n";
+    const struct {
+        const char* front;
+        Vec3f facing, normal;
+    } cases[] = {{"winding", {0, 0, 1}, {0, 0, -1}},
+                 {"reversed", {0, 0, -1}, {0, 0, 1}},
+                 {"normals", {0, 0, -1}, {0, 0, -1}},
+                 {"reversed_normals", {0, 0, 1}, {0, 0, 1}}};
+    for (const auto& c : cases) {
+        const Scene scene = sceneWithShape(R"({"type": "mesh_file", "material": "m", "file": ")" +
+                                           (dir / "tri.obj").string() + R"(", "front": ")" + c.front + "\"}");
+        SCOPED_TRACE(c.front);
+        expectNear(windingNormal(scene.meshes[0], 0), c.facing);
+        expectNear(scene.meshes[0].normals[0], c.normal);
+    }
+    const InputError e = catchInputError([&] {
+        sceneWithShape(R"({"type": "mesh_file", "material": "m", "file": ")" + (dir / "tri.obj").string() +
+                       R"(", "front": "back"})");
+    });
+    EXPECT_CONTAINS(e.what(),
+                    "/shapes/0/front: expected one of: winding, reversed, normals, reversed_normals");
+    fs::remove_all(dir);
+}
+
 // ---- Bad input ----
 
 // Spot lights: the cone from the axis to its edge and the falloff band inside it, in degrees
