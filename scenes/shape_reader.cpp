@@ -344,27 +344,124 @@ TriangleMesh readQuad(const JsonValue& value) {
     return mesh;
 }
 
-// A disk as a fan of triangles around its centre; front normal = `normal`. With the default 256
-// segments its area is 0.99990 of the round disk's, so lighting from it agrees to 1e-4.
+// The angles a disk or cylinder sweeps about its axis `n` (unit): counter-clockwise from
+// `start_direction` (default: Frame::fromNormal's first tangent) through `phi_max` degrees (default
+// 360), in `segments` steps per full turn (default 256).
+struct AngularSweep {
+    Frame frame;           // phi = 0 along s, phi = 90 degrees along t = cross(n, s)
+    double phiMax = 0.0;   // radians
+    int steps = 0;         // segments over [0, phiMax]
+    bool fullTurn = true;  // the last step joins the first
+
+    Vec2f cosSin(int step) const {
+        const double angle = phiMax * step / steps;
+        return {float(std::cos(angle)), float(std::sin(angle))};
+    }
+    // The point at `radius` from the axis at a step, in the plane through the axis's origin.
+    Vec3f at(float radius, int step) const {
+        const Vec2f cs = cosSin(step);
+        return frame.toWorld({radius * cs.x, radius * cs.y, 0.0f});
+    }
+    int rimVertices() const { return fullTurn ? steps : steps + 1; }
+};
+
+AngularSweep readSweep(const JsonValue& value, Vec3f n) {
+    AngularSweep sweep;
+    sweep.frame = Frame::fromNormal(n);
+    if (auto v = value.member("start_direction")) {
+        const Vec3f start = v->vec3();
+        const Vec3f inPlane = start - n * dot(start, n);
+        if (!(length(inPlane) > 1e-4f * length(start)))
+            v->failExpected("a direction not parallel to the axis");
+        sweep.frame.s = normalize(inPlane), sweep.frame.t = cross(n, sweep.frame.s);
+    }
+    int segments = 256;
+    if (auto v = value.member("segments")) segments = int(v->integer(3, 1 << 16));
+    double degrees = 360.0;
+    if (auto v = value.member("phi_max")) degrees = v->numberInRange(0.0f, 360.0f);
+    if (!(degrees > 0.0)) value.requiredMember("phi_max").failExpected("an angle above 0 degrees");
+    sweep.fullTurn = degrees == 360.0;
+    sweep.phiMax = sweep.fullTurn ? 2.0 * 3.14159265358979323846 : degrees * (3.14159265358979323846 / 180.0);
+    sweep.steps = sweep.fullTurn ? segments : std::max(1, int(std::ceil(segments * degrees / 360.0)));
+    return sweep;
+}
+
+// A disk as a fan of triangles around its centre (a ring of quads when it has an inner radius);
+// front normal = `normal`. With the default 256 segments its area is 0.99990 of the round disk's,
+// so lighting from it agrees to 1e-4.
 TriangleMesh readDisk(const JsonValue& value) {
     const Vec3f center = value.requiredMember("center").vec3();
     const JsonValue normalValue = value.requiredMember("normal");
     const Vec3f normal = normalValue.vec3();
     if (!(lengthSquared(normal) > 0.0f)) normalValue.failExpected("a non-zero normal");
     const float radius = value.requiredMember("radius").numberAbove(0.0f);
-    int segments = 256;
-    if (auto v = value.member("segments")) segments = int(v->integer(3, 1 << 16));
-    const Frame frame = Frame::fromNormal(normalize(normal));
+    float inner = 0.0f;
+    if (auto v = value.member("inner_radius")) {
+        inner = v->numberAtLeast(0.0f);
+        if (!(inner < radius)) v->failExpected(fmt::format("an inner radius below the radius ({})", radius));
+    }
+    const AngularSweep sweep = readSweep(value, normalize(normal));
     TriangleMesh mesh;
-    mesh.positions.push_back(center);
-    mesh.uvs.push_back({0.5f, 0.5f});
-    for (int i = 0; i < segments; ++i) {
-        const double angle = 2.0 * 3.14159265358979323846 * i / segments;
-        const float c = float(std::cos(angle)), sn = float(std::sin(angle));
-        mesh.positions.push_back(center + frame.toWorld({radius * c, radius * sn, 0.0f}));
-        mesh.uvs.push_back({0.5f + 0.5f * c, 0.5f + 0.5f * sn});
-        // Counter-clockwise seen from the front: (centre, i, i + 1) has normal +frame.n.
-        mesh.indices.insert(mesh.indices.end(), {0u, uint32_t(1 + i), uint32_t(1 + (i + 1) % segments)});
+    // uvs: the plane's, the disk's centre at (0.5, 0.5) and its rim on the unit square's inscribed circle.
+    auto addRing = [&](float r) {
+        for (int i = 0; i < sweep.rimVertices(); ++i) {
+            const Vec2f cs = sweep.cosSin(i);
+            mesh.positions.push_back(center + sweep.at(r, i));
+            mesh.uvs.push_back({0.5f + 0.5f * (r / radius) * cs.x, 0.5f + 0.5f * (r / radius) * cs.y});
+        }
+    };
+    const int rim = sweep.rimVertices();
+    if (inner == 0.0f) {
+        mesh.positions.push_back(center);
+        mesh.uvs.push_back({0.5f, 0.5f});
+        addRing(radius);
+        // Counter-clockwise seen from the front: (centre, i, i + 1) has normal +n.
+        for (int i = 0; i < sweep.steps; ++i)
+            mesh.indices.insert(mesh.indices.end(), {0u, uint32_t(1 + i), uint32_t(1 + (i + 1) % rim)});
+    } else {
+        addRing(inner);
+        addRing(radius);
+        for (int i = 0; i < sweep.steps; ++i) {
+            const uint32_t a = uint32_t(i), b = uint32_t((i + 1) % rim), c = uint32_t(rim + (i + 1) % rim),
+                           d = uint32_t(rim + i);
+            mesh.indices.insert(mesh.indices.end(), {a, d, c, a, c, b});
+        }
+    }
+    return mesh;
+}
+
+// An open cylinder (pbrt-v4's `cylinder`: no caps) of `radius` around the segment from `base` to
+// `base + axis`, as a band of `segments` quads with the cylinder's own normals at its vertices;
+// `front` "outside" (default) or "inside". With the default 256 segments its area is 0.99997 of
+// the round cylinder's.
+TriangleMesh readCylinder(const JsonValue& value) {
+    const Vec3f base = value.requiredMember("base").vec3();
+    const JsonValue axisValue = value.requiredMember("axis");
+    const Vec3f axis = axisValue.vec3();
+    if (!(lengthSquared(axis) > 0.0f)) axisValue.failExpected("a non-zero axis (from the base to the top)");
+    const float radius = value.requiredMember("radius").numberAbove(0.0f);
+    bool inside = false;
+    if (auto v = value.member("front")) inside = v->choice({"outside", "inside"}) == 1;
+    const AngularSweep sweep = readSweep(value, normalize(axis));
+    TriangleMesh mesh;
+    // steps + 1 vertices a ring: a full turn ends on a copy of its first vertex with u = 1, so that
+    // textures do not wrap back across the last quad.
+    const int rim = sweep.steps + 1;
+    for (int ring = 0; ring < 2; ++ring)
+        for (int i = 0; i < rim; ++i) {
+            const Vec3f radial = sweep.at(1.0f, sweep.fullTurn && i == sweep.steps ? 0 : i);
+            mesh.positions.push_back(base + axis * float(ring) + radial * radius);
+            mesh.normals.push_back(inside ? -radial : radial);
+            // pbrt-v4's (u, v): the angle's fraction of phi_max, and the height's.
+            mesh.uvs.push_back({float(i) / float(sweep.steps), float(ring)});
+        }
+    for (int i = 0; i < sweep.steps; ++i) {
+        const uint32_t a = uint32_t(i), b = uint32_t(i + 1), c = uint32_t(rim + i + 1), d = uint32_t(rim + i);
+        // (a, b, c) turns counter-clockwise about the axis, then up: its normal points outward.
+        if (inside)
+            mesh.indices.insert(mesh.indices.end(), {a, c, b, a, d, c});
+        else
+            mesh.indices.insert(mesh.indices.end(), {a, b, c, a, c, d});
     }
     return mesh;
 }
@@ -498,6 +595,12 @@ void readDiskShape(const JsonValue& value, ShapeContext& context) {
     addMeshShape(std::move(mesh), value, false, context.scene, context.folder);
 }
 
+void readCylinderShape(const JsonValue& value, ShapeContext& context) {
+    TriangleMesh mesh = readCylinder(value);
+    mesh.name = value.pointer();
+    addMeshShape(std::move(mesh), value, false, context.scene, context.folder);
+}
+
 // Whether every vertex of `mesh` placed by `toWorld` lies within the coordinate limit: the
 // corners of its box, placed, bound them all.
 bool placedWithinCoordinateLimit(const TriangleMesh& mesh, const Transform& toWorld) {
@@ -561,7 +664,7 @@ void readInstance(const JsonValue& value, ShapeContext& context) {
 
 using ShapeReader = void (*)(const JsonValue&, ShapeContext&);
 
-const std::array<TypeRow<ShapeReader>, 6> kShapeTypes{{
+const std::array<TypeRow<ShapeReader>, 7> kShapeTypes{{
     {"triangle_mesh",
      {"type", "positions", "indices", "normals", "uvs", "subdivision", "material", "emission", "transform",
       "motion", "inside", "outside"},
@@ -577,9 +680,13 @@ const std::array<TypeRow<ShapeReader>, 6> kShapeTypes{{
      {"type", "center", "radius", "material", "emission", "transform", "motion", "inside", "outside"},
      readSphere},
     {"disk",
-     {"type", "center", "normal", "radius", "segments", "material", "emission", "transform", "motion",
-      "inside", "outside"},
+     {"type", "center", "normal", "radius", "inner_radius", "phi_max", "start_direction", "segments",
+      "material", "emission", "transform", "motion", "inside", "outside"},
      readDiskShape},
+    {"cylinder",
+     {"type", "base", "axis", "radius", "phi_max", "start_direction", "front", "segments", "material",
+      "emission", "transform", "motion", "inside", "outside"},
+     readCylinderShape},
     {"instance",
      {"type", "prototype", "material", "emission", "transform", "motion", "inside", "outside"},
      readInstance},
@@ -598,14 +705,21 @@ TriangleMesh readMeshFilePrototype(const JsonValue& value, ShapeContext& context
 }
 TriangleMesh readQuadPrototype(const JsonValue& value, ShapeContext&) { return readQuad(value); }
 TriangleMesh readDiskPrototype(const JsonValue& value, ShapeContext&) { return readDisk(value); }
+TriangleMesh readCylinderPrototype(const JsonValue& value, ShapeContext&) { return readCylinder(value); }
 
-const std::array<TypeRow<PrototypeReader>, 4> kPrototypeTypes{{
+const std::array<TypeRow<PrototypeReader>, 5> kPrototypeTypes{{
     {"triangle_mesh",
      {"type", "positions", "indices", "normals", "uvs", "subdivision", "transform"},
      readInlinePrototype},
     {"mesh_file", {"type", "file", "front", "subdivision", "transform"}, readMeshFilePrototype},
     {"quad", {"type", "corner", "edge1", "edge2", "transform"}, readQuadPrototype},
-    {"disk", {"type", "center", "normal", "radius", "segments", "transform"}, readDiskPrototype},
+    {"disk",
+     {"type", "center", "normal", "radius", "inner_radius", "phi_max", "start_direction", "segments",
+      "transform"},
+     readDiskPrototype},
+    {"cylinder",
+     {"type", "base", "axis", "radius", "phi_max", "start_direction", "front", "segments", "transform"},
+     readCylinderPrototype},
 }};
 
 }  // namespace

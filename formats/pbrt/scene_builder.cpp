@@ -1207,20 +1207,46 @@ std::optional<Json> SceneBuilder::shapeGeometry(const ShapeRecord& record, bool 
         shape["type"] = "sphere";
         shape["center"] = Json::array({0.0, 0.0, 0.0});
         shape["radius"] = radius;
-    } else if (type == "disk") {
-        const double radius = p.getFloat("radius").value_or(1.0), height = p.getFloat("height").value_or(0.0);
-        if (!(radius > 0.0)) failAt(where, fmt::format("disk: the radius must be > 0, found {}", radius));
-        if (const double inner = p.getFloat("innerradius").value_or(0.0); inner < 0.0)
-            failAt(where, fmt::format("disk: the inner radius must be >= 0, found {}", inner));
-        if (p.getFloat("innerradius").value_or(0.0) > 0.0 || p.getFloat("phimax").value_or(360.0) < 360.0)
-            failAt(
-                where,
-                "partial disks (innerradius, phimax) are not supported: penumbra renders whole disks only");
-        shape["type"] = "disk";
-        shape["center"] = Json::array({0.0, 0.0, height});
-        // pbrt's disk faces +z, flipped by ReverseOrientation and by a mirroring transform.
-        shape["normal"] = Json::array({0.0, 0.0, reverse != swaps ? -1.0 : 1.0});
-        shape["radius"] = radius;
+    } else if (type == "disk" || type == "cylinder") {
+        const bool disk = type == "disk";
+        const double radius = p.getFloat("radius").value_or(1.0);
+        if (!(radius > 0.0)) failAt(where, fmt::format("{}: the radius must be > 0, found {}", type, radius));
+        // pbrt-v4 clamps phimax to [0, 360]; none of it is no shape.
+        const double phimax = std::clamp(p.getFloat("phimax").value_or(360.0), 0.0, 360.0);
+        if (!(phimax > 0.0)) failAt(where, fmt::format("{}: phimax must be above 0 degrees", type));
+        // pbrt's disk faces +z and its cylinder outward, both flipped by ReverseOrientation and by a
+        // mirroring transform (pbrt-v4 flips the normals of quadrics then).
+        const bool flipped = reverse != swaps;
+        if (disk) {
+            const double height = p.getFloat("height").value_or(0.0);
+            const double inner = p.getFloat("innerradius").value_or(0.0);
+            if (!(inner >= 0.0 && inner < radius))
+                failAt(where,
+                       fmt::format("disk: the inner radius must be from 0 to below the radius ({}), found {}",
+                                   radius, inner));
+            shape["type"] = "disk";
+            shape["center"] = Json::array({0.0, 0.0, height});
+            shape["normal"] = Json::array({0.0, 0.0, flipped ? -1.0 : 1.0});
+            shape["radius"] = radius;
+            if (inner > 0.0) shape["inner_radius"] = inner;
+        } else {
+            double zmin = p.getFloat("zmin").value_or(-1.0), zmax = p.getFloat("zmax").value_or(1.0);
+            if (zmin > zmax) std::swap(zmin, zmax);  // as pbrt-v4
+            if (!(zmax > zmin)) failAt(where, "cylinder: zmin and zmax are equal: it has no height");
+            shape["type"] = "cylinder";
+            shape["base"] = Json::array({0.0, 0.0, zmin});
+            shape["axis"] = Json::array({0.0, 0.0, zmax - zmin});
+            shape["radius"] = radius;
+            if (flipped) shape["front"] = "inside";
+        }
+        if (phimax < 360.0) {
+            shape["phi_max"] = phimax;
+            // pbrt-v4 sweeps phi counter-clockwise about +z from +x; a disk facing -z sweeps about -z,
+            // so it starts where pbrt-v4's sweep ends.
+            const double end = phimax / kDegrees;
+            shape["start_direction"] = disk && flipped ? Json::array({std::cos(end), std::sin(end), 0.0})
+                                                       : Json::array({1.0, 0.0, 0.0});
+        }
     } else {
         p.markAllUsed();
         log_.warn(where, fmt::format("Shape \"{}\" is not supported and was left out", type));

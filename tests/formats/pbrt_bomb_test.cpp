@@ -350,8 +350,9 @@ TEST(PbrtBombs, NegativeRoughnessAndInnerRadiusAreRefused) {
                          "r.pbrt:5:22: parameter \"float roughness\" must be >= 0, found -1"));
     EXPECT_TRUE(contains(messageOf("Material \"dielectric\" \"float vroughness\" -0.5\nShape \"sphere\"\n"),
                          "r.pbrt:5:23: parameter \"float vroughness\" must be >= 0, found -0.5"));
-    EXPECT_TRUE(contains(messageOf("Shape \"disk\" \"float innerradius\" -1\n"),
-                         "r.pbrt:5:1: disk: the inner radius must be >= 0, found -1"));
+    EXPECT_TRUE(
+        contains(messageOf("Shape \"disk\" \"float innerradius\" -1\n"),
+                 "r.pbrt:5:1: disk: the inner radius must be from 0 to below the radius (1), found -1"));
 }
 
 }  // namespace

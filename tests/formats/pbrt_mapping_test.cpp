@@ -857,6 +857,38 @@ TEST(PbrtMapping, LoopSubdivisionSurfacesAreRefinedAtLoad) {
     EXPECT_CONTAINS(levels.message(), "\"levels\" must be from 0 to 16, found -1");
 }
 
+// pbrt-v4's cylinder and partial disks: the same surfaces, phi swept counter-clockwise about +z from
+// +x in the shape's space whichever side faces front.
+TEST(PbrtMapping, CylindersAndPartialDisks) {
+    auto c = convert(kCamera +
+                     "WorldBegin\nShape \"cylinder\" \"float radius\" 2 \"float zmin\" 1 \"float zmax\" -0.5 "
+                     "\"float phimax\" 270\nReverseOrientation\nShape \"disk\" \"float innerradius\" 0.5 "
+                     "\"float phimax\" 90 \"float height\" 3\n");
+    EXPECT_FALSE(hasWarning(c, "left out"));
+    const Json& cylinder = c.document["shapes"][0];
+    EXPECT_EQ(cylinder["type"], "cylinder");
+    EXPECT_EQ(cylinder["base"], Json::array({0.0, 0.0, -0.5}));
+    EXPECT_EQ(cylinder["axis"], Json::array({0.0, 0.0, 1.5}));
+    EXPECT_EQ(cylinder["radius"], 2.0);
+    EXPECT_EQ(cylinder["phi_max"], 270.0);
+    EXPECT_FALSE(cylinder.contains("front"));  // outside
+    const Json& disk = c.document["shapes"][1];
+    EXPECT_EQ(disk["normal"], Json::array({0.0, 0.0, -1.0}));
+    EXPECT_EQ(disk["inner_radius"], 0.5);
+    // Facing -z, the sweep starts at pbrt-v4's phimax (90 degrees: +y) and ends at +x.
+    EXPECT_NEAR(disk["start_direction"][0].get<double>(), 0.0, 1e-15);
+    EXPECT_EQ(disk["start_direction"][1], 1.0);
+    const Scene scene = buildPbrtScene(c, "test.pbrt");
+    ASSERT_EQ(scene.meshes.size(), 2u);
+    for (const Vec3f& p : scene.meshes[1].positions) {  // the quarter annulus in x >= 0, y >= 0
+        EXPECT_GE(p.x, -1e-6f);
+        EXPECT_GE(p.y, -1e-6f);
+    }
+    const InputError e = testing::catchInputError(
+        [] { convert("WorldBegin\nShape \"cylinder\" \"float zmin\" 1 \"float zmax\" 1\n"); });
+    EXPECT_CONTAINS(e.what(), "cylinder: zmin and zmax are equal");
+}
+
 TEST(PbrtMapping, IncludedFilesAreCoveredByTheSceneHash) {
     const fs::path dir = fs::temp_directory_path() / "penumbra_pbrt_hash_test";
     fs::create_directories(dir);

@@ -354,6 +354,92 @@ TEST(SceneLoader, AMeshFilesFrontIsItsWindingOrItsNormals) {
     fs::remove_all(dir);
 }
 
+double meshArea(const TriangleMesh& mesh) {
+    double area = 0.0;
+    for (size_t t = 0; t < mesh.triangleCount(); ++t)
+        area += 0.5 *
+                length(cross(mesh.positions[mesh.indices[3 * t + 1]] - mesh.positions[mesh.indices[3 * t]],
+                             mesh.positions[mesh.indices[3 * t + 2]] - mesh.positions[mesh.indices[3 * t]]));
+    return area;
+}
+
+// Cylinders and partial disks (pbrt-v4's cylinder, disk innerradius and phimax) are made of
+// triangles as whole disks are: their vertices on the exact surface, their edges where the
+// parameters put them, their area the exact one times the polygon's factor (for a step of a radians,
+// a chord over its arc, sin(a / 2) / (a / 2), on a cylinder: 1 - 2.5e-5 at 256 steps a turn; a
+// triangle over its sector, sin(a) / a, on a disk: 1 - 1.0e-4), their front where asked.
+TEST(SceneLoader, CylindersAndPartialDisks) {
+    const double pi = 3.14159265358979323846, step = 2.0 * pi / 256.0;
+    const double polygon = std::sin(step / 2) / (step / 2), fan = std::sin(step) / step;
+    {
+        const Scene scene = sceneWithShape(R"({"type": "cylinder", "material": "m", "base": [1, 2, 3],
+            "axis": [0, 0, 4], "radius": 0.5, "phi_max": 90, "start_direction": [0, 1, 0]})");
+        const TriangleMesh& mesh = scene.meshes[0];
+        ASSERT_EQ(mesh.triangleCount(), 2u * 64u);  // 90 degrees of 256 steps a turn
+        float smallestX = 1e9f, largestY = -1e9f;
+        for (size_t i = 0; i < mesh.positions.size(); ++i) {
+            const Vec3f d = mesh.positions[i] - Vec3f{1, 2, mesh.positions[i].z};
+            EXPECT_NEAR(length(d), 0.5f, 1e-6f) << i;
+            EXPECT_TRUE(mesh.positions[i].z == 3.0f || mesh.positions[i].z == 7.0f) << i;
+            expectNear(mesh.normals[i], d * 2.0f);  // outward
+            smallestX = std::min(smallestX, d.x), largestY = std::max(largestY, d.y);
+        }
+        // From +y (the start) a quarter turn counter-clockwise about +z: to -x.
+        EXPECT_NEAR(smallestX, -0.5f, 1e-6f);
+        EXPECT_NEAR(largestY, 0.5f, 1e-6f);
+        for (size_t t = 0; t < mesh.triangleCount(); ++t) {
+            const Vec3f radial = mesh.normals[mesh.indices[3 * t]];
+            EXPECT_GT(dot(windingNormal(mesh, t), radial), 0.99f) << t;
+        }
+        EXPECT_NEAR(meshArea(mesh), 0.5 * pi * 0.5 * 4.0 * polygon, 1e-5);
+    }
+    {
+        const Scene scene = sceneWithShape(R"({"type": "cylinder", "material": "m", "base": [0, 0, 0],
+            "axis": [0, 2, 0], "radius": 1, "front": "inside"})");
+        const TriangleMesh& mesh = scene.meshes[0];
+        EXPECT_NEAR(meshArea(mesh), 2.0 * pi * 2.0 * polygon, 1e-4);
+        for (size_t t = 0; t < mesh.triangleCount(); ++t) {
+            const Vec3f p = mesh.positions[mesh.indices[3 * t]];
+            EXPECT_LT(dot(windingNormal(mesh, t), Vec3f{p.x, 0, p.z}), 0.0f) << t;  // facing the axis
+        }
+        // The seam's vertices are the first ones again (watertight), with u = 1.
+        EXPECT_EQ(mesh.positions[256], mesh.positions[0]);
+        EXPECT_EQ(mesh.uvs[256].x, 1.0f);
+    }
+    {
+        const Scene scene = sceneWithShape(R"({"type": "disk", "material": "m", "center": [0, 0, 1],
+            "normal": [0, 0, -1], "radius": 2, "inner_radius": 1, "phi_max": 180})");
+        const TriangleMesh& mesh = scene.meshes[0];
+        ASSERT_EQ(mesh.triangleCount(), 2u * 128u);
+        float nearest = 9.0f;
+        for (const Vec3f& p : mesh.positions) {
+            EXPECT_EQ(p.z, 1.0f);
+            nearest = std::min(nearest, length(Vec3f{p.x, p.y, 0}));
+        }
+        EXPECT_NEAR(nearest, 1.0f, 1e-6f);
+        for (size_t t = 0; t < mesh.triangleCount(); ++t) expectNear(windingNormal(mesh, t), {0, 0, -1});
+        EXPECT_NEAR(meshArea(mesh), 0.5 * pi * (4.0 - 1.0) * fan, 1e-5);
+    }
+    InputError e = catchInputError([] {
+        sceneWithShape(
+            R"({"type": "disk", "material": "m", "center": [0, 0, 0], "normal": [0, 0, 1], "radius": 1,
+            "inner_radius": 1})");
+    });
+    EXPECT_CONTAINS(e.what(), "/shapes/0/inner_radius: expected an inner radius below the radius (1)");
+    e = catchInputError([] {
+        sceneWithShape(
+            R"({"type": "cylinder", "material": "m", "base": [0, 0, 0], "axis": [0, 0, 1], "radius": 1,
+            "start_direction": [0, 0, 2]})");
+    });
+    EXPECT_CONTAINS(e.what(), "/shapes/0/start_direction: expected a direction not parallel to the axis");
+    e = catchInputError([] {
+        sceneWithShape(
+            R"({"type": "cylinder", "material": "m", "base": [0, 0, 0], "axis": [0, 0, 1], "radius": 1,
+            "phi_max": 0})");
+    });
+    EXPECT_CONTAINS(e.what(), "/shapes/0/phi_max: expected an angle above 0 degrees");
+}
+
 // ---- Bad input ----
 
 // Spot lights: the cone from the axis to its edge and the falloff band inside it, in degrees
@@ -447,7 +533,8 @@ TEST(SceneErrors, WrongTypes) {
 
     e = catchInputError(
         [] { sceneWithShape(R"({"type": "spher", "center": [0, 0, 0], "radius": 1, "material": "m"})"); });
-    EXPECT_CONTAINS(e.what(), "/shapes/0/type: expected one of: triangle_mesh, mesh_file, quad, sphere");
+    EXPECT_CONTAINS(
+        e.what(), "/shapes/0/type: expected one of: triangle_mesh, mesh_file, quad, sphere, disk, cylinder");
 }
 
 // An unknown type or key gets a "did you mean": other renderers' names from a table that says
