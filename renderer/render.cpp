@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <mutex>
 #include <optional>
 
@@ -160,6 +161,17 @@ uint32_t defaultPassSize(uint64_t windowPixels) {
     const uint64_t samples = std::max<uint64_t>(1, (uint64_t(1) << 20) / std::max<uint64_t>(1, windowPixels));
     return uint32_t(
         std::min<uint64_t>((samples + kAlignment - 1) / kAlignment * kAlignment, uint64_t(1) << 20));
+}
+
+PixelWindow cropWindowPixels(const std::array<float, 4>& window, int width, int height) {
+    // In float, as pbrt-v4 computes it: 20 x 0.2f is 4 in float, 4.00000006 in double.
+    auto edge = [](float fraction, int size) { return int(std::ceil(float(size) * fraction)); };
+    const PixelWindow pixels{edge(window[0], width), edge(window[1], width), edge(window[2], height),
+                             edge(window[3], height)};
+    if (pixels.width() <= 0 || pixels.height() <= 0)
+        throw InputError(fmt::format("film.crop_window [{}, {}, {}, {}] holds no pixel of the {}x{} image",
+                                     window[0], window[1], window[2], window[3], width, height));
+    return pixels;
 }
 
 RenderStats render(const Scene& scene, const RenderOptions& options, Film& film) {

@@ -3,6 +3,7 @@
 // pixel, so the film is bit-identical whatever the thread count or the order tiles finish in.
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -46,6 +47,11 @@ struct RenderOptions {
     // studies: `penumbra converge --freeze`).
     uint32_t frozenDims = 0;
 };
+
+// The pixels of a scene's film.crop_window (fractions x0, x1, y0, y1) at a resolution, rounded as
+// pbrt-v4 rounds its cropwindow (each bound up to the next pixel edge). Throws InputError when no
+// pixel is left (a window narrower than a pixel).
+PixelWindow cropWindowPixels(const std::array<float, 4>& window, int width, int height);
 
 // A sample whose radiance was NaN or infinite; it was recorded as black. Re-run it with
 // `penumbra render SCENE --crop x,x+1,y,y+1 --samples i:i+1`.

@@ -3,6 +3,7 @@
 // parameters, lights), not descriptions of them to be converted later.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -33,6 +34,9 @@ struct FilmSettings {
     // Adaptive sampling (film.adaptive, --adaptive): pixels stop before samplesPerPixel once
     // converged. None: every pixel gets samplesPerPixel samples.
     std::optional<AdaptiveSettings> adaptive{};
+    // film.crop_window (pbrt-v4's cropwindow): only the pixels in these fractions x0, x1, y0, y1
+    // of the image are rendered (x0 < x1, y0 < y1, in [0, 1]); --crop takes its place.
+    std::optional<std::array<float, 4>> cropWindow{};
 };
 
 // How the integrator finds light at each vertex: both strategies weighted by multiple importance

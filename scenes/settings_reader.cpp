@@ -18,7 +18,7 @@ constexpr int64_t kMaxInt = std::numeric_limits<int32_t>::max();
 }  // namespace
 
 FilmSettings readFilm(const JsonValue& value) {
-    const JsonObject object(value, {"resolution", "spp", "filter", "adaptive"});
+    const JsonObject object(value, {"resolution", "spp", "filter", "crop_window", "adaptive"});
     FilmSettings film;
     if (auto v = object.get("resolution")) {
         if (!v->json().is_array() || v->json().size() != 2)
@@ -37,6 +37,15 @@ FilmSettings readFilm(const JsonValue& value) {
                 radius->failExpected(
                     fmt::format("a radius > 0 and <= {:g} pixels", limits::kMaxFilterRadius));
         }
+    }
+    if (auto v = object.get("crop_window")) {
+        if (!v->json().is_array() || v->json().size() != 4)
+            v->failExpected("an array [x0, x1, y0, y1] of 4 fractions of the image");
+        std::array<float, 4> window{};
+        for (size_t i = 0; i < 4; ++i) window[i] = v->element(i).numberInRange(0.0f, 1.0f);
+        if (!(window[0] < window[1] && window[2] < window[3]))
+            v->failExpected("x0 < x1 and y0 < y1 (a window with an area)");
+        film.cropWindow = window;
     }
     if (auto v = object.get("adaptive")) {
         const JsonObject adaptive(*v, {"threshold", "min_spp", "error"});

@@ -195,6 +195,8 @@ int runRender(const RenderCommand& cmd) {
         options.crop =
             PixelWindow{parseNonNegative("--crop", parts[0]), parseNonNegative("--crop", parts[1]),
                         parseNonNegative("--crop", parts[2]), parseNonNegative("--crop", parts[3])};
+    } else if (scene.film.cropWindow) {
+        options.crop = cropWindowPixels(*scene.film.cropWindow, scene.film.width, scene.film.height);
     }
 
     fs::path exrPath = cmd.output.empty()
@@ -373,7 +375,8 @@ int main(int argc, char** argv) {
     renderApp->add_option("--res", cmd.resolution, "Resolution WIDTHxHEIGHT (overrides film.resolution)");
     renderApp->add_option("--sampler", cmd.sampler, "stratified (default) or independent");
     renderApp->add_option("--crop", cmd.crop,
-                          "Render only pixels x0 <= x < x1, y0 <= y < y1, given as x0,x1,y0,y1");
+                          "Render only pixels x0 <= x < x1, y0 <= y < y1, given as x0,x1,y0,y1 (overrides "
+                          "film.crop_window)");
     renderApp->add_option("--samples", cmd.samples,
                           "Render only sample indices FIRST <= i < END, given as FIRST:END");
     renderApp->add_option(

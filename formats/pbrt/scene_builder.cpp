@@ -341,11 +341,9 @@ void SceneBuilder::optionDirective(const Directive& d) {
             // pbrt-v4 takes each pair in either order.
             const double x0 = std::min(c[0], c[1]), x1 = std::max(c[0], c[1]);
             const double y0 = std::min(c[2], c[3]), y1 = std::max(c[2], c[3]);
-            log_.warn(
-                crop->where,
-                fmt::format("Film cropwindow is not applied: render the same pixels with --crop {},{},{},{}",
-                            int64_t(std::ceil(double(w) * x0)), int64_t(std::ceil(double(w) * x1)),
-                            int64_t(std::ceil(double(h) * y0)), int64_t(std::ceil(double(h) * y1))));
+            if (!(x1 > x0 && y1 > y0)) failAt(crop->where, "Film cropwindow: the window has no area");
+            film["crop_window"] = Json::array({x0, x1, y0, y1});
+            origins_.push_back({"/film/crop_window", crop->where});
         }
     } else if (n == "Sampler") {
         const std::string& type = d.strings[0];

@@ -298,14 +298,16 @@ TEST(PbrtBombs, ACropWindowOutsideTheImageIsRefused) {
         message,
         file.string() + ":2:62: Film cropwindow: expected fractions of the image from 0 to 1, found 1e+30"))
         << message;
-    // Within the image, in either order: a warning with the equivalent --crop.
+    // Within the image, in either order (as pbrt-v4 takes it): the scene's crop window (its pixels:
+    // tests/tools/production_cli_test.cpp).
     const PbrtConversion c = convertPbrtText(
         "Film \"rgb\" \"integer xresolution\" 100 \"integer yresolution\" 50 \"float cropwindow\" [0.5 0.25 "
-        "0 1]\nWorldBegin\n",
+        "0 0.999]\nWorldBegin\n",
         "crop.pbrt");
-    bool warned = false;
-    for (const std::string& w : c.warnings) warned |= contains(w, "--crop 25,50,0,50");
-    EXPECT_TRUE(warned);
+    EXPECT_EQ(c.document["film"]["crop_window"], Json::array({0.25, 0.5, 0.0, 0.999}));
+    const Scene scene = buildPbrtScene(c, "crop.pbrt");
+    ASSERT_TRUE(scene.film.cropWindow);
+    EXPECT_EQ(scene.film.cropWindow->at(3), 0.999f);
 }
 
 TEST(PbrtBombs, ValuesTheLoaderRefusesAreReportedAtTheirDirective) {

@@ -641,7 +641,8 @@ TEST(PbrtMapping, FilmSamplerFilterIntegrator) {
     EXPECT_EQ(c.document["film"]["filter"]["type"], "tent");
     EXPECT_NEAR(c.document["film"]["filter"]["radius"].get<double>(), 0.5 * std::sqrt(6.0), 1e-12);
     EXPECT_EQ(c.document["integrator"]["max_depth"], 9);
-    EXPECT_TRUE(hasWarning(c, "--crop 0,32,0,32"));
+    EXPECT_EQ(c.document["film"]["crop_window"], Json::array({0.0, 0.5, 0.0, 1.0}));
+    EXPECT_FALSE(hasWarning(c, "cropwindow"));
     EXPECT_TRUE(hasWarning(c, "regularize"));
     auto box =
         convert("PixelFilter \"box\"\nSampler \"independent\" \"integer pixelsamples\" 7\nWorldBegin\n");

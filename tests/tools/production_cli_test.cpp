@@ -110,6 +110,26 @@ TEST_F(Production, ResumeIsBitIdenticalToOneRender) {
     EXPECT_TRUE((*resumed.metadata.crop == PixelWindow{3, 17, 2, 11}));
 }
 
+// A scene's film.crop_window (pbrt-v4's cropwindow) renders the pixels --crop names, rounded as
+// pbrt-v4 rounds them: [0.2, 0.51] x [0.1, 0.999] of 20 x 16 is x [4, 11), y [2, 16); --crop takes
+// its place; a window with no pixel is an error before anything is written.
+TEST_F(Production, ASceneCropWindowRendersThePixelsOfItsCrop) {
+    std::string cropped = kScene;
+    const std::string film = R"("film": {"resolution": [20, 16], "spp": 4)";
+    cropped.replace(cropped.find(film), film.size(), film + R"(, "crop_window": [0.2, 0.51, 0.1, 0.999])");
+    const std::string scene = write("cropped.json", cropped);
+    render("", "window.exr", scene);
+    render("--crop 4,11,2,16", "crop.exr");
+    const FilmFile window = readFilmExr(path("window.exr"));
+    ASSERT_TRUE(window.metadata.crop.has_value());
+    EXPECT_TRUE((*window.metadata.crop == PixelWindow{4, 11, 2, 16}));
+    EXPECT_TRUE(window.film.identicalTo(readFilmExr(path("crop.exr")).film));
+    render("--crop 0,20,0,8", "override.exr", scene);
+    EXPECT_TRUE((*readFilmExr(path("override.exr")).metadata.crop == PixelWindow{0, 20, 0, 8}));
+    expectFailure("render " + scene + " --res 1x1 -q -o " + path("out.exr"),
+                  "film.crop_window [0.2, 0.51, 0.1, 0.999] holds no pixel of the 1x1 image");
+}
+
 TEST_F(Production, MergeIsBitIdenticalToOneRender) {
     render("--spp 12", "once.exr");
     render("--samples 0:5", "a.exr");
