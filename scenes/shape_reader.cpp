@@ -351,6 +351,7 @@ struct AngularSweep {
     Frame frame;           // phi = 0 along s, phi = 90 degrees along t = cross(n, s)
     double phiMax = 0.0;   // radians
     int steps = 0;         // segments over [0, phiMax]
+    int turnSteps = 0;     // segments a full turn would have
     bool fullTurn = true;  // the last step joins the first
 
     Vec2f cosSin(int step) const {
@@ -382,6 +383,7 @@ AngularSweep readSweep(const JsonValue& value, Vec3f n) {
     if (!(degrees > 0.0)) value.requiredMember("phi_max").failExpected("an angle above 0 degrees");
     sweep.fullTurn = degrees == 360.0;
     sweep.phiMax = sweep.fullTurn ? 2.0 * 3.14159265358979323846 : degrees * (3.14159265358979323846 / 180.0);
+    sweep.turnSteps = segments;
     sweep.steps = sweep.fullTurn ? segments : std::max(1, int(std::ceil(segments * degrees / 360.0)));
     return sweep;
 }
@@ -474,8 +476,65 @@ struct ShapeContext {
     const std::vector<std::string>& prototypeNames;  // prototypeNames[i] names scene.prototypes[i]
 };
 
+void addMeshShape(TriangleMesh mesh, const JsonValue& value, bool allowPositionKeys, Scene& scene,
+                  const fs::path& folder);
+
+// A sphere as triangles: for part of one (pbrt-v4's zmin, zmax, phimax) or an ellipsoid (a sphere
+// under a non-uniform transform), which the analytic sphere of both backends is not. Rings of
+// `segments` / 2 steps over a half turn of the polar angle and the azimuth's sweep of `segments` a
+// turn, between the heights z_min and z_max above the centre; the vertices on the sphere, with its
+// normals; uvs as the analytic sphere's (u the azimuth over a turn, v the polar angle over a half).
+TriangleMesh readSphereMesh(const JsonValue& value) {
+    const Vec3f center = value.requiredMember("center").vec3();
+    const float radius = value.requiredMember("radius").numberAbove(0.0f);
+    float zMin = -radius, zMax = radius;
+    if (auto v = value.member("z_min")) zMin = v->numberInRange(-radius, radius);
+    if (auto v = value.member("z_max")) zMax = v->numberInRange(-radius, radius);
+    if (!(zMin < zMax)) value.fail(fmt::format("z_min ({}) must be below z_max ({})", zMin, zMax));
+    const AngularSweep sweep = readSweep(value, {0.0f, 0.0f, 1.0f});
+    const double pi = 3.14159265358979323846;
+    const double thetaTop = std::acos(std::clamp(double(zMax) / radius, -1.0, 1.0));
+    const double thetaBottom = std::acos(std::clamp(double(zMin) / radius, -1.0, 1.0));
+    const int rings = std::max(1, int(std::ceil((thetaBottom - thetaTop) / pi * (sweep.turnSteps / 2))));
+    const int columns = sweep.steps + 1;  // a full turn ends on a copy of its first column, with u = 1
+    TriangleMesh mesh;
+    for (int i = 0; i <= rings; ++i) {
+        const double theta = thetaTop + (thetaBottom - thetaTop) * i / rings;
+        const float sinTheta = float(std::sin(theta)), cosTheta = float(std::cos(theta));
+        for (int j = 0; j < columns; ++j) {
+            const Vec3f around = sweep.at(sinTheta, sweep.fullTurn && j == sweep.steps ? 0 : j);
+            const Vec3f n{around.x, around.y, cosTheta};
+            mesh.positions.push_back(center + n * radius);
+            mesh.normals.push_back(normalize(n));
+            mesh.uvs.push_back(
+                {float(sweep.phiMax / (2.0 * pi)) * float(j) / float(sweep.steps), float(theta / pi)});
+        }
+    }
+    const bool topPole = thetaTop == 0.0, bottomPole = thetaBottom == pi;
+    for (int i = 0; i < rings; ++i)
+        for (int j = 0; j < sweep.steps; ++j) {
+            const uint32_t a = uint32_t(i * columns + j), b = a + 1, d = a + uint32_t(columns), c = d + 1;
+            // Down the polar angle, then round the azimuth: the normal points outward. A pole's
+            // quads are triangles.
+            if (!(bottomPole && i == rings - 1)) mesh.indices.insert(mesh.indices.end(), {a, d, c});
+            if (!(topPole && i == 0)) mesh.indices.insert(mesh.indices.end(), {a, c, b});
+        }
+    return mesh;
+}
+
 void readSphere(const JsonValue& value, ShapeContext& context) {
     Scene& scene = context.scene;
+    const bool partial = value.member("z_min") || value.member("z_max") || value.member("phi_max");
+    const auto transformValue = value.member("transform");
+    if (partial || (transformValue && !similarityScale(readTransform(*transformValue)))) {
+        TriangleMesh mesh = readSphereMesh(value);
+        mesh.name = value.pointer();
+        addMeshShape(std::move(mesh), value, false, scene, context.folder);
+        return;
+    }
+    for (const char* key : {"start_direction", "segments"})
+        if (auto v = value.member(key))
+            v->fail(fmt::format("\"{}\" is for partial spheres and ellipsoids", key));
     Sphere sphere;
     sphere.name = value.pointer();
     sphere.center = value.requiredMember("center").vec3();
@@ -486,10 +545,6 @@ void readSphere(const JsonValue& value, ShapeContext& context) {
     if (auto v = value.member("transform")) {
         const Transform transform = readTransform(*v);
         const std::optional<float> scale = similarityScale(transform);
-        if (!scale)
-            v->fail(
-                "a sphere can only be translated, rotated, mirrored and scaled uniformly; this transform "
-                "would make it an ellipsoid");
         sphere.center = transform.applyPoint(sphere.center);
         sphere.radius *= *scale;
         if (!isFinite(sphere.center) || !std::isfinite(sphere.radius) || !(sphere.radius > 0.0f))
@@ -677,7 +732,8 @@ const std::array<TypeRow<ShapeReader>, 7> kShapeTypes{{
      {"type", "corner", "edge1", "edge2", "material", "emission", "transform", "motion", "inside", "outside"},
      readQuadShape},
     {"sphere",
-     {"type", "center", "radius", "material", "emission", "transform", "motion", "inside", "outside"},
+     {"type", "center", "radius", "z_min", "z_max", "phi_max", "start_direction", "segments", "material",
+      "emission", "transform", "motion", "inside", "outside"},
      readSphere},
     {"disk",
      {"type", "center", "normal", "radius", "inner_radius", "phi_max", "start_direction", "segments",

@@ -1191,12 +1191,13 @@ std::optional<Json> SceneBuilder::shapeGeometry(const ShapeRecord& record, bool 
     } else if (type == "sphere") {
         const double radius = p.getFloat("radius").value_or(1.0);
         if (!(radius > 0.0)) failAt(where, fmt::format("sphere: the radius must be > 0, found {}", radius));
-        const double zmin = p.getFloat("zmin").value_or(-radius), zmax = p.getFloat("zmax").value_or(radius);
-        const double phimax = p.getFloat("phimax").value_or(360.0);
-        if (zmin > -radius || zmax < radius || phimax < 360.0)
-            failAt(where,
-                   "partial spheres (zmin, zmax, phimax) are not supported: penumbra renders whole spheres "
-                   "only");
+        // As pbrt-v4: the heights clamped to the sphere and taken in either order, phimax to [0, 360].
+        double zmin = std::clamp(p.getFloat("zmin").value_or(-radius), -radius, radius);
+        double zmax = std::clamp(p.getFloat("zmax").value_or(radius), -radius, radius);
+        if (zmin > zmax) std::swap(zmin, zmax);
+        const double phimax = std::clamp(p.getFloat("phimax").value_or(360.0), 0.0, 360.0);
+        if (!(zmax > zmin) || !(phimax > 0.0))
+            failAt(where, "sphere: zmin, zmax and phimax leave nothing of it");
         if (reverse != swaps)
             log_.warn(where,
                       "a sphere whose normals face inward (ReverseOrientation or a mirroring transform) is "
@@ -1205,6 +1206,11 @@ std::optional<Json> SceneBuilder::shapeGeometry(const ShapeRecord& record, bool 
         shape["type"] = "sphere";
         shape["center"] = Json::array({0.0, 0.0, 0.0});
         shape["radius"] = radius;
+        // A partial sphere is made of triangles (as an ellipsoid is, which a non-uniform transform
+        // makes of any sphere), its azimuth from +x counter-clockwise about +z as pbrt-v4's.
+        if (zmin > -radius) shape["z_min"] = zmin;
+        if (zmax < radius) shape["z_max"] = zmax;
+        if (phimax < 360.0) shape["phi_max"] = phimax;
     } else if (type == "disk" || type == "cylinder") {
         const bool disk = type == "disk";
         const double radius = p.getFloat("radius").value_or(1.0);

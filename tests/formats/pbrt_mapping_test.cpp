@@ -890,6 +890,24 @@ TEST(PbrtMapping, CylindersAndPartialDisks) {
     EXPECT_CONTAINS(e.what(), "cylinder: zmin and zmax are equal");
 }
 
+// Partial spheres and ellipsoids, which pbrt-v4 scenes use (disney-cloud's medium boundary is a
+// scaled sphere), load as triangles: the keys as pbrt-v4 clamps and orders them.
+TEST(PbrtMapping, PartialSpheresAndEllipsoids) {
+    auto c = convert(kCamera +
+                     "WorldBegin\nShape \"sphere\" \"float radius\" 2 \"float zmin\" 3 \"float zmax\" -1 "
+                     "\"float phimax\" 400\nScale 1 2 1\nShape \"sphere\"\n");
+    const Json& partial = c.document["shapes"][0];
+    EXPECT_EQ(partial["z_min"], -1.0);
+    EXPECT_FALSE(partial.contains("z_max"));  // clamped to the radius: the top is whole
+    EXPECT_FALSE(partial.contains("phi_max"));
+    const Scene scene = buildPbrtScene(c, "test.pbrt");
+    EXPECT_EQ(scene.spheres.size(), 0u);
+    EXPECT_EQ(scene.meshes.size(), 2u);
+    const InputError e =
+        testing::catchInputError([] { convert("WorldBegin\nShape \"sphere\" \"float phimax\" 0\n"); });
+    EXPECT_CONTAINS(e.what(), "sphere: zmin, zmax and phimax leave nothing of it");
+}
+
 TEST(PbrtMapping, IncludedFilesAreCoveredByTheSceneHash) {
     const fs::path dir = fs::temp_directory_path() / "penumbra_pbrt_hash_test";
     fs::create_directories(dir);
