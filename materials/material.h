@@ -24,7 +24,8 @@
 // models themselves hold plain values; a textured Material also holds, per textured parameter, the
 // texture and the function that writes its value into the model. At a shading point the integrator
 // asks at(query) for a copy with those values written in; untextured materials (isTextured() false)
-// are used as they are, so they cost nothing more.
+// are used as they are, so they cost nothing more. A bump or normal map (perturbation()) is held
+// with the textures, and turns the shading normal before the material is evaluated.
 //
 // Adding a material: its header here, one alternative in MaterialModel, one row in the scene
 // loader's material table (scenes/material_reader.cpp), and its tests.
@@ -46,6 +47,7 @@
 #include "materials/dielectric.h"
 #include "materials/interface.h"
 #include "materials/lambert.h"
+#include "materials/normal_perturbation.h"
 #include "materials/phong.h"
 #include "materials/rough_conductor.h"
 #include "materials/rough_dielectric.h"
@@ -114,22 +116,32 @@ public:
                            model_),
                        "a model's relative index of refraction is positive (the scene loader checks it)");
     }
-    // `model` holds the untextured parameters' values; each of `textures` overrides one parameter.
-    Material(MaterialModel model, bool twoSided, std::vector<TexturedParameter> textures)
+    // `model` holds the untextured parameters' values; each of `textures` overrides one parameter;
+    // `perturbation` turns the shading normal (a bump or normal map: materials/normal_perturbation.h).
+    Material(MaterialModel model, bool twoSided, std::vector<TexturedParameter> textures,
+             std::optional<NormalPerturbation> perturbation = std::nullopt)
         : Material(std::move(model), twoSided) {
-        if (textures.empty()) return;
+        if (textures.empty() && !perturbation) return;
         for (const TexturedParameter& p : textures) needsFootprint_ |= p.texture.needsFootprint();
-        textures_ = std::make_shared<const std::vector<TexturedParameter>>(std::move(textures));
+        if (perturbation) needsFootprint_ |= perturbation->texture.needsFootprint();
+        textures_ =
+            std::make_shared<const SurfaceTextures>(SurfaceTextures{std::move(textures), perturbation});
     }
 
+    // Whether anything varies over the surface (textured parameters or a perturbed normal).
     bool isTextured() const { return textures_ != nullptr; }
     // Whether a texture lookup needs the pixel's footprint (textures/texture_footprint.h).
     bool needsFootprint() const { return needsFootprint_; }
-    const std::vector<TexturedParameter>* texturedParameters() const { return textures_.get(); }
+    const std::vector<TexturedParameter>* texturedParameters() const {
+        return textures_ ? &textures_->parameters : nullptr;
+    }
+    const NormalPerturbation* perturbation() const {
+        return textures_ && textures_->perturbation ? &*textures_->perturbation : nullptr;
+    }
     // This material at a shading point: its textured parameters evaluated there, untextured.
     [[gnu::noinline]] Material at(const TextureQuery& query) const {
         MaterialModel model = model_;
-        for (const TexturedParameter& p : *textures_) p.apply(model, p.texture.evaluate(query));
+        for (const TexturedParameter& p : textures_->parameters) p.apply(model, p.texture.evaluate(query));
         return Material(std::move(model), twoSided_);
     }
 
@@ -214,7 +226,11 @@ private:
     }
 
     MaterialModel model_;
-    std::shared_ptr<const std::vector<TexturedParameter>> textures_;  // null: untextured
+    struct SurfaceTextures {
+        std::vector<TexturedParameter> parameters;
+        std::optional<NormalPerturbation> perturbation;
+    };
+    std::shared_ptr<const SurfaceTextures> textures_;  // null: untextured
     bool twoSided_ = true;
     bool needsFootprint_ = false;
     BsdfFlags flags_;

@@ -142,6 +142,19 @@ inline bool isUnit(Vec3f v) { return std::abs(length(v) - 1.0f) < 1e-3f; }
     return material.at(query);
 }
 
+// A bump or normal map (materials/normal_perturbation.h) turns the shading normal at `si`, whose
+// precomputed frame then no longer applies. Out of line: only materials with one call it.
+[[gnu::noinline]] inline void perturbShadingNormal(const NormalPerturbation& perturbation,
+                                                   const IntegratorContext& ctx, SurfaceInteraction& si,
+                                                   float time) {
+    const SurfaceDerivatives d = surfaceDerivatives(*ctx.scene, si, time);
+    const TextureQuery query =
+        textureQueryAt(ctx.footprint, si.position, si.geometricNormal, si.uv, d.dpdu, d.dpdv);
+    si.shadingNormal =
+        perturbedNormal(perturbation, query, si.shadingNormal, d.dpdu, d.dpdv, si.geometricNormal);
+    si.shadingFrame = nullptr;
+}
+
 // Room for a textured material's evaluated copy (Material::at), filled only at textured hits. A
 // std::optional<Material> in its place cost every path, textured or not: GCC zero-filled all its
 // 88 bytes (a `rep stos`) at the start of each path (bench/README.md, "Speed tricks").
@@ -392,16 +405,19 @@ Radiance estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray 
             detail::addEscapedLight(ctx, lights, ray, path);
             break;
         }
-        const SurfaceInteraction si = Accel::kReportsCanonicalHits || !ctx.canonicalHits
-                                          ? resolveHit<true>(*ctx.scene, ray, hit, ctx.faceFrames)
-                                          : resolveHit<false>(*ctx.scene, ray, hit, ctx.faceFrames);
+        SurfaceInteraction si = Accel::kReportsCanonicalHits || !ctx.canonicalHits
+                                    ? resolveHit<true>(*ctx.scene, ray, hit, ctx.faceFrames)
+                                    : resolveHit<false>(*ctx.scene, ray, hit, ctx.faceFrames);
         left = si.shape.kind == ShapeKind::Sphere ? TriangleLeft{} : TriangleLeft{hit.geomId, hit.primId};
         // Bounce rays leave in unit directions (the BSDF's, turned into the world); only the
         // caller's camera ray may not be.
         const Vec3f wo = bounce == 0 ? -normalize(ray.direction) : -ray.direction;
         const Material* shaded = &ctx.scene->materials[si.material];
-        if (shaded->isTextured()) [[unlikely]]
+        if (shaded->isTextured()) [[unlikely]] {
+            if (const NormalPerturbation* perturbation = shaded->perturbation())
+                detail::perturbShadingNormal(*perturbation, ctx, si, ray.time);
             shaded = &textured.fill(detail::texturedMaterial(*shaded, ctx, si, ray.time));
+        }
         const detail::SurfaceVertex vertex{si, *shaded, wo, dot(wo, si.geometricNormal) > 0.0f};
         if (bounce == 0 && firstHit)
             *firstHit = {true, hit.t * length(ray.direction), si.shadingNormal, vertex.material.albedo()};

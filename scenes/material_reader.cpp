@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <optional>
 
 #include "scenes/name_reference.h"
@@ -255,23 +256,53 @@ Material readCoatedDiffuse(const JsonValue& material, MaterialContext& context) 
 
 Material readInterface(const JsonValue&, MaterialContext&) { return Material(Interface{}); }
 
+// "bump": a height field in scene units along the normal (a number, or a texture whose first
+// channel is read); "normal_map": a tangent-space normal map, a texture whose image is read as linear
+// RGB (materials/normal_perturbation.h). At most one of them.
+std::optional<NormalPerturbation> readNormalPerturbation(const JsonValue& material,
+                                                         const std::filesystem::path& folder) {
+    const auto bump = material.member("bump"), normalMap = material.member("normal_map");
+    if (bump && normalMap) normalMap->fail("a material takes \"bump\" or \"normal_map\", not both");
+    const float largest = std::numeric_limits<float>::max();
+    if (bump) {
+        if (!isTextureValue(*bump)) {
+            bump->number();
+            return std::nullopt;  // a constant height turns nothing
+        }
+        return NormalPerturbation{NormalPerturbation::Kind::Bump,
+                                  readTexture(*bump, folder, -largest, largest)};
+    }
+    if (normalMap) {
+        if (!isTextureValue(*normalMap))
+            normalMap->failExpected("a texture (an image of tangent-space normals)");
+        // Normals are data, not colours: an image is read as linear unless it says otherwise.
+        Json linear = normalMap->json();
+        if (linear.value("type", "") == "image" && !linear.contains("color_space"))
+            linear["color_space"] = "linear";
+        const JsonValue value(linear, normalMap->file(), normalMap->pointer());
+        return NormalPerturbation{NormalPerturbation::Kind::NormalMap,
+                                  readTexture(value, folder, 0.0f, 1.0f)};
+    }
+    return std::nullopt;
+}
+
 using MaterialReader = Material (*)(const JsonValue&, MaterialContext&);
 
 const std::array<TypeRow<MaterialReader>, 10> kMaterialTypes{{
-    {"lambert", {"type", "albedo", "two_sided"}, readLambert},
-    {"phong", {"type", "diffuse", "specular", "exponent", "two_sided"}, readPhong},
-    {"dielectric", {"type", "eta", "fresnel", "absorption"}, readDielectric},
-    {"thin_dielectric", {"type", "eta", "fresnel"}, readThinDielectric},
-    {"mirror", {"type", "tint", "two_sided"}, readMirror},
-    {"conductor", {"type", "eta", "k", "tint", "two_sided"}, readConductor},
+    {"lambert", {"type", "albedo", "two_sided", "bump", "normal_map"}, readLambert},
+    {"phong", {"type", "diffuse", "specular", "exponent", "two_sided", "bump", "normal_map"}, readPhong},
+    {"dielectric", {"type", "eta", "fresnel", "absorption", "bump", "normal_map"}, readDielectric},
+    {"thin_dielectric", {"type", "eta", "fresnel", "bump", "normal_map"}, readThinDielectric},
+    {"mirror", {"type", "tint", "two_sided", "bump", "normal_map"}, readMirror},
+    {"conductor", {"type", "eta", "k", "tint", "two_sided", "bump", "normal_map"}, readConductor},
     {"rough_conductor",
-     {"type", "eta", "k", "tint", "roughness", "alpha", "distribution", "two_sided"},
+     {"type", "eta", "k", "tint", "roughness", "alpha", "distribution", "two_sided", "bump", "normal_map"},
      readConductor},
     {"rough_dielectric",
-     {"type", "eta", "fresnel", "absorption", "roughness", "alpha", "distribution"},
+     {"type", "eta", "fresnel", "absorption", "roughness", "alpha", "distribution", "bump", "normal_map"},
      readDielectric},
     {"coated_diffuse",
-     {"type", "albedo", "eta", "roughness", "alpha", "distribution", "two_sided"},
+     {"type", "albedo", "eta", "roughness", "alpha", "distribution", "two_sided", "bump", "normal_map"},
      readCoatedDiffuse},
     {"interface", {"type"}, readInterface},
 }};
@@ -282,7 +313,14 @@ void readMaterials(const JsonValue& section, const std::filesystem::path& folder
                    std::vector<Material>& materials, std::vector<std::string>& names) {
     for (const auto& [name, value] : section.members()) {
         MaterialContext context{folder, {}};
-        materials.push_back(findTypeRow<MaterialReader>(value, kMaterialTypes).read(value, context));
+        Material material = findTypeRow<MaterialReader>(value, kMaterialTypes).read(value, context);
+        if (auto perturbation = readNormalPerturbation(value, folder)) {
+            std::vector<TexturedParameter> parameters;
+            if (material.texturedParameters()) parameters = *material.texturedParameters();
+            material = Material(material.model(), material.twoSided(), std::move(parameters),
+                                std::move(perturbation));
+        }
+        materials.push_back(std::move(material));
         names.push_back(name);
     }
 }

@@ -410,6 +410,22 @@ Json mapMaterial(const std::string& type, const ParameterList& params, const Tex
                            "hair, subsurface or mix)",
                            type));
     }
+    // pbrt-v4's bump map (a float texture of heights) and normal map (an image of linear
+    // tangent-space normals), which every material but interface takes.
+    if (m.value("type", "") != "interface") {
+        if (const Parameter* p = params.find("displacement", {ParamType::Float, ParamType::Texture})) {
+            if (p->type == ParamType::Texture && p->strings.size() == 1) {
+                const TextureTable::Texture* t = textures.scalar(p->strings[0]);
+                if (!t)
+                    failAt(p->where, fmt::format("parameter \"{}\": unknown float texture \"{}\"",
+                                                 p->declaration(), p->strings[0]));
+                if (t->object) m["bump"] = *t->object;  // a constant height turns nothing
+            }
+        }
+        if (const std::optional<std::string> file = params.getString("normalmap"); file && !file->empty())
+            m["normal_map"] =
+                Json{{"type", "image"}, {"file", *file}, {"color_space", "linear"}, {"filter", "bilinear"}};
+    }
     return m;
 }
 

@@ -908,6 +908,23 @@ TEST(PbrtMapping, PartialSpheresAndEllipsoids) {
     EXPECT_CONTAINS(e.what(), "sphere: zmin, zmax and phimax leave nothing of it");
 }
 
+// pbrt-v4's displacement (a float texture of heights) and normalmap (a linear image) on a material:
+// the bump and normal maps of penumbra's material (materials/normal_perturbation.h).
+TEST(PbrtMapping, DisplacementAndNormalMapsPerturbTheShadingNormal) {
+    auto c = convert(
+        "WorldBegin\nTexture \"h\" \"float\" \"checkerboard\" \"float tex1\" 0 \"float tex2\" 0.01\n"
+        "MakeNamedMaterial \"bumped\" \"string type\" \"diffuse\" \"texture displacement\" \"h\"\n"
+        "MakeNamedMaterial \"mapped\" \"string type\" \"conductor\" \"string normalmap\" \"normals.png\"\n");
+    EXPECT_FALSE(hasWarning(c, "displacement"));
+    EXPECT_FALSE(hasWarning(c, "normalmap"));
+    const Json& bump = c.document["materials"]["bumped"]["bump"];
+    EXPECT_EQ(bump["type"], "checkerboard");
+    EXPECT_EQ(
+        c.document["materials"]["mapped"]["normal_map"],
+        Json::parse(
+            R"({"type": "image", "file": "normals.png", "color_space": "linear", "filter": "bilinear"})"));
+}
+
 TEST(PbrtMapping, IncludedFilesAreCoveredByTheSceneHash) {
     const fs::path dir = fs::temp_directory_path() / "penumbra_pbrt_hash_test";
     fs::create_directories(dir);

@@ -23,6 +23,32 @@ std::string errorOf(const std::string& materialsJson) {
     return catchInputError([&] { parseMaterials(materialsJson); }).what();
 }
 
+// "bump" (a texture of heights; a number is a flat height, which turns nothing) and "normal_map"
+// on any material but the interface, one or the other.
+TEST(MaterialLoader, BumpAndNormalMaps) {
+    const Scene scene = parseMaterials(R"({
+        "bumped": {"type": "rough_conductor", "eta": 1, "k": 1, "roughness": 0.3,
+                   "bump": {"type": "checkerboard", "colors": [0, 0.01]}},
+        "mapped": {"type": "lambert", "normal_map": {"type": "constant", "value": [0.5, 0.5, 1]}},
+        "flat": {"type": "lambert", "bump": 0.2}})");
+    ASSERT_NE(scene.materials[0].perturbation(), nullptr);
+    EXPECT_EQ(scene.materials[0].perturbation()->kind, NormalPerturbation::Kind::Bump);
+    EXPECT_TRUE(scene.materials[0].isTextured());
+    ASSERT_NE(scene.materials[1].perturbation(), nullptr);
+    EXPECT_EQ(scene.materials[1].perturbation()->kind, NormalPerturbation::Kind::NormalMap);
+    EXPECT_EQ(scene.materials[2].perturbation(), nullptr);
+    EXPECT_FALSE(scene.materials[2].isTextured());
+    EXPECT_NE(errorOf(R"({"m": {"type": "lambert", "bump": {"type": "constant", "value": 0}, "normal_map":
+                  {"type": "constant", "value": [0.5, 0.5, 1]}}})")
+                  .find("/materials/m/normal_map: a material takes \"bump\" or \"normal_map\", not both"),
+              std::string::npos);
+    EXPECT_NE(errorOf(R"({"m": {"type": "lambert", "normal_map": 1}})")
+                  .find("/materials/m/normal_map: expected a texture (an image of tangent-space normals)"),
+              std::string::npos);
+    EXPECT_NE(errorOf(R"({"m": {"type": "interface", "bump": 1}})").find("/materials/m/bump: unknown key"),
+              std::string::npos);
+}
+
 TEST(MaterialLoader, ReadsEveryTypeAndKey) {
     const Scene scene = parseMaterials(R"({
         "matte": {"type": "lambert", "albedo": [0.1, 0.2, 0.3], "two_sided": false},
@@ -175,9 +201,10 @@ TEST(MaterialLoader, BadValuesNameThePointerAndTheField) {
         {R"({"glass": {"type": "dielectric", "absorption": {"color": 0.5}}})",
          "/materials/glass/absorption: missing required key \"distance\""},
         {R"({"glass": {"type": "dielectric", "two_sided": true}})",
-         "/materials/glass/two_sided: unknown key (expected one of: type, eta, fresnel, absorption)"},
+         "/materials/glass/two_sided: unknown key (expected one of: type, eta, fresnel, absorption, bump, "
+         "normal_map)"},
         {R"({"pane": {"type": "thin_dielectric", "absorption": {"color": 0.5, "distance": 1}}})",
-         "/materials/pane/absorption: unknown key (expected one of: type, eta, fresnel)"},
+         "/materials/pane/absorption: unknown key (expected one of: type, eta, fresnel, bump, normal_map)"},
         {R"({"m": {"type": "mirror", "tint": [1, 1, 2]}})",
          "/materials/m/tint/2: expected a number in [0, 1], found 2"},
         {R"({"m": {"type": "mirror", "two_sided": 1}})",
@@ -214,9 +241,10 @@ TEST(MaterialLoader, BadValuesNameThePointerAndTheField) {
          "/materials/r/alpha: give either \"roughness\" or \"alpha\", not both"},
         {R"({"r": {"type": "coated_diffuse", "specular": 0.5}})",
          "/materials/r/specular: unknown key (expected one of: type, albedo, eta, roughness, alpha, "
-         "distribution, two_sided)"},
+         "distribution, two_sided, bump, normal_map)"},
         {R"({"r": {"type": "conductor", "eta": 1, "k": 1, "roughness": 0.5}})",
-         "/materials/r/roughness: unknown key (expected one of: type, eta, k, tint, two_sided)"},
+         "/materials/r/roughness: unknown key (expected one of: type, eta, k, tint, two_sided, bump, "
+         "normal_map)"},
         {R"({"r": {"type": "rough_conductor", "eta": 1, "k": 1, "alpha": 0.1, "distribution": "phong"}})",
          "/materials/r/distribution: expected one of: ggx, beckmann"},
         {R"({"r": {"type": "rough_conductor", "eta": 1, "k": 1, "distribution": "beckmann"}})",
