@@ -11,7 +11,7 @@ cd "$(dirname "$0")/.."
 exclude=()
 if [ "${1:-}" = "--quick" ]; then
     shift
-    # The tests that take more than 5 s each on the 2-core development machine: 35 of about 860,
+    # The tests that take more than 5 s each on the 2-core development machine: 35 of about 870,
     # two thirds of the suite's time (ctest -j spreads the rest).
     slow="^(readme_snippets_test|docs_figures_test|format_test|VeachMisReference\.|CornellReference\.|PbrtScenes\.|SlurmCluster\."
     slow+="|RoughEnergy\.|CoordinateScale\.|InstancingMemory\.|ExampleScenes\.StratifiedSamplingBeats"
