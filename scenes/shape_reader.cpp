@@ -344,6 +344,14 @@ TriangleMesh readQuad(const JsonValue& value) {
     return mesh;
 }
 
+// The vector at `key`, which must not be zero (else "expected EXPECTED").
+Vec3f requiredNonZeroVector(const JsonValue& value, const char* key, const char* expected) {
+    const JsonValue member = value.requiredMember(key);
+    const Vec3f v = member.vec3();
+    if (!(lengthSquared(v) > 0.0f)) member.failExpected(expected);
+    return v;
+}
+
 // The angles a disk or cylinder sweeps about its axis `n` (unit): counter-clockwise from
 // `start_direction` (default: Frame::fromNormal's first tangent) through `phi_max` degrees (default
 // 360), in `segments` steps per full turn (default 256).
@@ -393,9 +401,7 @@ AngularSweep readSweep(const JsonValue& value, Vec3f n) {
 // so lighting from it agrees to 1e-4.
 TriangleMesh readDisk(const JsonValue& value) {
     const Vec3f center = value.requiredMember("center").vec3();
-    const JsonValue normalValue = value.requiredMember("normal");
-    const Vec3f normal = normalValue.vec3();
-    if (!(lengthSquared(normal) > 0.0f)) normalValue.failExpected("a non-zero normal");
+    const Vec3f normal = requiredNonZeroVector(value, "normal", "a non-zero normal");
     const float radius = value.requiredMember("radius").numberAbove(0.0f);
     float inner = 0.0f;
     if (auto v = value.member("inner_radius")) {
@@ -438,9 +444,7 @@ TriangleMesh readDisk(const JsonValue& value) {
 // the round cylinder's.
 TriangleMesh readCylinder(const JsonValue& value) {
     const Vec3f base = value.requiredMember("base").vec3();
-    const JsonValue axisValue = value.requiredMember("axis");
-    const Vec3f axis = axisValue.vec3();
-    if (!(lengthSquared(axis) > 0.0f)) axisValue.failExpected("a non-zero axis (from the base to the top)");
+    const Vec3f axis = requiredNonZeroVector(value, "axis", "a non-zero axis (from the base to the top)");
     const float radius = value.requiredMember("radius").numberAbove(0.0f);
     bool inside = false;
     if (auto v = value.member("front")) inside = v->choice({"outside", "inside"}) == 1;

@@ -14,6 +14,8 @@ import os
 import re
 import sys
 
+from figure_checks import report
+
 
 def read(path):
     with open(path, encoding="utf-8") as f:
@@ -107,21 +109,8 @@ def main():
         checks.append((f"adaptive / fixed samples at {spp} spp", s, samples))
         checks.append((f"adaptive / fixed CPU time at {spp} spp", c, cpu))
 
-    failed = []
-    for what, figure, measured in checks:
-        value = float(figure) + (shift[1] if shift and shift[0] == what else 0.0)
-        decimals = len(figure.split(".")[1])
-        ok = abs(value - measured) <= 0.5 * 10 ** -decimals + 1e-12
-        if not ok:
-            failed.append(what)
-        shown = figure if value == float(figure) else f"{value:g} (changed)"
-        print(f"{'ok    ' if ok else 'FAILED'} {what}: README {shown}, results file {measured:g}")
-    if shift:
-        caught = failed == [shift[0]]
-        print(f"the figure changed by hand {'fails, and only it' if caught else 'is not caught alone'}")
-        return 0 if caught else 1
-    return 1 if failed else 0
-
+    return report([(what, figure, measured, 0.5 * 10 ** -len(figure.split(".")[1]) + 1e-12,
+                    f"results file {measured:g}") for what, figure, measured in checks], shift)
 
 if __name__ == "__main__":
     sys.exit(main())
