@@ -92,7 +92,11 @@ constexpr int kMaxObjFaceCorners = 1024;
 
 // Triangles a subdivision surface is refined into (geometry/loop_subdivision.h): each level makes
 // four of one, so a small file asking for many levels would otherwise ask for any amount of memory.
-// 2^26 triangles take 1.5 GiB with their vertices, and a traversal structure several more.
+// The refined triangles are bounded by the input: 4^5 per control triangle (five levels of any
+// mesh), or 2^22 if that is more (a small mesh refined finely, about 250 MB), and never more than
+// 2^26 (1.5 GiB with their vertices, and a traversal structure several more).
+constexpr uint64_t kSubdividedTrianglesPerControlTriangle = uint64_t(1) << 10;
+constexpr uint64_t kMinSubdividedTrianglesAllowed = uint64_t(1) << 22;
 constexpr uint64_t kMaxSubdividedTriangles = uint64_t(1) << 26;
 
 // Worker threads (--threads). TBB's arena teardown crashes beyond 65536; no machine has 4096 cores.

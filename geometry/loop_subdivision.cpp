@@ -334,15 +334,18 @@ Vec3f tangentAcrossBoundary(const Level& level, uint32_t v, const uint32_t* r, s
 TriangleMesh refineLoop(const TriangleMesh& control, int levels) {
     if (levels < 0) throw InputError(fmt::format("subdivision levels must be >= 0, found {}", levels));
     const uint64_t triangles = control.triangleCount();
+    const uint64_t allowed = std::min(limits::kMaxSubdividedTriangles,
+                                      std::max(limits::kMinSubdividedTrianglesAllowed,
+                                               triangles * limits::kSubdividedTrianglesPerControlTriangle));
     uint64_t refined = triangles;
     for (int l = 0; l < levels; ++l) {
         refined *= 4;
-        if (refined > limits::kMaxSubdividedTriangles)
+        if (refined > allowed)
             throw InputError(
                 fmt::format("{} levels of subdivision would make more than {} triangles of the {} given, "
-                            "penumbra's limit "
-                            "(docs/limits.md)",
-                            levels, limits::kMaxSubdividedTriangles, triangles));
+                            "penumbra's limit for this mesh (docs/limits.md: 4^5 a triangle, at least 2^22, "
+                            "at most 2^26)",
+                            levels, allowed, triangles));
     }
     Level level = levelOf(control);
     for (int l = 0; l < levels; ++l) level = refineOnce(level);

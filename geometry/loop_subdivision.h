@@ -22,7 +22,7 @@ namespace penumbra {
 // `levels` steps of Loop's refinement, each splitting every triangle into four (vertex i of the
 // input stays vertex i), without moving to the limit. Throws InputError when an edge is shared by
 // more than two triangles (the scheme needs a manifold mesh) or when the result would exceed
-// limits::kMaxSubdividedTriangles.
+// the limit core/input_limits.h sets for a mesh of its size.
 TriangleMesh refineLoop(const TriangleMesh& control, int levels);
 
 // Every vertex moved to its limit position, with the limit surface's unit normal (facing the side

@@ -197,7 +197,7 @@ TEST(LoopSubdivision, VerticesSplitAtUvSeamsAreOneVertexOfTheSurface) {
     }
 }
 
-TEST(LoopSubdivision, RefusesAnEdgeOfThreeTrianglesAndTooManyTriangles) {
+TEST(LoopSubdivision, RefusesAnEdgeOfThreeTrianglesAndMoreTrianglesThanTheInputAllows) {
     TriangleMesh fin;
     fin.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}};
     fin.indices = {0, 1, 2, 1, 0, 3, 0, 1, 4};
@@ -209,15 +209,26 @@ TEST(LoopSubdivision, RefusesAnEdgeOfThreeTrianglesAndTooManyTriangles) {
                   std::string::npos)
             << e.what();
     }
-    try {
-        refineLoop(tetrahedron(), 13);  // 4 * 4^13 = 2^28 triangles
-        FAIL() << "13 levels were refined";
-    } catch (const InputError& e) {
-        EXPECT_NE(
-            std::string(e.what()).find("13 levels of subdivision would make more than 67108864 triangles"),
-            std::string::npos)
-            << e.what();
-    }
+    // The refined triangles are bounded by the input: 4^5 a control triangle, at least 2^22, at
+    // most 2^26 (core/input_limits.h). The check comes before any refinement.
+    auto refusal = [](const TriangleMesh& mesh, int levels) {
+        try {
+            refineLoop(mesh, levels);
+        } catch (const InputError& e) {
+            return std::string(e.what());
+        }
+        return std::string("refined");
+    };
+    EXPECT_EQ(refineLoop(tetrahedron(), 10).triangleCount(), 4u << 20);  // 2^22: allowed
+    EXPECT_NE(refusal(tetrahedron(), 11)
+                  .find("11 levels of subdivision would make more than 4194304 triangles "
+                        "of the 4 given"),
+              std::string::npos)
+        << refusal(tetrahedron(), 11);
+    EXPECT_NE(refusal(flatGrid(64), 6).find("more than 8388608 triangles of the 8192 given"),
+              std::string::npos);
+    EXPECT_NE(refusal(flatGrid(256), 5).find("more than 67108864 triangles of the 131072 given"),
+              std::string::npos);
     EXPECT_THROW(refineLoop(tetrahedron(), -1), InputError);
 }
 

@@ -314,8 +314,8 @@ TEST(SceneLoader, SubdivisionRefinesAMeshAtLoad) {
         sceneWithShape(R"({"type": "triangle_mesh", "material": "m", )" + tetrahedron +
                        R"(, "subdivision": {"levels": 14}})");
     });
-    EXPECT_CONTAINS(
-        e.what(), "/shapes/0/subdivision: 14 levels of subdivision would make more than 67108864 triangles");
+    EXPECT_CONTAINS(e.what(),
+                    "/shapes/0/subdivision: 14 levels of subdivision would make more than 4194304 triangles");
     e = catchInputError([] {
         sceneWithShape(R"({"type": "triangle_mesh", "material": "m", "subdivision": {},
             "positions": [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1]],
