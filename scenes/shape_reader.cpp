@@ -499,7 +499,10 @@ TriangleMesh readSphereMesh(const JsonValue& value) {
     const double pi = 3.14159265358979323846;
     const double thetaTop = std::acos(std::clamp(double(zMax) / radius, -1.0, 1.0));
     const double thetaBottom = std::acos(std::clamp(double(zMin) / radius, -1.0, 1.0));
-    const int rings = std::max(1, int(std::ceil((thetaBottom - thetaTop) / pi * (sweep.turnSteps / 2))));
+    const bool topPole = thetaTop == 0.0, bottomPole = thetaBottom == pi;
+    // Two rings at least between two poles, whose own quads are triangles.
+    const int rings = std::max(topPole && bottomPole ? 2 : 1,
+                               int(std::ceil((thetaBottom - thetaTop) / pi * (sweep.turnSteps / 2))));
     const int columns = sweep.steps + 1;  // a full turn ends on a copy of its first column, with u = 1
     TriangleMesh mesh;
     for (int i = 0; i <= rings; ++i) {
@@ -514,7 +517,6 @@ TriangleMesh readSphereMesh(const JsonValue& value) {
                 {float(sweep.phiMax / (2.0 * pi)) * float(j) / float(sweep.steps), float(theta / pi)});
         }
     }
-    const bool topPole = thetaTop == 0.0, bottomPole = thetaBottom == pi;
     for (int i = 0; i < rings; ++i)
         for (int j = 0; j < sweep.steps; ++j) {
             const uint32_t a = uint32_t(i * columns + j), b = a + 1, d = a + uint32_t(columns), c = d + 1;

@@ -754,6 +754,12 @@ TEST(SceneLoader, EllipsoidsAndPartialSpheresAreMadeOfTriangles) {
         EXPECT_NEAR(area / zone, 1.0, 2e-4);
         EXPECT_LT(area / zone, 1.0);  // inscribed
     }
+    // The coarsest: 3 segments a turn, two rings between the poles (a triangular bipyramid).
+    EXPECT_EQ(sceneWithShape(R"({"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "m",
+                  "phi_max": 360, "segments": 3, "transform": [{"scale": [1, 1, 2]}]})")
+                  .meshes[0]
+                  .triangleCount(),
+              6u);
     const InputError e = catchInputError([] {
         sceneWithShape(R"({"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "m", "z_min": 0.5,
             "z_max": 0.5})");
