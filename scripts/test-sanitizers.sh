@@ -60,7 +60,8 @@ build_and_test() {
 }
 
 # Two failures that are not findings, after which the failed tests are run once more (then any
-# failure fails the run); anything else in the log fails it at once:
+# failure fails the run, but for the tracer's crash again: below); anything else in the log fails
+# it at once:
 #  - LeakSanitizer's stop-the-world tracer itself segfaults now and then at a process's exit, after
 #    the test has passed ("Tracer caught signal 11", google/sanitizers#1353; about 1 in 300 exits,
 #    more on a loaded machine), and the log shows no sanitizer report and no failed assertion;
@@ -83,7 +84,23 @@ rerun_if_nothing_was_found() {
     fi
     [ -n "$reason" ] || return 1
     echo "$reason (not a finding); running the failed tests once more"
-    ctest --test-dir "$dir" --rerun-failed --output-on-failure
+    local rerun="$dir/ctest-rerun.log"
+    if ctest --test-dir "$dir" --rerun-failed --output-on-failure 2>&1 | tee "$rerun"; then
+        return 0
+    fi
+    # Some processes crash LeakSanitizer's tracer at every exit: it reads a dynamic TLS block of a
+    # dlopen'ed library at an address that is not one ("DTLS 6 at 0x...21d5" with
+    # LSAN_OPTIONS=verbosity=1; seen with the texture plugin, and only under ctest). Leaks cannot
+    # be looked for in those processes; they run once more with every other check on.
+    if grep -q "Tracer caught signal" "$rerun" &&
+        ! grep -qE "ERROR: (Address|Leak|Thread)Sanitizer|runtime error:|\[  FAILED  \]|SUMMARY: " "$rerun"; then
+        echo "LeakSanitizer's tracer crashed again on the same tests: they run once more without leak" \
+            "detection (AddressSanitizer and UBSan still on)"
+        ASAN_OPTIONS="${ASAN_OPTIONS/detect_leaks=1/detect_leaks=0}" \
+            ctest --test-dir "$dir" --rerun-failed --output-on-failure
+        return
+    fi
+    return 1
 }
 
 supp="$PWD/tests"
