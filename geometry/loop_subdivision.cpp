@@ -53,8 +53,8 @@ std::vector<uint32_t> weldedIds(const std::vector<Vec3f>& positions) {
     return ids;
 }
 
-Level levelOf(const TriangleMesh& mesh) {
-    const std::vector<uint32_t> welded = weldedIds(mesh.positions);
+// The mesh as a level, its triangles over the vertices `welded` gives (weldedIds).
+Level levelOf(const TriangleMesh& mesh, const std::vector<uint32_t>& welded) {
     Level level;
     level.positions = mesh.positions;
     level.faces.reserve(mesh.triangleCount());
@@ -95,8 +95,7 @@ Edges edgesOf(const Level& level) {
         if (j - i > 2)
             throw InputError(
                 fmt::format("Loop subdivision needs a manifold mesh, but the edge between vertices {} and {} "
-                            "is shared by {} "
-                            "triangles",
+                            "is shared by {} triangles",
                             a, b, j - i));
         Edges::Edge edge{a, b};
         for (size_t c = i; c < j; ++c) {
@@ -195,7 +194,7 @@ Rings ringsOf(const Level& level) {
 // 3/16 for n = 3, 3 / (8 n) otherwise (Warren's simplification, which pbrt-v4 also uses).
 double loopBeta(size_t n) { return n == 3 ? 3.0 / 16.0 : 3.0 / (8.0 * double(n)); }
 
-Vec3f weightedSum(const Level& level, const uint32_t* ids, size_t count) {
+Vec3f positionSum(const Level& level, const uint32_t* ids, size_t count) {
     Vec3f sum{0.0f, 0.0f, 0.0f};
     for (size_t k = 0; k < count; ++k) sum = sum + level.positions[ids[k]];
     return sum;
@@ -215,7 +214,7 @@ Level refineOnce(const Level& level) {
             case VertexKind::Interior: {
                 const double beta = loopBeta(n);
                 next.positions[v] =
-                    p * float(1.0 - double(n) * beta) + weightedSum(level, rings.of(v), n) * float(beta);
+                    p * float(1.0 - double(n) * beta) + positionSum(level, rings.of(v), n) * float(beta);
                 break;
             }
             case VertexKind::Boundary:
@@ -347,15 +346,15 @@ TriangleMesh refineLoop(const TriangleMesh& control, int levels) {
                             "at most 2^26)",
                             levels, allowed, triangles));
     }
-    Level level = levelOf(control);
+    Level level = levelOf(control, weldedIds(control.positions));
     for (int l = 0; l < levels; ++l) level = refineOnce(level);
     return meshOf(std::move(level), control);
 }
 
 TriangleMesh moveToLoopLimit(const TriangleMesh& mesh) {
-    const Level level = levelOf(mesh);
-    const Rings rings = ringsOf(level);
     const std::vector<uint32_t> welded = weldedIds(mesh.positions);
+    const Level level = levelOf(mesh, welded);
+    const Rings rings = ringsOf(level);
     // The sum of the (area-weighted) normals of the triangles at each vertex: which side is the front.
     std::vector<Vec3f> faceNormals(level.positions.size(), Vec3f{0.0f, 0.0f, 0.0f});
     for (const Face& f : level.faces) {
@@ -373,7 +372,7 @@ TriangleMesh moveToLoopLimit(const TriangleMesh& mesh) {
             case VertexKind::Interior: {
                 // The limit mask: the vertex weighs 1 - n gamma, each neighbour gamma.
                 const double gamma = 1.0 / (double(n) + 3.0 / (8.0 * loopBeta(n)));
-                limit[v] = p * float(1.0 - double(n) * gamma) + weightedSum(level, r, n) * float(gamma);
+                limit[v] = p * float(1.0 - double(n) * gamma) + positionSum(level, r, n) * float(gamma);
                 Vec3f t1{0.0f, 0.0f, 0.0f}, t2{0.0f, 0.0f, 0.0f};
                 for (size_t k = 0; k < n; ++k) {
                     const double angle = 2.0 * std::numbers::pi * double(k) / double(n);
@@ -397,10 +396,11 @@ TriangleMesh moveToLoopLimit(const TriangleMesh& mesh) {
             case VertexKind::Corner:
                 break;
         }
-        Vec3f n3 = tangentNormal;
-        if (!(lengthSquared(n3) > 0.0f) || !std::isfinite(lengthSquared(n3))) n3 = faceNormals[v];
-        if (dot(n3, faceNormals[v]) < 0.0f) n3 = -n3;
-        if (lengthSquared(n3) > 0.0f && std::isfinite(lengthSquared(n3))) normal[v] = normalize(n3);
+        Vec3f facing = tangentNormal;
+        if (!(lengthSquared(facing) > 0.0f) || !std::isfinite(lengthSquared(facing))) facing = faceNormals[v];
+        if (dot(facing, faceNormals[v]) < 0.0f) facing = -facing;
+        if (lengthSquared(facing) > 0.0f && std::isfinite(lengthSquared(facing)))
+            normal[v] = normalize(facing);
     }
     TriangleMesh out = mesh;
     out.normals.resize(out.positions.size());

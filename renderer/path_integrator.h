@@ -129,32 +129,6 @@ inline bool isUnit(Vec3f v) { return std::abs(length(v) - 1.0f) < 1e-3f; }
     return strategy == LightStrategy::Bsdf || !(lightPdf > 0.0f) ? 1.0f : 0.0f;
 }
 
-// The material at `si` with its textures evaluated there (Material::at), the footprint computed
-// only when a texture filters by it. Out of line: untextured scenes never call it.
-[[gnu::noinline]] inline Material texturedMaterial(const Material& material, const IntegratorContext& ctx,
-                                                   const SurfaceInteraction& si, float time) {
-    TextureQuery query;
-    query.uv = si.uv;
-    if (material.needsFootprint()) {
-        const SurfaceDerivatives d = surfaceDerivatives(*ctx.scene, si, time);
-        query = textureQueryAt(ctx.footprint, si.position, si.geometricNormal, si.uv, d.dpdu, d.dpdv);
-    }
-    return material.at(query);
-}
-
-// A bump or normal map (materials/normal_perturbation.h) turns the shading normal at `si`, whose
-// precomputed frame then no longer applies. Out of line: only materials with one call it.
-[[gnu::noinline]] inline void perturbShadingNormal(const NormalPerturbation& perturbation,
-                                                   const IntegratorContext& ctx, SurfaceInteraction& si,
-                                                   float time) {
-    const SurfaceDerivatives d = surfaceDerivatives(*ctx.scene, si, time);
-    const TextureQuery query =
-        textureQueryAt(ctx.footprint, si.position, si.geometricNormal, si.uv, d.dpdu, d.dpdv);
-    si.shadingNormal =
-        perturbedNormal(perturbation, query, si.shadingNormal, d.dpdu, d.dpdv, si.geometricNormal);
-    si.shadingFrame = nullptr;
-}
-
 // Room for a textured material's evaluated copy (Material::at), filled only at textured hits. A
 // std::optional<Material> in its place cost every path, textured or not: GCC zero-filled all its
 // 88 bytes (a `rep stos`) at the start of each path (bench/README.md, "Speed tricks").
@@ -181,6 +155,32 @@ private:
     alignas(Material) unsigned char bytes_[sizeof(Material)];
     bool full_ = false;
 };
+
+// A textured material at `si`: its bump or normal map turns the shading normal there (whose
+// precomputed frame then no longer applies), and its textured parameters are evaluated into
+// `slot` (Material::at); the pixel footprint and the surface derivatives are computed once, and only
+// when a texture filters by the footprint or a map needs them. Returns the material to shade with.
+// Out of line: untextured scenes never call it.
+[[gnu::noinline]] inline const Material* shadeTextured(const Material& material, const IntegratorContext& ctx,
+                                                       SurfaceInteraction& si, float time,
+                                                       TexturedMaterialSlot& slot) {
+    TextureQuery query;
+    query.uv = si.uv;
+    const NormalPerturbation* perturbation = material.perturbation();
+    if (perturbation || material.needsFootprint()) {
+        const SurfaceDerivatives d = surfaceDerivatives(*ctx.scene, si, time);
+        const TextureQuery footprint =
+            textureQueryAt(ctx.footprint, si.position, si.geometricNormal, si.uv, d.dpdu, d.dpdv);
+        if (perturbation) {
+            si.shadingNormal = perturbedNormal(*perturbation, footprint, si.shadingNormal, d.dpdu, d.dpdv,
+                                               si.geometricNormal);
+            si.shadingFrame = nullptr;
+        }
+        if (material.needsFootprint()) query = footprint;
+    }
+    if (material.texturedParameters()->empty()) return &material;
+    return &slot.fill(material.at(query));
+}
 
 // A shadow ray from `si` to a point on a light; both ends are moved off their surfaces, so the
 // segment [0, 1) of the unnormalized direction may be tested in full. `leaveDistance` and
@@ -413,11 +413,8 @@ Radiance estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray 
         // caller's camera ray may not be.
         const Vec3f wo = bounce == 0 ? -normalize(ray.direction) : -ray.direction;
         const Material* shaded = &ctx.scene->materials[si.material];
-        if (shaded->isTextured()) [[unlikely]] {
-            if (const NormalPerturbation* perturbation = shaded->perturbation())
-                detail::perturbShadingNormal(*perturbation, ctx, si, ray.time);
-            shaded = &textured.fill(detail::texturedMaterial(*shaded, ctx, si, ray.time));
-        }
+        if (shaded->isTextured()) [[unlikely]]
+            shaded = detail::shadeTextured(*shaded, ctx, si, ray.time, textured);
         const detail::SurfaceVertex vertex{si, *shaded, wo, dot(wo, si.geometricNormal) > 0.0f};
         if (bounce == 0 && firstHit)
             *firstHit = {true, hit.t * length(ray.direction), si.shadingNormal, vertex.material.albedo()};

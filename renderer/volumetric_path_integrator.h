@@ -503,11 +503,8 @@ Radiance estimateRadianceThroughMedia(const Accel& accel, const IntegratorContex
             ++rays.extension;
             continue;
         }
-        if (shaded->isTextured()) [[unlikely]] {
-            if (const NormalPerturbation* perturbation = shaded->perturbation())
-                perturbShadingNormal(*perturbation, ctx, si, ray.time);
-            shaded = &textured.fill(texturedMaterial(*shaded, ctx, si, ray.time));
-        }
+        if (shaded->isTextured()) [[unlikely]]
+            shaded = shadeTextured(*shaded, ctx, si, ray.time, textured);
         const SurfaceVertex vertex{si, *shaded, wo, dot(wo, si.geometricNormal) > 0.0f};
         if (!sawSurface) {
             sawSurface = true;

@@ -387,8 +387,10 @@ AngularSweep readSweep(const JsonValue& value, Vec3f n) {
     int segments = 256;
     if (auto v = value.member("segments")) segments = int(v->integer(3, 1 << 16));
     double degrees = 360.0;
-    if (auto v = value.member("phi_max")) degrees = v->numberInRange(0.0f, 360.0f);
-    if (!(degrees > 0.0)) value.requiredMember("phi_max").failExpected("an angle above 0 degrees");
+    if (auto v = value.member("phi_max")) {
+        degrees = v->numberInRange(0.0f, 360.0f);
+        if (!(degrees > 0.0)) v->failExpected("an angle above 0 degrees");
+    }
     sweep.fullTurn = degrees == 360.0;
     sweep.phiMax = sweep.fullTurn ? 2.0 * 3.14159265358979323846 : degrees * (3.14159265358979323846 / 180.0);
     sweep.turnSteps = segments;
@@ -532,7 +534,9 @@ void readSphere(const JsonValue& value, ShapeContext& context) {
     Scene& scene = context.scene;
     const bool partial = value.member("z_min") || value.member("z_max") || value.member("phi_max");
     const auto transformValue = value.member("transform");
-    if (partial || (transformValue && !similarityScale(readTransform(*transformValue)))) {
+    const Transform transform = transformValue ? readTransform(*transformValue) : Transform{};
+    const std::optional<float> scale = similarityScale(transform);  // none: an ellipsoid
+    if (partial || !scale) {
         TriangleMesh mesh = readSphereMesh(value);
         mesh.name = value.pointer();
         addMeshShape(std::move(mesh), value, false, scene, context.folder);
@@ -548,13 +552,11 @@ void readSphere(const JsonValue& value, ShapeContext& context) {
     sphere.material = readMaterialReference(value.requiredMember("material"), scene.materialNames);
     sphere.media = readMediumInterface(value, scene.mediumNames);
     if (auto v = value.member("emission")) sphere.emission = readEmission(*v, context.folder);
-    if (auto v = value.member("transform")) {
-        const Transform transform = readTransform(*v);
-        const std::optional<float> scale = similarityScale(transform);
+    if (transformValue) {
         sphere.center = transform.applyPoint(sphere.center);
         sphere.radius *= *scale;
         if (!isFinite(sphere.center) || !std::isfinite(sphere.radius) || !(sphere.radius > 0.0f))
-            v->fail("the transformed sphere does not fit a 32-bit float");
+            transformValue->fail("the transformed sphere does not fit a 32-bit float");
     }
     if (!withinCoordinateLimit(sphere.center) || !(sphere.radius <= limits::kMaxCoordinate))
         value.fail(fmt::format(

@@ -101,6 +101,9 @@ void expectLimitsUnchangedByRefinement(const TriangleMesh& control, int levels) 
         worstPosition = std::max(worstPosition, distance(coarse.positions[i], fine.positions[i]));
         worstNormal = std::max(worstNormal, distance(coarse.normals[i], fine.normals[i]));
     }
+    // Measured: the positions identical, the normals within 2e-7 (float rounding of the masks);
+    // the limit mask 1% off moves them by 2e-4 to 6e-3 at these levels (measured on the cube and
+    // the octahedron).
     EXPECT_LT(worstPosition, 2e-6f) << "levels " << levels;
     EXPECT_LT(worstNormal, 2e-5f) << "levels " << levels;
 }
@@ -129,9 +132,17 @@ TEST(LoopSubdivision, AFlatMeshStaysFlatWithTheNormalOfItsPlane) {
 }
 
 TEST(LoopSubdivision, LimitNormalsAgreeWithTheFinelyRefinedSurface) {
-    // The normal of the surface refined 6 levels, from the triangles around each of the octahedron's
-    // level-1 vertices (they keep their indices), against the limit normal computed at level 1.
-    const TriangleMesh control = octahedron();
+    // The normal of the surface refined 6 levels, from the triangles around each level-1 vertex (they
+    // keep their indices), against the limit normal computed at level 1, on a box of three different
+    // sides whose diagonals break every symmetry (on a regular solid symmetry alone would make the
+    // normals agree). Measured: within 0.04 degrees; the level-1 mesh's own normals (its triangles'
+    // around each vertex) are up to 2.2 degrees off, so 0.2 degrees tells the limit masks apart.
+    std::vector<Vec3f> corners;
+    for (int i = 0; i < 8; ++i)
+        corners.push_back({i & 1 ? 1.0f : -1.0f, i & 2 ? 1.5f : -1.0f, i & 4 ? 0.7f : -1.0f});
+    const TriangleMesh control =
+        outward(std::move(corners), {0, 1, 3, 0, 3, 2, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4,
+                                     2, 3, 7, 2, 7, 6, 0, 2, 6, 0, 6, 4, 1, 3, 7, 1, 7, 5});
     const TriangleMesh limit = loopSubdivide(control, 1);
     const TriangleMesh fine = refineLoop(control, 6);
     std::vector<Vec3f> around(limit.positions.size(), Vec3f{0, 0, 0});
@@ -144,7 +155,7 @@ TEST(LoopSubdivision, LimitNormalsAgreeWithTheFinelyRefinedSurface) {
             }
     for (size_t i = 0; i < limit.positions.size(); ++i) {
         const float cosine = dot(normalize(around[i]), limit.normals[i]);
-        EXPECT_GT(cosine, std::cos(0.5f * 3.14159265f / 180.0f)) << i;  // within half a degree
+        EXPECT_GT(cosine, std::cos(0.2f * 3.14159265f / 180.0f)) << i;
     }
 }
 
