@@ -15,6 +15,7 @@
 #include "accel/bvh_triangle4.h"
 #include "core/check.h"
 #include "core/error.h"
+#include "geometry/cut_out.h"
 #include "geometry/sphere.h"
 #include "geometry/triangle.h"
 
@@ -29,6 +30,10 @@ bool isTraceable(const Ray& ray) {
     if (ray.direction.x == 0.0f && ray.direction.y == 0.0f && ray.direction.z == 0.0f) return false;
     return ray.tnear <= ray.tfar;  // false when either is NaN
 }
+
+// Whether a mesh's triangles are special primitives, tested one by one: when it moves, deforms or
+// has a cut-out.
+bool isSpecialMesh(const TriangleMesh& mesh) { return mesh.deforms() || mesh.motion.moves() || mesh.alpha; }
 
 bool isDegenerate(Vec3f p0, Vec3f p1, Vec3f p2) {
     // In double, the edge differences and products of floats are exact or nearly so: a zero
@@ -117,7 +122,7 @@ BvhAccelerator::BvhAccelerator(const SceneGeometry& scene, const BvhBuildSetting
     std::vector<uint8_t> usable(totalTriangles, 0);
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
         const TriangleMesh& mesh = scene.meshes[m];
-        if (mesh.deforms() || mesh.motion.moves()) continue;  // special primitives, below
+        if (isSpecialMesh(mesh)) continue;  // special primitives, below
         tbb::parallel_for(
             tbb::blocked_range<size_t>(0, mesh.triangleCount(), 16384),
             [&](const tbb::blocked_range<size_t>& range) {
@@ -140,10 +145,10 @@ BvhAccelerator::BvhAccelerator(const SceneGeometry& scene, const BvhBuildSetting
         packedIndex[g] = uint32_t(usableCount);
         usableCount += usable[g];
     }
-    size_t movingTriangles = 0;
+    size_t specialTriangles = 0;
     for (const TriangleMesh& mesh : scene.meshes)
-        if (mesh.deforms() || mesh.motion.moves()) movingTriangles += mesh.triangleCount();
-    skippedCount_ = totalTriangles - movingTriangles - usableCount;
+        if (isSpecialMesh(mesh)) specialTriangles += mesh.triangleCount();
+    skippedCount_ = totalTriangles - specialTriangles - usableCount;
     std::vector<Primitive> candidates(usableCount);
     std::vector<Bounds3f> bounds(usableCount);
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
@@ -153,7 +158,7 @@ BvhAccelerator::BvhAccelerator(const SceneGeometry& scene, const BvhBuildSetting
             [&](const tbb::blocked_range<size_t>& range) {
                 for (size_t j = range.begin(); j != range.end(); ++j) {
                     const uint32_t globalIndex = meshFirstTriangle_[m] + uint32_t(j);
-                    if (!usable[globalIndex]) continue;  // also every triangle of a moving mesh
+                    if (!usable[globalIndex]) continue;  // also every triangle of a special mesh
                     const Vec3f p0 = mesh.positions[mesh.indices[3 * j]],
                                 p1 = mesh.positions[mesh.indices[3 * j + 1]],
                                 p2 = mesh.positions[mesh.indices[3 * j + 2]];
@@ -184,7 +189,7 @@ BvhAccelerator::BvhAccelerator(const SceneGeometry& scene, const BvhBuildSetting
     }
 
     specialBase_ = triangleCount_ + uint32_t(scene.spheres.size());
-    addMovingPrimitives(scene, settings, candidates, bounds);
+    addSpecialPrimitives(scene, settings, candidates, bounds);
 
     const BvhBuildResult built = buildBvh(bounds, settings);
     Bvh4 wide = collapseToBvh4(built, settings);
@@ -234,14 +239,24 @@ BvhAccelerator::Primitive BvhAccelerator::primitiveAt(const PrimitiveBlock& bloc
     return p;
 }
 
-void BvhAccelerator::addMovingPrimitives(const SceneGeometry& scene, const BvhBuildSettings& settings,
-                                         std::vector<Primitive>& candidates, std::vector<Bounds3f>& bounds) {
-    auto addSpecial = [&](const Special& special, const Bounds3f& box) {
+void BvhAccelerator::addSpecialPrimitives(const SceneGeometry& scene, const BvhBuildSettings& settings,
+                                          std::vector<Primitive>& candidates, std::vector<Bounds3f>& bounds) {
+    // `data`: a still triangle's vertices.
+    auto addSpecial = [&](const Special& special, const Bounds3f& box, const Primitive& data = {}) {
         if (uint64_t(specialBase_) + specials_.size() >= kNoHit)
             throw std::length_error("BvhAccelerator: more than 2^32 - 1 primitives");
-        candidates.push_back({{0, 0, 0, 0, 0, 0, 0, 0, 0}, specialBase_ + uint32_t(specials_.size())});
+        Primitive candidate = data;
+        candidate.globalIndex = specialBase_ + uint32_t(specials_.size());
+        candidates.push_back(candidate);
         bounds.push_back(box);
         specials_.push_back(special);
+    };
+    // The cut-out of `mesh`, when it has one: its index into cutOuts_.
+    auto cutOutOf = [&](const TriangleMesh& mesh) {
+        if (!mesh.alpha) return kNoHit;
+        cutOuts_.push_back({mesh.alpha, mesh.uvs});
+        hasCutOuts_ = true;
+        return uint32_t(cutOuts_.size() - 1);
     };
     // An instance of tree `child` (object space), placed by `motion` when it moves, else by
     // `placement`, and boxed in the world over the whole shutter.
@@ -258,7 +273,9 @@ void BvhAccelerator::addMovingPrimitives(const SceneGeometry& scene, const BvhBu
         special.geomId = geomId;
         special.primId = primId;
         special.source = uint32_t(instances_.size());
-        special.isInstance = true;
+        special.cutOut = kNoHit;
+        special.kind = SpecialKind::Instance;
+        hasCutOuts_ = hasCutOuts_ || child->hasCutOuts_;
         instances_.push_back({motion, placement, child});
         addSpecial(special, worldBox);
     };
@@ -270,6 +287,37 @@ void BvhAccelerator::addMovingPrimitives(const SceneGeometry& scene, const BvhBu
         children_.push_back(std::move(accelerator));
         placeInstance(children_.back().get(), motion, Transform(), geomId, primId);
     };
+    // A still mesh with a cut-out: each usable triangle (as the constructor decides for the others)
+    // a special primitive holding its vertices.
+    auto addStillCutOutMesh = [&](const TriangleMesh& mesh, uint32_t geomId, uint32_t cutOut) {
+        const size_t n = mesh.positions.size();
+        for (size_t j = 0; j < mesh.triangleCount(); ++j) {
+            Special special{};
+            special.geomId = geomId;
+            special.primId = uint32_t(j);
+            special.cutOut = cutOut;
+            special.kind = SpecialKind::StillTriangle;
+            bool ok = true;
+            for (int k = 0; k < 3; ++k) {
+                special.vertex[k] = mesh.indices[3 * j + k];
+                ok = ok && special.vertex[k] < n;
+            }
+            Vec3f p[3];
+            for (int k = 0; ok && k < 3; ++k) {
+                p[k] = mesh.positions[special.vertex[k]];
+                ok = isFinite(p[k]);
+            }
+            if (!ok || isDegenerate(p[0], p[1], p[2])) {
+                ++skippedCount_;
+                continue;
+            }
+            Bounds3f box;
+            for (const Vec3f& v : p) box.extend(v);
+            addSpecial(
+                special, box,
+                Primitive{{p[0].x, p[0].y, p[0].z, p[1].x, p[1].y, p[1].z, p[2].x, p[2].y, p[2].z}, 0});
+        }
+    };
     // The scene's instances: one tree per prototype (its positions and indices only), traversed
     // by every instance that places it (pbrt-v4's TransformedPrimitive over a shared BVHAggregate).
     std::vector<const BvhAccelerator*> prototypeTrees;
@@ -278,6 +326,10 @@ void BvhAccelerator::addMovingPrimitives(const SceneGeometry& scene, const BvhBu
         child.meshes.emplace_back();
         child.meshes[0].positions = prototype.positions;
         child.meshes[0].indices = prototype.indices;
+        if (prototype.alpha) {
+            child.meshes[0].alpha = prototype.alpha;
+            child.meshes[0].uvs = prototype.uvs;
+        }
         auto accelerator = std::make_unique<BvhAccelerator>(child, settings);
         skippedCount_ += accelerator->skippedCount_;
         children_.push_back(std::move(accelerator));
@@ -295,13 +347,17 @@ void BvhAccelerator::addMovingPrimitives(const SceneGeometry& scene, const BvhBu
             child.meshes.push_back(mesh);
             child.meshes[0].motion.keys.clear();
             child.meshes[0].normals.clear();
-            child.meshes[0].uvs.clear();
+            if (!mesh.alpha) child.meshes[0].uvs.clear();
             addInstance(std::move(child), mesh.motion, scene.meshGeomId(m), kNoHit);
             continue;
         }
-        if (!mesh.deforms()) continue;
+        if (!mesh.deforms()) {
+            if (mesh.alpha) addStillCutOutMesh(mesh, scene.meshGeomId(m), cutOutOf(mesh));
+            continue;
+        }
         const uint32_t source = uint32_t(deformingMeshes_.size());
         deformingMeshes_.push_back(mesh.positionKeys);
+        const uint32_t cutOut = cutOutOf(mesh);
         size_t vertexCount = mesh.positions.size();
         for (const auto& key : mesh.positionKeys) vertexCount = std::min(vertexCount, key.size());
         for (size_t j = 0; j < mesh.triangleCount(); ++j) {
@@ -309,6 +365,8 @@ void BvhAccelerator::addMovingPrimitives(const SceneGeometry& scene, const BvhBu
             special.geomId = scene.meshGeomId(m);
             special.primId = uint32_t(j);
             special.source = source;
+            special.cutOut = cutOut;
+            special.kind = SpecialKind::DeformingTriangle;
             bool ok = true;
             Bounds3f box;
             for (int k = 0; k < 3; ++k) {
@@ -340,20 +398,35 @@ void BvhAccelerator::addMovingPrimitives(const SceneGeometry& scene, const BvhBu
     }
 }
 
+bool BvhAccelerator::keepsHit(const Special& special, const CutOutRay& cutOutRay, float b1, float b2) const {
+    if (special.cutOut == kNoHit) return true;
+    const CutOut& cutOut = cutOuts_[special.cutOut];
+    const float alpha = cutOutCoverage(*cutOut.alpha, meshUvAt(cutOut.uvs, special.vertex, b1, b2));
+    const uint32_t geomId =
+        cutOutRay.instanceGeomId != kNoInstance ? cutOutRay.instanceGeomId : special.geomId;
+    return keepsCutOutHit(alpha, cutOutRay.rayHash, geomId, special.primId);
+}
+
 template <bool AnyHit>
-bool BvhAccelerator::intersectSpecial(const Ray& ray, const WatertightRay& triangleRay, uint32_t index,
-                                      float tFar, float& t, float& b1, float& b2, Hit& instanceHit) const {
+bool BvhAccelerator::intersectSpecial(const Ray& ray, const WatertightRay& triangleRay,
+                                      const CutOutRay& cutOutRay, const Primitive& primitive, float tFar,
+                                      float& t, float& b1, float& b2, Hit& instanceHit) const {
     if (!std::isfinite(ray.time)) return false;
-    const Special& special = specials_[index];
-    if (!special.isInstance) {
-        // The vertices at ray.time, exactly as geometry/surface_interaction.h computes them.
-        const auto& keys = deformingMeshes_[special.source];
-        const Vec3f p0 = interpolateKeys(keys, special.vertex[0], ray.time),
-                    p1 = interpolateKeys(keys, special.vertex[1], ray.time),
-                    p2 = interpolateKeys(keys, special.vertex[2], ray.time);
-        const float vertices[9] = {p0.x, p0.y, p0.z, p1.x, p1.y, p1.z, p2.x, p2.y, p2.z};
+    const Special& special = specials_[primitive.globalIndex - specialBase_];
+    if (special.kind != SpecialKind::Instance) {
         TriangleHit th;
-        if (!intersectTriangleWatertight(triangleRay, vertices, ray.tnear, tFar, th)) return false;
+        if (special.kind == SpecialKind::StillTriangle) {
+            if (!intersectTriangleWatertight(triangleRay, primitive.data, ray.tnear, tFar, th)) return false;
+        } else {
+            // The vertices at ray.time, exactly as geometry/surface_interaction.h computes them.
+            const auto& keys = deformingMeshes_[special.source];
+            const Vec3f p0 = interpolateKeys(keys, special.vertex[0], ray.time),
+                        p1 = interpolateKeys(keys, special.vertex[1], ray.time),
+                        p2 = interpolateKeys(keys, special.vertex[2], ray.time);
+            const float vertices[9] = {p0.x, p0.y, p0.z, p1.x, p1.y, p1.z, p2.x, p2.y, p2.z};
+            if (!intersectTriangleWatertight(triangleRay, vertices, ray.tnear, tFar, th)) return false;
+        }
+        if (!keepsHit(special, cutOutRay, th.b1, th.b2)) return false;
         t = th.t;
         b1 = th.b1;
         b2 = th.b2;
@@ -361,14 +434,16 @@ bool BvhAccelerator::intersectSpecial(const Ray& ray, const WatertightRay& trian
     }
     const Instance& instance = instances_[special.source];
     if (instance.motion.moves())
-        return intersectInstance<AnyHit>(special, instance.motion.at(ray.time), ray, tFar, t, b1, b2,
-                                         instanceHit);
-    return intersectInstance<AnyHit>(special, instance.placement, ray, tFar, t, b1, b2, instanceHit);
+        return intersectInstance<AnyHit>(special, instance.motion.at(ray.time), ray, cutOutRay, tFar, t, b1,
+                                         b2, instanceHit);
+    return intersectInstance<AnyHit>(special, instance.placement, ray, cutOutRay, tFar, t, b1, b2,
+                                     instanceHit);
 }
 
 template <bool AnyHit>
 bool BvhAccelerator::intersectInstance(const Special& special, const Transform& toWorld, const Ray& ray,
-                                       float tFar, float& t, float& b1, float& b2, Hit& instanceHit) const {
+                                       const CutOutRay& cutOutRay, float tFar, float& t, float& b1, float& b2,
+                                       Hit& instanceHit) const {
     const Instance& instance = instances_[special.source];
     // The same transform the shading code places the hit with, and the same object-space ray that
     // hits are recomputed with (geometry/surface_interaction.h); the direction is not normalized,
@@ -378,11 +453,13 @@ bool BvhAccelerator::intersectInstance(const Special& special, const Transform& 
     objectRay.origin = toObject.applyPoint(ray.origin);
     objectRay.direction = toObject.applyVector(ray.direction);
     objectRay.tfar = tFar;
+    // The child's cut-outs decide with the world ray's hash and this instance's geomId.
+    const CutOutRay childCutOutRay{cutOutRay.rayHash, special.geomId};
     if constexpr (AnyHit) {
-        return instance.child->occluded(objectRay);
+        return instance.child->traverse<true>(objectRay, nullptr, childCutOutRay);
     } else {
         Hit h;
-        if (!instance.child->intersect(objectRay, h)) return false;
+        if (!instance.child->traverse<false>(objectRay, &h, childCutOutRay)) return false;
         t = h.t;
         b1 = h.u;
         b2 = h.v;
@@ -406,6 +483,8 @@ BvhAccelerator::Stats BvhAccelerator::stats() const {
                     meshFirstTriangle_.capacity() * sizeof(uint32_t) + specials_.capacity() * sizeof(Special);
     for (const auto& keys : deformingMeshes_)
         for (const auto& key : keys) s.memoryBytes += key.capacity() * sizeof(Vec3f);
+    for (const CutOut& cutOut : cutOuts_)
+        s.memoryBytes += sizeof(CutOut) + cutOut.uvs.capacity() * sizeof(Vec2f);
     // Each tree once, however many instances share it.
     s.memoryBytes += instances_.capacity() * sizeof(Instance);
     for (const auto& child : children_) {
@@ -484,9 +563,9 @@ inline int triangleLanes(const uint32_t* globalIndex, uint32_t triangleCount) {
 // far): the smallest t, and of equal ones the last in leaf order. Other blocks go one by one.
 template <bool AnyHit>
 bool BvhAccelerator::intersectLeaf(const Ray& ray, const WatertightRay& triangleRay,
-                                   const WatertightRay4& triangleRay4, uint32_t firstBlock, uint32_t count,
-                                   float& tClosest, uint32_t& closest, float& closestB1, float& closestB2,
-                                   Hit& instanceHit) const {
+                                   const WatertightRay4& triangleRay4, const CutOutRay& cutOutRay,
+                                   uint32_t firstBlock, uint32_t count, float& tClosest, uint32_t& closest,
+                                   float& closestB1, float& closestB2, Hit& instanceHit) const {
     bool found = false;
     for (uint32_t b = firstBlock; count > 0; ++b) {
         const int lanes = count < 4 ? int(count) : 4;
@@ -535,8 +614,8 @@ bool BvhAccelerator::intersectLeaf(const Ray& ray, const WatertightRay& triangle
                                      ray.tnear, tClosest, t))
                     continue;
             } else {
-                if (!intersectSpecial<AnyHit>(ray, triangleRay, p.globalIndex - specialBase_, tClosest, t, b1,
-                                              b2, instanceHit))
+                if (!intersectSpecial<AnyHit>(ray, triangleRay, cutOutRay, p, tClosest, t, b1, b2,
+                                              instanceHit))
                     continue;
             }
             if constexpr (AnyHit) return true;
@@ -551,7 +630,7 @@ bool BvhAccelerator::intersectLeaf(const Ray& ray, const WatertightRay& triangle
 }
 
 template <bool AnyHit>
-bool BvhAccelerator::traverse(const Ray& ray, Hit* hit) const {
+bool BvhAccelerator::traverse(const Ray& ray, Hit* hit, const CutOutRay& cutOutRay) const {
     if (nodes_.empty() || !isTraceable(ray)) return false;
     const BoxRay4 boxRay(ray.origin, ray.direction, ray.tnear);
     const WatertightRay triangleRay(ray.origin, ray.direction);
@@ -596,8 +675,8 @@ bool BvhAccelerator::traverse(const Ray& ray, Hit* hit) const {
                 continue;
             }
         } else {
-            if (intersectLeaf<AnyHit>(ray, triangleRay, triangleRay4, current.child, current.count, tClosest,
-                                      closest, closestB1, closestB2, instanceHit)) {
+            if (intersectLeaf<AnyHit>(ray, triangleRay, triangleRay4, cutOutRay, current.child, current.count,
+                                      tClosest, closest, closestB1, closestB2, instanceHit)) {
                 if constexpr (AnyHit) return true;
             }
         }
@@ -642,16 +721,22 @@ void BvhAccelerator::fillHit(const Ray& ray, uint32_t primitive, float t, float 
         hit.primId = p.globalIndex - meshFirstTriangle_[mesh];
     } else if (p.globalIndex >= specialBase_) {
         const Special& special = specials_[p.globalIndex - specialBase_];
-        if (special.isInstance) {
+        if (special.kind == SpecialKind::Instance) {
             hit = specialHit;
             hit.t = t;
             return;
         }
-        const auto& keys = deformingMeshes_[special.source];
-        const Vec3f p0 = interpolateKeys(keys, special.vertex[0], ray.time),
-                    p1 = interpolateKeys(keys, special.vertex[1], ray.time),
-                    p2 = interpolateKeys(keys, special.vertex[2], ray.time);
-        hit.geometricNormal = cross(p1 - p0, p2 - p0);
+        if (special.kind == SpecialKind::StillTriangle) {
+            const Vec3f p0(p.data[0], p.data[1], p.data[2]), p1(p.data[3], p.data[4], p.data[5]),
+                p2(p.data[6], p.data[7], p.data[8]);
+            hit.geometricNormal = cross(p1 - p0, p2 - p0);
+        } else {
+            const auto& keys = deformingMeshes_[special.source];
+            const Vec3f p0 = interpolateKeys(keys, special.vertex[0], ray.time),
+                        p1 = interpolateKeys(keys, special.vertex[1], ray.time),
+                        p2 = interpolateKeys(keys, special.vertex[2], ray.time);
+            hit.geometricNormal = cross(p1 - p0, p2 - p0);
+        }
         hit.geomId = special.geomId;
         hit.primId = special.primId;
     } else {
@@ -662,8 +747,12 @@ void BvhAccelerator::fillHit(const Ray& ray, uint32_t primitive, float t, float 
     }
 }
 
-bool BvhAccelerator::intersect(const Ray& ray, Hit& hit) const { return traverse<false>(ray, &hit); }
+bool BvhAccelerator::intersect(const Ray& ray, Hit& hit) const {
+    return traverse<false>(ray, &hit, CutOutRay{hasCutOuts_ ? cutOutRayHash(ray) : 0});
+}
 
-bool BvhAccelerator::occluded(const Ray& ray) const { return traverse<true>(ray, nullptr); }
+bool BvhAccelerator::occluded(const Ray& ray) const {
+    return traverse<true>(ray, nullptr, CutOutRay{hasCutOuts_ ? cutOutRayHash(ray) : 0});
+}
 
 }  // namespace penumbra

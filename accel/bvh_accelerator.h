@@ -20,6 +20,11 @@
 // motion.at(time).inverse() (the direction is not normalized, so t carries over). These are
 // "special" primitives whose global index is past the spheres', so a static scene pays nothing.
 //
+// Cut-outs (geometry/cut_out.h): the triangles of a mesh with an alpha are special primitives too,
+// tested one by one and kept or passed through by keepsCutOutHit, for intersect and occluded
+// alike; the ray's hash and, inside an instance, the instance's geomId travel down to the
+// instance's tree so that the number is the one Embree's filter computes.
+//
 // Instancing (SceneGeometry::instances) is the same two-level structure: each prototype mesh gets
 // one bottom-level tree, built once, and every instance is a special primitive of the top level,
 // boxed by its placement (over the shutter when it moves), that takes the ray into the
@@ -41,6 +46,7 @@ namespace penumbra {
 
 struct WatertightRay;
 struct WatertightRay4;
+class Texture;
 
 class BvhAccelerator {
 public:
@@ -86,44 +92,62 @@ private:
         uint32_t globalIndex[4];
     };
     static Primitive primitiveAt(const PrimitiveBlock& block, int lane);
+    // What the cut-out test needs of the traced ray (geometry/cut_out.h): its hash (0 when no
+    // tree has a cut-out) and, within an instance's tree, the instance's geomId, which names the
+    // hit for the test (kNoInstance at the top level).
+    static constexpr uint32_t kNoInstance = ~0u;
+    struct CutOutRay {
+        uint64_t rayHash = 0;
+        uint32_t instanceGeomId = kNoInstance;
+    };
     template <bool AnyHit>
     bool intersectLeaf(const Ray& ray, const WatertightRay& triangleRay, const WatertightRay4& triangleRay4,
-                       uint32_t firstBlock, uint32_t count, float& tClosest, uint32_t& closest,
-                       float& closestB1, float& closestB2, Hit& instanceHit) const;
+                       const CutOutRay& cutOutRay, uint32_t firstBlock, uint32_t count, float& tClosest,
+                       uint32_t& closest, float& closestB1, float& closestB2, Hit& instanceHit) const;
 
-    void addMovingPrimitives(const SceneGeometry& scene, const BvhBuildSettings& settings,
-                             std::vector<Primitive>& candidates, std::vector<Bounds3f>& bounds);
+    void addSpecialPrimitives(const SceneGeometry& scene, const BvhBuildSettings& settings,
+                              std::vector<Primitive>& candidates, std::vector<Bounds3f>& bounds);
     template <bool AnyHit>
-    bool traverse(const Ray& ray, Hit* hit) const;
+    bool traverse(const Ray& ray, Hit* hit, const CutOutRay& cutOutRay) const;
     void prefetchChild(const Bvh4Node& node, int i) const;
     void fillHit(const Ray& ray, uint32_t primitive, float t, float b1, float b2, const Hit& specialHit,
                  Hit& hit) const;
 
-    // Deforming triangles and moving instances, referenced by globalIndex - specialBase_.
+    // Deforming triangles, the triangles of still meshes with a cut-out, and instances, referenced
+    // by globalIndex - specialBase_. A still triangle's vertices are its Primitive's data.
+    enum class SpecialKind : uint8_t { DeformingTriangle, StillTriangle, Instance };
     struct Special {
         uint32_t geomId, primId;  // as reported (accel/traversal.h)
         uint32_t source;          // index into deformingMeshes_ or instances_
-        uint32_t vertex[3];       // deforming triangle: its vertex indices
-        bool isInstance;
+        uint32_t vertex[3];       // a triangle's vertex indices
+        uint32_t cutOut;          // a triangle's index into cutOuts_, or kNoHit: opaque
+        SpecialKind kind;
     };
+    // The alpha of a mesh with a cut-out and its uvs (geometry/cut_out.h).
+    struct CutOut {
+        std::shared_ptr<const Texture> alpha;
+        std::vector<Vec2f> uvs;
+    };
+    // Whether a hit at barycentrics (b1, b2) on triangle special `special` is kept by its cut-out.
+    bool keepsHit(const Special& special, const CutOutRay& cutOutRay, float b1, float b2) const;
     // A tree placed in the world: by `motion` when it moves, else by `placement`.
     struct Instance {
         MotionTransform motion;
         Transform placement;
         const BvhAccelerator* child;  // object space, never moving; one of children_
     };
-    // Intersects special primitive `index` within [ray.tnear, tFar]; on a hit sets t and, for a
-    // deforming triangle, the barycentrics, or for an instance, `instanceHit`. Out of line: still
-    // scenes never call it, and inlined its transforms cost the leaf loop registers.
     // Intersects instance special `special`, placed by `toWorld` at the ray's time. Out of line:
     // still scenes never call it, and inlined it costs their leaf loop registers.
     template <bool AnyHit>
     [[gnu::noinline]] bool intersectInstance(const Special& special, const Transform& toWorld, const Ray& ray,
-                                             float tFar, float& t, float& b1, float& b2,
-                                             Hit& instanceHit) const;
+                                             const CutOutRay& cutOutRay, float tFar, float& t, float& b1,
+                                             float& b2, Hit& instanceHit) const;
+    // Intersects special primitive `primitive` within [ray.tnear, tFar]; on a hit (one its cut-out
+    // keeps) sets t and, for a triangle, the barycentrics, or for an instance, `instanceHit`.
     template <bool AnyHit>
-    bool intersectSpecial(const Ray& ray, const WatertightRay& triangleRay, uint32_t index, float tFar,
-                          float& t, float& b1, float& b2, Hit& instanceHit) const;
+    bool intersectSpecial(const Ray& ray, const WatertightRay& triangleRay, const CutOutRay& cutOutRay,
+                          const Primitive& primitive, float tFar, float& t, float& b1, float& b2,
+                          Hit& instanceHit) const;
 
     Bvh4NodeArray nodes_;
     Bounds3f bounds_;  // of everything in the tree
@@ -135,6 +159,8 @@ private:
     uint32_t specialBase_ = 0;  // triangleCount_ + number of spheres
     std::vector<Special> specials_;
     std::vector<std::vector<std::vector<Vec3f>>> deformingMeshes_;  // position keys
+    std::vector<CutOut> cutOuts_;
+    bool hasCutOuts_ = false;  // in this tree or any tree it places
     std::vector<Instance> instances_;
     // The trees instances place: one per moving shape and one per prototype, shared by all its
     // instances.

@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "geometry/cut_out.h"
+
 namespace penumbra {
 
 namespace {
@@ -31,8 +33,10 @@ void setVertices(RTCDevice device, RTCGeometry geometry, unsigned slot, const st
 }
 
 // A triangle geometry; a deforming mesh gets one vertex buffer per time step, which Embree
-// interpolates linearly, as geometry/surface_interaction.h does.
-RTCGeometry newTriangleGeometry(RTCDevice device, const TriangleMesh& mesh) {
+// interpolates linearly, as geometry/surface_interaction.h does. With a `filter`, it is called with
+// `userData` on every candidate hit, for intersect and occluded (a cut-out's test).
+RTCGeometry newTriangleGeometry(RTCDevice device, const TriangleMesh& mesh,
+                                RTCFilterFunctionN filter = nullptr, void* userData = nullptr) {
     RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
     if (mesh.deforms()) {
         rtcSetGeometryTimeStepCount(geometry, unsigned(mesh.positionKeys.size()));
@@ -45,6 +49,11 @@ RTCGeometry newTriangleGeometry(RTCDevice device, const TriangleMesh& mesh) {
         geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), mesh.triangleCount()));
     if (!indices) throwEmbreeError(device, "allocating an index buffer");
     std::memcpy(indices, mesh.indices.data(), mesh.indices.size() * sizeof(uint32_t));
+    if (filter) {
+        rtcSetGeometryUserData(geometry, userData);
+        rtcSetGeometryIntersectFilterFunction(geometry, filter);
+        rtcSetGeometryOccludedFilterFunction(geometry, filter);
+    }
     rtcSetGeometryBuildQuality(geometry, RTC_BUILD_QUALITY_HIGH);  // its own BVH, in a two-level scene
     rtcCommitGeometry(geometry);
     return geometry;
@@ -142,13 +151,15 @@ EmbreeAccelerator::EmbreeAccelerator(const SceneGeometry& scene, EmbreeOptions o
     for (size_t i = 0; i < scene.meshes.size(); ++i) {
         const TriangleMesh& mesh = scene.meshes[i];
         if (mesh.triangleCount() == 0) continue;
+        CutOut* cutOut = cutOutOf(mesh, uint32_t(i));
+        const RTCFilterFunctionN filter = cutOut ? filterCutOut : nullptr;
         if (!mesh.motion.moves()) {
-            attach(scene_, newTriangleGeometry(device_, mesh), unsigned(i));
+            attach(scene_, newTriangleGeometry(device_, mesh, filter, cutOut), unsigned(i));
             continue;
         }
         RTCScene child = newScene(device_, options);
         instancedScenes_.push_back(child);
-        attach(child, newTriangleGeometry(device_, mesh), 0);
+        attach(child, newTriangleGeometry(device_, mesh, filter, cutOut), 0);
         rtcCommitScene(child);
         attach(scene_, newMotionInstance(device_, child, mesh.motion), unsigned(i));
     }
@@ -161,7 +172,9 @@ EmbreeAccelerator::EmbreeAccelerator(const SceneGeometry& scene, EmbreeOptions o
         if (scene.prototypes[p].triangleCount() == 0) continue;
         RTCScene child = newScene(device_, options);
         instancedScenes_.push_back(child);
-        attach(child, newTriangleGeometry(device_, scene.prototypes[p]), 0);
+        CutOut* cutOut = cutOutOf(scene.prototypes[p], 0);
+        attach(child,
+               newTriangleGeometry(device_, scene.prototypes[p], cutOut ? filterCutOut : nullptr, cutOut), 0);
         rtcCommitScene(child);
         prototypeScenes[p] = child;
     }
@@ -207,10 +220,35 @@ EmbreeAccelerator::~EmbreeAccelerator() {
     if (device_) rtcReleaseDevice(device_);
 }
 
+EmbreeAccelerator::CutOut* EmbreeAccelerator::cutOutOf(const TriangleMesh& mesh, uint32_t geomId) {
+    if (!mesh.alpha) return nullptr;
+    cutOuts_.push_back(std::make_unique<CutOut>(CutOut{mesh.alpha, mesh.uvs, mesh.indices, geomId}));
+    return cutOuts_.back().get();
+}
+
+// A candidate hit on a mesh with a cut-out is refused when keepsCutOutHit says so, with the number
+// of the integrator's ray (the context's) and the hit's scene ids: an instanced geometry's hit is
+// named by its instance, as our BVH names it.
+void EmbreeAccelerator::filterCutOut(const RTCFilterFunctionNArguments* args) {
+    const auto& cutOut = *static_cast<const CutOut*>(args->geometryUserPtr);
+    const Ray* rays = reinterpret_cast<const TraceContext*>(args->context)->rays;
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] == 0) continue;
+        const unsigned primId = RTCHitN_primID(args->hit, args->N, i);
+        const unsigned instance = RTCHitN_instID(args->hit, args->N, i, 0);
+        const uint32_t geomId = instance != RTC_INVALID_GEOMETRY_ID ? instance : cutOut.geomId;
+        const float b1 = RTCHitN_u(args->hit, args->N, i), b2 = RTCHitN_v(args->hit, args->N, i);
+        const float alpha =
+            cutOutCoverage(*cutOut.alpha, meshUvAt(cutOut.uvs, &cutOut.indices[3 * primId], b1, b2));
+        const Ray& ray = rays[RTCRayN_id(args->ray, args->N, i)];
+        if (!keepsCutOutHit(alpha, cutOutRayHash(ray), geomId, primId)) args->valid[i] = 0;
+    }
+}
+
 // A candidate hit on the triangle the ray leaves is refused. Hits on a moving mesh or an instance
 // name it by instID[0] (its scene id, as setIds maps it); still meshes by geomID.
 void EmbreeAccelerator::skipTriangleLeft(const RTCFilterFunctionNArguments* args) {
-    const TriangleLeft left = reinterpret_cast<const LeavingContext*>(args->context)->left;
+    const TriangleLeft left = reinterpret_cast<const TraceContext*>(args->context)->left;
     for (unsigned i = 0; i < args->N; ++i) {
         if (args->valid[i] == 0) continue;
         const unsigned instance = RTCHitN_instID(args->hit, args->N, i, 0);
@@ -243,10 +281,10 @@ void EmbreeAccelerator::intersectPacket(const Ray* rays, int count, Hit* hits, b
         packet.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
         packet.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
     }
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-    rtcIntersect8(valid, scene_, &context, &packet);
+    TraceContext context;
+    initContext(context, TriangleLeft{}, rays);
+    context.context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    rtcIntersect8(valid, scene_, &context.context, &packet);
     for (int i = 0; i < count; ++i) {
         found[i] = valid[i] && packet.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
         if (!found[i]) continue;

@@ -6,6 +6,7 @@
 #include <embree3/rtcore.h>
 #include <xmmintrin.h>
 
+#include <memory>
 #include <vector>
 
 #include "accel/traversal.h"
@@ -50,16 +51,30 @@ public:
     void intersectPacket(const Ray* rays, int count, Hit* hits, bool* found) const;
 
 private:
-    // The intersection context of a ray leaving a triangle: Embree's, then the triangle, for
-    // skipTriangleLeft (Embree passes the context it was given to the filter).
-    struct LeavingContext {
+    // What a mesh with a cut-out (geometry/cut_out.h) gives its geometry's filter functions.
+    struct CutOut {
+        std::shared_ptr<const Texture> alpha;
+        std::vector<Vec2f> uvs;
+        std::vector<uint32_t> indices;
+        uint32_t geomId;  // the mesh's scene id (an instanced geometry's hits name their instance)
+    };
+    // The cut-out of `mesh` (scene id `geomId`), kept for the backend's life; null when it has none.
+    CutOut* cutOutOf(const TriangleMesh& mesh, uint32_t geomId);
+    static void filterCutOut(const RTCFilterFunctionNArguments* args);
+
+    // The intersection context of a traced ray: Embree's, then the triangle it leaves, for
+    // skipTriangleLeft, and the rays as the integrator gave them (indexed by Embree's ray id), for
+    // the cut-outs' filter (Embree passes the context it was given to the filters).
+    struct TraceContext {
         RTCIntersectContext context;
         TriangleLeft left;
+        const Ray* rays;
     };
     static void skipTriangleLeft(const RTCFilterFunctionNArguments* args);
-    static void initContext(LeavingContext& c, TriangleLeft left) {
+    static void initContext(TraceContext& c, TriangleLeft left, const Ray* rays) {
         rtcInitIntersectContext(&c.context);
         c.left = left;
+        c.rays = rays;
         if (!left.isNone()) c.context.filter = skipTriangleLeft;
     }
 
@@ -91,7 +106,8 @@ private:
     std::vector<RTCScene> instancedScenes_;
     uint32_t sphereGeomId_ = 0;      // == meshes.size(): all static spheres
     uint32_t movingSphereBase_ = 0;  // Embree's geomId of the first moving sphere, after the instances
-    std::vector<uint32_t> movingSphereOfGeomId_;  // geomId - movingSphereBase_ -> sphere index
+    std::vector<uint32_t> movingSphereOfGeomId_;    // geomId - movingSphereBase_ -> sphere index
+    std::vector<std::unique_ptr<CutOut>> cutOuts_;  // the filters' user data
 };
 
 inline bool EmbreeAccelerator::traceableRows(const Ray& ray, __m128& orgTnear, __m128& dirTime) {
@@ -124,8 +140,8 @@ inline bool EmbreeAccelerator::intersect(const Ray& ray, Hit& hit, TriangleLeft 
     // Traced without the filter, which Embree would call on every closer candidate hit, at a cost
     // in throughput (bench/README.md, "Speed tricks"): only when the closest hit is the triangle
     // left is the ray traced again, skipping it. The answer is the filtered one either way.
-    LeavingContext context;
-    initContext(context, TriangleLeft{});
+    TraceContext context;
+    initContext(context, TriangleLeft{}, &ray);
     rayHit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rayHit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(scene_, &context.context, &rayHit);
@@ -133,7 +149,7 @@ inline bool EmbreeAccelerator::intersect(const Ray& ray, Hit& hit, TriangleLeft 
     unsigned instance = rayHit.hit.instID[0];
     if (!left.isNone() && rayHit.hit.primID == left.primId &&
         (instance != RTC_INVALID_GEOMETRY_ID ? instance : rayHit.hit.geomID) == left.geomId) [[unlikely]] {
-        initContext(context, left);
+        initContext(context, left, &ray);
         rayHit.ray.tfar = ray.tfar;
         rayHit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
         rayHit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
@@ -152,8 +168,8 @@ inline bool EmbreeAccelerator::intersect(const Ray& ray, Hit& hit, TriangleLeft 
 inline bool EmbreeAccelerator::occluded(const Ray& ray, TriangleLeft left) const {
     RTCRay r;
     if (!toTraceableEmbreeRay(ray, r)) return false;
-    LeavingContext context;
-    initContext(context, left);
+    TraceContext context;
+    initContext(context, left, &ray);
     rtcOccluded1(scene_, &context.context, &r);
     // Embree marks an occluded ray by setting tfar to -infinity.
     return r.tfar < 0.0f;

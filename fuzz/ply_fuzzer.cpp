@@ -12,9 +12,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     constexpr uint64_t kMaxInflatedBytes = uint64_t(64) << 20;
     const bool gzip = size >= 2 && data[0] == 0x1f && data[1] == 0x8b;
     return fuzz::expectReadOrInputError([&] {
-        if (gzip)
-            importMesh(gzipFile.write(data, size), kMaxInflatedBytes);
-        else
-            importPly(fuzz::asText(data, size), "fuzz.ply");
-    });
+               if (gzip)
+                   importMesh(gzipFile.write(data, size), kMaxInflatedBytes);
+               else
+                   importPly(fuzz::asText(data, size), "fuzz.ply");
+           }) |
+           fuzz::expectReadOrInputError([&] {
+               if (!gzip) importPlyPolygons(fuzz::asText(data, size), "fuzz.ply");
+           });
 }

@@ -12,12 +12,12 @@
 
 #include "core/error.h"
 #include "core/input_limits.h"
+#include "geometry/mesh_topology.h"
+#include "geometry/vertex_welding.h"
 
 namespace penumbra {
 
 namespace {
-
-constexpr uint32_t kNone = ~uint32_t(0);
 
 using Face = std::array<uint32_t, 3>;
 using CornerUvs = std::array<Vec2f, 3>;
@@ -29,31 +29,7 @@ struct Level {
     std::vector<CornerUvs> uvs;  // empty, or one per face
 };
 
-// For each vertex, the first vertex at a bitwise equal position.
-std::vector<uint32_t> weldedIds(const std::vector<Vec3f>& positions) {
-    struct Bits {
-        uint32_t x, y, z;
-        bool operator==(const Bits&) const = default;
-    };
-    struct HashBits {
-        size_t operator()(const Bits& b) const {
-            return std::hash<uint64_t>()((uint64_t(b.x) * 0x9E3779B97F4A7C15ull) ^ (uint64_t(b.y) << 21) ^
-                                         (uint64_t(b.z) * 0xC2B2AE3D27D4EB4Full));
-        }
-    };
-    std::unordered_map<Bits, uint32_t, HashBits> first;
-    first.reserve(positions.size());
-    std::vector<uint32_t> ids(positions.size());
-    for (size_t i = 0; i < positions.size(); ++i) {
-        Bits bits{};
-        const Vec3f p = positions[i];
-        std::memcpy(&bits.x, &p.x, 4), std::memcpy(&bits.y, &p.y, 4), std::memcpy(&bits.z, &p.z, 4);
-        ids[i] = first.try_emplace(bits, uint32_t(i)).first->second;
-    }
-    return ids;
-}
-
-// The mesh as a level, its triangles over the vertices `welded` gives (weldedIds).
+// The mesh as a level, its triangles over the vertices `welded` gives (weldedVertexIds).
 Level levelOf(const TriangleMesh& mesh, const std::vector<uint32_t>& welded) {
     Level level;
     level.positions = mesh.positions;
@@ -66,128 +42,17 @@ Level levelOf(const TriangleMesh& mesh, const std::vector<uint32_t>& welded) {
     return level;
 }
 
-// The edges of a level: edge e joins a < b, lies on faces[0] (and faces[1] when interior), and
-// faceEdges[f][k] is the edge from corner k to corner k + 1 of face f.
-struct Edges {
-    struct Edge {
-        uint32_t a, b;
-        std::array<uint32_t, 2> faces{kNone, kNone};
-    };
-    std::vector<Edge> edges;
-    std::vector<std::array<uint32_t, 3>> faceEdges;
-};
-
-Edges edgesOf(const Level& level) {
-    std::vector<std::pair<uint64_t, uint32_t>> corners;  // (key of the edge, 3 * face + corner)
+// The level's topology (geometry/mesh_topology.h).
+MeshTopology topologyOfLevel(const Level& level) {
+    std::vector<uint32_t> faceStart, corners;
+    faceStart.reserve(level.faces.size() + 1);
     corners.reserve(3 * level.faces.size());
-    for (uint32_t f = 0; f < level.faces.size(); ++f)
-        for (uint32_t k = 0; k < 3; ++k) {
-            const uint32_t a = level.faces[f][k], b = level.faces[f][(k + 1) % 3];
-            corners.push_back({(uint64_t(std::min(a, b)) << 32) | std::max(a, b), 3 * f + k});
-        }
-    std::sort(corners.begin(), corners.end());
-    Edges out;
-    out.faceEdges.resize(level.faces.size());
-    for (size_t i = 0; i < corners.size();) {
-        size_t j = i;
-        while (j < corners.size() && corners[j].first == corners[i].first) ++j;
-        const uint32_t a = uint32_t(corners[i].first >> 32), b = uint32_t(corners[i].first);
-        if (j - i > 2)
-            throw InputError(
-                fmt::format("Loop subdivision needs a manifold mesh, but the edge between vertices {} and {} "
-                            "is shared by {} triangles",
-                            a, b, j - i));
-        Edges::Edge edge{a, b};
-        for (size_t c = i; c < j; ++c) {
-            edge.faces[c - i] = corners[c].second / 3;
-            out.faceEdges[corners[c].second / 3][corners[c].second % 3] = uint32_t(out.edges.size());
-        }
-        out.edges.push_back(edge);
-        i = j;
+    for (const Face& f : level.faces) {
+        faceStart.push_back(uint32_t(corners.size()));
+        corners.insert(corners.end(), f.begin(), f.end());
     }
-    return out;
-}
-
-enum class VertexKind : uint8_t { Unused, Interior, Boundary, Corner };
-
-// Each vertex's neighbours in counter-clockwise order about its front side (as the triangles wind):
-// a closed ring for an interior vertex, from one boundary neighbour to the other for a boundary vertex.
-struct Rings {
-    std::vector<VertexKind> kinds;
-    std::vector<uint32_t> start;  // ring of v: neighbours[start[v], start[v + 1])
-    std::vector<uint32_t> neighbours;
-    size_t size(uint32_t v) const { return start[v + 1] - start[v]; }
-    const uint32_t* of(uint32_t v) const { return neighbours.data() + start[v]; }
-};
-
-Rings ringsOf(const Level& level) {
-    const size_t vertexCount = level.positions.size();
-    // Every triangle corner at v gives the step b -> c of v's ring (b and c its other corners).
-    struct Step {
-        uint32_t v, b, c;
-    };
-    std::vector<Step> steps;
-    steps.reserve(3 * level.faces.size());
-    for (const Face& f : level.faces)
-        for (int k = 0; k < 3; ++k) steps.push_back({f[k], f[(k + 1) % 3], f[(k + 2) % 3]});
-    std::sort(steps.begin(), steps.end(),
-              [](const Step& x, const Step& y) { return x.v != y.v ? x.v < y.v : x.b < y.b; });
-    Rings rings;
-    rings.kinds.assign(vertexCount, VertexKind::Unused);
-    rings.start.assign(vertexCount + 1, 0);
-    rings.neighbours.reserve(steps.size() + vertexCount);
-    std::vector<uint32_t> ring, ends;
-    for (size_t i = 0; i < steps.size();) {
-        const uint32_t v = steps[i].v;
-        size_t j = i;
-        while (j < steps.size() && steps[j].v == v) ++j;
-        const Step* first = &steps[i];
-        const Step* last = &steps[j];
-        // The step leaving neighbour b, found by binary search (steps are sorted by b).
-        auto stepFrom = [&](uint32_t b) -> const Step* {
-            const Step* s =
-                std::lower_bound(first, last, b, [](const Step& x, uint32_t key) { return x.b < key; });
-            if (s == last || s->b != b) return nullptr;
-            if (s + 1 != last && s[1].b == b) return nullptr;  // two steps from b: not a disk
-            return s;
-        };
-        // A boundary vertex's ring starts at the neighbour no step arrives at.
-        ends.clear();
-        for (const Step* s = first; s != last; ++s) ends.push_back(s->c);
-        std::sort(ends.begin(), ends.end());
-        uint32_t begin = kNone;
-        int openings = 0;
-        for (const Step* s = first; s != last; ++s)
-            if (!std::binary_search(ends.begin(), ends.end(), s->b)) begin = s->b, ++openings;
-        VertexKind kind = openings == 0 ? VertexKind::Interior : VertexKind::Boundary;
-        if (openings > 1) kind = VertexKind::Corner;
-        ring.clear();
-        if (kind != VertexKind::Corner) {
-            uint32_t b = kind == VertexKind::Interior ? first->b : begin;
-            ring.push_back(b);
-            for (size_t n = 0; n < size_t(last - first); ++n) {
-                const Step* s = stepFrom(b);
-                if (!s) {
-                    kind = VertexKind::Corner;
-                    break;
-                }
-                b = s->c;
-                if (kind == VertexKind::Interior && b == ring.front()) break;
-                ring.push_back(b);
-            }
-            // A disk's ring has one neighbour per triangle, a half-disk's one more.
-            const size_t expected = size_t(last - first) + (kind == VertexKind::Boundary ? 1 : 0);
-            if (kind != VertexKind::Corner && ring.size() != expected) kind = VertexKind::Corner;
-        }
-        if (kind == VertexKind::Corner) ring.clear();
-        rings.kinds[v] = kind;
-        rings.start[v] = uint32_t(rings.neighbours.size());
-        rings.neighbours.insert(rings.neighbours.end(), ring.begin(), ring.end());
-        for (uint32_t u = v + 1; u <= vertexCount && (j == steps.size() || u <= steps[j].v); ++u)
-            rings.start[u] = uint32_t(rings.neighbours.size());
-        i = j;
-    }
-    return rings;
+    faceStart.push_back(uint32_t(corners.size()));
+    return topologyOf(faceStart, corners, level.positions.size(), "Loop", "triangles");
 }
 
 // Loop's weight of each neighbour of an interior vertex of valence n (the vertex keeps 1 - n beta):
@@ -201,26 +66,25 @@ Vec3f positionSum(const Level& level, const uint32_t* ids, size_t count) {
 }
 
 Level refineOnce(const Level& level) {
-    const Edges edges = edgesOf(level);
-    const Rings rings = ringsOf(level);
+    const MeshTopology topology = topologyOfLevel(level);
     const size_t vertexCount = level.positions.size();
     Level next;
-    next.positions.resize(vertexCount + edges.edges.size());
+    next.positions.resize(vertexCount + topology.edges.size());
     // Even vertices: the old ones, smoothed.
     for (uint32_t v = 0; v < vertexCount; ++v) {
         const Vec3f p = level.positions[v];
-        const size_t n = rings.size(v);
-        switch (rings.kinds[v]) {
+        const size_t n = topology.ringSize(v);
+        switch (topology.kinds[v]) {
             case VertexKind::Interior: {
                 const double beta = loopBeta(n);
                 next.positions[v] =
-                    p * float(1.0 - double(n) * beta) + positionSum(level, rings.of(v), n) * float(beta);
+                    p * float(1.0 - double(n) * beta) + positionSum(level, topology.ring(v), n) * float(beta);
                 break;
             }
             case VertexKind::Boundary:
-                next.positions[v] =
-                    p * 0.75f +
-                    (level.positions[rings.of(v)[0]] + level.positions[rings.of(v)[n - 1]]) * 0.125f;
+                next.positions[v] = p * 0.75f + (level.positions[topology.ring(v)[0]] +
+                                                 level.positions[topology.ring(v)[n - 1]]) *
+                                                    0.125f;
                 break;
             case VertexKind::Unused:
             case VertexKind::Corner:
@@ -229,16 +93,16 @@ Level refineOnce(const Level& level) {
         }
     }
     // Odd vertices: one per edge.
-    auto opposite = [&](uint32_t face, const Edges::Edge& e) {
+    auto opposite = [&](uint32_t face, const MeshTopology::Edge& e) {
         const Face& f = level.faces[face];
         for (uint32_t c : f)
             if (c != e.a && c != e.b) return c;
         return e.a;  // a degenerate triangle repeats a vertex
     };
-    for (size_t e = 0; e < edges.edges.size(); ++e) {
-        const Edges::Edge& edge = edges.edges[e];
+    for (size_t e = 0; e < topology.edges.size(); ++e) {
+        const MeshTopology::Edge& edge = topology.edges[e];
         const Vec3f a = level.positions[edge.a], b = level.positions[edge.b];
-        if (edge.faces[1] == kNone) {
+        if (edge.faces[1] == MeshTopology::kNoFace) {
             next.positions[vertexCount + e] = (a + b) * 0.5f;
         } else {
             const Vec3f c = level.positions[opposite(edge.faces[0], edge)],
@@ -251,9 +115,9 @@ Level refineOnce(const Level& level) {
     if (!level.uvs.empty()) next.uvs.reserve(4 * level.faces.size());
     for (size_t f = 0; f < level.faces.size(); ++f) {
         const Face& v = level.faces[f];
-        const std::array<uint32_t, 3> m{uint32_t(vertexCount + edges.faceEdges[f][0]),
-                                        uint32_t(vertexCount + edges.faceEdges[f][1]),
-                                        uint32_t(vertexCount + edges.faceEdges[f][2])};
+        const std::array<uint32_t, 3> m{uint32_t(vertexCount + topology.cornerEdge[3 * f + 0]),
+                                        uint32_t(vertexCount + topology.cornerEdge[3 * f + 1]),
+                                        uint32_t(vertexCount + topology.cornerEdge[3 * f + 2])};
         next.faces.push_back({v[0], m[0], m[2]});
         next.faces.push_back({v[1], m[1], m[0]});
         next.faces.push_back({v[2], m[2], m[1]});
@@ -284,31 +148,18 @@ TriangleMesh meshOf(Level level, const TriangleMesh& like) {
         return mesh;
     }
     // Face-varying uvs: a vertex per distinct (position, uv).
-    struct Key {
-        uint32_t vertex;
-        Vec2f uv;
-        bool operator==(const Key& o) const { return vertex == o.vertex && uv.x == o.uv.x && uv.y == o.uv.y; }
-    };
-    struct HashKey {
-        size_t operator()(const Key& k) const {
-            uint32_t u, v;
-            std::memcpy(&u, &k.uv.x, 4), std::memcpy(&v, &k.uv.y, 4);
-            return std::hash<uint64_t>()((uint64_t(k.vertex) << 32) ^ (uint64_t(u) * 0x9E3779B97F4A7C15ull) ^
-                                         v);
-        }
-    };
-    std::unordered_map<Key, uint32_t, HashKey> ids;
+    CornerVertices ids;
     ids.reserve(level.positions.size());
     mesh.indices.reserve(3 * level.faces.size());
     for (size_t f = 0; f < level.faces.size(); ++f)
         for (int k = 0; k < 3; ++k) {
-            const Key key{level.faces[f][k], level.uvs[f][k]};
-            const auto [it, added] = ids.try_emplace(key, uint32_t(mesh.positions.size()));
+            bool added;
+            const uint32_t vertex = level.faces[f][k];
+            mesh.indices.push_back(ids.idOf(vertex, level.uvs[f][k], added));
             if (added) {
-                mesh.positions.push_back(level.positions[key.vertex]);
-                mesh.uvs.push_back(key.uv);
+                mesh.positions.push_back(level.positions[vertex]);
+                mesh.uvs.push_back(level.uvs[f][k]);
             }
-            mesh.indices.push_back(it->second);
         }
     return mesh;
 }
@@ -346,15 +197,15 @@ TriangleMesh refineLoop(const TriangleMesh& control, int levels) {
                             "at most 2^26)",
                             levels, allowed, triangles));
     }
-    Level level = levelOf(control, weldedIds(control.positions));
+    Level level = levelOf(control, weldedVertexIds(control.positions));
     for (int l = 0; l < levels; ++l) level = refineOnce(level);
     return meshOf(std::move(level), control);
 }
 
 TriangleMesh moveToLoopLimit(const TriangleMesh& mesh) {
-    const std::vector<uint32_t> welded = weldedIds(mesh.positions);
+    const std::vector<uint32_t> welded = weldedVertexIds(mesh.positions);
     const Level level = levelOf(mesh, welded);
-    const Rings rings = ringsOf(level);
+    const MeshTopology topology = topologyOfLevel(level);
     // The sum of the (area-weighted) normals of the triangles at each vertex: which side is the front.
     std::vector<Vec3f> faceNormals(level.positions.size(), Vec3f{0.0f, 0.0f, 0.0f});
     for (const Face& f : level.faces) {
@@ -364,11 +215,11 @@ TriangleMesh moveToLoopLimit(const TriangleMesh& mesh) {
     }
     std::vector<Vec3f> limit(level.positions), normal(level.positions.size(), Vec3f{0.0f, 0.0f, 1.0f});
     for (uint32_t v = 0; v < level.positions.size(); ++v) {
-        const size_t n = rings.size(v);
-        const uint32_t* r = rings.of(v);
+        const size_t n = topology.ringSize(v);
+        const uint32_t* r = topology.ring(v);
         const Vec3f p = level.positions[v];
         Vec3f tangentNormal{0.0f, 0.0f, 0.0f};
-        switch (rings.kinds[v]) {
+        switch (topology.kinds[v]) {
             case VertexKind::Interior: {
                 // The limit mask: the vertex weighs 1 - n gamma, each neighbour gamma.
                 const double gamma = 1.0 / (double(n) + 3.0 / (8.0 * loopBeta(n)));

@@ -157,8 +157,7 @@ inline void recomputeTriangleHit(Vec3f origin, Vec3f direction, Vec3f p0, Vec3f 
     }
     PENUMBRA_CHECK(!(dot(si.shadingNormal, si.geometricNormal) < 0.0f),
                    "the shading normal lies in the geometric normal's hemisphere");
-    if (!mesh.uvs.empty())
-        si.uv = mesh.uvs[index[0]] * b0 + mesh.uvs[index[1]] * b1 + mesh.uvs[index[2]] * b2;
+    if (!mesh.uvs.empty()) si.uv = meshUvAt(mesh.uvs, index, b1, b2);
     si.material = mesh.material;
     return hasNormal;
 }

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,7 @@
 #include "core/vec.h"
 #include "geometry/emission.h"
 #include "geometry/medium_interface.h"
+#include "textures/texture.h"
 
 namespace penumbra {
 
@@ -32,10 +34,20 @@ struct TriangleMesh {
     std::vector<std::vector<Vec3f>> positionKeys;
     MotionTransform motion;
     MediumInterface media{};  // the media on its two sides (none: not a boundary)
+    // A cut-out (geometry/cut_out.h): the surface's coverage over its (u, v); null: opaque.
+    std::shared_ptr<const Texture> alpha;
 
     size_t triangleCount() const { return indices.size() / 3; }
     bool deforms() const { return positionKeys.size() >= 2; }
     bool moves() const { return deforms() || motion.moves(); }
 };
+
+// The (u, v) of a mesh's triangle `index` (its three vertex indices) at barycentrics (b1, b2) of
+// its vertices 1 and 2, for shading (geometry/surface_interaction.h) and cut-outs: (0, 0) on a
+// mesh without uvs.
+inline Vec2f meshUvAt(const std::vector<Vec2f>& uvs, const uint32_t* index, float b1, float b2) {
+    if (uvs.empty()) return {0.0f, 0.0f};
+    return uvs[index[0]] * (1.0f - b1 - b2) + uvs[index[1]] * b1 + uvs[index[2]] * b2;
+}
 
 }  // namespace penumbra

@@ -1,5 +1,7 @@
 // One triangle of an emitting mesh (geometry/emission.h) as an area light: sampled uniformly by
-// area.
+// area. On a mesh with a cut-out (geometry/cut_out.h) a sampled point's radiance is multiplied by
+// the coverage there: the expectation of the stochastic test that a ray hitting the point passes,
+// so next-event estimation and hits agree (a hit, once kept, sees the full radiance).
 #pragma once
 
 #include <algorithm>
@@ -10,6 +12,7 @@
 #include "core/rgb.h"
 #include "core/sampling.h"
 #include "core/vec.h"
+#include "geometry/cut_out.h"
 #include "geometry/emission.h"
 #include "geometry/surface_interaction.h"
 #include "geometry/triangle.h"
@@ -26,7 +29,8 @@ struct TriangleLight {
     Rgb radiance;    // with a texture, its average (which sets the power)
     bool twoSided = false;
     const Texture* texture = nullptr;  // textured emission; its mesh keeps it alive
-    Vec2f uv0, uv1, uv2;               // textured: the vertices' uvs
+    const Texture* alpha = nullptr;    // the mesh's cut-out; its mesh keeps it alive
+    Vec2f uv0, uv1, uv2;               // textured or cut out: the vertices' uvs
 
     // Triangle `t` of an emitting mesh.
     static TriangleLight fromMesh(const TriangleMesh& mesh, size_t t) {
@@ -37,7 +41,8 @@ struct TriangleLight {
         light.p1 = mesh.positions[mesh.indices[3 * t + 1]];
         light.p2 = mesh.positions[mesh.indices[3 * t + 2]];
         light.texture = mesh.emission.texture.get();
-        if (light.texture && !mesh.uvs.empty()) {
+        light.alpha = mesh.alpha.get();
+        if ((light.texture || light.alpha) && !mesh.uvs.empty()) {
             light.uv0 = mesh.uvs[mesh.indices[3 * t]];
             light.uv1 = mesh.uvs[mesh.indices[3 * t + 1]];
             light.uv2 = mesh.uvs[mesh.indices[3 * t + 2]];
@@ -73,8 +78,12 @@ struct TriangleLight {
         ls.lightNormal = normal;
         AreaSampleGeometry g;
         if (!connectAreaSample(reference, ls, g)) return false;
-        const Rgb emitted =
-            texture ? emittedRadiance(*texture, uv0 * (1.0f - b.x - b.y) + uv1 * b.x + uv2 * b.y) : radiance;
+        Rgb emitted = radiance;
+        if (texture || alpha) {
+            const Vec2f uv = uv0 * (1.0f - b.x - b.y) + uv1 * b.x + uv2 * b.y;
+            if (texture) emitted = emittedRadiance(*texture, uv);
+            if (alpha) emitted *= std::clamp(cutOutCoverage(*alpha, uv), 0.0f, 1.0f);
+        }
         ls.radiance = (g.cosAtLight > 0.0f || twoSided) ? emitted : Rgb(0.0f);
         // From the distance and cosine at hand; pdf() computes them again (the two differ by rounding).
         ls.pdf = areaToSolidAnglePdf(g.distanceSquared, std::abs(g.cosAtLight), area);

@@ -45,8 +45,10 @@
 #include "materials/coated_diffuse.h"
 #include "materials/conductor.h"
 #include "materials/dielectric.h"
+#include "materials/diffuse_transmission.h"
 #include "materials/interface.h"
 #include "materials/lambert.h"
+#include "materials/material_mix.h"
 #include "materials/normal_perturbation.h"
 #include "materials/phong.h"
 #include "materials/rough_conductor.h"
@@ -73,7 +75,7 @@ concept HasInteriorAbsorption = requires(const M& m) {
 
 using MaterialModel =
     std::variant<Lambert, Phong, Dielectric, ThinDielectric, Mirror, Conductor, RoughConductor,
-                 RoughDielectric, CoatedDiffuse, RoughCoatedDiffuse, Interface>;
+                 RoughDielectric, CoatedDiffuse, RoughCoatedDiffuse, DiffuseTransmission, Interface>;
 
 namespace detail {
 // Viable only for a BsdfModel: otherwise the compiler names the model and what it misses.
@@ -127,6 +129,15 @@ public:
         textures_ =
             std::make_shared<const SurfaceTextures>(SurfaceTextures{std::move(textures), perturbation});
     }
+
+    // A mix of two of the scene's materials (materials/material_mix.h): it has no BSDF of its own,
+    // and the integrator shades the one mix() chooses instead (resolveMix below).
+    static Material mixOf(MaterialMix mix) {
+        Material m;
+        m.mix_ = std::make_shared<const MaterialMix>(std::move(mix));
+        return m;
+    }
+    const MaterialMix* mix() const { return mix_.get(); }
 
     // Whether anything varies over the surface (textured parameters or a perturbed normal).
     bool isTextured() const { return textures_ != nullptr; }
@@ -231,6 +242,7 @@ private:
         std::optional<NormalPerturbation> perturbation;
     };
     std::shared_ptr<const SurfaceTextures> textures_;  // null: untextured
+    std::shared_ptr<const MaterialMix> mix_;           // null: not a mix
     bool twoSided_ = true;
     bool needsFootprint_ = false;
     BsdfFlags flags_;
@@ -238,5 +250,13 @@ private:
     bool usesLobeSample_;
     bool purelySpecular_;
 };
+
+// The material shaded at a point: `index`'s, or for a mix the one it chooses there (following
+// mixes of mixes; the scene loader refuses cycles).
+inline uint32_t resolveMix(const std::vector<Material>& materials, uint32_t index, Vec3f p, Vec3f wo,
+                           Vec2f uv) {
+    while (const MaterialMix* mix = materials[index].mix()) index = mix->choose(p, wo, uv, index);
+    return index;
+}
 
 }  // namespace penumbra

@@ -413,6 +413,9 @@ Radiance estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray 
         // caller's camera ray may not be.
         const Vec3f wo = bounce == 0 ? -normalize(ray.direction) : -ray.direction;
         const Material* shaded = &ctx.scene->materials[si.material];
+        if (shaded->mix()) [[unlikely]]
+            shaded =
+                &ctx.scene->materials[resolveMix(ctx.scene->materials, si.material, si.position, wo, si.uv)];
         if (shaded->isTextured()) [[unlikely]]
             shaded = detail::shadeTextured(*shaded, ctx, si, ray.time, textured);
         const detail::SurfaceVertex vertex{si, *shaded, wo, dot(wo, si.geometricNormal) > 0.0f};

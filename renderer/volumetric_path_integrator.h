@@ -491,6 +491,8 @@ Radiance estimateRadianceThroughMedia(const Accel& accel, const IntegratorContex
         left = si.shape.kind == ShapeKind::Sphere ? TriangleLeft{} : TriangleLeft{hit.geomId, hit.primId};
         const Vec3f wo = -direction;
         const Material* shaded = &scene.materials[si.material];
+        if (shaded->mix()) [[unlikely]]
+            shaded = &scene.materials[resolveMix(scene.materials, si.material, si.position, wo, si.uv)];
         if (shaded->isInterface()) {
             // A medium boundary: the ray goes on unchanged, into the medium beyond it.
             cameraDistance += hit.t * directionLength;

@@ -288,7 +288,26 @@ std::optional<NormalPerturbation> readNormalPerturbation(const JsonValue& materi
 
 using MaterialReader = Material (*)(const JsonValue&, MaterialContext&);
 
-const std::array<TypeRow<MaterialReader>, 10> kMaterialTypes{{
+// "diffuse_transmission": reflectance and transmittance, each a colour in [0, 1] or a texture
+// (pbrt-v4's defaults, 0.25 each).
+Material readDiffuseTransmission(const JsonValue& material, MaterialContext& context) {
+    DiffuseTransmission model;
+    if (auto v = material.member("reflectance"))
+        model.reflectance = readColorParameter(
+            *v, 0.0f, 1.0f, model.reflectance, context,
+            [](MaterialModel& m, Rgb c) { std::get<DiffuseTransmission>(m).reflectance = clampedColor(c); });
+    if (auto v = material.member("transmittance"))
+        model.transmittance =
+            readColorParameter(*v, 0.0f, 1.0f, model.transmittance, context, [](MaterialModel& m, Rgb c) {
+                std::get<DiffuseTransmission>(m).transmittance = clampedColor(c);
+            });
+    return Material(model, true, std::move(context.textures));
+}
+
+// "mix": read once every material is named (readMixes); a placeholder until then.
+Material readMixPlaceholder(const JsonValue&, MaterialContext&) { return Material::mixOf({}); }
+
+const std::array<TypeRow<MaterialReader>, 12> kMaterialTypes{{
     {"lambert", {"type", "albedo", "two_sided", "bump", "normal_map"}, readLambert},
     {"phong", {"type", "diffuse", "specular", "exponent", "two_sided", "bump", "normal_map"}, readPhong},
     {"dielectric", {"type", "eta", "fresnel", "absorption", "bump", "normal_map"}, readDielectric},
@@ -304,8 +323,68 @@ const std::array<TypeRow<MaterialReader>, 10> kMaterialTypes{{
     {"coated_diffuse",
      {"type", "albedo", "eta", "roughness", "alpha", "distribution", "two_sided", "bump", "normal_map"},
      readCoatedDiffuse},
+    {"diffuse_transmission",
+     {"type", "reflectance", "transmittance", "bump", "normal_map"},
+     readDiffuseTransmission},
     {"interface", {"type"}, readInterface},
+    {"mix", {"type", "materials", "amount"}, readMixPlaceholder},
 }};
+
+// {"type": "mix", "materials": [a, b], "amount": number in [0, 1] or texture (default 0.5)}:
+// materials[index] becomes the mix, its two names resolved among all the scene's materials.
+void readMix(const JsonValue& value, uint32_t index, const std::filesystem::path& folder,
+             std::vector<Material>& materials, const std::vector<std::string>& names) {
+    const JsonValue pair = value.requiredMember("materials");
+    if (!pair.json().is_array() || pair.arraySize() != 2) pair.failExpected("an array of two material names");
+    MaterialMix mix;
+    mix.first = readMaterialReference(pair.element(0), names);
+    mix.second = readMaterialReference(pair.element(1), names);
+    for (size_t k = 0; k < 2; ++k)
+        if (materials[k == 0 ? mix.first : mix.second].isInterface())
+            pair.element(k).fail("a mix cannot include an interface (a medium boundary is not a surface)");
+    if (auto v = value.member("amount")) {
+        if (isTextureValue(*v))
+            mix.amountTexture = std::make_shared<const Texture>(readTexture(*v, folder, 0.0f, 1.0f));
+        else
+            mix.amount = v->numberInRange(0.0f, 1.0f);
+    }
+    materials[index] = Material::mixOf(std::move(mix));
+}
+
+// A mix that contains itself, through other mixes, would never resolve to a material: a
+// depth-first search over the mixes (each visited once) finds such a cycle.
+void refuseMixCycles(const JsonValue& section, const std::vector<Material>& materials,
+                     const std::vector<std::string>& names) {
+    enum class State : uint8_t { New, OnPath, Done };
+    std::vector<State> state(materials.size(), State::New);
+    for (uint32_t start = 0; start < materials.size(); ++start) {
+        if (!materials[start].mix() || state[start] != State::New) continue;
+        std::vector<std::pair<uint32_t, int>> path{{start, 0}};  // (material, its next branch)
+        state[start] = State::OnPath;
+        while (!path.empty()) {
+            auto& [current, branch] = path.back();
+            const MaterialMix* mix = materials[current].mix();
+            if (branch == 2) {
+                state[current] = State::Done;
+                path.pop_back();
+                continue;
+            }
+            const uint32_t next = branch++ == 0 ? mix->first : mix->second;
+            if (!materials[next].mix() || state[next] == State::Done) continue;
+            if (state[next] == State::OnPath) {
+                std::string cycle;
+                bool inCycle = false;
+                for (const auto& [m, ignored] : path)
+                    if ((inCycle = inCycle || m == next)) cycle += "\"" + names[m] + "\" -> ";
+                section.member(names[next])
+                    ->requiredMember("materials")
+                    .fail(fmt::format("the mix contains itself: {}\"{}\"", cycle, names[next]));
+            }
+            state[next] = State::OnPath;
+            path.push_back({next, 0});
+        }
+    }
+}
 
 }  // namespace
 
@@ -323,6 +402,13 @@ void readMaterials(const JsonValue& section, const std::filesystem::path& folder
         materials.push_back(std::move(material));
         names.push_back(name);
     }
+    const uint32_t first = uint32_t(materials.size() - section.members().size());
+    uint32_t index = first;
+    for (const auto& [name, value] : section.members()) {
+        if (value.requiredMember("type").string() == "mix") readMix(value, index, folder, materials, names);
+        ++index;
+    }
+    refuseMixCycles(section, materials, names);
 }
 
 uint32_t readMaterialReference(const JsonValue& value, const std::vector<std::string>& names) {

@@ -252,18 +252,27 @@ struct CornerKeyHash {
 
 }  // namespace
 
-TriangleMesh importObj(std::string_view text, const std::string& file) {
-    validateObj(text, file);
+namespace {
 
-    tinyobj::attrib_t attrib;
-    std::vector<tinyobj::shape_t> shapes;
+// The OBJ text checked by our validator, then read by tinyobjloader, its polygons split into
+// triangles or kept. No material reader: materials come from the scene file, so mtllib lines are ignored.
+void loadObj(std::string_view text, const std::string& file, bool triangulate, tinyobj::attrib_t& attrib,
+             std::vector<tinyobj::shape_t>& shapes) {
+    validateObj(text, file);
     std::vector<tinyobj::material_t> materials;
     std::string warnings, errors;
     std::istringstream stream{std::string(text)};
-    // No material reader: materials come from the scene file, so mtllib lines are ignored.
-    if (!tinyobj::LoadObj(&attrib, &shapes, &materials, &warnings, &errors, &stream, nullptr,
-                          /*triangulate=*/true, /*default_vcols_fallback=*/false))
+    if (!tinyobj::LoadObj(&attrib, &shapes, &materials, &warnings, &errors, &stream, nullptr, triangulate,
+                          /*default_vcols_fallback=*/false))
         fail(file, "cannot read the OBJ file: " + errors);
+}
+
+}  // namespace
+
+TriangleMesh importObj(std::string_view text, const std::string& file) {
+    tinyobj::attrib_t attrib;
+    std::vector<tinyobj::shape_t> shapes;
+    loadObj(text, file, /*triangulate=*/true, attrib, shapes);
 
     std::vector<tinyobj::index_t> corners;  // three per triangle
     for (const tinyobj::shape_t& shape : shapes) {
@@ -318,6 +327,45 @@ TriangleMesh importObj(std::string_view text, const std::string& file) {
         mesh.indices.push_back(it->second);
     }
     checkImportedMesh(mesh, file);
+    return mesh;
+}
+
+PolygonMesh importObjPolygons(std::string_view text, const std::string& file) {
+    tinyobj::attrib_t attrib;
+    std::vector<tinyobj::shape_t> shapes;
+    loadObj(text, file, /*triangulate=*/false, attrib, shapes);
+    PolygonMesh mesh;
+    std::vector<tinyobj::index_t> corners;
+    for (const tinyobj::shape_t& shape : shapes) {
+        size_t offset = 0;
+        for (unsigned char n : shape.mesh.num_face_vertices) {
+            if (n >= 3) {
+                corners.insert(corners.end(), &shape.mesh.indices[offset], &shape.mesh.indices[offset + n]);
+                mesh.faceSizes.push_back(n);
+            }
+            offset += n;
+        }
+    }
+    if (corners.empty()) fail(file, "the file contains no polygons (no 'f' lines)");
+    checkObjLoaderIndices(attrib, corners, file);
+    const bool hasUvs =
+        std::all_of(corners.begin(), corners.end(), [](auto& c) { return c.texcoord_index >= 0; });
+    std::unordered_map<CornerKey, uint32_t, CornerKeyHash> vertexOf;
+    for (const auto& c : corners) {
+        const CornerKey key{c.vertex_index, hasUvs ? c.texcoord_index : -1, -1};
+        auto [it, inserted] = vertexOf.try_emplace(key, uint32_t(mesh.positions.size()));
+        if (inserted) {
+            const size_t v = size_t(key.position);
+            mesh.positions.push_back(
+                {attrib.vertices[3 * v], attrib.vertices[3 * v + 1], attrib.vertices[3 * v + 2]});
+            if (hasUvs)
+                mesh.uvs.push_back({attrib.texcoords[2 * size_t(key.texCoord)],
+                                    attrib.texcoords[2 * size_t(key.texCoord) + 1]});
+        }
+        mesh.corners.push_back(it->second);
+    }
+    // The same checks as a triangle mesh's, on its fans.
+    checkImportedMesh(fanTriangulate(mesh), file);
     return mesh;
 }
 
@@ -551,6 +599,21 @@ public:
                                row, v, vertexCount_));  // v as read: it may not fit an integer
         for (size_t k = 1; k + 1 < items.size(); ++k)
             for (size_t corner : {size_t(0), k, k + 1}) mesh_.indices.push_back(uint32_t(items[corner]));
+        if (keepPolygons_ && items.size() >= 3) {
+            faceSizes_.push_back(uint32_t(items.size()));
+            for (double v : items) corners_.push_back(uint32_t(v));
+        }
+    }
+    // Record each face's polygon too (takePolygons).
+    void keepPolygons() { keepPolygons_ = true; }
+    PolygonMesh takePolygons(const std::string& file) {
+        TriangleMesh mesh = take(file);
+        PolygonMesh polygons;
+        polygons.positions = std::move(mesh.positions);
+        polygons.uvs = std::move(mesh.uvs);
+        polygons.faceSizes = std::move(faceSizes_);
+        polygons.corners = std::move(corners_);
+        return polygons;
     }
 
     TriangleMesh take(const std::string& file) {
@@ -565,6 +628,8 @@ public:
 
 private:
     TriangleMesh mesh_;
+    bool keepPolygons_ = false;
+    std::vector<uint32_t> faceSizes_, corners_;
     std::vector<std::vector<int>> slots_;  // [element][property]: 0-2 x y z, 3-5 normal, 6-7 uv, -1 unused
     int vertexElement_ = -1, faceElement_ = -1, faceProperty_ = -1;
     uint64_t vertexCount_ = 0;
@@ -760,12 +825,46 @@ TriangleMesh importPly(std::string_view bytes, const std::string& file) {
     return mesh;
 }
 
-TriangleMesh importMesh(const fs::path& file, uint64_t maxBytes) {
-    const std::string name = file.string();
+PolygonMesh importPlyPolygons(std::string_view bytes, const std::string& file) {
+    const PlyHeader header = parsePlyHeader(bytes, file);
+    checkPlyRowsFitTheBody(header, bytes, file);
+    PlyMeshSink sink(header);
+    sink.keepPolygons();
+    if (header.format == PlyFormat::Ascii)
+        readPlyAsciiBody(header, bytes, file, sink);
+    else
+        readPlyBinaryBody(header, bytes, file, sink);
+    PolygonMesh mesh = sink.takePolygons(file);
+    if (mesh.corners.empty()) fail(file, "the file contains no polygons");
+    checkImportedMesh(fanTriangulate(mesh), file);
+    return mesh;
+}
 
+namespace {
+
+// The extension that decides a mesh file's format, in lower case.
+std::string lowerCaseName(const fs::path& file) {
     std::string lower = file.filename().string();
     std::transform(lower.begin(), lower.end(), lower.begin(),
                    [](unsigned char c) { return char(std::tolower(c)); });
+    return lower;
+}
+
+}  // namespace
+
+PolygonMesh importPolygons(const fs::path& file, uint64_t maxBytes) {
+    const std::string name = file.string();
+    const std::string lower = lowerCaseName(file);
+    if (lower.ends_with(".obj")) return importObjPolygons(readPlainFile(file, maxBytes), name);
+    if (lower.ends_with(".ply")) return importPlyPolygons(readPlainFile(file, maxBytes), name);
+    if (lower.ends_with(".ply.gz"))
+        return importPlyPolygons(InputFile(file, "mesh file", maxBytes).readAllGzip(), name);
+    fail(name, "unsupported mesh file type (expected a name ending in .obj, .ply or .ply.gz)");
+}
+
+TriangleMesh importMesh(const fs::path& file, uint64_t maxBytes) {
+    const std::string name = file.string();
+    const std::string lower = lowerCaseName(file);
     if (lower.ends_with(".obj")) return importObj(readPlainFile(file, maxBytes), name);
     if (lower.ends_with(".ply")) return importPly(readPlainFile(file, maxBytes), name);
     if (lower.ends_with(".ply.gz"))

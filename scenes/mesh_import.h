@@ -15,6 +15,7 @@
 
 #include "core/input_limits.h"
 #include "core/transform.h"
+#include "geometry/catmull_clark.h"
 #include "geometry/triangle_mesh.h"
 
 namespace penumbra {
@@ -32,6 +33,14 @@ TriangleMesh importMesh(const std::filesystem::path& file, uint64_t maxBytes = l
 // The same for file contents already in memory; `fileForMessages` names them in errors.
 TriangleMesh importObj(std::string_view text, const std::string& fileForMessages);
 TriangleMesh importPly(std::string_view bytes, const std::string& fileForMessages);
+
+// The polygons of the same files as they are, not split into triangles: the control mesh of a
+// Catmull-Clark surface (geometry/catmull_clark.h). Uvs are kept when every corner has one (a vertex
+// is split where its uvs differ); normals are not read (the surface's replace them). Errors as
+// importMesh's.
+PolygonMesh importPolygons(const std::filesystem::path& file, uint64_t maxBytes = limits::kMaxMeshFileBytes);
+PolygonMesh importObjPolygons(std::string_view text, const std::string& fileForMessages);
+PolygonMesh importPlyPolygons(std::string_view bytes, const std::string& fileForMessages);
 
 // Moves a mesh into place: positions as points, normals with the inverse transpose (then
 // renormalized). A mirroring transform (negative determinant) would turn the winding, and so the

@@ -16,7 +16,7 @@ namespace {
 struct ForeignName {
     std::string_view name, ours, whose;
 };
-constexpr std::array<ForeignName, 22> kForeignNames{{
+constexpr std::array<ForeignName, 24> kForeignNames{{
     // Materials
     {"diffuse", "lambert", "pbrt-v4 and Mitsuba 3 call it 'diffuse', Cycles 'Diffuse BSDF'"},
     {"diffuse_bsdf", "lambert", "Cycles calls it 'Diffuse BSDF'"},
@@ -30,6 +30,8 @@ constexpr std::array<ForeignName, 22> kForeignNames{{
     {"roughconductor", "rough_conductor", "Mitsuba 3 calls it 'roughconductor'"},
     {"glossy", "rough_conductor", "Cycles calls a metal 'Glossy BSDF'"},
     {"glossy_bsdf", "rough_conductor", "Cycles calls a metal 'Glossy BSDF'"},
+    {"diffusetransmission", "diffuse_transmission", "pbrt-v4 calls it 'diffusetransmission'"},
+    {"translucent_bsdf", "diffuse_transmission", "Cycles calls diffuse transmission 'Translucent BSDF'"},
     // Shapes
     {"trianglemesh", "triangle_mesh", "pbrt-v4 calls it 'trianglemesh'"},
     {"plymesh", "mesh_file", "pbrt-v4 calls it 'plymesh'"},

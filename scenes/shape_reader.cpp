@@ -14,6 +14,7 @@
 #include "core/input_limits.h"
 #include "core/motion.h"
 #include "core/transform.h"
+#include "geometry/catmull_clark.h"
 #include "geometry/loop_subdivision.h"
 #include "scenes/material_reader.h"
 #include "scenes/medium_reader.h"
@@ -60,6 +61,17 @@ Emission readEmission(const JsonValue& value, const fs::path& folder) {
     }
     if (auto v = object.get("two_sided")) emission.twoSided = v->boolean();
     return emission;
+}
+
+// "alpha": a cut-out (geometry/cut_out.h), a number in [0, 1] or a texture object; null for an
+// opaque surface (alpha 1).
+std::shared_ptr<const Texture> readAlpha(const JsonValue& value, const fs::path& folder) {
+    if (!isTextureValue(value)) {
+        const float alpha = value.numberInRange(0.0f, 1.0f);
+        if (alpha == 1.0f) return nullptr;
+        return std::make_shared<const Texture>(Texture::constant(Rgb(alpha)));
+    }
+    return std::make_shared<const Texture>(readTexture(value, folder, 0.0f, 1.0f));
 }
 
 Transform readTransformStep(const JsonValue& step) {
@@ -240,8 +252,10 @@ bool readIndicesDirectly(const Json& array, size_t count, std::vector<uint32_t>&
     return true;
 }
 
-TriangleMesh readInlineMesh(const JsonValue& value) {
-    TriangleMesh mesh;
+// An inline mesh's polygons: "indices" grouped by "face_sizes" (each 3 or more; default: all
+// triangles), and its positions and uvs. Its normals are read by readInlineMesh.
+PolygonMesh readInlinePolygons(const JsonValue& value) {
+    PolygonMesh mesh;
     const JsonValue positions = value.requiredMember("positions");
     if (!readVec3sDirectly(positions.json(), mesh.positions)) {
         mesh.positions.clear();
@@ -252,19 +266,45 @@ TriangleMesh readInlineMesh(const JsonValue& value) {
 
     const JsonValue indices = value.requiredMember("indices");
     const size_t indexCount = indices.arraySize();
-    if (indexCount == 0 || indexCount % 3 != 0)
-        indices.failExpected("a non-empty array of vertex indices, 3 per triangle");
-    if (!readIndicesDirectly(indices.json(), count, mesh.indices)) {
-        mesh.indices.clear();
+    if (auto sizes = value.member("face_sizes")) {
+        uint64_t total = 0;
+        for (const JsonValue& size : sizes->elements()) {
+            mesh.faceSizes.push_back(uint32_t(size.integer(3, 1 << 16)));
+            total += mesh.faceSizes.back();
+        }
+        if (mesh.faceSizes.empty()) sizes->failExpected("a non-empty array of polygon sizes (3 or more)");
+        if (total != indexCount)
+            sizes->fail(fmt::format("the polygons have {} corners in all, but \"indices\" has {} entries",
+                                    total, indexCount));
+    } else {
+        if (indexCount == 0 || indexCount % 3 != 0)
+            indices.failExpected(
+                "a non-empty array of vertex indices, 3 per triangle (or give \"face_sizes\")");
+        mesh.faceSizes.assign(indexCount / 3, 3);
+    }
+    if (!readIndicesDirectly(indices.json(), count, mesh.corners)) {
+        mesh.corners.clear();
         for (const JsonValue& i : indices.elements()) {
             const int64_t index = i.integer(0);
             if (uint64_t(index) >= count)
                 i.fail(
                     fmt::format("index {} is out of range: the mesh has {} positions (indices count from 0)",
                                 index, count));
-            mesh.indices.push_back(uint32_t(index));
+            mesh.corners.push_back(uint32_t(index));
         }
     }
+    if (auto uvs = value.member("uvs")) {
+        if (uvs->arraySize() != count)
+            uvs->failExpected(fmt::format("an array of {} uvs, one per position", count));
+        for (const JsonValue& uv : uvs->elements()) mesh.uvs.push_back(uv.vec2());
+    }
+    return mesh;
+}
+
+// An inline mesh as triangles (polygons as fans), with its normals.
+TriangleMesh readInlineMesh(const JsonValue& value) {
+    TriangleMesh mesh = fanTriangulate(readInlinePolygons(value));
+    const size_t count = mesh.positions.size();
     if (auto normals = value.member("normals")) {
         if (normals->arraySize() != count)
             normals->failExpected(fmt::format("an array of {} normals, one per position", count));
@@ -282,53 +322,110 @@ TriangleMesh readInlineMesh(const JsonValue& value) {
             }
         }
     }
-    if (auto uvs = value.member("uvs")) {
-        if (uvs->arraySize() != count)
-            uvs->failExpected(fmt::format("an array of {} uvs, one per position", count));
-        for (const JsonValue& uv : uvs->elements()) mesh.uvs.push_back(uv.vec2());
-    }
     return mesh;
 }
 
 // The mesh of a "mesh_file" shape; its file's path is appended to `files`.
-TriangleMesh readMeshFile(const JsonValue& value, const fs::path& folder, std::vector<fs::path>& files) {
+// "subdivision": {"scheme": "loop" (default) | "catmull_clark", "levels": N (default 3)}.
+struct Subdivision {
+    bool catmullClark = false;
+    int levels = 3;
+};
+std::optional<Subdivision> readSubdivision(const JsonValue& shape) {
+    const auto value = shape.member("subdivision");
+    if (!value) return std::nullopt;
+    const JsonObject object(*value, {"scheme", "levels"});
+    Subdivision subdivision;
+    if (auto scheme = object.get("scheme"))
+        subdivision.catmullClark = scheme->choice({"loop", "catmull_clark"}) == 1;
+    if (auto v = object.get("levels"))
+        subdivision.levels = int(v->integer(subdivision.catmullClark ? 1 : 0, 16));
+    if (auto motion = shape.member("motion"); motion && motion->member("positions"))
+        value->fail(
+            "a subdivision surface cannot deform (motion \"positions\"): move it with \"transforms\"");
+    return subdivision;
+}
+
+// `subdivide()` for the shape, its InputError (a non-manifold mesh, too many levels) at the
+// shape's "subdivision".
+template <typename Subdivide>
+TriangleMesh subdividedAt(const JsonValue& shape, Subdivide subdivide) {
+    try {
+        return subdivide();
+    } catch (const InputError& e) {
+        shape.requiredMember("subdivision").fail(e.message());
+    }
+}
+
+// An inline mesh's triangles, of its Loop or Catmull-Clark surface when it asks for one.
+TriangleMesh readInlineShapeMesh(const JsonValue& value) {
+    const std::optional<Subdivision> subdivision = readSubdivision(value);
+    if (subdivision && subdivision->catmullClark) {
+        const PolygonMesh polygons = readInlinePolygons(value);
+        return subdividedAt(value, [&] { return catmullClarkSubdivide(polygons, subdivision->levels); });
+    }
+    TriangleMesh mesh = readInlineMesh(value);
+    if (!subdivision) return mesh;
+    return subdividedAt(value, [&] { return loopSubdivide(mesh, subdivision->levels); });
+}
+
+// `import(path)` of a mesh file shape's file, its InputError naming the shape too (the same mesh
+// file may serve several scenes).
+template <typename Import>
+auto importMeshFile(const JsonValue& value, const fs::path& folder, std::vector<fs::path>& files,
+                    Import import, fs::path& path) {
     const JsonValue fileValue = value.requiredMember("file");
     const fs::path relative = fileValue.string();
     if (relative.empty()) fileValue.failExpected("a file name");
-    const fs::path path = relative.is_absolute() ? relative : folder / relative;
+    path = relative.is_absolute() ? relative : folder / relative;
     files.push_back(path);
-    TriangleMesh mesh;
     try {
-        mesh = importMesh(path);
+        return import(path);
     } catch (const InputError& e) {
-        // Name the shape too: the same mesh file may serve several scenes.
         throw InputError(e.where(), fmt::format("{} (mesh file of {}: {})", e.message(), fileValue.file(),
                                                 fileValue.pointer()));
     }
-    if (auto front = value.member("front"))
-        orientFaces(mesh, FrontSide(front->choice({"winding", "reversed", "normals", "reversed_normals"})));
+}
+
+// A mesh file's triangles, of its Loop or Catmull-Clark surface when the shape asks for one (a
+// Catmull-Clark surface reads the file's polygons, unsplit).
+TriangleMesh readMeshFile(const JsonValue& value, const fs::path& folder, std::vector<fs::path>& files) {
+    const std::optional<Subdivision> subdivision = readSubdivision(value);
+    fs::path path;
+    TriangleMesh mesh;
+    if (subdivision && subdivision->catmullClark) {
+        PolygonMesh polygons = importMeshFile(
+            value, folder, files, [](const fs::path& p) { return importPolygons(p); }, path);
+        if (auto front = value.member("front")) {
+            // The limit surface's normals replace the file's: only the winding can say which side is the
+            // front.
+            if (front->choice({"winding", "reversed", "normals", "reversed_normals"}) >= 2)
+                front->fail(
+                    "a Catmull-Clark surface's front is given by its winding (\"winding\" or \"reversed\")");
+            if (front->string() == "reversed") {
+                size_t offset = 0;
+                for (uint32_t size : polygons.faceSizes) {
+                    std::reverse(polygons.corners.begin() + long(offset),
+                                 polygons.corners.begin() + long(offset + size));
+                    offset += size;
+                }
+            }
+        }
+        mesh = subdividedAt(value, [&] { return catmullClarkSubdivide(polygons, subdivision->levels); });
+    } else {
+        mesh = importMeshFile(
+            value, folder, files, [](const fs::path& p) { return importMesh(p); }, path);
+        if (auto front = value.member("front"))
+            orientFaces(mesh,
+                        FrontSide(front->choice({"winding", "reversed", "normals", "reversed_normals"})));
+        if (subdivision) mesh = subdividedAt(value, [&] { return loopSubdivide(mesh, subdivision->levels); });
+    }
     mesh.name = fmt::format("{} ({})", value.pointer(), path.filename().string());
     return mesh;
 }
 
 // "subdivision": {"scheme": "loop", "levels": 3}: the mesh as the control mesh of a subdivision
 // surface, refined at load (geometry/loop_subdivision.h).
-TriangleMesh subdividedIfAsked(TriangleMesh mesh, const JsonValue& shape) {
-    const auto value = shape.member("subdivision");
-    if (!value) return mesh;
-    const JsonObject object(*value, {"scheme", "levels"});
-    if (auto scheme = object.get("scheme")) scheme->choice({"loop"});
-    int levels = 3;
-    if (auto v = object.get("levels")) levels = int(v->integer(0, 16));
-    if (auto motion = shape.member("motion"); motion && motion->member("positions"))
-        value->fail(
-            "a subdivision surface cannot deform (motion \"positions\"): move it with \"transforms\"");
-    try {
-        return loopSubdivide(mesh, levels);
-    } catch (const InputError& e) {
-        value->fail(e.message());
-    }
-}
 
 TriangleMesh readQuad(const JsonValue& value) {
     const Vec3f corner = value.requiredMember("corner").vec3();
@@ -532,7 +629,9 @@ TriangleMesh readSphereMesh(const JsonValue& value) {
 
 void readSphere(const JsonValue& value, ShapeContext& context) {
     Scene& scene = context.scene;
-    const bool partial = value.member("z_min") || value.member("z_max") || value.member("phi_max");
+    // Partial spheres and cut-outs need triangles; so do ellipsoids, below.
+    const bool partial =
+        value.member("z_min") || value.member("z_max") || value.member("phi_max") || value.member("alpha");
     const auto transformValue = value.member("transform");
     const Transform transform = transformValue ? readTransform(*transformValue) : Transform{};
     const std::optional<float> scale = similarityScale(transform);  // none: an ellipsoid
@@ -597,6 +696,7 @@ void addMeshShape(TriangleMesh mesh, const JsonValue& value, bool allowPositionK
     mesh.material = readMaterialReference(value.requiredMember("material"), scene.materialNames);
     mesh.media = readMediumInterface(value, scene.mediumNames);
     if (auto v = value.member("emission")) mesh.emission = readEmission(*v, folder);
+    if (auto v = value.member("alpha")) mesh.alpha = readAlpha(*v, folder);
     if (auto v = value.member("motion")) {
         if (mesh.emission.emits())
             v->fail("moving light sources are not supported: a shape with motion cannot emit");
@@ -636,14 +736,14 @@ void addMeshShape(TriangleMesh mesh, const JsonValue& value, bool allowPositionK
 }
 
 void readTriangleMeshShape(const JsonValue& value, ShapeContext& context) {
-    TriangleMesh mesh = subdividedIfAsked(readInlineMesh(value), value);
+    TriangleMesh mesh = readInlineShapeMesh(value);
     mesh.name = value.pointer();
     addMeshShape(std::move(mesh), value, true, context.scene, context.folder);
 }
 
 void readMeshFileShape(const JsonValue& value, ShapeContext& context) {
-    addMeshShape(subdividedIfAsked(readMeshFile(value, context.folder, context.scene.meshFiles), value),
-                 value, false, context.scene, context.folder);
+    addMeshShape(readMeshFile(value, context.folder, context.scene.meshFiles), value, false, context.scene,
+                 context.folder);
 }
 
 void readQuadShape(const JsonValue& value, ShapeContext& context) {
@@ -729,27 +829,28 @@ using ShapeReader = void (*)(const JsonValue&, ShapeContext&);
 
 const std::array<TypeRow<ShapeReader>, 7> kShapeTypes{{
     {"triangle_mesh",
-     {"type", "positions", "indices", "normals", "uvs", "subdivision", "material", "emission", "transform",
-      "motion", "inside", "outside"},
+     {"type", "positions", "indices", "face_sizes", "normals", "uvs", "subdivision", "material", "alpha",
+      "emission", "transform", "motion", "inside", "outside"},
      readTriangleMeshShape},
     {"mesh_file",
-     {"type", "file", "front", "subdivision", "material", "emission", "transform", "motion", "inside",
-      "outside"},
+     {"type", "file", "front", "subdivision", "material", "alpha", "emission", "transform", "motion",
+      "inside", "outside"},
      readMeshFileShape},
     {"quad",
-     {"type", "corner", "edge1", "edge2", "material", "emission", "transform", "motion", "inside", "outside"},
+     {"type", "corner", "edge1", "edge2", "material", "alpha", "emission", "transform", "motion", "inside",
+      "outside"},
      readQuadShape},
     {"sphere",
      {"type", "center", "radius", "z_min", "z_max", "phi_max", "start_direction", "segments", "material",
-      "emission", "transform", "motion", "inside", "outside"},
+      "alpha", "emission", "transform", "motion", "inside", "outside"},
      readSphere},
     {"disk",
      {"type", "center", "normal", "radius", "inner_radius", "phi_max", "start_direction", "segments",
-      "material", "emission", "transform", "motion", "inside", "outside"},
+      "material", "alpha", "emission", "transform", "motion", "inside", "outside"},
      readDiskShape},
     {"cylinder",
      {"type", "base", "axis", "radius", "phi_max", "start_direction", "front", "segments", "material",
-      "emission", "transform", "motion", "inside", "outside"},
+      "alpha", "emission", "transform", "motion", "inside", "outside"},
      readCylinderShape},
     {"instance",
      {"type", "prototype", "material", "emission", "transform", "motion", "inside", "outside"},
@@ -761,11 +862,9 @@ const std::array<TypeRow<ShapeReader>, 7> kShapeTypes{{
 // motion belong to the instances.
 using PrototypeReader = TriangleMesh (*)(const JsonValue&, ShapeContext&);
 
-TriangleMesh readInlinePrototype(const JsonValue& value, ShapeContext&) {
-    return subdividedIfAsked(readInlineMesh(value), value);
-}
+TriangleMesh readInlinePrototype(const JsonValue& value, ShapeContext&) { return readInlineShapeMesh(value); }
 TriangleMesh readMeshFilePrototype(const JsonValue& value, ShapeContext& context) {
-    return subdividedIfAsked(readMeshFile(value, context.folder, context.scene.meshFiles), value);
+    return readMeshFile(value, context.folder, context.scene.meshFiles);
 }
 TriangleMesh readQuadPrototype(const JsonValue& value, ShapeContext&) { return readQuad(value); }
 TriangleMesh readDiskPrototype(const JsonValue& value, ShapeContext&) { return readDisk(value); }
@@ -773,16 +872,17 @@ TriangleMesh readCylinderPrototype(const JsonValue& value, ShapeContext&) { retu
 
 const std::array<TypeRow<PrototypeReader>, 5> kPrototypeTypes{{
     {"triangle_mesh",
-     {"type", "positions", "indices", "normals", "uvs", "subdivision", "transform"},
+     {"type", "positions", "indices", "face_sizes", "normals", "uvs", "subdivision", "alpha", "transform"},
      readInlinePrototype},
-    {"mesh_file", {"type", "file", "front", "subdivision", "transform"}, readMeshFilePrototype},
-    {"quad", {"type", "corner", "edge1", "edge2", "transform"}, readQuadPrototype},
+    {"mesh_file", {"type", "file", "front", "subdivision", "alpha", "transform"}, readMeshFilePrototype},
+    {"quad", {"type", "corner", "edge1", "edge2", "alpha", "transform"}, readQuadPrototype},
     {"disk",
-     {"type", "center", "normal", "radius", "inner_radius", "phi_max", "start_direction", "segments",
+     {"type", "center", "normal", "radius", "inner_radius", "phi_max", "start_direction", "segments", "alpha",
       "transform"},
      readDiskPrototype},
     {"cylinder",
-     {"type", "base", "axis", "radius", "phi_max", "start_direction", "front", "segments", "transform"},
+     {"type", "base", "axis", "radius", "phi_max", "start_direction", "front", "segments", "alpha",
+      "transform"},
      readCylinderPrototype},
 }};
 
@@ -794,6 +894,7 @@ void readPrototypes(const JsonValue& section, const fs::path& folder, Scene& sce
     for (const auto& [name, value] : section.members()) {
         TriangleMesh mesh = findTypeRow<PrototypeReader>(value, kPrototypeTypes).read(value, context);
         if (mesh.name.empty()) mesh.name = value.pointer();
+        if (auto v = value.member("alpha")) mesh.alpha = readAlpha(*v, folder);
         if (auto v = value.member("transform")) {
             transformMesh(mesh, readTransform(*v));
             checkTransformedVertices(*v, mesh.positions);
@@ -810,7 +911,8 @@ void readShapes(const JsonValue& section, const fs::path& folder,
     for (const JsonValue& shape : section.elements())
         findTypeRow<ShapeReader>(shape, kShapeTypes).read(shape, context);
     for (Sphere& sphere : scene.spheres)
-        sphere.needsUv = scene.materials[sphere.material].isTextured() || sphere.emission.texture != nullptr;
+        sphere.needsUv = scene.materials[sphere.material].isTextured() ||
+                         scene.materials[sphere.material].mix() || sphere.emission.texture != nullptr;
 }
 
 }  // namespace penumbra

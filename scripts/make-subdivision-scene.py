@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
-"""Writes scenes/subdivision.json: Loop subdivision surfaces. One coarse control mesh, a torus of
-8 x 4 quads (64 triangles), shown as it is, refined one level and refined four levels (moved to the
-limit surface each time), beside a cube's 12 triangles refined four levels. Deterministic."""
+"""Writes scenes/subdivision.json: subdivision surfaces. One coarse control mesh, a torus of
+8 x 4 quads (64 triangles), shown as it is and as Loop surfaces refined one level and four levels
+(moved to the limit surface each time), beside a cube's 6 quads as a Catmull-Clark surface refined
+four levels. Deterministic."""
 import json
 import math
 import sys
@@ -25,19 +26,20 @@ def torus(segments=8, sides=4, major=1.0, minor=0.42):
     return positions, indices
 
 
-def cube():
+def cube_quads():
     positions = [[x, y, z] for z in (-1, 1) for y in (-1, 1) for x in (-1, 1)]
-    indices = [0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4, 2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2,
-               1, 3, 7, 1, 7, 5]
+    indices = [0, 2, 3, 1, 4, 5, 7, 6, 0, 1, 5, 4, 2, 6, 7, 3, 0, 4, 6, 2, 1, 3, 7, 5]
     return positions, indices
 
 
-def shape(mesh, material, levels, translate, scale):
+def shape(mesh, material, levels, translate, scale, scheme="loop"):
     positions, indices = mesh
     s = {"type": "triangle_mesh", "positions": positions, "indices": indices, "material": material,
          "transform": [{"scale": scale}, {"rotate": {"axis": [1, 0, 0], "degrees": 28}}, {"translate": translate}]}
+    if scheme == "catmull_clark":
+        s["face_sizes"] = [4] * (len(indices) // 4)
     if levels is not None:
-        s["subdivision"] = {"scheme": "loop", "levels": levels}
+        s["subdivision"] = {"scheme": scheme, "levels": levels}
     return s
 
 
@@ -59,14 +61,14 @@ scene = {
         shape(torus(), "clay", None, [-3.65, 0.75, 0], 1.0),
         shape(torus(), "clay", 1, [-0.95, 0.75, 0], 1.0),
         shape(torus(), "clay", 4, [1.65, 0.75, 0], 1.0),
-        shape(cube(), "jade", 4, [4.0, 0.62, 0], 0.72),
+        shape(cube_quads(), "jade", 4, [4.0, 0.75, 0], 0.95, "catmull_clark"),
     ],
 }
 
 text = json.dumps(scene, separators=(", ", ": "))
-header = ("// Loop subdivision surfaces (docs/subdivision.png): a torus of 64 triangles as it is, refined one\n"
-          "// level and four levels, and a cube's 12 triangles refined four levels. Written by\n"
-          "// scripts/make-subdivision-scene.py.\n")
+header = ("// Subdivision surfaces (docs/subdivision.png): a torus of 64 triangles as it is, as Loop surfaces\n"
+          "// refined one level and four levels, and a cube's 6 quads as a Catmull-Clark surface refined four\n"
+          "// levels. Written by scripts/make-subdivision-scene.py.\n")
 out = sys.argv[1] if len(sys.argv) > 1 else "scenes/subdivision.json"
 with open(out, "w") as f:
     f.write(header + text + "\n")

@@ -2,16 +2,33 @@
 
 namespace penumbra {
 
-Rgb Texture::lookupImage(Vec2f uv, const TextureQuery& query) const {
+namespace {
+
+// The first `channels` channels of `image` at `uv` (before the scale), into `texel`.
+void lookupChannels(const ImageTextureSource& image, Vec2f uv, Vec2f uvScale, const TextureQuery& query,
+                    int channels, float* texel) {
     // t = 1 - v: derivatives change sign.
-    const float dsdx = query.dudx * uvScale_.x, dsdy = query.dudy * uvScale_.x;
-    const float dtdx = -query.dvdx * uvScale_.y, dtdy = -query.dvdy * uvScale_.y;
+    const float dsdx = query.dudx * uvScale.x, dsdy = query.dudy * uvScale.x;
+    const float dtdx = -query.dvdx * uvScale.y, dtdy = -query.dvdy * uvScale.y;
+    image.plugin->lookup(image.handle, int(image.wrapS), int(image.wrapT), int(image.filter), uv.x,
+                         1.0f - uv.y, dsdx, dtdx, dsdy, dtdy, channels, texel);
+}
+
+}  // namespace
+
+Rgb Texture::lookupImage(Vec2f uv, const TextureQuery& query) const {
     float texel[3] = {0.0f, 0.0f, 0.0f};
     const int channels = image_.channels >= 3 ? 3 : 1;
-    image_.plugin->lookup(image_.handle, int(image_.wrapS), int(image_.wrapT), int(image_.filter), uv.x,
-                          1.0f - uv.y, dsdx, dtdx, dsdy, dtdy, channels, texel);
+    lookupChannels(image_, uv, uvScale_, query, channels, texel);
     if (channels == 1) texel[1] = texel[2] = texel[0];
     return Rgb(texel[0], texel[1], texel[2]) * a_;
+}
+
+float Texture::lookupAlpha(const TextureQuery& query) const {
+    const Vec2f uv{query.uv.x * uvScale_.x + uvOffset_.x, query.uv.y * uvScale_.y + uvOffset_.y};
+    float texel[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    lookupChannels(image_, uv, uvScale_, query, image_.channels, texel);
+    return texel[image_.channels - 1] * a_.r;
 }
 
 }  // namespace penumbra

@@ -81,8 +81,19 @@ public:
         return lookupImage(uv, query);
     }
 
+    // The texture read as a surface's coverage (a cut-out's alpha, geometry/cut_out.h): an image's
+    // alpha channel when it has one (two channels: grey and alpha; four: RGBA), as pbrt-v4 reads a
+    // float image texture of four channels, else its first channel; a constant's or a
+    // checkerboard's first channel. An image's value is multiplied by its scale's first channel.
+    float coverage(const TextureQuery& query) const {
+        if (kind_ == TextureKind::Image && (image_.channels == 2 || image_.channels == 4))
+            return lookupAlpha(query);
+        return evaluate(query).r;
+    }
+
 private:
     Rgb lookupImage(Vec2f uv, const TextureQuery& query) const;
+    float lookupAlpha(const TextureQuery& query) const;
 
     TextureKind kind_ = TextureKind::Constant;
     Rgb a_, b_;  // the constant or the image's scale; the checkerboard's two colours

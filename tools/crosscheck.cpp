@@ -17,6 +17,7 @@
 #include "core/ray_offset.h"
 #include "core/sampling.h"
 #include "formats/scene_file.h"
+#include "geometry/cut_out.h"
 #include "geometry/surface_interaction.h"
 #include "geometry/triangle.h"
 
@@ -324,6 +325,8 @@ const char* mismatchKindName(MismatchKind kind) {
             return "grazing";
         case MismatchKind::RangeBoundary:
             return "range boundary";
+        case MismatchKind::CutOutEdge:
+            return "cut-out edge";
         case MismatchKind::SelfIntersection:
             return "self-intersection";
         case MismatchKind::Unexplained:
@@ -429,7 +432,26 @@ std::optional<MismatchKind> MismatchClassifier::explainHit(const Ray& ray, const
     if (sameDistance(ray, hit.t, ray.tnear) || withinTriangleTestError(ray, hit) ||
         (std::isfinite(ray.tfar) && sameDistance(ray, hit.t, ray.tfar)))
         return MismatchKind::RangeBoundary;
+    if (isCutOutEdge(ray, hit)) return MismatchKind::CutOutEdge;
     return std::nullopt;
+}
+
+bool MismatchClassifier::isCutOutEdge(const Ray& ray, const Hit& hit) const {
+    if (!isTriangleHit(scene_, hit)) return false;
+    const ShapeRef shape = scene_.shapeOf(hit);
+    const TriangleMesh& mesh = scene_.triangleMeshOf(shape);
+    if (!mesh.alpha) return false;
+    const uint32_t* index = &mesh.indices[3 * size_t(shape.primitive)];
+    const uint64_t rayHash = cutOutRayHash(ray);
+    auto keeps = [&](float b1, float b2) {
+        return keepsCutOutHit(cutOutCoverage(*mesh.alpha, meshUvAt(mesh.uvs, index, b1, b2)), rayHash,
+                              hit.geomId, hit.primId);
+    };
+    const bool kept = keeps(hit.u, hit.v);
+    const float e = kEdgeTolerance;
+    for (const auto& [d1, d2] : {std::pair{e, 0.0f}, {-e, 0.0f}, {0.0f, e}, {0.0f, -e}})
+        if (keeps(hit.u + d1, hit.v + d2) != kept) return true;
+    return false;
 }
 
 // A flat triangle cannot be hit again by a ray leaving it; a sphere can (from inside), but not

@@ -16,7 +16,10 @@
 //  - tie: two different primitives at the same distance (coplanar or overlapping triangles);
 //  - grazing: the ray meets the surface at a glancing angle (|cos| < kGrazingCosine);
 //  - range boundary: the hit lies at the ray's tnear or tfar, within the distance tolerance, or
-//    within our triangle test's error bound on t of tnear (which that test rejects).
+//    within our triangle test's error bound on t of tnear (which that test rejects);
+//  - cut-out edge: the hit is on a mesh with a cut-out (geometry/cut_out.h) whose test decides
+//    otherwise a barycentric kEdgeTolerance away: where the coverage changes (a texel's or a
+//    checker's edge), the two backends' barycentrics, a rounding apart, can see different values.
 // Two are failures: a self-intersection (a ray leaving a surface, a bounce or shadow ray, hits the
 // triangle it leaves, or the sphere it leaves within twice its offset: an offset or an error bound
 // is too small; but not a ray that points back through its triangle's plane at a glancing angle,
@@ -52,10 +55,11 @@ enum class MismatchKind : uint8_t {
     Tie,
     Grazing,
     RangeBoundary,
+    CutOutEdge,
     SelfIntersection,
     Unexplained
 };
-inline constexpr int kMismatchKindCount = 6;
+inline constexpr int kMismatchKindCount = 7;
 const char* mismatchKindName(MismatchKind kind);
 
 inline constexpr float kEdgeTolerance = 1e-5f;      // barycentric coordinate
@@ -156,6 +160,7 @@ private:
     bool isSelfIntersection(const CrosscheckRay& ray, const BackendAnswer& answer) const;
     bool crossesItsTriangleAtAGlance(const Ray& ray, const Hit& hit) const;
     bool withinTriangleTestError(const Ray& ray, const Hit& hit) const;
+    bool isCutOutEdge(const Ray& ray, const Hit& hit) const;
 
     const Scene& scene_;
     float coordinateMagnitude_ = 1.0f;  // largest |coordinate| of the scene's bounds

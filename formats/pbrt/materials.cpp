@@ -394,9 +394,17 @@ Json mapMaterial(const std::string& type, const ParameterList& params, const Tex
         // pbrt-v4 gives all three no BSDF: the boundary of a participating medium.
         m["type"] = "interface";
     } else if (type == "diffusetransmission") {
-        m["type"] = "lambert";
-        m["albedo"] = texturable("reflectance", Rgb(0.25f));
-        log.warn(where, "diffusetransmission is rendered as its diffuse reflection alone (no transmission)");
+        // pbrt-v4 multiplies both by `scale` and clamps them to [0, 1].
+        m["type"] = "diffuse_transmission";
+        const double scale = params.getFloat("scale").value_or(1.0);
+        auto scaledColor = [&](std::string_view name) -> Json {
+            Json value = texturable(name, Rgb(0.25f));
+            if (value.is_object()) return scale == 1.0 ? value : scaled(std::move(value), Rgb(float(scale)));
+            const Rgb c = readColor(params, name, Rgb(0.25f), SpectrumUse::Reflectance, textures, log);
+            return rgbJson(clamp01(c * float(scale), nullptr, log, ""));  // silently, as pbrt-v4
+        };
+        m["reflectance"] = scaledColor("reflectance");
+        m["transmittance"] = scaledColor("transmittance");
     } else if (type == "measured" || type == "hair" || type == "subsurface") {
         params.markAllUsed();
         m["type"] = "lambert";

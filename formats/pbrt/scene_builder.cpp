@@ -661,19 +661,31 @@ void SceneBuilder::materialDirective(const Directive& d) {
     }
     std::string jsonName = unusedName("materials", name);
     if (type == "mix") {
-        // No mixed materials yet: the one of the two with the larger weight.
+        // penumbra's mix: pbrt-v4's choice of one of the two per shading point.
         const Parameter* materials = p.find("materials", {ParamType::String});
         if (!materials || materials->strings.size() != 2)
             failAt(d.where, "mix needs \"string materials\" with two names");
-        const double amount = readScalar(p, "amount", 0.5, textures_, log_);
-        const std::string& chosen = materials->strings[amount <= 0.5 ? 0 : 1];
-        auto it = namedMaterials_.find(chosen);
-        if (it == namedMaterials_.end())
-            failAt(materials->where, fmt::format("mix: no material named \"{}\"", chosen));
-        jsonName = it->second;
-        log_.warn(
-            d.where,
-            "mix materials are not supported yet: rendered as the one of the two with the larger weight");
+        Json pair = Json::array();
+        for (const std::string& member : materials->strings) {
+            auto it = namedMaterials_.find(member);
+            if (it == namedMaterials_.end())
+                failAt(materials->where, fmt::format("mix: no material named \"{}\"", member));
+            pair.push_back(it->second);
+        }
+        Json mix{{"type", "mix"}};
+        mix["materials"] = std::move(pair);
+        if (const Parameter* amount = p.find("amount", {ParamType::Float, ParamType::Texture})) {
+            const TextureTable::Texture* texture =
+                amount->type == ParamType::Texture && amount->strings.size() == 1
+                    ? textures_.scalar(amount->strings[0])
+                    : nullptr;
+            if (texture && texture->object)
+                mix["amount"] = *texture->object;
+            else
+                mix["amount"] = std::clamp(readScalar(p, "amount", 0.5, textures_, log_), 0.0, 1.0);
+        }
+        scene_["materials"][jsonName] = std::move(mix);
+        origins_.push_back({"/materials/" + escapeJsonPointerToken(jsonName), d.where});
     } else {
         scene_["materials"][jsonName] = mapMaterial(type, p, textures_, d.where, log_);
         origins_.push_back({"/materials/" + escapeJsonPointerToken(jsonName), d.where});
@@ -1257,9 +1269,29 @@ std::optional<Json> SceneBuilder::shapeGeometry(const ShapeRecord& record, bool 
         return std::nullopt;
     }
     if (const Parameter* alpha = p.find("alpha", {ParamType::Float, ParamType::Texture}))
-        log_.warn(alpha->where, "shape \"alpha\" (cut-outs) is not supported: the shape is opaque");
+        if (std::optional<Json> value = cutOutAlpha(*alpha)) shape["alpha"] = std::move(*value);
     p.reportUnused(log_, fmt::format("Shape \"{}\"", type));
     return shape;
+}
+
+std::optional<Json> SceneBuilder::cutOutAlpha(const Parameter& alpha) const {
+    if (alpha.type == ParamType::Float) {
+        if (alpha.numbers.size() != 1)
+            failAt(alpha.where, fmt::format("parameter \"{}\" takes one value", alpha.declaration()));
+        // pbrt-v4 leaves the test out at 1 or more and never keeps a hit at 0 or less.
+        if (!(alpha.numbers[0] < 1.0)) return std::nullopt;
+        return Json(std::max(alpha.numbers[0], 0.0));
+    }
+    if (alpha.strings.size() != 1)
+        failAt(alpha.where, fmt::format("parameter \"{}\" takes one texture name", alpha.declaration()));
+    const TextureTable::Texture* texture = textures_.scalar(alpha.strings[0]);
+    if (!texture)
+        failAt(alpha.where, fmt::format("parameter \"{}\": unknown float texture \"{}\"", alpha.declaration(),
+                                        alpha.strings[0]));
+    if (texture->object) return *texture->object;
+    const double constant = std::clamp(double(texture->constant.r), 0.0, 1.0);
+    if (constant == 1.0) return std::nullopt;
+    return Json(constant);
 }
 
 Json SceneBuilder::finish() {

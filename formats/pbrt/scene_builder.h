@@ -102,6 +102,9 @@ private:
     // or placement; empty, with a warning, for the shapes penumbra does not have. `swaps`: the
     // placement mirrors (pbrt-v4 then turns a disk's normal).
     std::optional<Json> shapeGeometry(const ShapeRecord& shape, bool swaps);
+    // A shape's "alpha" (a float or a float texture's name) as penumbra's cut-out: a number or a
+    // texture object; none for an opaque shape (alpha 1).
+    std::optional<Json> cutOutAlpha(const Parameter& alpha) const;
     // ObjectInstance: each mesh of the object becomes a prototype (once, at its first instance) and
     // an "instance" shape; what penumbra's instances cannot hold (spheres, emitters, shapes that
     // move inside the object) is placed as a copy instead.

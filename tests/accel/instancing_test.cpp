@@ -26,6 +26,7 @@
 #include "renderer/render.h"
 #include "scenes/mesh_import.h"
 #include "tests/support/film_comparison.h"
+#include "tests/support/render_scene.h"
 #include "tests/support/scene_builders.h"
 #include "tools/crosscheck.h"
 
@@ -33,6 +34,8 @@ namespace fs = std::filesystem;
 
 namespace penumbra {
 namespace {
+
+using testing::renderScene;
 
 float uniform(uint64_t index, uint64_t dimension) {
     return bitsToUnitFloat(uint32_t(hashWords(0x1257, index, dimension) >> 32));
@@ -231,15 +234,6 @@ TEST(InstancingBackends, CrosscheckExplainsEveryMismatch) {
     EXPECT_GT(report.agreementRatio(), 0.9999);
 }
 
-Film renderScene(const Scene& scene, AcceleratorKind accelerator = AcceleratorKind::Embree) {
-    RenderOptions options;
-    options.threads = 2;
-    options.accelerator = accelerator;
-    Film film(scene.film.width, scene.film.height);
-    render(scene, options, film);
-    return film;
-}
-
 // Instances against copies: the same geometry, computed in another space, so hit points differ in
 // the last bits and paths diverge slowly; every pixel must agree within its noise, and so must
 // the image's mean.
@@ -260,7 +254,7 @@ TEST(InstancingRender, InstancesRenderLikeTheMeshesCopied) {
 // ExampleScenes.BothBackendsRenderTheSameImages for the rate).
 TEST(InstancingRender, BothBackendsRenderTheSameImage) {
     for (const Scene& scene : {makeInstancedScene(), makeMovingScene()}) {
-        const Film embree = renderScene(scene), bvh = renderScene(scene, AcceleratorKind::Bvh);
+        const Film embree = renderScene(scene), bvh = renderScene(scene, 2, AcceleratorKind::Bvh);
         const testing::FilmComparison c = testing::compareWithinNoise(embree, bvh);
         EXPECT_GE(c.identicalPixels, 64 * 48 - 3);
         EXPECT_EQ(c.outlierChannels, 0);
@@ -320,7 +314,7 @@ TEST(InstancingRender, MovingInstanceTracesLikeTheMovingMesh) {
     }
     EXPECT_GT(onTheMesh, 1000);
     for (AcceleratorKind accelerator : {AcceleratorKind::Embree, AcceleratorKind::Bvh}) {
-        const Film x = renderScene(instanced, accelerator), y = renderScene(shape, accelerator);
+        const Film x = renderScene(instanced, 2, accelerator), y = renderScene(shape, 2, accelerator);
         const testing::FilmComparison c = testing::compareWithinNoise(x, y);
         EXPECT_EQ(c.outlierChannels, 0) << acceleratorKindName(accelerator);
         EXPECT_NEAR(c.meanA, c.meanB, 0.01 * c.meanB) << acceleratorKindName(accelerator);

@@ -308,7 +308,13 @@ TEST(PbrtMapping, Materials) {
         "0.8\n"
         "Texture \"k\" \"spectrum\" \"constant\" \"rgb value\" [0.3 0.3 0.3]\n"
         "Texture \"s\" \"spectrum\" \"scale\" \"texture tex\" \"k\" \"float scale\" 2\n"
-        "MakeNamedMaterial \"x\" \"string type\" \"diffuse\" \"texture reflectance\" \"s\"\n");
+        "MakeNamedMaterial \"x\" \"string type\" \"diffuse\" \"texture reflectance\" \"s\"\n"
+        "MakeNamedMaterial \"shade\" \"string type\" \"diffusetransmission\" \"rgb transmittance\" [0.5 0.6 "
+        "0.7] "
+        "\"float scale\" 1.5\n"
+        "Texture \"cb\" \"spectrum\" \"checkerboard\" \"rgb tex1\" [0.2 0.2 0.2] \"rgb tex2\" [0.4 0.4 0.4]\n"
+        "MakeNamedMaterial \"leaf\" \"string type\" \"diffusetransmission\" \"texture reflectance\" "
+        "\"cb\"\n");
     const Json& m = c.document["materials"];
     EXPECT_EQ(m["d"], Json::parse(R"({"type": "lambert", "albedo": [0.2, 0.4, 0.6]})"));
     // remaproughness (the default): alpha = sqrt(roughness); copper by default.
@@ -325,9 +331,19 @@ TEST(PbrtMapping, Materials) {
     EXPECT_EQ(m["p"]["type"], "coated_diffuse");
     EXPECT_DOUBLE_EQ(m["p"]["alpha"].get<double>(), 0.2);
     EXPECT_EQ(m["i"], Json::parse(R"({"type": "interface"})"));
-    EXPECT_FALSE(m.contains("m"));  // mix resolves to the heavier of its two: the dielectric
+    EXPECT_EQ(m["m"], Json::parse(R"({"type": "mix", "materials": ["d", "g"], "amount": 0.8})"));
     EXPECT_NEAR(m["x"]["albedo"][0].get<double>(), 0.6, 1e-6);
-    EXPECT_TRUE(hasWarning(c, "mix materials are not supported yet"));
+    EXPECT_FALSE(hasWarning(c, "mix"));
+    // diffusetransmission: reflectance and transmittance (0.25 each) times scale, clamped to 1.
+    EXPECT_EQ(m["shade"]["type"], "diffuse_transmission");
+    EXPECT_EQ(m["shade"]["reflectance"], Json::parse("[0.375, 0.375, 0.375]"));
+    for (int ch = 0; ch < 3; ++ch)
+        EXPECT_NEAR(m["shade"]["transmittance"][ch].get<double>(), std::min(1.0, 1.5 * (0.5 + 0.1 * ch)),
+                    1e-6);
+    EXPECT_EQ(m["leaf"]["reflectance"]["type"], "checkerboard");
+    EXPECT_EQ(m["leaf"]["transmittance"], Json::parse("[0.25, 0.25, 0.25]"));
+    EXPECT_FALSE(hasWarning(c, "diffusetransmission"));
+    EXPECT_FALSE(hasWarning(c, "transmittance"));
     // The whole scene builds.
     const Scene scene = buildPbrtScene(c, "test.pbrt");
     EXPECT_EQ(scene.materials.size(), m.size());
@@ -923,6 +939,42 @@ TEST(PbrtMapping, DisplacementAndNormalMapsPerturbTheShadingNormal) {
         c.document["materials"]["mapped"]["normal_map"],
         Json::parse(
             R"({"type": "image", "file": "normals.png", "color_space": "linear", "filter": "bilinear"})"));
+}
+
+// A shape's alpha: a float below 1 or a float texture, as the shape's cut-out (both backends test
+// it, geometry/cut_out.h); 1 or more leaves the shape opaque; an object's shapes carry theirs into
+// the prototype.
+TEST(PbrtMapping, ShapeAlphaIsACutOut) {
+    auto c =
+        convert(kCamera +
+                "WorldBegin\nTexture \"leaf\" \"float\" \"checkerboard\" \"float tex1\" 1 \"float tex2\" 0\n"
+                "Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0] \"integer indices\" [0 1 2] \"float "
+                "alpha\" 0.25\n"
+                "Shape \"sphere\" \"texture alpha\" \"leaf\"\n"
+                "Shape \"disk\" \"float alpha\" 1\n"
+                "Shape \"disk\" \"float alpha\" -2\n"
+                "ObjectBegin \"plant\"\nShape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0] \"integer "
+                "indices\" [0 1 2] "
+                "\"texture alpha\" \"leaf\"\nObjectEnd\nObjectInstance \"plant\"\n");
+    EXPECT_FALSE(hasWarning(c, "alpha"));
+    const Json& shapes = c.document["shapes"];
+    EXPECT_EQ(shapes[0]["alpha"], 0.25);
+    EXPECT_EQ(shapes[1]["alpha"]["type"], "checkerboard");
+    EXPECT_FALSE(shapes[2].contains("alpha"));
+    EXPECT_EQ(shapes[3]["alpha"], 0.0);
+    EXPECT_EQ(c.document["prototypes"]["plant"]["alpha"]["type"], "checkerboard");
+    const Scene scene = buildPbrtScene(c, "test.pbrt");
+    ASSERT_EQ(scene.meshes.size(), 4u);  // the sphere with a cut-out is triangles
+    EXPECT_EQ(scene.spheres.size(), 0u);
+    ASSERT_TRUE(scene.meshes[0].alpha);
+    EXPECT_FLOAT_EQ(scene.meshes[0].alpha->coverage({}), 0.25f);
+    EXPECT_TRUE(scene.meshes[1].alpha);
+    EXPECT_FALSE(scene.meshes[2].alpha);
+    ASSERT_EQ(scene.prototypes.size(), 1u);
+    EXPECT_TRUE(scene.prototypes[0].alpha);
+    const InputError e = testing::catchInputError(
+        [] { convert("WorldBegin\nShape \"disk\" \"texture alpha\" \"nothing\"\n"); });
+    EXPECT_CONTAINS(e.what(), "unknown float texture \"nothing\"");
 }
 
 TEST(PbrtMapping, IncludedFilesAreCoveredByTheSceneHash) {

@@ -61,6 +61,9 @@ struct Reference {
 Reference referenceOf(const ContinuousCase& c) {
     const double thetaUp = test::radians(c.thetaO > 90.0 ? 180.0 - c.thetaO : c.thetaO);
     if (const Lambert* lambert = std::get_if<Lambert>(&c.material.model())) return {lambert->albedo, 1.0};
+    // Reflection and transmission, each R or T over pi on its hemisphere: albedo R + T.
+    if (const auto* d = std::get_if<DiffuseTransmission>(&c.material.model()))
+        return {d->reflectance + d->transmittance, 1.0};
     const Phong& p = std::get<Phong>(c.material.model());
     const double share = test::phongLobeShareAbove(p.exponent, thetaUp);
     const double specularAlbedo = test::phongSpecularAlbedo(p.exponent, thetaUp);
@@ -89,6 +92,18 @@ std::vector<ContinuousCase> continuousCases() {
                                      std::to_string(int(theta)),
                                  test::makePhongMaterial(mix.kd, mix.ks, n), theta, 200.0});
             }
+    struct Transmitter {
+        const char* name;
+        Rgb r, t;
+    };
+    const Transmitter transmitters[] = {{"Coloured", {0.6f, 0.3f, 0.1f}, {0.2f, 0.5f, 0.3f}},
+                                        {"TransmitOnly", Rgb(0.0f), {0.9f, 0.6f, 0.3f}},
+                                        {"ReflectOnly", {0.3f, 0.6f, 0.9f}, Rgb(0.0f)}};
+    for (const Transmitter& d : transmitters)
+        for (double theta : {0.0, 45.0, 80.0, 130.0})
+            cases.push_back(
+                {std::string("DiffuseTransmission_") + d.name + "_theta" + std::to_string(int(theta)),
+                 Material(DiffuseTransmission{d.r, d.t}), theta, 60.0});
     // wo below the surface: the two-sided model mirrors itself.
     cases.push_back(
         {"Phong_n10_Even_theta120", test::makePhongMaterial(Rgb(0.5f), Rgb(0.5f), 10.0f), 120.0, 75.0});
@@ -224,8 +239,10 @@ TEST_P(ContinuousLobe, SamplesFollowThePdf) {
             // pdf and weight: float arithmetic of the same quantities, so agreement to 1e-5 relative.
             const float pdf = material.pdf(wo, s->wi, front);
             const Rgb expectedWeight = material.eval(wo, s->wi, front) * (std::abs(s->wi.z) / pdf);
-            bool ok = !s->isSpecular() && !s->isTransmission() && std::abs(s->pdf - pdf) <= 1e-5f * pdf &&
-                      std::abs(length(s->wi) - 1.0f) < 1e-5f;
+            const bool transmits = any(material.flags() & BsdfFlags::Transmission);
+            bool ok = !s->isSpecular() && (transmits || !s->isTransmission()) &&
+                      s->isTransmission() == (s->wi.z * wo.z < 0.0f) &&
+                      std::abs(s->pdf - pdf) <= 1e-5f * pdf && std::abs(length(s->wi) - 1.0f) < 1e-5f;
             for (int ch = 0; ch < 3; ++ch)
                 ok = ok && std::abs(s->weight[ch] - expectedWeight[ch]) <= 1e-5f * expectedWeight[ch] + 1e-7f;
             if (!ok && inconsistent++ == 0)

@@ -99,6 +99,98 @@ TEST(MaterialLoader, ReadsEveryTypeAndKey) {
     EXPECT_EQ(defaults.exponent, 10.0f);
 }
 
+// diffuse_transmission: reflectance and transmittance, constant or textured (clamped to [0, 1]).
+TEST(MaterialLoader, DiffuseTransmission) {
+    const Scene scene = parseMaterials(R"({
+        "shade": {"type": "diffuse_transmission", "reflectance": 0.5, "transmittance": [0.1, 0.2, 0.3]},
+        "leaf": {"type": "diffuse_transmission",
+                 "transmittance": {"type": "checkerboard", "colors": [[0.2, 0.4, 0.1], 1]}},
+        "defaults": {"type": "diffuse_transmission"}
+    })");
+    const auto& shade = std::get<DiffuseTransmission>(scene.materials[0].model());
+    EXPECT_EQ(shade.reflectance, Rgb(0.5f));
+    EXPECT_EQ(shade.transmittance, Rgb(0.1f, 0.2f, 0.3f));
+    EXPECT_TRUE(any(scene.materials[0].flags() & BsdfFlags::Transmission));
+    const auto& defaults = std::get<DiffuseTransmission>(scene.materials[2].model());
+    EXPECT_EQ(defaults.reflectance, Rgb(0.25f));
+    EXPECT_EQ(defaults.transmittance, Rgb(0.25f));
+    ASSERT_TRUE(scene.materials[1].isTextured());
+    TextureQuery query;
+    query.uv = {1.5f, 0.5f};  // the odd square
+    const auto& textured = std::get<DiffuseTransmission>(scene.materials[1].at(query).model());
+    EXPECT_EQ(textured.transmittance, Rgb(1.0f));
+    query.uv = {0.5f, 0.5f};
+    EXPECT_EQ(std::get<DiffuseTransmission>(scene.materials[1].at(query).model()).transmittance,
+              Rgb(0.2f, 0.4f, 0.1f));
+    const InputError e = testing::catchInputError(
+        [] { parseMaterials(R"({"bad": {"type": "diffuse_transmission", "transmittance": 1.5}})"); });
+    EXPECT_CONTAINS(e.what(), "/materials/bad/transmittance");
+}
+
+// "mix": two names (any order of definition), an amount or a texture; mixes of mixes; a cycle,
+// an interface or a bad amount refused at the key that says so.
+TEST(MaterialLoader, Mix) {
+    const Scene scene = parseMaterials(R"({
+        "both": {"type": "mix", "materials": ["red", "inner"], "amount": 0.25},
+        "red": {"type": "lambert", "albedo": [0.8, 0.1, 0.1]},
+        "inner": {"type": "mix", "materials": ["red", "blue"],
+                  "amount": {"type": "checkerboard", "colors": [0, 1]}},
+        "blue": {"type": "lambert", "albedo": [0.1, 0.1, 0.8]}
+    })");
+    const MaterialMix* both = scene.materials[0].mix();
+    ASSERT_NE(both, nullptr);
+    EXPECT_EQ(both->first, 1u);
+    EXPECT_EQ(both->second, 2u);
+    EXPECT_EQ(both->amount, 0.25f);
+    const MaterialMix* inner = scene.materials[2].mix();
+    ASSERT_NE(inner, nullptr);
+    ASSERT_TRUE(inner->amountTexture);
+    // The checkerboard's amount is 0 on even squares (red) and 1 on odd ones (blue), whatever the hash.
+    for (int i = 0; i < 100; ++i) {
+        const Vec3f p{0.01f * float(i), 0.5f, 0.0f};
+        EXPECT_EQ(resolveMix(scene.materials, 2, p, {0, 0, 1}, {0.5f, 0.5f}), 1u);
+        EXPECT_EQ(resolveMix(scene.materials, 2, p, {0, 0, 1}, {1.5f, 0.5f}), 3u);
+        const uint32_t resolved = resolveMix(scene.materials, 0, p, {0, 0, 1}, {1.5f, 0.5f});
+        EXPECT_TRUE(resolved == 1u || resolved == 3u);
+    }
+
+    auto error = [](const std::string& json) {
+        return testing::catchInputError([&] { parseMaterials(json); }).what();
+    };
+    EXPECT_CONTAINS(error(R"({"a": {"type": "mix", "materials": ["b", "c"]},
+                              "b": {"type": "mix", "materials": ["c", "a"]},
+                              "c": {"type": "lambert"}})"),
+                    "the mix contains itself: \"a\" -> \"b\" -> \"a\"");
+    EXPECT_CONTAINS(error(R"({"a": {"type": "mix", "materials": ["a", "a"]}})"), "/materials/a/materials");
+    EXPECT_CONTAINS(error(R"({"a": {"type": "mix", "materials": ["c", "i"]}, "c": {"type": "lambert"},
+                              "i": {"type": "interface"}})"),
+                    "/materials/a/materials/1: a mix cannot include an interface");
+    EXPECT_CONTAINS(error(R"({"a": {"type": "mix", "materials": ["c", "d"]}, "c": {"type": "lambert"}})"),
+                    "/materials/a/materials/1");
+    EXPECT_CONTAINS(error(R"({"a": {"type": "mix", "materials": ["c"]}, "c": {"type": "lambert"}})"),
+                    "an array of two material names");
+    EXPECT_CONTAINS(error(R"({"a": {"type": "mix", "materials": ["c", "c"], "amount": 2},
+                              "c": {"type": "lambert"}})"),
+                    "/materials/a/amount");
+}
+
+// The choice's frequency is the amount, at points and directions that differ in any bit.
+TEST(MaterialMix, ChoosesTheSecondWithProbabilityAmount) {
+    constexpr int kPoints = 400'000;
+    for (float amount : {0.1f, 0.5f, 0.85f}) {
+        const MaterialMix mix{0, 1, amount, nullptr};
+        int second = 0;
+        for (int i = 0; i < kPoints; ++i)
+            second += mix.choose({0.001f * float(i % 1000), 0.0f, 0.001f * float(i / 1000)},
+                                 normalize(Vec3f{0.3f, 1.0f, 0.2f}), {0.0f, 0.0f}, 7) == 1;
+        const double sigma = std::sqrt(amount * (1.0 - amount) / kPoints);
+        EXPECT_NEAR(double(second) / kPoints, amount, 5.0 * sigma) << amount;
+    }
+    const MaterialMix none{4, 5, 0.0f, nullptr}, all{4, 5, 1.0f, nullptr};
+    EXPECT_EQ(none.choose({1, 2, 3}, {0, 0, 1}, {}, 0), 4u);
+    EXPECT_EQ(all.choose({1, 2, 3}, {0, 0, 1}, {}, 0), 5u);
+}
+
 // Flags, not hand lists, say what the integrator may do with each material.
 TEST(MaterialFlags, DeriveSpecularityAndLobeChoice) {
     const Scene scene = parseMaterials(R"({

@@ -97,6 +97,34 @@ TEST(WhiteFurnace, AlbedoOneLambertSphereReturnsTheEnvironment) {
     expectMean(renderMean(sphereFurnace(m, 0.7f)), Rgb(0.7f), 1e-4, "lambert");
 }
 
+// Diffuse transmission with R + T = 1 loses nothing: light leaves the sphere after any number of
+// bounces inside and out, and the sphere disappears into the furnace, as it does with R + T < 1
+// darkened by exactly what a closed form gives for a flat quad (albedo R + T at every angle).
+TEST(WhiteFurnace, DiffuseTransmissionConservesWhatItReflectsAndTransmits) {
+    const Material white(DiffuseTransmission{{0.7f, 0.5f, 0.2f}, {0.3f, 0.5f, 0.8f}});
+    expectMean(renderMean(sphereFurnace(white, 0.7f)), Rgb(0.7f), 1e-4, "diffuse transmission sphere");
+    const Material grey(DiffuseTransmission{{0.4f, 0.1f, 0.3f}, {0.2f, 0.5f, 0.1f}});
+    // A plane sees no other surface: it returns R + T of the environment, seen from either side.
+    expectMean(renderMean(quadFurnace(grey, 1.0f, 40.0)), {0.6f, 0.6f, 0.4f}, 1e-4,
+               "diffuse transmission quad");
+    expectMean(renderMean(quadFurnace(grey, 1.0f, 70.0, true)), {0.6f, 0.6f, 0.4f}, 1e-4,
+               "diffuse transmission quad from behind");
+}
+
+// A mix shades one of its two materials at each point, the second with probability `amount`: on a
+// plane in a furnace each Lambert returns its albedo, so the mix returns the blend of the two
+// albedos, and with a checkerboard amount each square returns its own material's.
+TEST(WhiteFurnace, MixReturnsTheBlendOfItsMaterials) {
+    const Rgb red{0.8f, 0.2f, 0.1f}, blue{0.1f, 0.3f, 0.9f};
+    Scene scene = quadFurnace(Material(Lambert{red}), 1.0f, 30.0);
+    scene.materials.push_back(Material(Lambert{blue}));
+    scene.materials.push_back(Material::mixOf({0, 1, 0.3f, nullptr}));
+    scene.meshes[0].material = 2;
+    expectMean(renderMean(scene), red * 0.7f + blue * 0.3f, 1e-4, "mix of two lamberts, amount 0.3");
+    scene.materials[2] = Material::mixOf({0, 1, 1.0f, nullptr});
+    expectMean(renderMean(scene), blue, 0.0, "amount 1: the second");
+}
+
 TEST(WhiteFurnace, WhiteMirrorSphereReturnsTheEnvironment) {
     const Material m(Mirror{});
     const ImageMean image = renderMean(sphereFurnace(m, 1.3f));

@@ -11,22 +11,16 @@
 #include "renderer/render.h"
 #include "scenes/scene_loader.h"
 #include "tests/support/film_comparison.h"
+#include "tests/support/render_scene.h"
 
 namespace fs = std::filesystem;
 
 namespace penumbra {
 namespace {
 
-const fs::path kScenes = fs::path(PENUMBRA_SOURCE_DIR) / "scenes";
+using testing::renderScene;
 
-Film renderScene(const Scene& scene, int threads, AcceleratorKind accelerator = AcceleratorKind::Embree) {
-    RenderOptions options;
-    options.threads = threads;
-    options.accelerator = accelerator;
-    Film film(scene.film.width, scene.film.height);
-    render(scene, options, film);
-    return film;
-}
+const fs::path kScenes = fs::path(PENUMBRA_SOURCE_DIR) / "scenes";
 
 TEST(ExampleScenes, EveryExampleIsBitIdenticalWithOneAndTwoThreads) {
     int checked = 0;

@@ -324,6 +324,60 @@ TEST(SceneLoader, SubdivisionRefinesAMeshAtLoad) {
     EXPECT_CONTAINS(e.what(), "/shapes/0/subdivision: Loop subdivision needs a manifold mesh");
 }
 
+// Polygons: "face_sizes" groups an inline mesh's indices (fans when not subdivided); Catmull-Clark
+// surfaces of inline polygons and of an OBJ file's quads (read unsplit), their front by winding.
+TEST(SceneLoader, PolygonsAndCatmullClarkSurfaces) {
+    const std::string cube = R"("positions": [[-1, -1, -1], [1, -1, -1], [-1, 1, -1], [1, 1, -1],
+                                              [-1, -1, 1], [1, -1, 1], [-1, 1, 1], [1, 1, 1]],
+        "indices": [0, 2, 3, 1, 4, 5, 7, 6, 0, 1, 5, 4, 2, 6, 7, 3, 0, 4, 6, 2, 1, 3, 7, 5],
+        "face_sizes": [4, 4, 4, 4, 4, 4])";
+    Scene scene = sceneWithShape(R"({"type": "triangle_mesh", "material": "m", )" + cube + "}");
+    EXPECT_EQ(scene.meshes[0].triangleCount(), 12u);
+    scene = sceneWithShape(R"({"type": "triangle_mesh", "material": "m", )" + cube +
+                           R"(, "subdivision": {"scheme": "catmull_clark", "levels": 2}})");
+    const TriangleMesh& rounded = scene.meshes[0];
+    EXPECT_EQ(rounded.triangleCount(), 6u * 16u * 2u);
+    ASSERT_EQ(rounded.normals.size(), rounded.positions.size());
+    for (size_t t = 0; t < rounded.triangleCount(); ++t)
+        EXPECT_GT(dot(windingNormal(rounded, t), rounded.positions[rounded.indices[3 * t]]), 0.0f) << t;
+
+    const fs::path dir = fs::temp_directory_path() / "penumbra_polygon_file_test";
+    fs::create_directories(dir);
+    {
+        std::ofstream obj(dir / "cube.obj");
+        obj << "v -1 -1 -1\nv 1 -1 -1\nv -1 1 -1\nv 1 1 -1\nv -1 -1 1\nv 1 -1 1\nv -1 1 1\nv 1 1 1\n"
+               "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
+    }
+    for (const char* front : {"winding", "reversed"}) {
+        scene = sceneWithShape(R"({"type": "mesh_file", "material": "m", "file": ")" +
+                               (dir / "cube.obj").string() + R"(", "front": ")" + front +
+                               R"(", "subdivision": {"scheme": "catmull_clark", "levels": 1}})");
+        const TriangleMesh& mesh = scene.meshes[0];
+        EXPECT_EQ(mesh.triangleCount(), 6u * 4u * 2u);
+        const float side = std::string(front) == "winding" ? 1.0f : -1.0f;
+        for (size_t t = 0; t < mesh.triangleCount(); ++t)
+            EXPECT_GT(side * dot(windingNormal(mesh, t), mesh.positions[mesh.indices[3 * t]]), 0.0f) << front;
+    }
+
+    InputError e = catchInputError([&] {
+        sceneWithShape(
+            R"({"type": "triangle_mesh", "material": "m", "positions": [[0, 0, 0], [1, 0, 0], [0, 1, 0]],
+            "indices": [0, 1, 2], "face_sizes": [4]})");
+    });
+    EXPECT_CONTAINS(
+        e.what(), "/shapes/0/face_sizes: the polygons have 4 corners in all, but \"indices\" has 3 entries");
+    e = catchInputError([&] {
+        sceneWithShape(R"({"type": "mesh_file", "material": "m", "file": ")" + (dir / "cube.obj").string() +
+                       R"(", "front": "normals", "subdivision": {"scheme": "catmull_clark"}})");
+    });
+    EXPECT_CONTAINS(e.what(), "/shapes/0/front: a Catmull-Clark surface's front is given by its winding");
+    e = catchInputError([&] {
+        sceneWithShape(R"({"type": "triangle_mesh", "material": "m", )" + cube +
+                       R"(, "subdivision": {"scheme": "catmull_clark", "levels": 0}})");
+    });
+    EXPECT_CONTAINS(e.what(), "/shapes/0/subdivision/levels");
+}
+
 // A mesh file's front side: its winding (the default), the other side, or pbrt-v4's rule, the
 // side of the vertex normals (turned with the normals under ReverseOrientation). The file's one
 // triangle winds to +z while its normals point to -z.
@@ -444,6 +498,43 @@ TEST(SceneLoader, CylindersAndPartialDisks) {
 
 // Spot lights: the cone from the axis to its edge and the falloff band inside it, in degrees
 // (defaults pbrt-v4's 30 and 5); cos(30) and cos(25) worked out by hand.
+// "alpha" on a shape or a prototype: a number in [0, 1] (1: opaque, no cut-out) or a texture; a
+// sphere with one becomes triangles; an instance takes its prototype's.
+TEST(SceneLoader, ShapeAlphaIsACutOut) {
+    const Scene scene = parseScene(R"({"materials": {"m": {"type": "lambert"}},
+        "prototypes": {"leaf": {"type": "quad", "corner": [0, 0, 0], "edge1": [1, 0, 0], "edge2": [0, 1, 0],
+                                "alpha": {"type": "checkerboard", "colors": [1, 0]}}},
+        "shapes": [
+            {"type": "quad", "material": "m", "corner": [0, 0, 0], "edge1": [1, 0, 0], "edge2": [0, 1, 0], "alpha": 0.5},
+            {"type": "quad", "material": "m", "corner": [0, 0, 0], "edge1": [1, 0, 0], "edge2": [0, 1, 0], "alpha": 1},
+            {"type": "sphere", "material": "m", "center": [0, 0, 0], "radius": 1, "alpha": 0.3},
+            {"type": "instance", "material": "m", "prototype": "leaf"}]})",
+                                   kScenes / "inline.json");
+    ASSERT_EQ(scene.meshes.size(), 3u);
+    ASSERT_TRUE(scene.meshes[0].alpha);
+    EXPECT_FLOAT_EQ(scene.meshes[0].alpha->coverage({}), 0.5f);
+    EXPECT_FALSE(scene.meshes[1].alpha);
+    EXPECT_TRUE(scene.spheres.empty());
+    ASSERT_TRUE(scene.meshes[2].alpha);
+    EXPECT_FLOAT_EQ(scene.meshes[2].alpha->coverage({}), 0.3f);
+    ASSERT_TRUE(scene.prototypes[0].alpha);
+    EXPECT_EQ(scene.prototypes[0].alpha->kind(), TextureKind::Checkerboard);
+
+    InputError e = catchInputError([] {
+        sceneWithShape(R"({"type": "quad", "material": "m", "corner": [0, 0, 0], "edge1": [1, 0, 0],
+            "edge2": [0, 1, 0], "alpha": 1.5})");
+    });
+    EXPECT_CONTAINS(e.what(), "/shapes/0/alpha");
+    e = catchInputError([] {
+        parseScene(R"({"materials": {"m": {"type": "lambert"}},
+            "prototypes": {"p": {"type": "quad", "corner": [0, 0, 0], "edge1": [1, 0, 0], "edge2": [0, 1, 0]}},
+            "shapes": [{"type": "instance", "material": "m", "prototype": "p", "alpha": 0.5}]})",
+                   kScenes / "inline.json");
+    });
+    EXPECT_CONTAINS(e.what(), "/shapes/0");
+    EXPECT_CONTAINS(e.what(), "alpha");
+}
+
 TEST(SceneLoader, SpotLights) {
     const Scene scene = parseScene(R"({"lights": [
         {"type": "spot", "position": [0, 3, 0], "direction": [0, -2, 0], "intensity": 10},
@@ -510,7 +601,8 @@ TEST(SceneErrors, UnknownKeys) {
     EXPECT_EQ(
         std::string(e.what()),
         "scene.json: /shapes/2/radus: unknown key (expected one of: type, center, radius, z_min, z_max, "
-        "phi_max, start_direction, segments, material, emission, transform, motion, inside, outside); did "
+        "phi_max, start_direction, segments, material, alpha, emission, transform, motion, inside, outside); "
+        "did "
         "you mean 'radius'?");
 
     e = catchInputError(
@@ -547,7 +639,9 @@ TEST(SceneErrors, UnknownNamesGetTheLikelyOneSuggested) {
     EXPECT_EQ(
         std::string(e.what()),
         "s.json: /materials/m/type: expected one of: lambert, phong, dielectric, thin_dielectric, mirror, "
-        "conductor, rough_conductor, rough_dielectric, coated_diffuse, interface, found the string "
+        "conductor, rough_conductor, rough_dielectric, coated_diffuse, diffuse_transmission, interface, mix, "
+        "found the "
+        "string "
         "\"diffuse\"; did you "
         "mean 'lambert'? (pbrt-v4 and Mitsuba 3 call it 'diffuse', Cycles 'Diffuse BSDF')");
     e = catchInputError([] { parseScene(R"({"materials": {"m": {"type": "roughconductor"}}})", "s.json"); });
