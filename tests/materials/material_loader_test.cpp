@@ -117,11 +117,12 @@ TEST(MaterialLoader, DiffuseTransmission) {
     ASSERT_TRUE(scene.materials[1].isTextured());
     TextureQuery query;
     query.uv = {1.5f, 0.5f};  // the odd square
-    const auto& textured = std::get<DiffuseTransmission>(scene.materials[1].at(query).model());
-    EXPECT_EQ(textured.transmittance, Rgb(1.0f));
+    // at() makes a material of the values there: kept while its model is read.
+    const Material odd = scene.materials[1].at(query);
+    EXPECT_EQ(std::get<DiffuseTransmission>(odd.model()).transmittance, Rgb(1.0f));
     query.uv = {0.5f, 0.5f};
-    EXPECT_EQ(std::get<DiffuseTransmission>(scene.materials[1].at(query).model()).transmittance,
-              Rgb(0.2f, 0.4f, 0.1f));
+    const Material even = scene.materials[1].at(query);
+    EXPECT_EQ(std::get<DiffuseTransmission>(even.model()).transmittance, Rgb(0.2f, 0.4f, 0.1f));
     const InputError e = testing::catchInputError(
         [] { parseMaterials(R"({"bad": {"type": "diffuse_transmission", "transmittance": 1.5}})"); });
     EXPECT_CONTAINS(e.what(), "/materials/bad/transmittance");
@@ -154,7 +155,8 @@ TEST(MaterialLoader, Mix) {
         EXPECT_TRUE(resolved == 1u || resolved == 3u);
     }
 
-    auto error = [](const std::string& json) {
+    // The message as a string: the exception, and the text what() points into, end with the call.
+    auto error = [](const std::string& json) -> std::string {
         return testing::catchInputError([&] { parseMaterials(json); }).what();
     };
     EXPECT_CONTAINS(error(R"({"a": {"type": "mix", "materials": ["b", "c"]},
