@@ -304,7 +304,7 @@ Material readDiffuseTransmission(const JsonValue& material, MaterialContext& con
     return Material(model, true, std::move(context.textures));
 }
 
-// "mix": read once every material is named (readMixes); a placeholder until then.
+// "mix": read by readMix once every material is named; a placeholder until then.
 Material readMixPlaceholder(const JsonValue&, MaterialContext&) { return Material::mixOf({}); }
 
 const std::array<TypeRow<MaterialReader>, 12> kMaterialTypes{{

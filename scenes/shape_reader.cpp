@@ -325,7 +325,6 @@ TriangleMesh readInlineMesh(const JsonValue& value) {
     return mesh;
 }
 
-// The mesh of a "mesh_file" shape; its file's path is appended to `files`.
 // "subdivision": {"scheme": "loop" (default) | "catmull_clark", "levels": N (default 3)}.
 struct Subdivision {
     bool catmullClark = false;
@@ -387,8 +386,8 @@ auto importMeshFile(const JsonValue& value, const fs::path& folder, std::vector<
     }
 }
 
-// A mesh file's triangles, of its Loop or Catmull-Clark surface when the shape asks for one (a
-// Catmull-Clark surface reads the file's polygons, unsplit).
+// The triangles of a "mesh_file" shape, of its Loop or Catmull-Clark surface when it asks for one
+// (a Catmull-Clark surface reads the file's polygons, unsplit); the file's path is appended to `files`.
 TriangleMesh readMeshFile(const JsonValue& value, const fs::path& folder, std::vector<fs::path>& files) {
     const std::optional<Subdivision> subdivision = readSubdivision(value);
     fs::path path;
@@ -423,9 +422,6 @@ TriangleMesh readMeshFile(const JsonValue& value, const fs::path& folder, std::v
     mesh.name = fmt::format("{} ({})", value.pointer(), path.filename().string());
     return mesh;
 }
-
-// "subdivision": {"scheme": "loop", "levels": 3}: the mesh as the control mesh of a subdivision
-// surface, refined at load (geometry/loop_subdivision.h).
 
 TriangleMesh readQuad(const JsonValue& value) {
     const Vec3f corner = value.requiredMember("corner").vec3();
