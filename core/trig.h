@@ -3,12 +3,18 @@
 // only this range, and the same bits on every machine (libm picks its code by CPU features).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
 #include "core/vec.h"
 
 namespace penumbra {
+
+// sqrt and asin of a value that rounding may have pushed just outside their domain
+// (1 - cos^2 slightly below 0, a sine slightly beyond 1).
+inline float safeSqrt(float x) { return std::sqrt(std::max(x, 0.0f)); }
+inline float safeAsin(float x) { return std::asin(std::clamp(x, -1.0f, 1.0f)); }
 
 // (cos a, sin a) for |a| <= pi / 4.
 [[gnu::always_inline]] inline Vec2f cosSinQuarterPi(float a) {

@@ -15,7 +15,7 @@ void LightBoundsBatch::set(size_t i, const LightBounds& b) {
     axisZ_[i] = b.axis.z;
     phi_[i] = b.phi;
     cosThetaO_[i] = b.cosThetaO;
-    sinThetaO_[i] = detail::safeSqrt(1.0f - b.cosThetaO * b.cosThetaO);
+    sinThetaO_[i] = safeSqrt(1.0f - b.cosThetaO * b.cosThetaO);
     cosThetaE_[i] = b.cosThetaE;
     twoSided_[i] = b.twoSided ? 1.0f : 0.0f;
     used_ = std::max(used_, (i / kLanes + 1) * kLanes);

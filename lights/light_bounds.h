@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstddef>
 
+#include "core/trig.h"
 #include "core/vec.h"
 
 namespace penumbra {
@@ -33,8 +34,6 @@ struct LightBounds {
 };
 
 namespace detail {
-
-inline float safeSqrt(float x) { return std::sqrt(std::max(x, 0.0f)); }
 
 // The importance, one light's fields as plain numbers, written without branches so that a loop
 // over lights (LightBoundsBatch) computes several lanes at once; a lane's result is the same bits
@@ -80,8 +79,7 @@ inline float lightImportance(float px, float py, float pz, float nx, float ny, f
 inline float LightBounds::importance(Vec3f p, Vec3f n) const {
     return detail::lightImportance(p.x, p.y, p.z, n.x, n.y, n.z, center.x, center.y, center.z, radius,
                                    radius * radius, axis.x, axis.y, axis.z, phi, cosThetaO,
-                                   detail::safeSqrt(1.0f - cosThetaO * cosThetaO), cosThetaE,
-                                   twoSided ? 1.0f : 0.0f);
+                                   safeSqrt(1.0f - cosThetaO * cosThetaO), cosThetaE, twoSided ? 1.0f : 0.0f);
 }
 
 // The bounds of up to kCapacity lights, a field per array, for the importances of all of them at

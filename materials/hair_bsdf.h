@@ -27,6 +27,8 @@
 #include <optional>
 
 #include "core/rgb.h"
+#include "core/sampling.h"
+#include "core/trig.h"
 #include "core/vec.h"
 #include "materials/bsdf.h"
 #include "materials/fresnel.h"
@@ -36,11 +38,6 @@ namespace penumbra {
 namespace hair {
 
 inline constexpr int kPMax = 3;  // lobes p = 0, 1, 2 explicitly, then p >= 3 as one
-inline constexpr float kPi = 3.14159265358979323846f;
-
-inline float safeSqrt(float x) { return std::sqrt(std::max(0.0f, x)); }
-inline float safeAsin(float x) { return std::asin(std::clamp(x, -1.0f, 1.0f)); }
-
 // The modified Bessel function of the first kind of order 0, by its series, and its logarithm
 // (an asymptotic form beyond x = 12). 24 terms leave a relative error below 1e-6 up to x = 12;
 // the 10 of pbrt-v4 leave 2% there (a grazing ray's lobe at small beta_m).
@@ -141,28 +138,28 @@ struct HairBsdf {
         l.v[1] = 0.25f * l.v[0];
         l.v[2] = 4.0f * l.v[0];
         for (int p = 3; p <= hair::kPMax; ++p) l.v[p] = l.v[2];
-        l.s = std::sqrt(hair::kPi / 8.0f) * (0.265f * bn + 1.194f * bn * bn + 5.372f * std::pow(bn, 22.0f));
-        l.sin2kAlpha[0] = std::sin(alphaDegrees * hair::kPi / 180.0f);
-        l.cos2kAlpha[0] = hair::safeSqrt(1.0f - l.sin2kAlpha[0] * l.sin2kAlpha[0]);
+        l.s = std::sqrt(kPi / 8.0f) * (0.265f * bn + 1.194f * bn * bn + 5.372f * std::pow(bn, 22.0f));
+        l.sin2kAlpha[0] = std::sin(alphaDegrees * kPi / 180.0f);
+        l.cos2kAlpha[0] = safeSqrt(1.0f - l.sin2kAlpha[0] * l.sin2kAlpha[0]);
         for (int i = 1; i < 3; ++i) {
             l.sin2kAlpha[i] = 2.0f * l.cos2kAlpha[i - 1] * l.sin2kAlpha[i - 1];
             l.cos2kAlpha[i] =
                 l.cos2kAlpha[i - 1] * l.cos2kAlpha[i - 1] - l.sin2kAlpha[i - 1] * l.sin2kAlpha[i - 1];
         }
-        l.gammaO = hair::safeAsin(h);
+        l.gammaO = safeAsin(h);
         return l;
     }
 
     // Ap for each lobe, the light leaving by it, for a ray of longitudinal angle theta_o.
     std::array<Rgb, hair::kPMax + 1> attenuation(float sinThetaO, float cosThetaO) const {
         // The refracted ray's longitudinal and azimuthal angles.
-        const float sinThetaT = sinThetaO / eta, cosThetaT = hair::safeSqrt(1.0f - sinThetaT * sinThetaT);
+        const float sinThetaT = sinThetaO / eta, cosThetaT = safeSqrt(1.0f - sinThetaT * sinThetaT);
         const float cosGammaT = std::cos(gammaTOf(sinThetaO, cosThetaO));
         // Transmittance across the fiber once: the path length 2 cos(gamma_t) / cos(theta_t) diameters.
         const float pathLength = 2.0f * cosGammaT / std::max(cosThetaT, 1e-6f);
         const Rgb transmittance{std::exp(-sigmaA.r * pathLength), std::exp(-sigmaA.g * pathLength),
                                 std::exp(-sigmaA.b * pathLength)};
-        const float cosGammaO = hair::safeSqrt(1.0f - h * h);
+        const float cosGammaO = safeSqrt(1.0f - h * h);
         const float f = fresnelDielectric(cosThetaO * cosGammaO, eta);
         std::array<Rgb, hair::kPMax + 1> ap;
         ap[0] = Rgb(f);
@@ -200,9 +197,8 @@ struct HairBsdf {
         cosOut = std::abs(cosOut);
     }
 
-    // The lobes' share of the light leaving along wo, the probability of sampling each.
-    std::array<float, hair::kPMax + 1> lobeProbabilities(float sinThetaO, float cosThetaO) const {
-        const std::array<Rgb, hair::kPMax + 1> ap = attenuation(sinThetaO, cosThetaO);
+    // The lobes' share of the light leaving along wo (their Ap), the probability of sampling each.
+    static std::array<float, hair::kPMax + 1> lobeProbabilities(const std::array<Rgb, hair::kPMax + 1>& ap) {
         std::array<float, hair::kPMax + 1> pdf;
         float sum = 0.0f;
         for (int p = 0; p <= hair::kPMax; ++p) sum += pdf[p] = (ap[p].r + ap[p].g + ap[p].b) / 3.0f;
@@ -210,54 +206,18 @@ struct HairBsdf {
         return pdf;
     }
 
-    Rgb eval(Vec3f wo, Vec3f wi, bool /*front*/) const {
-        const Lobes l = lobes();
-        const float sinThetaO = wo.x, cosThetaO = hair::safeSqrt(1.0f - sinThetaO * sinThetaO);
-        const float sinThetaI = wi.x, cosThetaI = hair::safeSqrt(1.0f - sinThetaI * sinThetaI);
-        const float phiO = std::atan2(wo.z, wo.y), phiI = std::atan2(wi.z, wi.y);
-        const float gammaT = gammaTOf(sinThetaO, cosThetaO);
-        const std::array<Rgb, hair::kPMax + 1> ap = attenuation(sinThetaO, cosThetaO);
-        const float dPhi = phiI - phiO;
-        Rgb sum(0.0f);
-        for (int p = 0; p < hair::kPMax; ++p) {
-            float sinO, cosO;
-            tiltedThetaO(l, p, sinThetaO, cosThetaO, sinO, cosO);
-            sum += ap[p] * (hair::mp(cosThetaI, cosO, sinThetaI, sinO, l.v[p]) *
-                            hair::np(dPhi, p, l.s, l.gammaO, gammaT));
-        }
-        sum += ap[hair::kPMax] *
-               (hair::mp(cosThetaI, cosThetaO, sinThetaI, sinThetaO, l.v[hair::kPMax]) / (2.0f * hair::kPi));
-        const float cosine = std::abs(wi.z);
-        return cosine > 0.0f ? sum / cosine : Rgb(0.0f);
-    }
-
-    float pdf(Vec3f wo, Vec3f wi, bool /*front*/) const {
-        const Lobes l = lobes();
-        const float sinThetaO = wo.x, cosThetaO = hair::safeSqrt(1.0f - sinThetaO * sinThetaO);
-        const float sinThetaI = wi.x, cosThetaI = hair::safeSqrt(1.0f - sinThetaI * sinThetaI);
-        const float dPhi = std::atan2(wi.z, wi.y) - std::atan2(wo.z, wo.y);
-        const float gammaT = gammaTOf(sinThetaO, cosThetaO);
-        const std::array<float, hair::kPMax + 1> lobePdf = lobeProbabilities(sinThetaO, cosThetaO);
-        float sum = 0.0f;
-        for (int p = 0; p < hair::kPMax; ++p) {
-            float sinO, cosO;
-            tiltedThetaO(l, p, sinThetaO, cosThetaO, sinO, cosO);
-            sum += hair::mp(cosThetaI, cosO, sinThetaI, sinO, l.v[p]) * lobePdf[p] *
-                   hair::np(dPhi, p, l.s, l.gammaO, gammaT);
-        }
-        sum += hair::mp(cosThetaI, cosThetaO, sinThetaI, sinThetaO, l.v[hair::kPMax]) * lobePdf[hair::kPMax] /
-               (2.0f * hair::kPi);
-        return sum;
-    }
+    Rgb eval(Vec3f wo, Vec3f wi, bool /*front*/) const { return evaluate(wo, wi).f; }
+    float pdf(Vec3f wo, Vec3f wi, bool /*front*/) const { return evaluate(wo, wi).pdf; }
 
     // A lobe chosen with uLobe by its share of the light (the rest of uLobe then samples its
     // azimuth), theta_i from its Mp with u, phi from its Np: the density is pdf(), the sum over
     // lobes, so the sample agrees with eval() and pdf() as multiple importance sampling needs.
-    std::optional<BsdfSample> sample(Vec3f wo, float uLobe, Vec2f u, bool front) const {
+    std::optional<BsdfSample> sample(Vec3f wo, float uLobe, Vec2f u, bool /*front*/) const {
         const Lobes l = lobes();
-        const float sinThetaO = wo.x, cosThetaO = hair::safeSqrt(1.0f - sinThetaO * sinThetaO);
+        const float sinThetaO = wo.x, cosThetaO = safeSqrt(1.0f - sinThetaO * sinThetaO);
         const float phiO = std::atan2(wo.z, wo.y);
-        const std::array<float, hair::kPMax + 1> lobePdf = lobeProbabilities(sinThetaO, cosThetaO);
+        const std::array<float, hair::kPMax + 1> lobePdf =
+            lobeProbabilities(attenuation(sinThetaO, cosThetaO));
         int p = 0;
         float remapped = uLobe;
         for (; p < hair::kPMax; ++p) {
@@ -270,37 +230,68 @@ struct HairBsdf {
         // theta_i from Mp (d'Eon et al.'s inversion, in the form that stays finite for small v).
         const float u0 = std::max(u.x, 1e-5f);
         const float cosTheta = 1.0f + l.v[p] * std::log(u0 + (1.0f - u0) * std::exp(-2.0f / l.v[p]));
-        const float sinTheta = hair::safeSqrt(1.0f - cosTheta * cosTheta);
-        const float cosPhi = std::cos(2.0f * hair::kPi * u.y);
+        const float sinTheta = safeSqrt(1.0f - cosTheta * cosTheta);
+        const float cosPhi = std::cos(2.0f * kPi * u.y);
         const float sinThetaI = std::clamp(-cosTheta * sinO + sinTheta * cosPhi * cosO, -1.0f, 1.0f);
-        const float cosThetaI = hair::safeSqrt(1.0f - sinThetaI * sinThetaI);
+        const float cosThetaI = safeSqrt(1.0f - sinThetaI * sinThetaI);
         // phi_i from Np, or uniformly for the closed-form lobe.
         const float gammaT = gammaTOf(sinThetaO, cosThetaO);
-        const float dPhi = p < hair::kPMax
-                               ? hair::phi(p, l.gammaO, gammaT) +
-                                     hair::sampleTrimmedLogistic(remapped, l.s, -hair::kPi, hair::kPi)
-                               : 2.0f * hair::kPi * remapped;
+        const float dPhi = p < hair::kPMax ? hair::phi(p, l.gammaO, gammaT) +
+                                                 hair::sampleTrimmedLogistic(remapped, l.s, -kPi, kPi)
+                                           : 2.0f * kPi * remapped;
         const float phiI = phiO + dPhi;
         const Vec3f wi{sinThetaI, cosThetaI * std::cos(phiI), cosThetaI * std::sin(phiI)};
-        const float density = pdf(wo, wi, front);
+        const Evaluation at = evaluate(wo, wi);
+        const float density = at.pdf;
         if (!(density > 0.0f)) return std::nullopt;
-        const Rgb weight = eval(wo, wi, front) * (std::abs(wi.z) / density);
+        const Rgb weight = at.f * (std::abs(wi.z) / density);
         const BsdfFlags direction = wo.z * wi.z > 0.0f ? BsdfFlags::Reflection : BsdfFlags::Transmission;
         return BsdfSample{wi, weight, density, BsdfFlags::Glossy | direction};
     }
 
-    // The colour of the fiber seen once: R and TT at normal incidence, for the albedo AOV.
+    // The light the fiber sends back in all its lobes at normal incidence, for the albedo AOV.
     Rgb reflectanceForAov() const {
         const std::array<Rgb, hair::kPMax + 1> ap = attenuation(0.0f, 1.0f);
         return ap[0] + ap[1] + ap[2] + ap[3];
     }
 
 private:
+    // f and the pdf of the pair (wo, wi): the same lobes summed with Ap for f and with the lobes'
+    // sampling probabilities for the pdf, in one pass.
+    struct Evaluation {
+        Rgb f;
+        float pdf;
+    };
+    Evaluation evaluate(Vec3f wo, Vec3f wi) const {
+        const Lobes l = lobes();
+        const float sinThetaO = wo.x, cosThetaO = safeSqrt(1.0f - sinThetaO * sinThetaO);
+        const float sinThetaI = wi.x, cosThetaI = safeSqrt(1.0f - sinThetaI * sinThetaI);
+        const float dPhi = std::atan2(wi.z, wi.y) - std::atan2(wo.z, wo.y);
+        const float gammaT = gammaTOf(sinThetaO, cosThetaO);
+        const std::array<Rgb, hair::kPMax + 1> ap = attenuation(sinThetaO, cosThetaO);
+        const std::array<float, hair::kPMax + 1> lobePdf = lobeProbabilities(ap);
+        Rgb f(0.0f);
+        float pdf = 0.0f;
+        for (int p = 0; p < hair::kPMax; ++p) {
+            float sinO, cosO;
+            tiltedThetaO(l, p, sinThetaO, cosThetaO, sinO, cosO);
+            const float m = hair::mp(cosThetaI, cosO, sinThetaI, sinO, l.v[p]);
+            const float n = hair::np(dPhi, p, l.s, l.gammaO, gammaT);
+            f += ap[p] * (m * n);
+            pdf += m * lobePdf[p] * n;
+        }
+        const float m = hair::mp(cosThetaI, cosThetaO, sinThetaI, sinThetaO, l.v[hair::kPMax]);
+        f += ap[hair::kPMax] * (m / (2.0f * kPi));
+        pdf += m * lobePdf[hair::kPMax] / (2.0f * kPi);
+        const float cosine = std::abs(wi.z);
+        return {cosine > 0.0f ? f / cosine : Rgb(0.0f), pdf};
+    }
+
     // gamma_t: the refracted ray's azimuthal angle inside the fiber (Bravais' modified index).
     float gammaTOf(float sinThetaO, float cosThetaO) const {
         const float etaP =
             std::sqrt(std::max(0.0f, eta * eta - sinThetaO * sinThetaO)) / std::max(cosThetaO, 1e-6f);
-        return hair::safeAsin(h / etaP);
+        return safeAsin(h / etaP);
     }
 };
 

@@ -128,6 +128,7 @@ public:
         if (perturbation) needsFootprint_ |= perturbation->texture.needsFootprint();
         textures_ =
             std::make_shared<const SurfaceTextures>(SurfaceTextures{std::move(textures), perturbation});
+        variesOverSurface_ = true;
     }
 
     // A mix of two of the scene's materials (materials/material_mix.h): it has no BSDF of its own,
@@ -135,12 +136,16 @@ public:
     static Material mixOf(MaterialMix mix) {
         Material m;
         m.mix_ = std::make_shared<const MaterialMix>(std::move(mix));
+        m.variesOverSurface_ = true;
         return m;
     }
     const MaterialMix* mix() const { return mix_.get(); }
 
     // Whether anything varies over the surface (textured parameters or a perturbed normal).
     bool isTextured() const { return textures_ != nullptr; }
+    // Whether the material shaded at a point may differ from this one (a mix's choice, or
+    // textures): one flag, so the integrators' bounce loop tests both at the cost of one.
+    bool variesOverSurface() const { return variesOverSurface_; }
     // Whether a texture lookup needs the pixel's footprint (textures/texture_footprint.h).
     bool needsFootprint() const { return needsFootprint_; }
     const std::vector<TexturedParameter>* texturedParameters() const {
@@ -245,6 +250,7 @@ private:
     std::shared_ptr<const MaterialMix> mix_;           // null: not a mix
     bool twoSided_ = true;
     bool needsFootprint_ = false;
+    bool variesOverSurface_ = false;  // textures_ or mix_
     BsdfFlags flags_;
     // Derived from flags_ once: the integrator asks at every vertex.
     bool usesLobeSample_;

@@ -160,10 +160,8 @@ private:
 // precomputed frame then no longer applies), and its textured parameters are evaluated into
 // `slot` (Material::at); the pixel footprint and the surface derivatives are computed once, and only
 // when a texture filters by the footprint or a map needs them. Returns the material to shade with.
-// Out of line: untextured scenes never call it.
-[[gnu::noinline]] inline const Material* shadeTextured(const Material& material, const IntegratorContext& ctx,
-                                                       SurfaceInteraction& si, float time,
-                                                       TexturedMaterialSlot& slot) {
+inline const Material* shadeTextured(const Material& material, const IntegratorContext& ctx,
+                                     SurfaceInteraction& si, float time, TexturedMaterialSlot& slot) {
     TextureQuery query;
     query.uv = si.uv;
     const NormalPerturbation* perturbation = material.perturbation();
@@ -180,6 +178,19 @@ private:
     }
     if (material.texturedParameters()->empty()) return &material;
     return &slot.fill(material.at(query));
+}
+
+// The material to shade `si` with, seen along wo, for a material that varies over its surface
+// (Material::variesOverSurface): a mix's choice there (materials/material_mix.h), then textured
+// there when it is textured. Out of line: scenes with neither mixes nor textures never call it.
+[[gnu::noinline]] inline const Material* shadeAtPoint(const Material& material, const IntegratorContext& ctx,
+                                                      SurfaceInteraction& si, Vec3f wo, float time,
+                                                      TexturedMaterialSlot& slot) {
+    const Material* shaded = &material;
+    if (material.mix())
+        shaded = &ctx.scene->materials[resolveMix(ctx.scene->materials, si.material, si.position, wo, si.uv)];
+    if (shaded->isTextured()) shaded = shadeTextured(*shaded, ctx, si, time, slot);
+    return shaded;
 }
 
 // A shadow ray from `si` to a point on a light; both ends are moved off their surfaces, so the
@@ -413,11 +424,8 @@ Radiance estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray 
         // caller's camera ray may not be.
         const Vec3f wo = bounce == 0 ? -normalize(ray.direction) : -ray.direction;
         const Material* shaded = &ctx.scene->materials[si.material];
-        if (shaded->mix()) [[unlikely]]
-            shaded =
-                &ctx.scene->materials[resolveMix(ctx.scene->materials, si.material, si.position, wo, si.uv)];
-        if (shaded->isTextured()) [[unlikely]]
-            shaded = detail::shadeTextured(*shaded, ctx, si, ray.time, textured);
+        if (shaded->variesOverSurface()) [[unlikely]]
+            shaded = detail::shadeAtPoint(*shaded, ctx, si, wo, ray.time, textured);
         const detail::SurfaceVertex vertex{si, *shaded, wo, dot(wo, si.geometricNormal) > 0.0f};
         if (bounce == 0 && firstHit)
             *firstHit = {true, hit.t * length(ray.direction), si.shadingNormal, vertex.material.albedo()};

@@ -491,8 +491,6 @@ Radiance estimateRadianceThroughMedia(const Accel& accel, const IntegratorContex
         left = si.shape.kind == ShapeKind::Sphere ? TriangleLeft{} : TriangleLeft{hit.geomId, hit.primId};
         const Vec3f wo = -direction;
         const Material* shaded = &scene.materials[si.material];
-        if (shaded->mix()) [[unlikely]]
-            shaded = &scene.materials[resolveMix(scene.materials, si.material, si.position, wo, si.uv)];
         if (shaded->isInterface()) {
             // A medium boundary: the ray goes on unchanged, into the medium beyond it.
             cameraDistance += hit.t * directionLength;
@@ -505,8 +503,9 @@ Radiance estimateRadianceThroughMedia(const Accel& accel, const IntegratorContex
             ++rays.extension;
             continue;
         }
-        if (shaded->isTextured()) [[unlikely]]
-            shaded = shadeTextured(*shaded, ctx, si, ray.time, textured);
+        // A mix never includes an interface (the scene loader refuses it): resolved after the test.
+        if (shaded->variesOverSurface()) [[unlikely]]
+            shaded = shadeAtPoint(*shaded, ctx, si, wo, ray.time, textured);
         const SurfaceVertex vertex{si, *shaded, wo, dot(wo, si.geometricNormal) > 0.0f};
         if (!sawSurface) {
             sawSurface = true;

@@ -589,7 +589,8 @@ public:
             (slot == 6 ? mesh_.uvs[row].x : mesh_.uvs[row].y) = f;
     }
     bool wantsList(size_t e, size_t p) const { return int(e) == faceElement_ && int(p) == faceProperty_; }
-    // The face list of one row: polygons become triangle fans; points and lines have no area.
+    // The face list of one row: polygons become triangle fans (or are kept whole, keepPolygons);
+    // points and lines have no area.
     void faceList(uint64_t row, const std::vector<double>& items, const std::string& file) {
         for (double v : items)
             if (!(v >= 0.0 && v < double(vertexCount_)))
@@ -597,14 +598,16 @@ public:
                                "face {} (counting from 0) uses vertex {}, but the file has only {} vertices "
                                "(indices count from 0)",
                                row, v, vertexCount_));  // v as read: it may not fit an integer
-        for (size_t k = 1; k + 1 < items.size(); ++k)
-            for (size_t corner : {size_t(0), k, k + 1}) mesh_.indices.push_back(uint32_t(items[corner]));
-        if (keepPolygons_ && items.size() >= 3) {
+        if (keepPolygons_) {
+            if (items.size() < 3) return;
             faceSizes_.push_back(uint32_t(items.size()));
             for (double v : items) corners_.push_back(uint32_t(v));
+            return;
         }
+        for (size_t k = 1; k + 1 < items.size(); ++k)
+            for (size_t corner : {size_t(0), k, k + 1}) mesh_.indices.push_back(uint32_t(items[corner]));
     }
-    // Record each face's polygon too (takePolygons).
+    // Record each face's polygon instead of its triangles (takePolygons).
     void keepPolygons() { keepPolygons_ = true; }
     PolygonMesh takePolygons(const std::string& file) {
         TriangleMesh mesh = take(file);
@@ -850,26 +853,25 @@ std::string lowerCaseName(const fs::path& file) {
     return lower;
 }
 
-}  // namespace
-
-PolygonMesh importPolygons(const fs::path& file, uint64_t maxBytes) {
+// The file's bytes handed to `obj` or `ply` by its name's extension (a .ply.gz inflated first).
+template <typename Obj, typename Ply>
+auto importByFormat(const fs::path& file, uint64_t maxBytes, Obj obj, Ply ply) {
     const std::string name = file.string();
     const std::string lower = lowerCaseName(file);
-    if (lower.ends_with(".obj")) return importObjPolygons(readPlainFile(file, maxBytes), name);
-    if (lower.ends_with(".ply")) return importPlyPolygons(readPlainFile(file, maxBytes), name);
-    if (lower.ends_with(".ply.gz"))
-        return importPlyPolygons(InputFile(file, "mesh file", maxBytes).readAllGzip(), name);
+    if (lower.ends_with(".obj")) return obj(readPlainFile(file, maxBytes), name);
+    if (lower.ends_with(".ply")) return ply(readPlainFile(file, maxBytes), name);
+    if (lower.ends_with(".ply.gz")) return ply(InputFile(file, "mesh file", maxBytes).readAllGzip(), name);
     fail(name, "unsupported mesh file type (expected a name ending in .obj, .ply or .ply.gz)");
 }
 
+}  // namespace
+
+PolygonMesh importPolygons(const fs::path& file, uint64_t maxBytes) {
+    return importByFormat(file, maxBytes, importObjPolygons, importPlyPolygons);
+}
+
 TriangleMesh importMesh(const fs::path& file, uint64_t maxBytes) {
-    const std::string name = file.string();
-    const std::string lower = lowerCaseName(file);
-    if (lower.ends_with(".obj")) return importObj(readPlainFile(file, maxBytes), name);
-    if (lower.ends_with(".ply")) return importPly(readPlainFile(file, maxBytes), name);
-    if (lower.ends_with(".ply.gz"))
-        return importPly(InputFile(file, "mesh file", maxBytes).readAllGzip(), name);
-    fail(name, "unsupported mesh file type (expected a name ending in .obj, .ply or .ply.gz)");
+    return importByFormat(file, maxBytes, importObj, importPly);
 }
 
 void transformMesh(TriangleMesh& mesh, const Transform& transform) {
