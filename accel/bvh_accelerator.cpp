@@ -396,6 +396,36 @@ void BvhAccelerator::addSpecialPrimitives(const SceneGeometry& scene, const BvhB
         child.spheres[0].motion.keys.clear();
         addInstance(std::move(child), sphere.motion, sphereGeomId_, uint32_t(s));
     }
+    curves_ = scene.curves;
+    for (size_t c = 0; c < curves_.size(); ++c) {
+        const Curves& curves = curves_[c];
+        for (size_t j = 0; j < curves.segmentCount(); ++j) {
+            Special special{};
+            special.geomId = scene.curvesGeomId(c);
+            special.primId = uint32_t(j);
+            special.source = uint32_t(c);
+            special.cutOut = kNoHit;
+            special.kind = SpecialKind::CurveSegment;
+            // A Bezier segment lies in its control points' hull, and its radius is at most the
+            // largest of its control radii.
+            Bounds3f box;
+            float radius = 0.0f;
+            bool ok = true;
+            for (int k = 0; k < 4; ++k) {
+                const Vec3f p = curves.controlPoints(j)[k];
+                const float r = curves.controlRadii(j)[k];
+                ok = ok && isFinite(p) && std::isfinite(r);
+                box.extend(p);
+                radius = std::max(radius, r);
+            }
+            if (!ok || !(radius > 0.0f)) {
+                ++skippedCount_;
+                continue;
+            }
+            const Vec3f extent(radius, radius, radius);
+            addSpecial(special, padded({box.lower - extent, box.upper + extent}, 0.0f));
+        }
+    }
 }
 
 bool BvhAccelerator::keepsHit(const Special& special, const CutOutRay& cutOutRay, float b1, float b2) const {
@@ -413,6 +443,16 @@ bool BvhAccelerator::intersectSpecial(const Ray& ray, const WatertightRay& trian
                                       float& t, float& b1, float& b2, Hit& instanceHit) const {
     if (!std::isfinite(ray.time)) return false;
     const Special& special = specials_[primitive.globalIndex - specialBase_];
+    if (special.kind == SpecialKind::CurveSegment) {
+        CurveHit curveHit;
+        if (!intersectCurveSegment(curves_[special.source], special.primId, ray.origin, ray.direction,
+                                   ray.tnear, tFar, curveHit))
+            return false;
+        t = curveHit.t;
+        b1 = curveHit.u;
+        b2 = curveHit.v;
+        return true;
+    }
     if (special.kind != SpecialKind::Instance) {
         TriangleHit th;
         if (special.kind == SpecialKind::StillTriangle) {
@@ -726,7 +766,11 @@ void BvhAccelerator::fillHit(const Ray& ray, uint32_t primitive, float t, float 
             hit.t = t;
             return;
         }
-        if (special.kind == SpecialKind::StillTriangle) {
+        if (special.kind == SpecialKind::CurveSegment) {
+            // As Embree reports flat curves' hits: the curve's tangent.
+            hit.geometricNormal =
+                curve::bezierDerivative(curves_[special.source].controlPoints(special.primId), b1);
+        } else if (special.kind == SpecialKind::StillTriangle) {
             const Vec3f p0(p.data[0], p.data[1], p.data[2]), p1(p.data[3], p.data[4], p.data[5]),
                 p2(p.data[6], p.data[7], p.data[8]);
             hit.geometricNormal = cross(p1 - p0, p2 - p0);

@@ -25,6 +25,9 @@
 // alike; the ray's hash and, inside an instance, the instance's geomId travel down to the
 // instance's tree so that the number is the one Embree's filter computes.
 //
+// Curves (geometry/curves.h): each segment is a special primitive, boxed by its control points
+// widened by its largest radius and tested by intersectCurveSegment.
+//
 // Instancing (SceneGeometry::instances) is the same two-level structure: each prototype mesh gets
 // one bottom-level tree, built once, and every instance is a special primitive of the top level,
 // boxed by its placement (over the shutter when it moves), that takes the ray into the
@@ -113,12 +116,13 @@ private:
     void fillHit(const Ray& ray, uint32_t primitive, float t, float b1, float b2, const Hit& specialHit,
                  Hit& hit) const;
 
-    // Deforming triangles, the triangles of still meshes with a cut-out, and instances, referenced
-    // by globalIndex - specialBase_. A still triangle's vertices are its Primitive's data.
-    enum class SpecialKind : uint8_t { DeformingTriangle, StillTriangle, Instance };
+    // Deforming triangles, the triangles of still meshes with a cut-out, instances and curve
+    // segments, referenced by globalIndex - specialBase_. A still triangle's vertices are its
+    // Primitive's data.
+    enum class SpecialKind : uint8_t { DeformingTriangle, StillTriangle, Instance, CurveSegment };
     struct Special {
         uint32_t geomId, primId;  // as reported (accel/traversal.h)
-        uint32_t source;          // index into deformingMeshes_ or instances_
+        uint32_t source;          // index into deformingMeshes_, instances_ or curves_
         uint32_t vertex[3];       // a triangle's vertex indices
         uint32_t cutOut;          // a triangle's index into cutOuts_, or kNoHit: opaque
         SpecialKind kind;
@@ -160,6 +164,7 @@ private:
     std::vector<Special> specials_;
     std::vector<std::vector<std::vector<Vec3f>>> deformingMeshes_;  // position keys
     std::vector<CutOut> cutOuts_;
+    std::vector<Curves> curves_;
     bool hasCutOuts_ = false;  // in this tree or any tree it places
     std::vector<Instance> instances_;
     // The trees instances place: one per moving shape and one per prototype, shared by all its

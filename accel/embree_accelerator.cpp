@@ -76,6 +76,38 @@ RTCGeometry newSphereGeometry(RTCDevice device, const std::vector<const Sphere*>
     return geometry;
 }
 
+// Our curve segments (geometry/curves.h) as Embree's flat (ray-facing) Bezier curves, four control
+// points (x, y, z, radius) each. Embree tessellates a flat curve's segment into ray-facing quads;
+// at 16 a segment rather than its default 4, its silhouettes lie closer to our test's
+// (tools/crosscheck.h, "curve edge"). A ribbon's filter narrows it by its normal.
+RTCGeometry newCurveGeometry(RTCDevice device, const Curves& curves, RTCFilterFunctionN filter,
+                             void* userData) {
+    RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_FLAT_BEZIER_CURVE);
+    const size_t segments = curves.segmentCount();
+    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), 4 * segments));
+    if (!vertices) throwEmbreeError(device, "allocating a curve vertex buffer");
+    for (size_t i = 0; i < 4 * segments; ++i) {
+        vertices[4 * i + 0] = curves.points[i].x;
+        vertices[4 * i + 1] = curves.points[i].y;
+        vertices[4 * i + 2] = curves.points[i].z;
+        vertices[4 * i + 3] = curves.radii[i];
+    }
+    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, sizeof(unsigned), segments));
+    if (!indices) throwEmbreeError(device, "allocating a curve index buffer");
+    for (size_t j = 0; j < segments; ++j) indices[j] = unsigned(4 * j);
+    rtcSetGeometryTessellationRate(geometry, 16.0f);
+    if (filter) {
+        rtcSetGeometryUserData(geometry, userData);
+        rtcSetGeometryIntersectFilterFunction(geometry, filter);
+        rtcSetGeometryOccludedFilterFunction(geometry, filter);
+    }
+    rtcSetGeometryBuildQuality(geometry, RTC_BUILD_QUALITY_HIGH);
+    rtcCommitGeometry(geometry);
+    return geometry;
+}
+
 // A scene that holds one geometry (an instanced prototype, a moving object): one BVH over its
 // primitives, of high build quality because scenes are built once and traced billions of times.
 // Robust mode avoids the optimizations that let rays slip through shared edges. Every scene,
@@ -187,7 +219,18 @@ EmbreeAccelerator::EmbreeAccelerator(const SceneGeometry& scene, EmbreeOptions o
                                 : newStillInstance(device_, child, instance.placement),
                scene.instanceGeomId(k));
     }
-    movingSphereBase_ = scene.instanceGeomId(scene.instances.size());
+    for (size_t c = 0; c < scene.curves.size(); ++c) {
+        const Curves& curves = scene.curves[c];
+        if (curves.segmentCount() == 0) continue;
+        RibbonNormals* ribbon = nullptr;
+        if (curves.type == CurveType::Ribbon) {
+            ribbons_.push_back(std::make_unique<RibbonNormals>(RibbonNormals{curves.normals}));
+            ribbon = ribbons_.back().get();
+        }
+        attach(scene_, newCurveGeometry(device_, curves, ribbon ? filterRibbon : nullptr, ribbon),
+               scene.curvesGeomId(c));
+    }
+    movingSphereBase_ = scene.curvesGeomId(scene.curves.size());
     std::vector<const Sphere*> staticSpheres;
     for (const Sphere& sphere : scene.spheres)
         if (!sphere.motion.moves()) staticSpheres.push_back(&sphere);
@@ -242,6 +285,20 @@ void EmbreeAccelerator::filterCutOut(const RTCFilterFunctionNArguments* args) {
             cutOutCoverage(*cutOut.alpha, meshUvAt(cutOut.uvs, &cutOut.indices[3 * primId], b1, b2));
         const Ray& ray = rays[RTCRayN_id(args->ray, args->N, i)];
         if (!keepsCutOutHit(alpha, cutOutRayHash(ray), geomId, primId)) args->valid[i] = 0;
+    }
+}
+
+void EmbreeAccelerator::filterRibbon(const RTCFilterFunctionNArguments* args) {
+    const auto& ribbon = *static_cast<const RibbonNormals*>(args->geometryUserPtr);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] == 0) continue;
+        const unsigned segment = RTCHitN_primID(args->hit, args->N, i);
+        const float u = RTCHitN_u(args->hit, args->N, i), v = RTCHitN_v(args->hit, args->N, i);
+        const Vec3f direction{RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
+                              RTCRayN_dir_z(args->ray, args->N, i)};
+        const Vec3f normal =
+            curve::ribbonNormal(ribbon.normals[2 * segment], ribbon.normals[2 * segment + 1], u);
+        if (!(std::abs(v) <= std::abs(dot(normal, normalize(direction))))) args->valid[i] = 0;
     }
 }
 

@@ -61,6 +61,12 @@ private:
     // The cut-out of `mesh` (scene id `geomId`), kept for the backend's life; null when it has none.
     CutOut* cutOutOf(const TriangleMesh& mesh, uint32_t geomId);
     static void filterCutOut(const RTCFilterFunctionNArguments* args);
+    // A ribbon's normals (geometry/curves.h), for its geometry's filter: a candidate hit on its flat
+    // curve is kept where |v| <= |cos| of the ribbon's normal with the ray.
+    struct RibbonNormals {
+        std::vector<Vec3f> normals;  // two per segment
+    };
+    static void filterRibbon(const RTCFilterFunctionNArguments* args);
 
     // The intersection context of a traced ray: Embree's, then the triangle it leaves, for
     // skipTriangleLeft, and the rays as the integrator gave them (indexed by Embree's ray id), for
@@ -88,7 +94,7 @@ private:
     // `ray` in Embree's layout; false (and `out` unset) when Embree must not trace it.
     static bool toTraceableEmbreeRay(const Ray& ray, RTCRay& out);
     // Scene ids from Embree's (geometry/scene_geometry.h): Embree's ids are the scene's but for
-    // the moving spheres, numbered after the instances.
+    // the moving spheres, numbered after the instances and the curves.
     void setIds(unsigned geomId, unsigned primId, Hit& hit) const {
         if (geomId >= movingSphereBase_) [[unlikely]] {
             hit.geomId = sphereGeomId_;
@@ -105,9 +111,10 @@ private:
     // backend.
     std::vector<RTCScene> instancedScenes_;
     uint32_t sphereGeomId_ = 0;      // == meshes.size(): all static spheres
-    uint32_t movingSphereBase_ = 0;  // Embree's geomId of the first moving sphere, after the instances
+    uint32_t movingSphereBase_ = 0;  // Embree's geomId of the first moving sphere, after the curves
     std::vector<uint32_t> movingSphereOfGeomId_;    // geomId - movingSphereBase_ -> sphere index
     std::vector<std::unique_ptr<CutOut>> cutOuts_;  // the filters' user data
+    std::vector<std::unique_ptr<RibbonNormals>> ribbons_;
 };
 
 inline bool EmbreeAccelerator::traceableRows(const Ray& ray, __m128& orgTnear, __m128& dirTime) {

@@ -26,6 +26,10 @@ struct Frame {
         return f;
     }
 
+    // The frame whose first axis is `x` and normal `z` (unit and perpendicular): a fiber's frame,
+    // along a curve's tangent (geometry/curves.h).
+    static Frame fromXZ(Vec3f x, Vec3f z) { return {x, cross(z, x), z}; }
+
     Vec3f toLocal(Vec3f v) const { return {dot(v, s), dot(v, t), dot(v, n)}; }
     Vec3f toWorld(Vec3f v) const { return s * v.x + t * v.y + n * v.z; }
 };
@@ -47,6 +51,10 @@ struct FrameLanes {
           z(_mm_setr_ps(f.s.z, f.t.z, f.n.z, 0.0f)) {}
 
     // Frame::toLocal: (dot(v, s), dot(v, t), dot(v, n)), each dot summed x, y, then z.
+    // The frame whose first axis is `x` and normal `z` (unit and perpendicular): a fiber's frame,
+    // along a curve's tangent (geometry/curves.h).
+    static Frame fromXZ(Vec3f x, Vec3f z) { return {x, cross(z, x), z}; }
+
     Vec3f toLocal(Vec3f v) const { return combination(x, y, z, v); }
     // Frame::toWorld: s v.x + t v.y + n v.z.
     Vec3f toWorld(Vec3f v) const { return combination(s, t, n, v); }

@@ -25,6 +25,20 @@ inline SurfaceDerivatives surfaceDerivatives(const SceneGeometry& scene, const S
     const ShapeRef shape = si.shape;
     Transform toWorld;
     bool moves = false;
+    if (shape.kind == ShapeKind::Curves) {
+        // Along the curve (its tangent) and across it (pbrt-v4's dpdv of a flat curve).
+        const Curves& curves = scene.curves[shape.index];
+        const float u = std::clamp(si.uv.x, 0.0f, 1.0f);
+        const Vec2f range = curves.uRanges[shape.primitive];
+        const float segmentU =
+            range.y > range.x ? std::clamp((u - range.x) / (range.y - range.x), 0.0f, 1.0f) : 0.0f;
+        const float width = 2.0f * curve::bezier(curves.controlRadii(shape.primitive), segmentU);
+        const float segmentLength =
+            length(curve::bezierDerivative(curves.controlPoints(shape.primitive), segmentU));
+        d.dpdu = si.tangent * (range.y > range.x ? segmentLength / (range.y - range.x) : segmentLength);
+        d.dpdv = cross(si.geometricNormal, si.tangent) * width;
+        return d;
+    }
     if (shape.kind == ShapeKind::Mesh) {
         const TriangleMesh& mesh = scene.meshes[shape.index];
         if (mesh.uvs.empty()) return d;

@@ -35,6 +35,9 @@ struct SurfaceInteraction {
     // Frame::fromNormal(shadingNormal) computed beforehand (FaceFrames), when there is one: for a
     // still, non-degenerate triangle whose shading normal is its geometric normal. Null otherwise.
     const Frame* shadingFrame = nullptr;
+    // On a curve only: the unit tangent along it, the shading frame's first axis (a hair BSDF's
+    // fiber direction; geometry/curves.h).
+    Vec3f tangent;
 };
 
 namespace detail {
@@ -175,7 +178,15 @@ inline void canonicalizeShapeHit(const SceneGeometry& scene, ShapeRef shape,
     // Into object space exactly as the BVH takes a ray into an instance.
     const ObjectSpaceRay objectRay =
         toWorld ? toObjectSpace(*toWorld, ray) : ObjectSpaceRay{ray.origin, ray.direction};
-    if (shape.kind != ShapeKind::Sphere) {
+    if (shape.kind == ShapeKind::Curves) {
+        CurveHit curveHit;
+        if (intersectCurveSegment(scene.curves[shape.index], shape.primitive, objectRay.origin,
+                                  objectRay.direction, ray.tnear, ray.tfar, curveHit)) {
+            hit.t = curveHit.t;
+            hit.u = curveHit.u;
+            hit.v = curveHit.v;
+        }
+    } else if (shape.kind != ShapeKind::Sphere) {
         const TriangleMesh& mesh = scene.triangleMeshOf(shape);
         const uint32_t* index = &mesh.indices[3 * size_t(shape.primitive)];
         recomputeTriangleHit(objectRay.origin, objectRay.direction, vertexAt(mesh, index[0], ray.time),
@@ -228,6 +239,59 @@ namespace detail {
     return si;
 }
 
+// The shading point on segment `shape.primitive` of a curve set: the ray's point at the hit (t is
+// canonical, so both backends give the same bits), a geometric normal across the curve facing the
+// ray (a ribbon's own, turned to the ray), the tangent, and uv = (u along the curve, v across it in
+// [0, 1], as pbrt-v4's). A cylinder's shading normal turns from the geometric one towards the side
+// of the hit by |v| times 90 degrees (pbrt-v4's). Its error bound is pbrt-v4's, twice the width:
+// the hit lies on an approximation of the surface within a fraction of its width.
+[[gnu::noinline]] inline SurfaceInteraction curveInteraction(const SceneGeometry& scene, ShapeRef shape,
+                                                             const Ray& ray, const Hit& hit) {
+    const Curves& curves = scene.curves[shape.index];
+    const size_t segment = shape.primitive;
+    const float u = std::clamp(hit.u, 0.0f, 1.0f);
+    float v = hit.v;
+    const Vec3f centre = curve::bezier(curves.controlPoints(segment), u);
+    const float radius = curve::bezier(curves.controlRadii(segment), u);
+    const Vec3f towardsRay = normalize(-ray.direction);
+    Vec3f tangent = curve::bezierDerivative(curves.controlPoints(segment), u);
+    const float tangentLength = length(tangent);
+    tangent = tangentLength > 0.0f ? tangent / tangentLength : Frame::fromNormal(towardsRay).s;
+    Vec3f normal;
+    if (curves.type == CurveType::Ribbon) {
+        normal = curve::ribbonNormal(curves.normals[2 * segment], curves.normals[2 * segment + 1], u);
+        // Across the ribbon as it is: its visible half width is the radius times |cos|.
+        v /= std::max(std::abs(dot(normal, towardsRay)), 1e-6f);
+        normal = normalize(normal - tangent * dot(normal, tangent));
+    } else {
+        normal = towardsRay - tangent * dot(towardsRay, tangent);
+    }
+    v = std::clamp(v, -1.0f, 1.0f);
+    const float normalLength = length(normal);
+    normal = normalLength > 0.0f && std::isfinite(normalLength) ? normal / normalLength
+                                                                : Frame::fromNormal(tangent).s;
+    normal = faceForward(normal, towardsRay);
+    SurfaceInteraction si;
+    si.shape = shape;
+    si.position = ray.at(hit.t);
+    const float width = 2.0f * std::abs(radius);
+    si.positionError = Vec3f{1.0f, 1.0f, 1.0f} * (2.0f * width) + abs(si.position) * gamma(4);
+    si.geometricNormal = normal;
+    si.shadingNormal = normal;
+    si.tangent = tangent;
+    if (curves.type == CurveType::Cylinder) {
+        // Across the curve, towards the side the ray passed on.
+        Vec3f across = cross(tangent, normal);
+        if (dot(si.position - centre, across) < 0.0f) across = -across;
+        const float angle = std::abs(v) * (0.5f * kPi);
+        si.shadingNormal = normalize(normal * std::cos(angle) + across * std::sin(angle));
+    }
+    const Vec2f uRange = curves.uRanges[segment];
+    si.uv = {uRange.x + (uRange.y - uRange.x) * u, 0.5f * (v + 1.0f)};
+    si.material = curves.material;
+    return si;
+}
+
 // makeSurfaceInteraction on `shape`, placed by `toWorld` (placementOf).
 inline SurfaceInteraction shapeInteraction(const SceneGeometry& scene, ShapeRef shape,
                                            const std::optional<Transform>& toWorld, const Ray& ray,
@@ -236,6 +300,7 @@ inline SurfaceInteraction shapeInteraction(const SceneGeometry& scene, ShapeRef 
     si.shape = shape;
     if (shape.kind == ShapeKind::Instance)
         return instanceInteraction(scene, shape, *toWorld, ray, hit, faceFrames);
+    if (shape.kind == ShapeKind::Curves) return curveInteraction(scene, shape, ray, hit);
     if (shape.kind == ShapeKind::Mesh) {
         const TriangleMesh& mesh = scene.meshes[shape.index];
         const uint32_t* index = &mesh.indices[3 * size_t(shape.primitive)];

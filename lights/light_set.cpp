@@ -29,6 +29,12 @@ float sceneBoundingRadius(const SceneGeometry& scene) {
         hi = max(hi, s.center + Vec3f(s.radius, s.radius, s.radius));
         any = true;
     }
+    for (const Curves& curves : scene.curves)
+        for (const Vec3f& p : curves.points) {
+            lo = min(lo, p);
+            hi = max(hi, p);
+            any = true;
+        }
     return any ? std::max(0.5f * length(hi - lo), 1e-3f) : 1.0f;
 }
 
@@ -251,7 +257,8 @@ int32_t LightSet::lightIndexOf(ShapeRef shape) const {
         case ShapeKind::Sphere:
             return sphereLight_[shape.index];
         case ShapeKind::Instance:
-            return -1;  // instances never emit (the scene loader refuses it)
+        case ShapeKind::Curves:
+            return -1;  // instances and curves never emit (the scene loader refuses it)
     }
     return -1;
 }

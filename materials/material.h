@@ -46,6 +46,7 @@
 #include "materials/conductor.h"
 #include "materials/dielectric.h"
 #include "materials/diffuse_transmission.h"
+#include "materials/hair_bsdf.h"
 #include "materials/interface.h"
 #include "materials/lambert.h"
 #include "materials/material_mix.h"
@@ -73,9 +74,9 @@ concept HasInteriorAbsorption = requires(const M& m) {
     { m.interiorAbsorption() } -> std::same_as<Rgb>;
 };
 
-using MaterialModel =
-    std::variant<Lambert, Phong, Dielectric, ThinDielectric, Mirror, Conductor, RoughConductor,
-                 RoughDielectric, CoatedDiffuse, RoughCoatedDiffuse, DiffuseTransmission, Interface>;
+using MaterialModel = std::variant<Lambert, Phong, Dielectric, ThinDielectric, Mirror, Conductor,
+                                   RoughConductor, RoughDielectric, CoatedDiffuse, RoughCoatedDiffuse,
+                                   DiffuseTransmission, HairBsdf, Interface>;
 
 namespace detail {
 // Viable only for a BsdfModel: otherwise the compiler names the model and what it misses.
@@ -108,6 +109,7 @@ public:
           flags_(std::visit([](const auto& m) { return m.kFlags; }, model_)),
           usesLobeSample_(hasSeveralLobes(flags_)),
           purelySpecular_(penumbra::isPurelySpecular(flags_)) {
+        variesOverSurface_ = isFiber();
         PENUMBRA_CHECK(std::visit(
                            [](const auto& m) {
                                if constexpr (requires { requires std::same_as<decltype(m.eta), float>; })
@@ -141,10 +143,19 @@ public:
     }
     const MaterialMix* mix() const { return mix_.get(); }
 
+    // Whether this is a fiber's BSDF (hair), which depends on where across the fiber a ray arrived
+    // (a curve's v, geometry/curves.h): withFiberOffset gives it that offset at a shading point.
+    bool isFiber() const { return std::holds_alternative<HairBsdf>(model_); }
+    Material withFiberOffset(float h) const {
+        Material m = *this;
+        std::get<HairBsdf>(m.model_).h = h;
+        return m;
+    }
+
     // Whether anything varies over the surface (textured parameters or a perturbed normal).
     bool isTextured() const { return textures_ != nullptr; }
-    // Whether the material shaded at a point may differ from this one (a mix's choice, or
-    // textures): one flag, so the integrators' bounce loop tests both at the cost of one.
+    // Whether the material shaded at a point may differ from this one (a mix's choice, textures,
+    // a fiber's offset): one flag, so the integrators' bounce loop tests both at the cost of one.
     bool variesOverSurface() const { return variesOverSurface_; }
     // Whether a texture lookup needs the pixel's footprint (textures/texture_footprint.h).
     bool needsFootprint() const { return needsFootprint_; }
@@ -250,7 +261,7 @@ private:
     std::shared_ptr<const MaterialMix> mix_;           // null: not a mix
     bool twoSided_ = true;
     bool needsFootprint_ = false;
-    bool variesOverSurface_ = false;  // textures_ or mix_
+    bool variesOverSurface_ = false;  // textures_, mix_ or a fiber
     BsdfFlags flags_;
     // Derived from flags_ once: the integrator asks at every vertex.
     bool usesLobeSample_;

@@ -182,7 +182,8 @@ inline const Material* shadeTextured(const Material& material, const IntegratorC
 
 // The material to shade `si` with, seen along wo, for a material that varies over its surface
 // (Material::variesOverSurface): a mix's choice there (materials/material_mix.h), then textured
-// there when it is textured. Out of line: scenes with neither mixes nor textures never call it.
+// there when it is textured, then a fiber's offset set. Out of line: scenes with neither mixes nor textures
+// never call it.
 [[gnu::noinline]] inline const Material* shadeAtPoint(const Material& material, const IntegratorContext& ctx,
                                                       SurfaceInteraction& si, Vec3f wo, float time,
                                                       TexturedMaterialSlot& slot) {
@@ -190,6 +191,14 @@ inline const Material* shadeTextured(const Material& material, const IntegratorC
     if (material.mix())
         shaded = &ctx.scene->materials[resolveMix(ctx.scene->materials, si.material, si.position, wo, si.uv)];
     if (shaded->isTextured()) shaded = shadeTextured(*shaded, ctx, si, time, slot);
+    if (shaded->isFiber()) {
+        // The fiber's frame is the curve's, its normal facing the ray (the BSDF models the round
+        // fiber itself, so a cylinder curve's turned normal would count the offset twice), and
+        // h = 2 v - 1 is where across it the ray arrived, along the frame's second axis.
+        si.shadingNormal = si.geometricNormal;
+        si.shadingFrame = nullptr;
+        shaded = &slot.fill(shaded->withFiberOffset(std::clamp(2.0f * si.uv.y - 1.0f, -1.0f, 1.0f)));
+    }
     return shaded;
 }
 
@@ -237,7 +246,9 @@ struct SurfaceVertex {
 // The vertex's shading frame and the offset of the rays that leave it.
 struct LocalFrame {
     [[gnu::always_inline]] LocalFrame(const SurfaceInteraction& si, Vec3f wo)
-        : lanes(si.shadingFrame ? *si.shadingFrame : Frame::fromNormal(si.shadingNormal)),
+        : lanes(si.shadingFrame                      ? *si.shadingFrame
+                : si.shape.kind == ShapeKind::Curves ? Frame::fromXZ(si.tangent, si.shadingNormal)
+                                                     : Frame::fromNormal(si.shadingNormal)),
           woLocal(lanes.toLocal(wo)),
           leaveDistance(offsetDistance(si.position, si.positionError, si.geometricNormal)) {}
     FrameLanes lanes;
@@ -419,7 +430,7 @@ Radiance estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray 
         SurfaceInteraction si = Accel::kReportsCanonicalHits || !ctx.canonicalHits
                                     ? resolveHit<true>(*ctx.scene, ray, hit, ctx.faceFrames)
                                     : resolveHit<false>(*ctx.scene, ray, hit, ctx.faceFrames);
-        left = si.shape.kind == ShapeKind::Sphere ? TriangleLeft{} : TriangleLeft{hit.geomId, hit.primId};
+        left = si.shape.isTriangle() ? TriangleLeft{hit.geomId, hit.primId} : TriangleLeft{};
         // Bounce rays leave in unit directions (the BSDF's, turned into the world); only the
         // caller's camera ray may not be.
         const Vec3f wo = bounce == 0 ? -normalize(ray.direction) : -ray.direction;

@@ -199,7 +199,7 @@ Rgb transmittanceAlong(const Accel& accel, const IntegratorContext& ctx, Ray ray
         medium = scene.mediaOf(si.shape).mediumAlong(ray.direction, si.geometricNormal, medium);
         ray.origin = offsetRayOrigin(si.position, si.positionError,
                                      cosGeometric >= 0.0f ? si.geometricNormal : -si.geometricNormal);
-        left = si.shape.kind == ShapeKind::Sphere ? TriangleLeft{} : TriangleLeft{hit.geomId, hit.primId};
+        left = si.shape.isTriangle() ? TriangleLeft{hit.geomId, hit.primId} : TriangleLeft{};
         if (towardsPoint) ray.direction = target - ray.origin;
     }
 }
@@ -488,7 +488,7 @@ Radiance estimateRadianceThroughMedia(const Accel& accel, const IntegratorContex
                     [] { return 0.0f; });
             break;
         }
-        left = si.shape.kind == ShapeKind::Sphere ? TriangleLeft{} : TriangleLeft{hit.geomId, hit.primId};
+        left = si.shape.isTriangle() ? TriangleLeft{hit.geomId, hit.primId} : TriangleLeft{};
         const Vec3f wo = -direction;
         const Material* shaded = &scene.materials[si.material];
         if (shaded->isInterface()) {

@@ -304,10 +304,39 @@ Material readDiffuseTransmission(const JsonValue& material, MaterialContext& con
     return Material(model, true, std::move(context.textures));
 }
 
+// "hair": a fiber (materials/hair_bsdf.h, pbrt-v4's `hair`), shading curves. Its absorption is
+// given as "sigma_a" (per unit of the fiber's diameter), as the "color" it should look (Chiang et
+// al.'s inversion for its beta_n), or as melanin concentrations "eumelanin" and "pheomelanin" (one
+// of the three; pbrt-v4's default, eumelanin 1.3, is brown hair); "eta" (1.55), "beta_m" and
+// "beta_n" (0.3: longitudinal and azimuthal roughness) and "alpha" (2: the scales' tilt in degrees).
+Material readHair(const JsonValue& material, MaterialContext&) {
+    HairBsdf model;
+    if (auto v = material.member("eta")) model.eta = v->numberAbove(0.0f);
+    if (auto v = material.member("beta_m")) model.betaM = v->numberInRange(0.0f, 1.0f);
+    if (auto v = material.member("beta_n")) model.betaN = v->numberInRange(0.0f, 1.0f);
+    if (auto v = material.member("alpha")) model.alphaDegrees = v->numberInRange(-90.0f, 90.0f);
+    const auto sigmaA = material.member("sigma_a"), color = material.member("color");
+    const auto eumelanin = material.member("eumelanin"), pheomelanin = material.member("pheomelanin");
+    if (int(bool(sigmaA)) + int(bool(color)) + int(eumelanin || pheomelanin) > 1)
+        material.fail("a hair's absorption is given one way: \"sigma_a\", \"color\" or the melanins");
+    if (sigmaA) {
+        model.sigmaA = sigmaA->rgb(0.0f);
+    } else if (color) {
+        model.sigmaA = HairBsdf::sigmaAFromReflectance(color->rgb(0.0f, 1.0f), model.betaN);
+    } else {
+        model.sigmaA =
+            HairBsdf::sigmaAFromConcentration(eumelanin     ? eumelanin->numberAtLeast(0.0f)
+                                              : pheomelanin ? 0.0f
+                                                            : 1.3f,
+                                              pheomelanin ? pheomelanin->numberAtLeast(0.0f) : 0.0f);
+    }
+    return Material(model, true);
+}
+
 // "mix": read by readMix once every material is named; a placeholder until then.
 Material readMixPlaceholder(const JsonValue&, MaterialContext&) { return Material::mixOf({}); }
 
-const std::array<TypeRow<MaterialReader>, 12> kMaterialTypes{{
+const std::array<TypeRow<MaterialReader>, 13> kMaterialTypes{{
     {"lambert", {"type", "albedo", "two_sided", "bump", "normal_map"}, readLambert},
     {"phong", {"type", "diffuse", "specular", "exponent", "two_sided", "bump", "normal_map"}, readPhong},
     {"dielectric", {"type", "eta", "fresnel", "absorption", "bump", "normal_map"}, readDielectric},
@@ -326,6 +355,9 @@ const std::array<TypeRow<MaterialReader>, 12> kMaterialTypes{{
     {"diffuse_transmission",
      {"type", "reflectance", "transmittance", "bump", "normal_map"},
      readDiffuseTransmission},
+    {"hair",
+     {"type", "sigma_a", "color", "eumelanin", "pheomelanin", "eta", "beta_m", "beta_n", "alpha"},
+     readHair},
     {"interface", {"type"}, readInterface},
     {"mix", {"type", "materials", "amount"}, readMixPlaceholder},
 }};

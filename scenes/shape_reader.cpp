@@ -821,9 +821,117 @@ void readInstance(const JsonValue& value, ShapeContext& context) {
     scene.instances.push_back(std::move(instance));
 }
 
+// {"type": "curves", "points": [[x, y, z], ...], "curve_sizes": [n, ...] (default: one curve of all
+// points), "basis": "bezier" | "bspline", "curve_type": "flat" | "cylinder" | "ribbon", "width": w
+// or [w0, w1] (linear along each curve) or "curve_widths": [[w0, w1], ...] (one pair a curve),
+// "normals" (ribbons: one per segment boundary of every curve, in order), "split_depth",
+// "material", "transform", "inside"/"outside"}: geometry/curves.h.
+void readCurves(const JsonValue& value, ShapeContext& context) {
+    Scene& scene = context.scene;
+    Curves curves;
+    curves.name = value.pointer();
+    if (auto v = value.member("curve_type"))
+        curves.type = std::array{CurveType::Flat, CurveType::Cylinder,
+                                 CurveType::Ribbon}[v->choice({"flat", "cylinder", "ribbon"})];
+    CurveBasis basis = CurveBasis::Bezier;
+    if (auto v = value.member("basis"))
+        basis = v->choice({"bezier", "bspline"}) == 1 ? CurveBasis::BSpline : basis;
+    const JsonValue pointsValue = value.requiredMember("points");
+    std::vector<Vec3f> points;
+    if (!readVec3sDirectly(pointsValue.json(), points)) {
+        points.clear();
+        for (const JsonValue& p : pointsValue.elements()) points.push_back(p.vec3());
+    }
+    std::vector<size_t> sizes;
+    if (auto v = value.member("curve_sizes")) {
+        size_t total = 0;
+        for (const JsonValue& size : v->elements()) {
+            sizes.push_back(size_t(size.integer(4, int64_t(points.size()))));
+            total += sizes.back();
+        }
+        if (total != points.size())
+            v->fail(fmt::format("the curve sizes add up to {} points, and \"points\" holds {}", total,
+                                points.size()));
+    } else {
+        sizes.push_back(points.size());
+    }
+    // Each curve's start and end widths: "width" for all, or "curve_widths" one pair a curve.
+    std::vector<std::pair<float, float>> widths;
+    const auto widthValue = value.member("width"), curveWidths = value.member("curve_widths");
+    if (bool(widthValue) == bool(curveWidths))
+        value.fail(
+            "curves take either \"width\" (all curves) or \"curve_widths\" (one [start, end] a curve)");
+    auto readPair = [](const JsonValue& pair) -> std::pair<float, float> {
+        if (!pair.json().is_array() || pair.arraySize() != 2) pair.failExpected("[start width, end width]");
+        return {pair.element(0).numberAtLeast(0.0f), pair.element(1).numberAtLeast(0.0f)};
+    };
+    if (curveWidths) {
+        for (const JsonValue& pair : curveWidths->elements()) widths.push_back(readPair(pair));
+        if (widths.size() != sizes.size())
+            curveWidths->fail(fmt::format("{} curves take {} width pairs, not {}", sizes.size(), sizes.size(),
+                                          widths.size()));
+    } else if (widthValue->json().is_array()) {
+        widths.assign(sizes.size(), readPair(*widthValue));
+    } else {
+        const float width = widthValue->numberAbove(0.0f);
+        widths.assign(sizes.size(), {width, width});
+    }
+    std::vector<Vec3f> normals;
+    if (auto v = value.member("normals")) {
+        if (curves.type != CurveType::Ribbon)
+            v->fail("\"normals\" orient ribbons: set \"curve_type\": \"ribbon\"");
+        for (const JsonValue& n : v->elements()) {
+            const Vec3f normal = n.vec3();
+            if (!(length(normal) > 0.0f)) n.fail("a ribbon's normal must not be zero");
+            normals.push_back(normalize(normal));
+        }
+    }
+    const int splitDepth =
+        value.member("split_depth") ? int(value.requiredMember("split_depth").integer(0, 5)) : 0;
+    std::optional<Transform> transform;
+    if (auto v = value.member("transform")) {
+        transform = readTransform(*v);
+        if (!similarityScale(*transform))
+            v->fail("curves take a similarity transform only (their widths would stretch unevenly)");
+        for (Vec3f& p : points) p = transform->applyPoint(p);
+        checkTransformedVertices(*v, points);
+        for (Vec3f& n : normals) n = normalize(transform->applyNormal(n));
+        for (auto& [w0, w1] : widths) w0 *= *similarityScale(*transform), w1 *= *similarityScale(*transform);
+    }
+    checkVerticesWithinLimit(value, points);
+    size_t first = 0, firstNormal = 0;
+    for (size_t c = 0; c < sizes.size(); ++c) {
+        const size_t segments = curveSegmentCount(sizes[c], basis);
+        if (segments == 0)
+            value.fail(fmt::format("curve {} (counting from 0) has {} points: a {} curve needs {}", c,
+                                   sizes[c], basis == CurveBasis::Bezier ? "Bezier" : "B-spline",
+                                   basis == CurveBasis::Bezier ? "3 n + 1 (4, 7, 10, ...)" : "at least 4"));
+        std::span<const Vec3f> curveNormals;
+        if (curves.type == CurveType::Ribbon) {
+            if (normals.size() < firstNormal + segments + 1)
+                value.fail(
+                    fmt::format("a ribbon needs a normal at each segment boundary: curve {} (counting from "
+                                "0) needs {} more than \"normals\" holds",
+                                c, firstNormal + segments + 1 - normals.size()));
+            curveNormals = std::span<const Vec3f>(normals).subspan(firstNormal, segments + 1);
+            firstNormal += segments + 1;
+        }
+        const std::span<const Vec3f> curvePoints = std::span<const Vec3f>(points).subspan(first, sizes[c]);
+        appendCurve(curves, curvePoints, linearCurveRadii(sizes[c], basis, widths[c].first, widths[c].second),
+                    basis, curveNormals, splitDepth);
+        first += sizes[c];
+    }
+    if (curves.type == CurveType::Ribbon && firstNormal != normals.size())
+        value.requiredMember("normals").fail(fmt::format(
+            "the ribbons take {} normals (one a segment boundary), not {}", firstNormal, normals.size()));
+    curves.material = readMaterialReference(value.requiredMember("material"), scene.materialNames);
+    curves.media = readMediumInterface(value, scene.mediumNames);
+    scene.curves.push_back(std::move(curves));
+}
+
 using ShapeReader = void (*)(const JsonValue&, ShapeContext&);
 
-const std::array<TypeRow<ShapeReader>, 7> kShapeTypes{{
+const std::array<TypeRow<ShapeReader>, 8> kShapeTypes{{
     {"triangle_mesh",
      {"type", "positions", "indices", "face_sizes", "normals", "uvs", "subdivision", "material", "alpha",
       "emission", "transform", "motion", "inside", "outside"},
@@ -851,6 +959,10 @@ const std::array<TypeRow<ShapeReader>, 7> kShapeTypes{{
     {"instance",
      {"type", "prototype", "material", "emission", "transform", "motion", "inside", "outside"},
      readInstance},
+    {"curves",
+     {"type", "points", "curve_sizes", "basis", "curve_type", "width", "curve_widths", "normals",
+      "split_depth", "material", "transform", "inside", "outside"},
+     readCurves},
 }};
 
 // A prototype: a mesh in its own space, stored once and placed by "instance" shapes. Its geometry

@@ -65,6 +65,9 @@ SceneExtent measureScene(const Scene& scene) {
         lower = min(lower, s.center - r);
         upper = max(upper, s.center + r);
     }
+    for (const Curves& curves : scene.curves)
+        for (const Vec3f& p : curves.points)
+            if (isFinite(p)) lower = min(lower, p), upper = max(upper, p);
     // Instances: the corners of their prototype's box, placed at the shutter's opening and closing.
     std::vector<std::pair<Vec3f, Vec3f>> prototypeBoxes;
     for (const TriangleMesh& prototype : scene.prototypes) {
@@ -104,8 +107,16 @@ public:
             total += scene.prototypes[instance.prototype].triangleCount();
         }
         instanceFirst_.push_back(total);
+        total = 0;
+        for (const Curves& curves : scene.curves) {
+            curvesFirst_.push_back(total);
+            total += curves.segmentCount();
+        }
+        curvesFirst_.push_back(total);
     }
-    uint64_t count() const { return triangles_ + scene_.spheres.size() + instanceFirst_.back(); }
+    uint64_t count() const {
+        return triangles_ + scene_.spheres.size() + instanceFirst_.back() + curvesFirst_.back();
+    }
 
     struct Point {
         Vec3f position, positionError, normal;
@@ -114,6 +125,8 @@ public:
     // A uniformly chosen point on primitive `g`.
     Point sample(uint64_t g, Vec2f u) const {
         Point point;
+        if (g >= triangles_ + scene_.spheres.size() + instanceFirst_.back())
+            return sampleCurve(g - triangles_ - scene_.spheres.size() - instanceFirst_.back(), u);
         if (g >= triangles_ + scene_.spheres.size())
             return sampleInstance(g - triangles_ - scene_.spheres.size(), u);
         if (g >= triangles_) {
@@ -172,10 +185,32 @@ private:
         return point;
     }
 
+    // A point on the centre line of curve segment `g` (counted over all curve sets), its error
+    // bound and normal as a hit's there (geometry/surface_interaction.h): a shadow ray towards it
+    // ends off the curve, as one towards a surface point does.
+    Point sampleCurve(uint64_t g, Vec2f u) const {
+        const size_t c =
+            size_t(std::upper_bound(curvesFirst_.begin(), curvesFirst_.end(), g) - curvesFirst_.begin()) - 1;
+        const Curves& curves = scene_.curves[c];
+        const size_t j = size_t(g - curvesFirst_[c]);
+        Point point;
+        point.position = curve::bezier(curves.controlPoints(j), u.x);
+        const float width = 2.0f * std::abs(curve::bezier(curves.controlRadii(j), u.x));
+        point.positionError = Vec3f{1.0f, 1.0f, 1.0f} * (2.0f * width) + abs(point.position) * gamma(4);
+        const Vec3f tangent = curve::bezierDerivative(curves.controlPoints(j), u.x);
+        point.normal =
+            length(tangent) > 0.0f ? Frame::fromNormal(normalize(tangent)).s : Vec3f{0.0f, 0.0f, 1.0f};
+        const Hit ids = scene_.idsOf({ShapeKind::Curves, uint32_t(c), uint32_t(j)});
+        point.geomId = ids.geomId;
+        point.primId = ids.primId;
+        return point;
+    }
+
     const Scene& scene_;
     std::vector<uint64_t> first_;
     uint64_t triangles_ = 0;
     std::vector<uint64_t> instanceFirst_;  // each instance's first triangle, then the total
+    std::vector<uint64_t> curvesFirst_;    // each curve set's first segment, then the total
 };
 
 Ray makeRandomRay(const SceneExtent& extent, RayRandom& random) {
@@ -227,9 +262,7 @@ double relativeDifference(double a, double b) {
     return scale > 0.0 ? std::abs(a - b) / scale : 0.0;
 }
 
-bool isTriangleHit(const Scene& scene, const Hit& hit) {
-    return scene.shapeOf(hit).kind != ShapeKind::Sphere;
-}
+bool isTriangleHit(const Scene& scene, const Hit& hit) { return scene.shapeOf(hit).isTriangle(); }
 
 // The triangle `ray` leaves, if it leaves one.
 TriangleLeft triangleLeft(const Scene& scene, const CrosscheckRay& ray) {
@@ -249,6 +282,15 @@ bool isNearEdge(const Scene& scene, const Hit& hit) {
 float incidenceCosine(const Scene& scene, const Ray& ray, const Hit& hit) {
     Vec3f normal;
     const ShapeRef shape = scene.shapeOf(hit);
+    if (shape.kind == ShapeKind::Curves) {
+        // A flat curve faces the ray: it is grazed only by a ray along its tangent.
+        const Vec3f tangent = curve::bezierDerivative(
+            scene.curves[shape.index].controlPoints(shape.primitive), std::clamp(hit.u, 0.0f, 1.0f));
+        const float denominator = length(tangent) * length(ray.direction);
+        if (!(denominator > 0.0f)) return 0.0f;
+        const float cosine = std::min(1.0f, std::abs(dot(tangent, ray.direction)) / denominator);
+        return std::sqrt(1.0f - cosine * cosine);
+    }
     if (shape.kind != ShapeKind::Sphere) {
         const TriangleMesh& mesh = scene.triangleMeshOf(shape);
         const uint32_t* index = &mesh.indices[3 * size_t(shape.primitive)];
@@ -327,6 +369,8 @@ const char* mismatchKindName(MismatchKind kind) {
             return "range boundary";
         case MismatchKind::CutOutEdge:
             return "cut-out edge";
+        case MismatchKind::CurveApproximation:
+            return "curve approximation";
         case MismatchKind::SelfIntersection:
             return "self-intersection";
         case MismatchKind::Unexplained:
@@ -433,7 +477,63 @@ std::optional<MismatchKind> MismatchClassifier::explainHit(const Ray& ray, const
         (std::isfinite(ray.tfar) && sameDistance(ray, hit.t, ray.tfar)))
         return MismatchKind::RangeBoundary;
     if (isCutOutEdge(ray, hit)) return MismatchKind::CutOutEdge;
+    if (isCurveApproximation(ray, hit)) return MismatchKind::CurveApproximation;
     return std::nullopt;
+}
+
+bool MismatchClassifier::isCurveApproximation(const Ray& ray, const Hit& hit, const Hit* other) const {
+    const ShapeRef shape = scene_.shapeOf(hit);
+    if (shape.kind != ShapeKind::Curves) return false;
+    const Curves& curves = scene_.curves[shape.index];
+    const Vec3f* p = curves.controlPoints(shape.primitive);
+    const float* r = curves.controlRadii(shape.primitive);
+    const float u = std::clamp(hit.u, 0.0f, 1.0f);
+    const float radius = curve::bezier(r, u);
+    if (!(radius > 0.0f)) return true;
+    // Embree's quads: each spans 1 / kEmbreeCurveQuads of the segment, and a curve leaves its
+    // chord by at most (its parameter span)^2 / 8 times max |P''| <= 6 max |second differences|.
+    const float secondDifference =
+        std::max(length(p[0] - p[1] * 2.0f + p[2]), length(p[1] - p[2] * 2.0f + p[3]));
+    const float embreeChord = 6.0f * secondDifference / (8.0f * float(kEmbreeCurveQuads * kEmbreeCurveQuads));
+    const float tolerance = kCurveTestChord + embreeChord / radius;
+    // The edge: |v| = 1, or for a ribbon |v| = |cos| of its normal with the ray.
+    float edge = 1.0f;
+    if (curves.type == CurveType::Ribbon)
+        edge = std::abs(dot(curve::ribbonNormal(curves.normals[2 * shape.primitive],
+                                                curves.normals[2 * shape.primitive + 1], u),
+                            normalize(ray.direction)));
+    if (std::abs(edge - std::abs(hit.v)) <= tolerance) return true;
+    // Both tests see no curve nearer than twice its radius to the origin: near that distance,
+    // their depths differ within their approximations.
+    const float depth = hit.t * length(ray.direction);
+    if (std::abs(depth - 2.0f * radius) <= (2.0f * tolerance) * radius + embreeChord) return true;
+    // Their depths along the ray differ within the radius (a ray-facing surface's depth is its
+    // centre line's; a quad's is interpolated): a hit that near the segment's end is one either way.
+    if (std::isfinite(ray.tfar) &&
+        (ray.tfar - hit.t) * length(ray.direction) <= (1.0f + tolerance) * radius + embreeChord)
+        return true;
+    // A ray nearly along the curve (within kCurveAlongDegrees of its tangent) sees Embree's quads
+    // shorter than a few widths (kCurveForeshortening), turning with the foreshortened tangent.
+    const Vec3f tangent = curve::bezierDerivative(p, u);
+    const float sine =
+        length(cross(tangent, ray.direction)) / (length(tangent) * length(ray.direction) + 1e-30f);
+    const float projectedQuad = length(tangent) * sine / float(kEmbreeCurveQuads);
+    if (sine <= std::sin(kCurveAlongDegrees * kPi / 180.0f) &&
+        projectedQuad <= kCurveForeshortening * 2.0f * radius)
+        return true;
+    // Where pieces join, the two tests end them differently (ours at the perpendicular to the
+    // tangent, Embree's at its quads' ends): within a piece's chord error of a segment's end.
+    const float segmentLength = length(p[3] - p[0]) + 1e-30f;
+    if (std::min(u, 1.0f - u) * segmentLength <= tolerance * radius + embreeChord) return true;
+    if (other && scene_.shapeOf(*other).kind == ShapeKind::Curves) {
+        const ShapeRef otherShape = scene_.shapeOf(*other);
+        const float otherRadius =
+            curve::bezier(scene_.curves[otherShape.index].controlRadii(otherShape.primitive),
+                          std::clamp(other->u, 0.0f, 1.0f));
+        const double depth = std::abs(double(hit.t) - double(other->t)) * double(length(ray.direction));
+        if (depth <= 2.0 * (double(radius) + double(otherRadius)) * (1.0 + double(tolerance))) return true;
+    }
+    return false;
 }
 
 bool MismatchClassifier::isCutOutEdge(const Ray& ray, const Hit& hit) const {
@@ -526,6 +626,8 @@ MismatchKind MismatchClassifier::classify(const CrosscheckRay& cray, const Backe
             return isNearEdge(scene_, a) || isNearEdge(scene_, b) ? MismatchKind::EdgeOrVertex
                                                                   : MismatchKind::Tie;
         // One backend missed the nearer surface: why?
+        if (isCurveApproximation(ray, a.t < b.t ? a : b, a.t < b.t ? &b : &a))
+            return MismatchKind::CurveApproximation;
         return explainHit(ray, a.t < b.t ? a : b).value_or(MismatchKind::Unexplained);
     }
     // One backend found something the other did not.

@@ -19,7 +19,16 @@
 //    within our triangle test's error bound on t of tnear (which that test rejects);
 //  - cut-out edge: the hit is on a mesh with a cut-out (geometry/cut_out.h) whose test decides
 //    otherwise a barycentric kEdgeTolerance away: where the coverage changes (a texel's or a
-//    checker's edge), the two backends' barycentrics, a rounding apart, can see different values.
+//    checker's edge), the two backends' barycentrics, a rounding apart, can see different values;
+//  - curve approximation: a curve hit (geometry/curves.h) within the two curve tests' difference:
+//    ours is straight within a twentieth of the width (0.1 of the radius in v), Embree's ray-facing
+//    quads (16 a segment) within max|P''| / (8 * 16^2) of the curve, so a hit with 1 - |v| below their
+//    sum over the radius, or as near a segment's end in u, or two hits on curves within their
+//    widths in depth, may be seen by one test and not the other; so may a hit near twice the
+//    radius from the origin (both tests see no curve nearer), one within the radius of a
+//    segment's end (their depths differ within it), and one of a ray so nearly along the curve
+//    (within kCurveAlongDegrees) that Embree's quads look shorter than kCurveForeshortening widths.
+//    A ribbon's edge is where |v| is |cos| of its normal with the ray.
 // Two are failures: a self-intersection (a ray leaving a surface, a bounce or shadow ray, hits the
 // triangle it leaves, or the sphere it leaves within twice its offset: an offset or an error bound
 // is too small; but not a ray that points back through its triangle's plane at a glancing angle,
@@ -56,15 +65,20 @@ enum class MismatchKind : uint8_t {
     Grazing,
     RangeBoundary,
     CutOutEdge,
+    CurveApproximation,
     SelfIntersection,
     Unexplained
 };
-inline constexpr int kMismatchKindCount = 7;
+inline constexpr int kMismatchKindCount = 8;
 const char* mismatchKindName(MismatchKind kind);
 
 inline constexpr float kEdgeTolerance = 1e-5f;      // barycentric coordinate
 inline constexpr float kDistanceTolerance = 1e-5f;  // relative, see above
 inline constexpr float kGrazingCosine = 1e-3f;      // |cos| between the ray and the surface normal
+inline constexpr float kCurveTestChord = 0.1f;  // our curve test's straightness, in radii (geometry/curves.h)
+inline constexpr int kEmbreeCurveQuads = 16;    // the tessellation rate the Embree backend sets
+inline constexpr float kCurveForeshortening = 4.0f;  // widths, see the curve approximation above
+inline constexpr float kCurveAlongDegrees = 15.0f;   // see the curve approximation above
 
 struct CrosscheckRay {
     Ray ray;
@@ -161,6 +175,10 @@ private:
     bool crossesItsTriangleAtAGlance(const Ray& ray, const Hit& hit) const;
     bool withinTriangleTestError(const Ray& ray, const Hit& hit) const;
     bool isCutOutEdge(const Ray& ray, const Hit& hit) const;
+    // Whether a curve hit lies where the two backends' curve tests may differ (geometry/curves.h):
+    // within their approximation of the surface of the silhouette (|v| near 1) or of a segment's
+    // end, or, against `other` hit on a curve too, at a depth within their widths.
+    bool isCurveApproximation(const Ray& ray, const Hit& hit, const Hit* other = nullptr) const;
 
     const Scene& scene_;
     float coordinateMagnitude_ = 1.0f;  // largest |coordinate| of the scene's bounds

@@ -405,7 +405,37 @@ Json mapMaterial(const std::string& type, const ParameterList& params, const Tex
         };
         m["reflectance"] = scaledColor("reflectance");
         m["transmittance"] = scaledColor("transmittance");
-    } else if (type == "measured" || type == "hair" || type == "subsurface") {
+    } else if (type == "hair") {
+        // pbrt-v4's HairMaterial: sigma_a, else reflectance, else the melanins (eumelanin 1.3 when
+        // none is given); textures of them are read at their constant value.
+        m["type"] = "hair";
+        // A float, or a float texture at its constant value.
+        const auto scalar = [&](const char* name, double fallback) {
+            if (const std::optional<double> value = params.getFloat(name)) return *value;
+            return double(
+                readColor(params, name, Rgb(float(fallback)), SpectrumUse::Unbounded, textures, log).g);
+        };
+        if (params.find("sigma_a",
+                        {ParamType::Rgb, ParamType::Spectrum, ParamType::Float, ParamType::Texture}))
+            m["sigma_a"] =
+                rgbJson(readColor(params, "sigma_a", Rgb(0.0f), SpectrumUse::Unbounded, textures, log));
+        else if (params.find("reflectance",
+                             {ParamType::Rgb, ParamType::Spectrum, ParamType::Float, ParamType::Texture}))
+            m["color"] = rgbJson(
+                clamp01(readColor(params, "reflectance", Rgb(0.5f), SpectrumUse::Reflectance, textures, log),
+                        nullptr, log, ""));
+        else if (params.find("eumelanin", {ParamType::Float, ParamType::Texture}) ||
+                 params.find("pheomelanin", {ParamType::Float, ParamType::Texture})) {
+            m["eumelanin"] = std::max(0.0, scalar("eumelanin", 0.0));
+            m["pheomelanin"] = std::max(0.0, scalar("pheomelanin", 0.0));
+        }
+        for (const auto& [name, fallback] : {std::pair{"eta", 1.55}, std::pair{"beta_m", 0.3},
+                                             std::pair{"beta_n", 0.3}, std::pair{"alpha", 2.0}})
+            if (const double value = scalar(name, fallback); value != fallback) m[name] = value;
+        if (m.contains("beta_m")) m["beta_m"] = std::clamp(m["beta_m"].get<double>(), 0.0, 1.0);
+        if (m.contains("beta_n")) m["beta_n"] = std::clamp(m["beta_n"].get<double>(), 0.0, 1.0);
+        params.markAllUsed();
+    } else if (type == "measured" || type == "subsurface") {
         params.markAllUsed();
         m["type"] = "lambert";
         m["albedo"] = 0.5;

@@ -938,6 +938,7 @@ void SceneBuilder::objectDirective(const Directive& d) {
 
 std::string SceneBuilder::copyReason(const ShapeRecord& shape) const {
     if (shape.type == "sphere") return "spheres (penumbra's prototypes are meshes)";
+    if (shape.type == "curve") return "curves (penumbra's prototypes are meshes)";
     if (shape.state.areaLight && !shape.state.areaLight->radiance.isBlack())
         return "area lights (instances do not emit)";
     if (!(shape.state.ctm[0] == shape.state.ctm[1])) return "shapes that move inside the object definition";
@@ -1069,10 +1070,114 @@ void SceneBuilder::addPlacement(Json& shape, const std::array<Matrix4d, 2>& ctm,
             "TransformTimes differ from the camera's shutter: penumbra spreads motion keys over the shutter");
 }
 
+void SceneBuilder::addCurve(const ShapeRecord& record, const std::array<Matrix4d, 2>& ctm) {
+    const ParameterList& p = record.params;
+    const SourceLocation& where = record.where;
+    std::vector<Vec3d> points = p.getPoint3s("P");
+    const std::string basis = p.getString("basis").value_or("bezier");
+    if (basis != "bezier" && basis != "bspline")
+        failAt(where, fmt::format("curve: basis \"{}\" is not bezier or bspline", basis));
+    const int64_t degree = p.getInt("degree").value_or(3);
+    if (degree != 2 && degree != 3)
+        failAt(where, fmt::format("curve: degree must be 2 or 3, found {}", degree));
+    const std::string type = p.getString("type").value_or("flat");
+    if (type != "flat" && type != "cylinder" && type != "ribbon")
+        failAt(where, fmt::format("curve: type \"{}\" is not flat, cylinder or ribbon", type));
+    // Quadratic curves as the cubic Bezier curves they are (degree elevation; a quadratic
+    // B-spline's segment first as its quadratic Bezier segment).
+    const bool bezier = basis == "bezier";
+    const size_t n = points.size();
+    const size_t segments =
+        degree == 3 ? (bezier ? ((n - 1) % 3 == 0 && n >= 4 ? (n - 1) / 3 : 0) : (n >= 4 ? n - 3 : 0))
+                    : (bezier ? ((n - 1) % 2 == 0 && n >= 3 ? (n - 1) / 2 : 0) : (n >= 3 ? n - 2 : 0));
+    if (segments == 0)
+        failAt(where,
+               fmt::format("curve: {} control points do not make whole segments of a degree {} {} curve", n,
+                           degree, basis));
+    std::string jsonBasis = basis;
+    if (degree == 2) {
+        std::vector<Vec3d> cubic{};
+        for (size_t i = 0; i < segments; ++i) {
+            Vec3d q0 = points[bezier ? 2 * i : i], q1 = points[bezier ? 2 * i + 1 : i + 1],
+                  q2 = points[bezier ? 2 * i + 2 : i + 2];
+            if (!bezier) q0 = (q0 + q1) * 0.5, q2 = (q1 + q2) * 0.5;
+            if (i == 0) cubic.push_back(q0);
+            cubic.insert(cubic.end(), {q0 + (q1 - q0) * (2.0 / 3.0), q2 + (q1 - q2) * (2.0 / 3.0), q2});
+        }
+        points = std::move(cubic);
+        jsonBasis = "bezier";
+    }
+    const double width = p.getFloat("width").value_or(1.0);
+    const double width0 = p.getFloat("width0").value_or(width), width1 = p.getFloat("width1").value_or(width);
+    if (!(width0 >= 0.0 && width1 >= 0.0)) failAt(where, "curve: widths must not be negative");
+    std::vector<Vec3d> normals = type == "ribbon" ? p.getNormals("N") : std::vector<Vec3d>{};
+    if (type == "ribbon" && normals.size() != segments + 1)
+        failAt(
+            where,
+            fmt::format("curve: a ribbon needs a normal \"N\" at each of its {} segment boundaries, found {}",
+                        segments + 1, normals.size()));
+    p.markAllUsed();  // "splitdepth" among them: penumbra's test subdivides adaptively (geometry/curves.h)
+    if (!(ctm[0] == ctm[1]))
+        log_.warn(where, "moving curves are not supported: rendered where they are at the shutter's opening");
+    // Into the world: points as points, normals by the inverse transpose, widths by the
+    // transform's mean scale (pbrt-v4 keeps a curve in its own space, where its width is given).
+    const Matrix4d world = toWorld(ctm[0]);
+    const double scale = std::cbrt(std::abs(world.determinant3()));
+    Json shape;
+    shape["type"] = "curves";
+    shape["material"] = materialOf(record);
+    addMediumInterface(shape, record.state);
+    if (type != "flat") shape["curve_type"] = type;
+    if (jsonBasis != "bezier") shape["basis"] = jsonBasis;
+    Json newPoints = Json::array();
+    for (const Vec3d& q : points) newPoints.push_back(vec3Json(world.applyPoint(q)));
+    Json newNormals = Json::array();
+    for (const Vec3d& nrm : normals) {
+        // The inverse transpose of the upper 3x3 is its cofactor matrix over the determinant (the
+        // scale does not matter).
+        const auto& m = world.m;
+        const Vec3d c0{m[1][1] * m[2][2] - m[1][2] * m[2][1], m[1][2] * m[2][0] - m[1][0] * m[2][2],
+                       m[1][0] * m[2][1] - m[1][1] * m[2][0]};
+        const Vec3d c1{m[0][2] * m[2][1] - m[0][1] * m[2][2], m[0][0] * m[2][2] - m[0][2] * m[2][0],
+                       m[0][1] * m[2][0] - m[0][0] * m[2][1]};
+        const Vec3d c2{m[0][1] * m[1][2] - m[0][2] * m[1][1], m[0][2] * m[1][0] - m[0][0] * m[1][2],
+                       m[0][0] * m[1][1] - m[0][1] * m[1][0]};
+        const auto dot = [&](const Vec3d& a) { return a.x * nrm.x + a.y * nrm.y + a.z * nrm.z; };
+        newNormals.push_back(Json::array({dot(c0), dot(c1), dot(c2)}));
+    }
+    const Json widthPair = Json::array({width0 * scale, width1 * scale});
+    if (record.state.areaLight && !record.state.areaLight->radiance.isBlack())
+        log_.warn(where, "curves do not emit in penumbra: the area light on this curve is left out");
+    if (lastCurves_ && *lastCurves_ + 1 == scene_["shapes"].size()) {
+        Json& last = scene_["shapes"][*lastCurves_];
+        bool same = true;
+        for (const char* key : {"material", "inside", "outside", "curve_type", "basis"})
+            same = same && last.value(key, Json()) == shape.value(key, Json());
+        if (same) {
+            for (Json& q : newPoints) last["points"].push_back(std::move(q));
+            for (Json& q : newNormals) last["normals"].push_back(std::move(q));
+            last["curve_sizes"].push_back(points.size());
+            last["curve_widths"].push_back(widthPair);
+            return;
+        }
+    }
+    shape["points"] = std::move(newPoints);
+    if (type == "ribbon") shape["normals"] = std::move(newNormals);
+    shape["curve_sizes"] = Json::array({points.size()});
+    shape["curve_widths"] = Json::array({widthPair});
+    lastCurves_ = scene_["shapes"].size();
+    origins_.push_back({fmt::format("/shapes/{}", scene_["shapes"].size()), where});
+    scene_["shapes"].push_back(std::move(shape));
+}
+
 void SceneBuilder::addShape(const ShapeRecord& record, const std::array<Matrix4d, 2>* worldFromInstance) {
     std::array<Matrix4d, 2> ctm = record.state.ctm;
     if (worldFromInstance)
         for (size_t i = 0; i < 2; ++i) ctm[i] = (*worldFromInstance)[i] * ctm[i];
+    if (record.type == "curve") {
+        addCurve(record, ctm);
+        return;
+    }
     std::optional<Json> geometry = shapeGeometry(record, ctm[0].determinant3() < 0.0);
     if (!geometry) return;
     Json& shape = *geometry;

@@ -105,6 +105,12 @@ private:
     // A shape's "alpha" (a float or a float texture's name) as penumbra's cut-out: a number or a
     // texture object; none for an opaque shape (alpha 1).
     std::optional<Json> cutOutAlpha(const Parameter& alpha) const;
+    // Shape "curve": one curve, its control points taken to the world (so that curves under
+    // different transforms share a set), appended to the last shape when that is a curve set of the
+    // same material, type and media (a hair file's thousands of curves become one set).
+    void addCurve(const ShapeRecord& shape, const std::array<Matrix4d, 2>& ctm);
+    // The index in "shapes" of the last shape addCurve wrote, for it to append to.
+    std::optional<size_t> lastCurves_;
     // ObjectInstance: each mesh of the object becomes a prototype (once, at its first instance) and
     // an "instance" shape; what penumbra's instances cannot hold (spheres, emitters, shapes that
     // move inside the object) is placed as a copy instead.

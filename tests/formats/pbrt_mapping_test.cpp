@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -18,6 +19,7 @@
 #include "core/colorimetry.h"
 #include "core/equal_area.h"
 #include "core/error.h"
+#include "formats/pbrt/double_math.h"
 #include "formats/pbrt/pbrt_reader.h"
 #include "formats/pbrt/spectrum.h"
 #include "formats/scene_file.h"
@@ -629,18 +631,22 @@ TEST(PbrtMapping, ShapesOfEveryKind) {
                      "Shape \"plymesh\" \"string filename\" \"" +
                      ply.string() +
                      "\"\n"
-                     "Shape \"curve\" \"point3 P\" [0 0 0 1 1 1 2 2 2 3 3 3]\n");
+                     "Shape \"curve\" \"point3 P\" [0 0 0 1 1 1 2 2 2 3 3 3]\n"
+                     "Shape \"hyperboloid\" \"point3 p1\" [0 0 0]\n");
     const Json& s = c.document["shapes"];
-    ASSERT_EQ(s.size(), 5u);
+    ASSERT_EQ(s.size(), 6u);
     EXPECT_EQ(s[0]["radius"], 2.0);
     EXPECT_EQ(s[1]["type"], "disk");
     // Patch (p00, p10, p01, p11) -> (p00, p10, p11) and (p00, p11, p01).
     EXPECT_EQ(s[2]["indices"], Json::array({0, 1, 3, 0, 3, 2}));
     EXPECT_EQ(s[3]["uvs"][1], Json::array({1.0, 0.0}));
     EXPECT_EQ(s[4]["type"], "mesh_file");
-    EXPECT_TRUE(hasWarning(c, "Shape \"curve\" is not supported and was left out"));
+    EXPECT_EQ(s[5]["type"], "curves");
+    // pbrt-v3's quadrics, which pbrt-v4 dropped.
+    EXPECT_TRUE(hasWarning(c, "Shape \"hyperboloid\" is not supported and was left out"));
     const Scene scene = buildPbrtScene(c, "test.pbrt");
     EXPECT_EQ(scene.meshes.size(), 4u);
+    EXPECT_EQ(scene.curves.size(), 1u);
     EXPECT_EQ(scene.spheres.size(), 1u);
     EXPECT_EQ(scene.meshFiles.size(), 1u);
 }
@@ -1007,6 +1013,70 @@ TEST(PbrtMapping, APatchChangesTheConvertedScene) {
     ASSERT_EQ(scene.includedFiles.size(), 1u);
     EXPECT_EQ(scene.includedFiles[0], dir / "patch.json");
     fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace penumbra::pbrt
+
+namespace penumbra::pbrt {
+namespace {
+
+// Hair: pbrt-v4's curve shape (Bezier and B-spline, degree 3 and 2, flat, cylinder and ribbon,
+// width, width0 and width1) under transforms, the curves of one material and type gathered into one
+// set (a hair file's thousands of Shape "curve" lines), and the hair material's parameters.
+TEST(PbrtMapping, CurvesAndTheHairMaterial) {
+    const auto c = convert(
+        kCamera +
+        "WorldBegin\nMaterial \"hair\" \"float eumelanin\" 0.8 \"float beta_m\" 0.25\n"
+        "AttributeBegin\nTranslate 1 0 0\nScale 2 2 2\n"
+        "Shape \"curve\" \"point3 P\" [0 0 0  0 1 0  0 2 0  0 3 0] \"float width0\" 0.2 \"float width1\" 0.1 "
+        "\"string type\" \"cylinder\"\n"
+        "AttributeEnd\n"
+        "Shape \"curve\" \"point3 P\" [0 0 0  0 1 0  0 2 0  0 3 0] \"float width\" 0.1 \"string type\" "
+        "\"cylinder\"\n"
+        "Shape \"curve\" \"point3 P\" [0 0 0  1 1 0  2 0 0] \"integer degree\" 2 \"string type\" "
+        "\"cylinder\" "
+        "\"float width\" 0.05\n"
+        "Shape \"curve\" \"point3 P\" [0 0 0  1 0 0  2 0 0  3 0 0  4 0 0] \"string basis\" \"bspline\" "
+        "\"string type\" \"ribbon\" \"normal N\" [0 0 1  0 0 1  0 1 0]\n");
+    const Json& shapes = c.document["shapes"];
+    ASSERT_EQ(shapes.size(), 2u);
+    const Json& hair = shapes[0];
+    EXPECT_EQ(hair["type"], "curves");
+    EXPECT_EQ(hair["curve_type"], "cylinder");
+    EXPECT_EQ(hair["curve_sizes"], Json::array({4, 4, 4}));
+    // The first curve's widths scaled by its transform's scale, 2.
+    EXPECT_EQ(hair["curve_widths"], Json::parse("[[0.4, 0.2], [0.1, 0.1], [0.05, 0.05]]"));
+    EXPECT_EQ(hair["points"][1], Json::parse("[1.0, 2.0, 0.0]"));  // (0, 1, 0) scaled by 2, moved by 1 in x
+    // The quadratic as a cubic: the same curve, through (1, 0.5, 0) at its middle.
+    std::array<Vec3d, 4> q;
+    for (int k = 0; k < 4; ++k)
+        q[k] = {hair["points"][8 + k][0].get<double>(), hair["points"][8 + k][1].get<double>(),
+                hair["points"][8 + k][2].get<double>()};
+    const Vec3d middle = (q[0] + q[1] * 3.0 + q[2] * 3.0 + q[3]) * 0.125;
+    EXPECT_NEAR(middle.x, 1.0, 1e-12);
+    EXPECT_NEAR(middle.y, 0.5, 1e-12);
+    const Json& ribbon = shapes[1];
+    EXPECT_EQ(ribbon["curve_type"], "ribbon");
+    EXPECT_EQ(ribbon["basis"], "bspline");
+    EXPECT_EQ(ribbon["normals"].size(), 3u);
+    EXPECT_EQ(ribbon["curve_widths"], Json::parse("[[1.0, 1.0]]"));  // pbrt-v4's default width
+    const Json& material = c.document["materials"][hair["material"].get<std::string>()];
+    EXPECT_EQ(material["type"], "hair");
+    EXPECT_EQ(material["eumelanin"], 0.8);
+    EXPECT_EQ(material["beta_m"], 0.25);
+    EXPECT_FALSE(hasWarning(c, "not supported"));
+
+    const Scene scene = buildScene(c.document, "test.pbrt");
+    ASSERT_EQ(scene.curves.size(), 2u);
+    EXPECT_EQ(scene.curves[0].segmentCount(), 3u);
+    EXPECT_EQ(scene.curves[1].segmentCount(), 2u);
+    EXPECT_TRUE(scene.materials[scene.curves[0].material].isFiber());
+
+    const InputError odd = testing::catchInputError(
+        [&] { convert("WorldBegin\nShape \"curve\" \"point3 P\" [0 0 0 1 1 1 2 2 2 3 3 3 4 4 4]\n"); });
+    EXPECT_CONTAINS(odd.what(), "test.pbrt:2");
+    EXPECT_CONTAINS(odd.message(), "5 control points do not make whole segments of a degree 3 bezier curve");
 }
 
 }  // namespace
