@@ -102,6 +102,35 @@ Bounds3f placedBounds(const Transform& toWorld, const Bounds3f& objectBox) {
     return padded(result, 0.0f);
 }
 
+// The box of piece `index` of 2^level of a Bezier segment with control points p and radii r: a
+// Bezier lies in its control points' hull and its radius is at most its largest control radius.
+// Padded for the rounding by which the test's own halving, in the ray's space, may differ.
+Bounds3f curvePieceBox(const Vec3f* p, const float* r, uint32_t level, uint32_t index) {
+    Vec3f points[4] = {p[0], p[1], p[2], p[3]};
+    float radii[4] = {r[0], r[1], r[2], r[3]};
+    for (int k = int(level) - 1; k >= 0; --k) {
+        Vec3f left[4], right[4];
+        float leftRadii[4], rightRadii[4];
+        curve::split(points, left, right);
+        curve::split(radii, leftRadii, rightRadii);
+        const bool second = ((index >> k) & 1u) != 0;
+        for (int i = 0; i < 4; ++i) {
+            points[i] = second ? right[i] : left[i];
+            radii[i] = second ? rightRadii[i] : leftRadii[i];
+        }
+    }
+    Bounds3f box;
+    float radius = 0.0f;
+    for (int i = 0; i < 4; ++i) {
+        box.extend(points[i]);
+        radius = std::max(radius, radii[i]);
+    }
+    const float magnitude = std::max(maxComponent(abs(box.lower)), maxComponent(abs(box.upper)));
+    const float pad = radius * 1.001f + magnitude * 1e-6f;
+    const Vec3f extent(pad, pad, pad);
+    return padded({box.lower - extent, box.upper + extent}, 0.0f);
+}
+
 }  // namespace
 
 BvhAccelerator::BvhAccelerator(const SceneGeometry& scene, const BvhBuildSettings& settings) {
@@ -400,30 +429,36 @@ void BvhAccelerator::addSpecialPrimitives(const SceneGeometry& scene, const BvhB
     for (size_t c = 0; c < curves_.size(); ++c) {
         const Curves& curves = curves_[c];
         for (size_t j = 0; j < curves.segmentCount(); ++j) {
-            Special special{};
-            special.geomId = scene.curvesGeomId(c);
-            special.primId = uint32_t(j);
-            special.source = uint32_t(c);
-            special.cutOut = kNoHit;
-            special.kind = SpecialKind::CurveSegment;
-            // A Bezier segment lies in its control points' hull, and its radius is at most the
-            // largest of its control radii.
-            Bounds3f box;
-            float radius = 0.0f;
+            const Vec3f* p = curves.controlPoints(j);
+            const float* r = curves.controlRadii(j);
             bool ok = true;
+            float radius = 0.0f, polygon = 0.0f;
             for (int k = 0; k < 4; ++k) {
-                const Vec3f p = curves.controlPoints(j)[k];
-                const float r = curves.controlRadii(j)[k];
-                ok = ok && isFinite(p) && std::isfinite(r);
-                box.extend(p);
-                radius = std::max(radius, r);
+                ok = ok && isFinite(p[k]) && std::isfinite(r[k]);
+                radius = std::max(radius, r[k]);
+                if (k > 0) polygon += length(p[k] - p[k - 1]);
             }
             if (!ok || !(radius > 0.0f)) {
                 ++skippedCount_;
                 continue;
             }
-            const Vec3f extent(radius, radius, radius);
-            addSpecial(special, padded({box.lower - extent, box.upper + extent}, 0.0f));
+            // A long segment is boxed in pieces of up to about 8 widths (at most 8 pieces: pbrt-v4's
+            // default splitdepth), each a special primitive that tests only its part of the
+            // segment (CurvePiece).
+            const float pieces = polygon / (16.0f * radius);
+            const uint32_t level =
+                pieces > 1.0f ? uint32_t(std::min(3.0f, std::ceil(std::log2(pieces)))) : 0u;
+            for (uint32_t index = 0; index < (1u << level); ++index) {
+                Special special{};
+                special.geomId = scene.curvesGeomId(c);
+                special.primId = uint32_t(j);
+                special.source = uint32_t(c);
+                special.vertex[0] = level;
+                special.vertex[1] = index;
+                special.cutOut = kNoHit;
+                special.kind = SpecialKind::CurveSegment;
+                addSpecial(special, curvePieceBox(p, r, level, index));
+            }
         }
     }
 }

@@ -25,8 +25,9 @@
 // alike; the ray's hash and, inside an instance, the instance's geomId travel down to the
 // instance's tree so that the number is the one Embree's filter computes.
 //
-// Curves (geometry/curves.h): each segment is a special primitive, boxed by its control points
-// widened by its largest radius and tested by intersectCurveSegment.
+// Curves (geometry/curves.h): each segment is one special primitive or, when long for its width,
+// up to eight (its dyadic pieces, CurvePiece), boxed by their control points widened by their
+// largest radius and tested by intersectCurveSegment, which finds the whole segment's hits.
 //
 // Instancing (SceneGeometry::instances) is the same two-level structure: each prototype mesh gets
 // one bottom-level tree, built once, and every instance is a special primitive of the top level,
@@ -123,7 +124,7 @@ private:
     struct Special {
         uint32_t geomId, primId;  // as reported (accel/traversal.h)
         uint32_t source;          // index into deformingMeshes_, instances_ or curves_
-        uint32_t vertex[3];       // a triangle's vertex indices
+        uint32_t vertex[3];       // a triangle's vertex indices; a curve piece's level and index
         uint32_t cutOut;          // a triangle's index into cutOuts_, or kNoHit: opaque
         SpecialKind kind;
     };

@@ -171,6 +171,16 @@ struct Search {
     float z = 0.0f;
 };
 
+// The two halves of a piece (de Casteljau at its middle), as both the recursion and the descent to
+// a piece of a segment (intersectCurveSegment) take them, so that they get the same bits.
+inline void halves(const RaySpaceSegment& s, RaySpaceSegment& left, RaySpaceSegment& right) {
+    split(s.p, left.p, right.p);
+    split(s.r, left.r, right.r);
+    const float uMid = 0.5f * (s.u0 + s.u1);
+    left.n0 = right.n0 = s.n0, left.n1 = right.n1 = s.n1;
+    left.u0 = s.u0, left.u1 = uMid, right.u0 = uMid, right.u1 = s.u1;
+}
+
 inline void intersectPiece(const RaySpaceSegment& s, int depth, Search& search) {
     // Cull by the piece's box, widened by its largest radius (a Bezier lies in its control hull).
     const float rMax = std::max(std::max(s.r[0], s.r[1]), std::max(s.r[2], s.r[3]));
@@ -180,11 +190,7 @@ inline void intersectPiece(const RaySpaceSegment& s, int depth, Search& search) 
     if (hi.z + rMax < search.zNear || lo.z - rMax > (search.found ? search.z : search.zFar)) return;
     if (depth > 0) {
         RaySpaceSegment left, right;
-        split(s.p, left.p, right.p);
-        split(s.r, left.r, right.r);
-        const float uMid = 0.5f * (s.u0 + s.u1);
-        left.n0 = right.n0 = s.n0, left.n1 = right.n1 = s.n1;
-        left.u0 = s.u0, left.u1 = uMid, right.u0 = uMid, right.u1 = s.u1;
+        halves(s, left, right);
         intersectPiece(left, depth - 1, search);
         intersectPiece(right, depth - 1, search);
         return;
@@ -224,10 +230,19 @@ inline void intersectPiece(const RaySpaceSegment& s, int depth, Search& search) 
 
 }  // namespace curve
 
+// A dyadic piece of a segment, u in [index / 2^level, (index + 1) / 2^level]: what our BVH boxes
+// (a long, bent segment's box is mostly empty; its pieces' are tighter).
+struct CurvePiece {
+    uint32_t level = 0, index = 0;
+};
+
 // The ray test of segment `segment` of `curves` for the ray origin + t direction, t in
-// [tnear, tfar] (the direction need not be unit: t is in its units); the nearest hit.
+// [tnear, tfar] (the direction need not be unit: t is in its units); the nearest hit. With a
+// `piece`, only the hits within it, found by the whole segment's test: its halving is followed
+// down to the piece, so the piece's leaves are the whole test's bit for bit, and the nearest hit
+// over all pieces is the whole test's.
 inline bool intersectCurveSegment(const Curves& curves, size_t segment, Vec3f origin, Vec3f direction,
-                                  float tnear, float tfar, CurveHit& hit) {
+                                  float tnear, float tfar, CurveHit& hit, CurvePiece piece = {}) {
     const float directionLength = length(direction);
     if (!(directionLength > 0.0f)) return false;
     const Frame frame = Frame::fromNormal(direction / directionLength);
@@ -249,7 +264,22 @@ inline bool intersectCurveSegment(const Curves& curves, size_t segment, Vec3f or
     s.u0 = 0.0f, s.u1 = 1.0f;
     search.zNear = tnear * directionLength;
     search.zFar = tfar * directionLength;
-    curve::intersectPiece(s, curve::splitDepth(s.p, rMin), search);
+    const int depth = curve::splitDepth(s.p, rMin);
+    int level = int(piece.level);
+    uint32_t index = piece.index;
+    if (depth < level) {
+        // The whole test's leaves span several pieces: the first piece of a leaf tests it.
+        const int above = level - depth;
+        if ((index & ((1u << above) - 1u)) != 0) return false;
+        index >>= above;
+        level = depth;
+    }
+    for (int k = level - 1; k >= 0; --k) {
+        curve::RaySpaceSegment left, right;
+        curve::halves(s, left, right);
+        s = ((index >> k) & 1u) != 0 ? right : left;
+    }
+    curve::intersectPiece(s, depth - level, search);
     if (!search.found) return false;
     hit = search.hit;
     hit.t = search.z / directionLength;

@@ -162,6 +162,42 @@ TEST(CurvesTest, ABentCurveIsHitWhereTheRayPassesWithinItsRadius) {
     EXPECT_GT(hits, 800);
 }
 
+// Our BVH boxes a long segment in dyadic pieces, each tested by the whole segment's halving followed
+// down to it: the nearest of the pieces' hits is the whole test's, bit for bit, at every level.
+TEST(CurvesTest, APiecesHitsAreTheWholeSegmentsBitForBit) {
+    const Curves curves =
+        curveOf({{0, 0, 0}, {0.3f, 0.5f, 0.1f}, {-0.2f, 0.9f, 0.4f}, {0.1f, 1.2f, 0.2f}}, 0.08f, 0.01f);
+    int hits = 0;
+    for (uint64_t i = 0; i < 3000; ++i) {
+        const float u = uniform(i, 0), radius = curve::bezier(curves.controlRadii(0), u);
+        const Vec3f direction =
+            normalize(Vec3f{uniform(i, 4) - 0.5f, uniform(i, 5) - 0.5f, uniform(i, 6) - 0.5f});
+        const Vec3f origin =
+            curve::bezier(curves.controlPoints(0), u) +
+            Vec3f{uniform(i, 1) - 0.5f, uniform(i, 2) - 0.5f, uniform(i, 3) - 0.5f} * (3.0f * radius) -
+            direction * 3.0f;
+        CurveHit whole;
+        const bool found = intersectCurveSegment(curves, 0, origin, direction, 0.0f, 1e30f, whole);
+        hits += found;
+        for (uint32_t level = 1; level <= 3; ++level) {
+            bool any = false;
+            CurveHit nearest;
+            for (uint32_t index = 0; index < (1u << level); ++index) {
+                CurveHit piece;
+                if (intersectCurveSegment(curves, 0, origin, direction, 0.0f, 1e30f, piece, {level, index}) &&
+                    (!any || piece.t < nearest.t))
+                    nearest = piece, any = true;
+            }
+            ASSERT_EQ(any, found) << i << " level " << level;
+            if (!found) continue;
+            EXPECT_EQ(nearest.t, whole.t) << i;
+            EXPECT_EQ(nearest.u, whole.u) << i;
+            EXPECT_EQ(nearest.v, whole.v) << i;
+        }
+    }
+    EXPECT_GT(hits, 1000);
+}
+
 TEST(CurvesTest, BSplinesAndLinearWidthsMatchTheirBases) {
     const std::vector<Vec3f> points{{0, 0, 0}, {1, 2, 0}, {2, -1, 1}, {3, 0, 2}, {4, 3, 0}, {5, 1, -1}};
     Curves curves;
