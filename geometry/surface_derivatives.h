@@ -26,17 +26,16 @@ inline SurfaceDerivatives surfaceDerivatives(const SceneGeometry& scene, const S
     Transform toWorld;
     bool moves = false;
     if (shape.kind == ShapeKind::Curves) {
-        // Along the curve (its tangent) and across it (pbrt-v4's dpdv of a flat curve).
+        // Along the curve (its tangent, at the curve's speed in its u) and across it (pbrt-v4's
+        // dpdv of a flat curve: the width).
         const Curves& curves = scene.curves[shape.index];
-        const float u = std::clamp(si.uv.x, 0.0f, 1.0f);
         const Vec2f range = curves.uRanges[shape.primitive];
-        const float segmentU =
-            range.y > range.x ? std::clamp((u - range.x) / (range.y - range.x), 0.0f, 1.0f) : 0.0f;
-        const float width = 2.0f * curve::bezier(curves.controlRadii(shape.primitive), segmentU);
-        const float segmentLength =
-            length(curve::bezierDerivative(curves.controlPoints(shape.primitive), segmentU));
-        d.dpdu = si.tangent * (range.y > range.x ? segmentLength / (range.y - range.x) : segmentLength);
-        d.dpdv = cross(si.geometricNormal, si.tangent) * width;
+        const float segmentU = detail::curveSegmentU(curves, shape.primitive, si.uv.x);
+        const float speed = length(curve::bezierDerivative(curves.controlPoints(shape.primitive), segmentU));
+        const Vec3f tangent = curveTangent(scene, si);
+        d.dpdu = tangent * (range.y > range.x ? speed / (range.y - range.x) : speed);
+        d.dpdv = cross(si.geometricNormal, tangent) *
+                 (2.0f * curve::bezier(curves.controlRadii(shape.primitive), segmentU));
         return d;
     }
     if (shape.kind == ShapeKind::Mesh) {

@@ -35,9 +35,6 @@ struct SurfaceInteraction {
     // Frame::fromNormal(shadingNormal) computed beforehand (FaceFrames), when there is one: for a
     // still, non-degenerate triangle whose shading normal is its geometric normal. Null otherwise.
     const Frame* shadingFrame = nullptr;
-    // On a curve only: the unit tangent along it, the shading frame's first axis (a hair BSDF's
-    // fiber direction; geometry/curves.h).
-    Vec3f tangent;
 };
 
 namespace detail {
@@ -278,7 +275,6 @@ namespace detail {
     si.positionError = Vec3f{1.0f, 1.0f, 1.0f} * (2.0f * width) + abs(si.position) * gamma(4);
     si.geometricNormal = normal;
     si.shadingNormal = normal;
-    si.tangent = tangent;
     if (curves.type == CurveType::Cylinder) {
         // Across the curve, towards the side the ray passed on.
         Vec3f across = cross(tangent, normal);
@@ -291,6 +287,35 @@ namespace detail {
     si.material = curves.material;
     return si;
 }
+
+// The parameter along its segment of a curve hit whose uv.x is the curve's u.
+inline float curveSegmentU(const Curves& curves, uint32_t segment, float curveU) {
+    const Vec2f range = curves.uRanges[segment];
+    return range.y > range.x ? std::clamp((curveU - range.x) / (range.y - range.x), 0.0f, 1.0f) : 0.0f;
+}
+
+}  // namespace detail
+
+// The unit tangent of the curve at a curve's shading point (its fiber direction), perpendicular to
+// its shading normal. Recomputed from the segment when asked rather than kept in every
+// SurfaceInteraction: a field more there cost every other shape's hits 2.5% of the path loop's
+// instructions (bench/README.md, "Speed tricks").
+[[gnu::noinline]] inline Vec3f curveTangent(const SceneGeometry& scene, const SurfaceInteraction& si) {
+    const Curves& curves = scene.curves[si.shape.index];
+    const Vec3f* p = curves.controlPoints(si.shape.primitive);
+    Vec3f tangent = curve::bezierDerivative(p, detail::curveSegmentU(curves, si.shape.primitive, si.uv.x));
+    tangent = tangent - si.shadingNormal * dot(tangent, si.shadingNormal);
+    const float tangentLength = length(tangent);
+    return tangentLength > 0.0f && std::isfinite(tangentLength) ? tangent / tangentLength
+                                                                : Frame::fromNormal(si.shadingNormal).s;
+}
+
+// The shading frame at a curve's shading point: the fiber's tangent as its first axis.
+[[gnu::noinline]] inline Frame curveShadingFrame(const SceneGeometry& scene, const SurfaceInteraction& si) {
+    return Frame::fromXZ(curveTangent(scene, si), si.shadingNormal);
+}
+
+namespace detail {
 
 // makeSurfaceInteraction on `shape`, placed by `toWorld` (placementOf).
 inline SurfaceInteraction shapeInteraction(const SceneGeometry& scene, ShapeRef shape,

@@ -245,9 +245,9 @@ struct SurfaceVertex {
 
 // The vertex's shading frame and the offset of the rays that leave it.
 struct LocalFrame {
-    [[gnu::always_inline]] LocalFrame(const SurfaceInteraction& si, Vec3f wo)
+    [[gnu::always_inline]] LocalFrame(const SurfaceInteraction& si, Vec3f wo, const SceneGeometry& scene)
         : lanes(si.shadingFrame                      ? *si.shadingFrame
-                : si.shape.kind == ShapeKind::Curves ? Frame::fromXZ(si.tangent, si.shadingNormal)
+                : si.shape.kind == ShapeKind::Curves ? curveShadingFrame(scene, si)
                                                      : Frame::fromNormal(si.shadingNormal)),
           woLocal(lanes.toLocal(wo)),
           leaveDistance(offsetDistance(si.position, si.positionError, si.geometricNormal)) {}
@@ -445,7 +445,7 @@ Radiance estimateRadiance(const Accel& accel, const IntegratorContext& ctx, Ray 
         detail::addEmissionAtHit(ctx, lights, vertex, path);
         if (int(bounce) >= ctx.maxDepth) break;
 
-        const detail::LocalFrame local(si, wo);
+        const detail::LocalFrame local(si, wo, *ctx.scene);
         // The shadow ray is traced after the continuation's BSDF sample, not before: the two are
         // independent (bench/README.md, "Speed tricks").
         const detail::PendingShadowRay shadow =

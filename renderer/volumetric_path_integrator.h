@@ -530,7 +530,7 @@ Radiance estimateRadianceThroughMedia(const Accel& accel, const IntegratorContex
         if (path.depth >= ctx.maxDepth) break;
         const uint32_t vertexDepth = uint32_t(path.depth++);
 
-        const LocalFrame local(si, wo);
+        const LocalFrame local(si, wo, *ctx.scene);
         // Light sampling at the surface.
         if (!lights.empty() && !vertex.material.isPurelySpecular() && ctx.strategy != LightStrategy::Bsdf)
             if (const auto ls = sampleLightAt(ctx, sample, vertexDepth, si.position, si.geometricNormal)) {

@@ -863,7 +863,8 @@ void readCurves(const JsonValue& value, ShapeContext& context) {
             "curves take either \"width\" (all curves) or \"curve_widths\" (one [start, end] a curve)");
     auto readPair = [](const JsonValue& pair) -> std::pair<float, float> {
         if (!pair.json().is_array() || pair.arraySize() != 2) pair.failExpected("[start width, end width]");
-        return {pair.element(0).numberAtLeast(0.0f), pair.element(1).numberAtLeast(0.0f)};
+        return {pair.element(0).numberInRange(0.0f, limits::kMaxCoordinate),
+                pair.element(1).numberInRange(0.0f, limits::kMaxCoordinate)};
     };
     if (curveWidths) {
         for (const JsonValue& pair : curveWidths->elements()) widths.push_back(readPair(pair));
@@ -873,7 +874,7 @@ void readCurves(const JsonValue& value, ShapeContext& context) {
     } else if (widthValue->json().is_array()) {
         widths.assign(sizes.size(), readPair(*widthValue));
     } else {
-        const float width = widthValue->numberAbove(0.0f);
+        const float width = widthValue->numberInRange(0.0f, limits::kMaxCoordinate);
         widths.assign(sizes.size(), {width, width});
     }
     std::vector<Vec3f> normals;
@@ -882,7 +883,9 @@ void readCurves(const JsonValue& value, ShapeContext& context) {
             v->fail("\"normals\" orient ribbons: set \"curve_type\": \"ribbon\"");
         for (const JsonValue& n : v->elements()) {
             const Vec3f normal = n.vec3();
-            if (!(length(normal) > 0.0f)) n.fail("a ribbon's normal must not be zero");
+            const float normalLength = length(normal);
+            if (!(normalLength > 0.0f) || !std::isfinite(normalLength))
+                n.fail("a ribbon's normal must be non-zero, its length within a 32-bit float");
             normals.push_back(normalize(normal));
         }
     }
