@@ -238,8 +238,8 @@ namespace detail {
 
 // The shading point on segment `shape.primitive` of a curve set: the ray's point at the hit (t is
 // canonical, so both backends give the same bits), a geometric normal across the curve facing the
-// ray (a ribbon's own, turned to the ray), the tangent, and uv = (u along the curve, v across it in
-// [0, 1], as pbrt-v4's). A cylinder's shading normal turns from the geometric one towards the side
+// ray (a ribbon's own, turned to the ray), and uv = (u along the curve, v across it in [0, 1], as
+// pbrt-v4's). A cylinder's shading normal turns from the geometric one towards the side
 // of the hit by |v| times 90 degrees (pbrt-v4's). Its error bound is pbrt-v4's, twice the width:
 // the hit lies on an approximation of the surface within a fraction of its width.
 [[gnu::noinline]] inline SurfaceInteraction curveInteraction(const SceneGeometry& scene, ShapeRef shape,
@@ -298,8 +298,8 @@ inline float curveSegmentU(const Curves& curves, uint32_t segment, float curveU)
 
 // The unit tangent of the curve at a curve's shading point (its fiber direction), perpendicular to
 // its shading normal. Recomputed from the segment when asked rather than kept in every
-// SurfaceInteraction: a field more there cost every other shape's hits 2.5% of the path loop's
-// instructions (bench/README.md, "Speed tricks").
+// SurfaceInteraction: a field more there cost every other shape's hits 3.1% of the path loop's
+// instructions, recomputing it 0.7% (bench/README.md, "Speed tricks").
 [[gnu::noinline]] inline Vec3f curveTangent(const SceneGeometry& scene, const SurfaceInteraction& si) {
     const Curves& curves = scene.curves[si.shape.index];
     const Vec3f* p = curves.controlPoints(si.shape.primitive);
