@@ -889,17 +889,17 @@ void readCurves(const JsonValue& value, ShapeContext& context) {
             normals.push_back(normalize(normal));
         }
     }
-    const int splitDepth =
-        value.member("split_depth") ? int(value.requiredMember("split_depth").integer(0, 5)) : 0;
+    int splitDepth = 0;
+    if (auto v = value.member("split_depth")) splitDepth = int(v->integer(0, 5));
     std::optional<Transform> transform;
     if (auto v = value.member("transform")) {
         transform = readTransform(*v);
-        if (!similarityScale(*transform))
-            v->fail("curves take a similarity transform only (their widths would stretch unevenly)");
+        const std::optional<float> scale = similarityScale(*transform);
+        if (!scale) v->fail("curves take a similarity transform only (their widths would stretch unevenly)");
         for (Vec3f& p : points) p = transform->applyPoint(p);
         checkTransformedVertices(*v, points);
         for (Vec3f& n : normals) n = normalize(transform->applyNormal(n));
-        for (auto& [w0, w1] : widths) w0 *= *similarityScale(*transform), w1 *= *similarityScale(*transform);
+        for (auto& [w0, w1] : widths) w0 *= *scale, w1 *= *scale;
     }
     checkVerticesWithinLimit(value, points);
     size_t first = 0, firstNormal = 0;

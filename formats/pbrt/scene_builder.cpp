@@ -11,6 +11,7 @@
 #include "core/input_limits.h"
 #include "formats/pbrt/json_numbers.h"
 #include "formats/pbrt/media.h"
+#include "geometry/curves.h"
 #include "textures/image_file.h"
 
 namespace penumbra::pbrt {
@@ -1088,7 +1089,7 @@ void SceneBuilder::addCurve(const ShapeRecord& record, const std::array<Matrix4d
     const bool bezier = basis == "bezier";
     const size_t n = points.size();
     const size_t segments =
-        degree == 3 ? (bezier ? ((n - 1) % 3 == 0 && n >= 4 ? (n - 1) / 3 : 0) : (n >= 4 ? n - 3 : 0))
+        degree == 3 ? curveSegmentCount(n, bezier ? CurveBasis::Bezier : CurveBasis::BSpline)
                     : (bezier ? ((n - 1) % 2 == 0 && n >= 3 ? (n - 1) / 2 : 0) : (n >= 3 ? n - 2 : 0));
     if (segments == 0)
         failAt(where,
@@ -1132,18 +1133,12 @@ void SceneBuilder::addCurve(const ShapeRecord& record, const std::array<Matrix4d
     Json newPoints = Json::array();
     for (const Vec3d& q : points) newPoints.push_back(vec3Json(world.applyPoint(q)));
     Json newNormals = Json::array();
-    for (const Vec3d& nrm : normals) {
-        // The inverse transpose of the upper 3x3 is its cofactor matrix over the determinant (the
-        // scale does not matter).
-        const auto& m = world.m;
-        const Vec3d c0{m[1][1] * m[2][2] - m[1][2] * m[2][1], m[1][2] * m[2][0] - m[1][0] * m[2][2],
-                       m[1][0] * m[2][1] - m[1][1] * m[2][0]};
-        const Vec3d c1{m[0][2] * m[2][1] - m[0][1] * m[2][2], m[0][0] * m[2][2] - m[0][2] * m[2][0],
-                       m[0][1] * m[2][0] - m[0][0] * m[2][1]};
-        const Vec3d c2{m[0][1] * m[1][2] - m[0][2] * m[1][1], m[0][2] * m[1][0] - m[0][0] * m[1][2],
-                       m[0][0] * m[1][1] - m[0][1] * m[1][0]};
-        const auto dot = [&](const Vec3d& a) { return a.x * nrm.x + a.y * nrm.y + a.z * nrm.z; };
-        newNormals.push_back(Json::array({dot(c0), dot(c1), dot(c2)}));
+    if (!normals.empty()) {
+        // Normals by the inverse transpose.
+        const std::optional<Matrix4d> inverse = world.inverse();
+        if (!inverse) failAt(where, "curve: a ribbon's transform is singular: its normals have no direction");
+        const Matrix4d normalMatrix = inverse->transposed();
+        for (const Vec3d& normal : normals) newNormals.push_back(vec3Json(normalMatrix.applyVector(normal)));
     }
     const Json widthPair = Json::array({width0 * scale, width1 * scale});
     if (record.state.areaLight && !record.state.areaLight->radiance.isBlack())

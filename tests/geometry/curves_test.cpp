@@ -327,7 +327,6 @@ TEST(CurvesTest, TheCrosscheckExplainsEveryDisagreementOnAGroom) {
 }
 
 TEST(CurvesTest, TheClassifierLeavesAHitInACurvesMiddleUnexplained) {
-    SceneGeometry geometry;
     Scene scene;
     scene.curves.push_back(straightCurve());
     const MismatchClassifier classifier(scene);
@@ -351,6 +350,12 @@ TEST(CurvesTest, TheClassifierLeavesAHitInACurvesMiddleUnexplained) {
 TEST(CurvesTest, BothBackendsRenderAGroomAlike) {
     Scene scene = groomScene(CurveType::Cylinder);
     scene.film.samplesPerPixel = 4;
+    // Hair fibers (the fiber frame and offset of both backends' hits) under a uniform sky.
+    HairBsdf fur;
+    fur.sigmaA = HairBsdf::sigmaAFromConcentration(0.3f, 0.5f);
+    scene.materials.push_back(Material(fur));
+    scene.curves[0].material = uint32_t(scene.materials.size() - 1);
+    scene.environment = EnvironmentLight::constant(Rgb(1.0f));
     const Film a = testing::renderScene(scene, 2, AcceleratorKind::Embree);
     const Film b = testing::renderScene(scene, 2, AcceleratorKind::Bvh);
     int differing = 0;
@@ -362,8 +367,10 @@ TEST(CurvesTest, BothBackendsRenderAGroomAlike) {
             sumA += pa.luminance();
             sumB += pb.luminance();
         }
+    EXPECT_GT(sumA, 0.0);
     // A pixel differs when one of its rays met a curve approximation disagreement (about 0.2% of
-    // rays in `penumbra crosscheck`); most pixels are bit for bit the same.
+    // rays in `penumbra crosscheck`); most pixels are bit for bit the same (measured: 21 of 3,072
+    // differ, the sums 1959.894 and 1959.868).
     EXPECT_LT(differing, scene.film.width * scene.film.height / 10);
     EXPECT_NEAR(sumA, sumB, 0.01 * sumA);
 }
