@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cassert>
 #include <cmath>
 #include <iterator>
@@ -461,6 +462,31 @@ void BvhAccelerator::addSpecialPrimitives(const SceneGeometry& scene, const BvhB
             }
         }
     }
+    // Each bilinear patch is one, boxed by its corners (a bilinear patch lies in their hull).
+    patches_ = scene.patches;
+    for (size_t b = 0; b < patches_.size(); ++b) {
+        const BilinearPatches& patches = patches_[b];
+        for (size_t j = 0; j < patches.patchCount(); ++j) {
+            Bounds3f box;
+            bool ok = true;
+            for (int k = 0; k < 4; ++k) {
+                const uint32_t vertex = patches.indices[4 * j + k];
+                ok = ok && vertex < patches.positions.size() && isFinite(patches.positions[vertex]);
+                if (ok) box.extend(patches.positions[vertex]);
+            }
+            if (!ok) {
+                ++skippedCount_;
+                continue;
+            }
+            Special special{};
+            special.geomId = scene.patchesGeomId(b);
+            special.primId = uint32_t(j);
+            special.source = uint32_t(b);
+            special.cutOut = kNoHit;
+            special.kind = SpecialKind::BilinearPatch;
+            addSpecial(special, padded(box, 0.0f));
+        }
+    }
 }
 
 bool BvhAccelerator::keepsHit(const Special& special, const CutOutRay& cutOutRay, float b1, float b2) const {
@@ -486,6 +512,16 @@ bool BvhAccelerator::intersectSpecial(const Ray& ray, const WatertightRay& trian
         t = curveHit.t;
         b1 = curveHit.u;
         b2 = curveHit.v;
+        return true;
+    }
+    if (special.kind == SpecialKind::BilinearPatch) {
+        const std::array<Vec3f, 4> corners = patches_[special.source].cornerPositions(special.primId);
+        BilinearPatchHit patchHit;
+        if (!intersectBilinearPatch(corners.data(), ray.origin, ray.direction, ray.tnear, tFar, patchHit))
+            return false;
+        t = patchHit.t;
+        b1 = patchHit.u;
+        b2 = patchHit.v;
         return true;
     }
     if (special.kind != SpecialKind::Instance) {
@@ -805,6 +841,10 @@ void BvhAccelerator::fillHit(const Ray& ray, uint32_t primitive, float t, float 
             // As Embree reports flat curves' hits: the curve's tangent.
             hit.geometricNormal =
                 curve::bezierDerivative(curves_[special.source].controlPoints(special.primId), b1);
+        } else if (special.kind == SpecialKind::BilinearPatch) {
+            // As our Embree user geometry reports it: cross(dp/du, dp/dv).
+            const std::array<Vec3f, 4> p = patches_[special.source].cornerPositions(special.primId);
+            hit.geometricNormal = cross(bilinear::dpdu(p.data(), b2), bilinear::dpdv(p.data(), b1));
         } else if (special.kind == SpecialKind::StillTriangle) {
             const Vec3f p0(p.data[0], p.data[1], p.data[2]), p1(p.data[3], p.data[4], p.data[5]),
                 p2(p.data[6], p.data[7], p.data[8]);

@@ -29,6 +29,9 @@
 // up to eight (its dyadic pieces, CurvePiece), boxed by their control points widened by their
 // largest radius and tested by intersectCurveSegment, which finds the whole segment's hits.
 //
+// Bilinear patches (geometry/bilinear_patches.h): each patch is one special primitive, boxed by its
+// corners and tested by intersectBilinearPatch, the test Embree's user geometry calls too.
+//
 // Instancing (SceneGeometry::instances) is the same two-level structure: each prototype mesh gets
 // one bottom-level tree, built once, and every instance is a special primitive of the top level,
 // boxed by its placement (over the shutter when it moves), that takes the ray into the
@@ -117,13 +120,19 @@ private:
     void fillHit(const Ray& ray, uint32_t primitive, float t, float b1, float b2, const Hit& specialHit,
                  Hit& hit) const;
 
-    // Deforming triangles, the triangles of still meshes with a cut-out, instances and curve
-    // segments, referenced by globalIndex - specialBase_. A still triangle's vertices are its
-    // Primitive's data.
-    enum class SpecialKind : uint8_t { DeformingTriangle, StillTriangle, Instance, CurveSegment };
+    // Deforming triangles, the triangles of still meshes with a cut-out, instances, curve
+    // segments and bilinear patches, referenced by globalIndex - specialBase_. A still triangle's vertices
+    // are its Primitive's data.
+    enum class SpecialKind : uint8_t {
+        DeformingTriangle,
+        StillTriangle,
+        Instance,
+        CurveSegment,
+        BilinearPatch
+    };
     struct Special {
         uint32_t geomId, primId;  // as reported (accel/traversal.h)
-        uint32_t source;          // index into deformingMeshes_, instances_ or curves_
+        uint32_t source;          // index into deformingMeshes_, instances_, curves_ or patches_
         uint32_t vertex[3];       // a triangle's vertex indices; a curve piece's level and index
         uint32_t cutOut;          // a triangle's index into cutOuts_, or kNoHit: opaque
         SpecialKind kind;
@@ -166,6 +175,7 @@ private:
     std::vector<std::vector<std::vector<Vec3f>>> deformingMeshes_;  // position keys
     std::vector<CutOut> cutOuts_;
     std::vector<Curves> curves_;
+    std::vector<BilinearPatches> patches_;
     bool hasCutOuts_ = false;  // in this tree or any tree it places
     std::vector<Instance> instances_;
     // The trees instances place: one per moving shape and one per prototype, shared by all its

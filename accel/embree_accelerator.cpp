@@ -1,8 +1,10 @@
 #include "accel/embree_accelerator.h"
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -230,7 +232,20 @@ EmbreeAccelerator::EmbreeAccelerator(const SceneGeometry& scene, EmbreeOptions o
         attach(scene_, newCurveGeometry(device_, curves, ribbon ? filterRibbon : nullptr, ribbon),
                scene.curvesGeomId(c));
     }
-    movingSphereBase_ = scene.curvesGeomId(scene.curves.size());
+    for (size_t b = 0; b < scene.patches.size(); ++b) {
+        if (scene.patches[b].patchCount() == 0) continue;
+        patches_.push_back(std::make_unique<BilinearPatches>(scene.patches[b]));
+        RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);
+        rtcSetGeometryUserPrimitiveCount(geometry, unsigned(scene.patches[b].patchCount()));
+        rtcSetGeometryUserData(geometry, patches_.back().get());
+        rtcSetGeometryBoundsFunction(geometry, boundPatch, nullptr);
+        rtcSetGeometryIntersectFunction(geometry, intersectPatch);
+        rtcSetGeometryOccludedFunction(geometry, occludedPatch);
+        rtcSetGeometryBuildQuality(geometry, RTC_BUILD_QUALITY_HIGH);
+        rtcCommitGeometry(geometry);
+        attach(scene_, geometry, scene.patchesGeomId(b));
+    }
+    movingSphereBase_ = scene.patchesGeomId(scene.patches.size());
     std::vector<const Sphere*> staticSpheres;
     for (const Sphere& sphere : scene.spheres)
         if (!sphere.motion.moves()) staticSpheres.push_back(&sphere);
@@ -299,6 +314,72 @@ void EmbreeAccelerator::filterRibbon(const RTCFilterFunctionNArguments* args) {
         const Vec3f normal =
             curve::ribbonNormal(ribbon.normals[2 * segment], ribbon.normals[2 * segment + 1], u);
         if (!(std::abs(v) <= std::abs(dot(normal, normalize(direction))))) args->valid[i] = 0;
+    }
+}
+
+// The box of a patch's corners (which hold the patch), padded by a few ulps of its largest
+// coordinate for the rounding of the test's points. A patch with a corner that is not finite gets an
+// empty box and is never tested (as our BVH leaves it out).
+void EmbreeAccelerator::boundPatch(const RTCBoundsFunctionArguments* args) {
+    const auto& patches = *static_cast<const BilinearPatches*>(args->geometryUserPtr);
+    const std::array<Vec3f, 4> p = patches.cornerPositions(args->primID);
+    Vec3f lower = p[0], upper = p[0];
+    bool finite = true;
+    for (const Vec3f& corner : p) {
+        finite = finite && isFinite(corner);
+        lower = min(lower, corner);
+        upper = max(upper, corner);
+    }
+    const float pad = std::max(maxComponent(abs(lower)), maxComponent(abs(upper))) * 4e-7f;
+    RTCBounds& box = *args->bounds_o;
+    if (!finite) {
+        box = {1.0f, 1.0f, 1.0f, 0.0f, -1.0f, -1.0f, -1.0f, 0.0f};
+        return;
+    }
+    box = {lower.x - pad, lower.y - pad, lower.z - pad, 0.0f,
+           upper.x + pad, upper.y + pad, upper.z + pad, 0.0f};
+}
+
+namespace {
+
+// Ray i of Embree's packet of n, and whether intersectBilinearPatch meets patch `p` on it.
+bool hitsPatch(const std::array<Vec3f, 4>& p, RTCRayN* rays, unsigned n, unsigned i, BilinearPatchHit& hit) {
+    const Vec3f origin{RTCRayN_org_x(rays, n, i), RTCRayN_org_y(rays, n, i), RTCRayN_org_z(rays, n, i)};
+    const Vec3f direction{RTCRayN_dir_x(rays, n, i), RTCRayN_dir_y(rays, n, i), RTCRayN_dir_z(rays, n, i)};
+    return intersectBilinearPatch(p.data(), origin, direction, RTCRayN_tnear(rays, n, i),
+                                  RTCRayN_tfar(rays, n, i), hit);
+}
+
+}  // namespace
+
+void EmbreeAccelerator::intersectPatch(const RTCIntersectFunctionNArguments* args) {
+    const auto& patches = *static_cast<const BilinearPatches*>(args->geometryUserPtr);
+    const std::array<Vec3f, 4> p = patches.cornerPositions(args->primID);
+    RTCRayN* rays = RTCRayHitN_RayN(args->rayhit, args->N);
+    RTCHitN* hits = RTCRayHitN_HitN(args->rayhit, args->N);
+    for (unsigned i = 0; i < args->N; ++i) {
+        BilinearPatchHit hit;
+        if (args->valid[i] == 0 || !hitsPatch(p, rays, args->N, i, hit)) continue;
+        const Vec3f normal = cross(bilinear::dpdu(p.data(), hit.v), bilinear::dpdv(p.data(), hit.u));
+        RTCRayN_tfar(rays, args->N, i) = hit.t;
+        RTCHitN_u(hits, args->N, i) = hit.u;
+        RTCHitN_v(hits, args->N, i) = hit.v;
+        RTCHitN_Ng_x(hits, args->N, i) = normal.x;
+        RTCHitN_Ng_y(hits, args->N, i) = normal.y;
+        RTCHitN_Ng_z(hits, args->N, i) = normal.z;
+        RTCHitN_primID(hits, args->N, i) = args->primID;
+        RTCHitN_geomID(hits, args->N, i) = args->geomID;
+        RTCHitN_instID(hits, args->N, i, 0) = args->context->instID[0];
+    }
+}
+
+void EmbreeAccelerator::occludedPatch(const RTCOccludedFunctionNArguments* args) {
+    const auto& patches = *static_cast<const BilinearPatches*>(args->geometryUserPtr);
+    const std::array<Vec3f, 4> p = patches.cornerPositions(args->primID);
+    for (unsigned i = 0; i < args->N; ++i) {
+        BilinearPatchHit hit;
+        if (args->valid[i] == 0 || !hitsPatch(p, args->ray, args->N, i, hit)) continue;
+        RTCRayN_tfar(args->ray, args->N, i) = -std::numeric_limits<float>::infinity();
     }
 }
 

@@ -67,6 +67,14 @@ private:
         std::vector<Vec3f> normals;  // two per segment
     };
     static void filterRibbon(const RTCFilterFunctionNArguments* args);
+    // Bilinear patches (geometry/bilinear_patches.h) as a user geometry whose primitives are the
+    // patches of one set (its user data, a copy kept for the backend's life), intersected by
+    // intersectBilinearPatch, the test our BVH uses, so both find the same hits bit for bit. No
+    // filter is called: the only one a patch could meet is skipTriangleLeft, which never names a
+    // patch.
+    static void boundPatch(const RTCBoundsFunctionArguments* args);
+    static void intersectPatch(const RTCIntersectFunctionNArguments* args);
+    static void occludedPatch(const RTCOccludedFunctionNArguments* args);
 
     // The intersection context of a traced ray: Embree's, then the triangle it leaves, for
     // skipTriangleLeft, and the rays as the integrator gave them (indexed by Embree's ray id), for
@@ -94,7 +102,7 @@ private:
     // `ray` in Embree's layout; false (and `out` unset) when Embree must not trace it.
     static bool toTraceableEmbreeRay(const Ray& ray, RTCRay& out);
     // Scene ids from Embree's (geometry/scene_geometry.h): Embree's ids are the scene's but for
-    // the moving spheres, numbered after the instances and the curves.
+    // the moving spheres, numbered after the instances, the curves and the bilinear patches.
     void setIds(unsigned geomId, unsigned primId, Hit& hit) const {
         if (geomId >= movingSphereBase_) [[unlikely]] {
             hit.geomId = sphereGeomId_;
@@ -111,10 +119,11 @@ private:
     // backend.
     std::vector<RTCScene> instancedScenes_;
     uint32_t sphereGeomId_ = 0;      // == meshes.size(): all static spheres
-    uint32_t movingSphereBase_ = 0;  // Embree's geomId of the first moving sphere, after the curves
+    uint32_t movingSphereBase_ = 0;  // Embree's geomId of the first moving sphere, after the patches
     std::vector<uint32_t> movingSphereOfGeomId_;    // geomId - movingSphereBase_ -> sphere index
     std::vector<std::unique_ptr<CutOut>> cutOuts_;  // the filters' user data
     std::vector<std::unique_ptr<RibbonNormals>> ribbons_;
+    std::vector<std::unique_ptr<BilinearPatches>> patches_;
 };
 
 inline bool EmbreeAccelerator::traceableRows(const Ray& ray, __m128& orgTnear, __m128& dirTime) {

@@ -1,14 +1,15 @@
 // The shapes of a scene, and the one rule that names them in a backend's hit: mesh i has geomId i
 // (primId = its triangle), all spheres share geomId meshes.size() (primId = the sphere), and
 // instance k has geomId meshes.size() + 1 + k (primId = the triangle of its prototype, which the
-// instance names), and curve set c has geomId meshes.size() + 1 + instances.size() + c (primId = its
-// segment). Backends, shading, lights and tools ask shapeOf() or the geomId functions
-// below; nothing else spells the rule out.
+// instance names), curve set c has geomId meshes.size() + 1 + instances.size() + c (primId = its
+// segment), and bilinear patch set b the ids after the curves' (primId = its patch). Backends, shading,
+// lights and tools ask shapeOf() or the geomId functions below; nothing else spells the rule out.
 #pragma once
 
 #include <cstdint>
 #include <vector>
 
+#include "geometry/bilinear_patches.h"
 #include "geometry/curves.h"
 #include "geometry/hit.h"
 #include "geometry/mesh_instance.h"
@@ -17,17 +18,17 @@
 
 namespace penumbra {
 
-enum class ShapeKind : uint8_t { Mesh, Sphere, Instance, Curves };
+enum class ShapeKind : uint8_t { Mesh, Sphere, Instance, Curves, BilinearPatches };
 
 // Which shape a hit is on: meshes[index] (triangle `primitive`), spheres[index] (primitive 0) or
 // instances[index] (triangle `primitive` of prototypes[instances[index].prototype]) or
-// curves[index] (segment `primitive`).
+// curves[index] (segment `primitive`) or patches[index] (patch `primitive`).
 struct ShapeRef {
     ShapeKind kind = ShapeKind::Mesh;
     uint32_t index = 0;
     uint32_t primitive = 0;
     // Whether the primitive is a flat triangle, which a ray leaving it cannot meet again
-    // (TriangleLeft); a sphere or a curve can be met again.
+    // (TriangleLeft); a sphere, a curve or a bilinear patch can be met again.
     bool isTriangle() const { return kind == ShapeKind::Mesh || kind == ShapeKind::Instance; }
 };
 
@@ -40,19 +41,26 @@ struct SceneGeometry {
     std::vector<MeshInstance> instances;
     // Never moving; neither emitting nor cut out (the scene loader refuses both).
     std::vector<Curves> curves;
+    // Never moving; neither emitting nor cut out (the scene loader refuses both).
+    std::vector<BilinearPatches> patches;
 
     uint32_t meshGeomId(size_t mesh) const { return uint32_t(mesh); }
     uint32_t sphereGeomId() const { return uint32_t(meshes.size()); }
     uint32_t instanceGeomId(size_t instance) const { return uint32_t(meshes.size() + 1 + instance); }
     uint32_t curvesGeomId(size_t curveSet) const { return instanceGeomId(instances.size() + curveSet); }
+    uint32_t patchesGeomId(size_t patchSet) const { return curvesGeomId(curves.size() + patchSet); }
     bool isMeshHit(const Hit& hit) const { return hit.geomId < meshes.size(); }
 
     ShapeRef shapeOf(const Hit& hit) const {
         if (isMeshHit(hit)) return {ShapeKind::Mesh, hit.geomId, hit.primId};
         if (hit.geomId == sphereGeomId()) return {ShapeKind::Sphere, hit.primId, 0};
         const uint32_t firstCurves = curvesGeomId(0);
-        if (hit.geomId >= firstCurves) [[unlikely]]
+        if (hit.geomId >= firstCurves) [[unlikely]] {
+            const uint32_t firstPatches = patchesGeomId(0);
+            if (hit.geomId >= firstPatches)
+                return {ShapeKind::BilinearPatches, hit.geomId - firstPatches, hit.primId};
             return {ShapeKind::Curves, hit.geomId - firstCurves, hit.primId};
+        }
         return {ShapeKind::Instance, hit.geomId - sphereGeomId() - 1, hit.primId};
     }
     // The hit ids of a shape's primitive (the inverse of shapeOf).
@@ -71,6 +79,9 @@ struct SceneGeometry {
             case ShapeKind::Curves:
                 hit.geomId = curvesGeomId(shape.index), hit.primId = shape.primitive;
                 break;
+            case ShapeKind::BilinearPatches:
+                hit.geomId = patchesGeomId(shape.index), hit.primId = shape.primitive;
+                break;
         }
         return hit;
     }
@@ -80,7 +91,7 @@ struct SceneGeometry {
                                                  : meshes[shape.index];
     }
     // Object to world at `time` of a moving mesh or sphere or of any instance (identity otherwise:
-    // still meshes, spheres and curves are in world space).
+    // still meshes, spheres, curves and bilinear patches are in world space).
     Transform toWorldOf(ShapeRef shape, float time) const {
         switch (shape.kind) {
             case ShapeKind::Mesh:
@@ -90,6 +101,7 @@ struct SceneGeometry {
             case ShapeKind::Instance:
                 return instances[shape.index].toWorld(time);
             case ShapeKind::Curves:
+            case ShapeKind::BilinearPatches:
                 break;
         }
         return {};
@@ -103,6 +115,8 @@ struct SceneGeometry {
                 return spheres[shape.index].media;
             case ShapeKind::Curves:
                 return curves[shape.index].media;
+            case ShapeKind::BilinearPatches:
+                return patches[shape.index].media;
             case ShapeKind::Instance:
                 break;
         }
@@ -118,6 +132,7 @@ struct SceneGeometry {
             case ShapeKind::Instance:
                 return true;
             case ShapeKind::Curves:
+            case ShapeKind::BilinearPatches:
                 return false;
         }
         return false;

@@ -2,6 +2,7 @@
 // texture lookup (textures/texture_footprint.h). Computed only where a texture needs them.
 #pragma once
 
+#include <array>
 #include <cmath>
 
 #include "core/frame.h"
@@ -36,6 +37,31 @@ inline SurfaceDerivatives surfaceDerivatives(const SceneGeometry& scene, const S
         d.dpdu = tangent * (range.y > range.x ? speed / (range.y - range.x) : speed);
         d.dpdv = cross(si.geometricNormal, tangent) *
                  (2.0f * curve::bezier(curves.controlRadii(shape.primitive), segmentU));
+        return d;
+    }
+    if (shape.kind == ShapeKind::BilinearPatches) {
+        // The patch's own derivatives at its (u, v), taken to the texture's uv by the inverse of the
+        // uvs' Jacobian when the patch has uvs (pbrt-v4's).
+        const BilinearPatches& patches = scene.patches[shape.index];
+        const std::array<Vec3f, 4> p = patches.cornerPositions(shape.primitive);
+        Vec2f uv = si.uv;
+        Vec2f q[4];
+        if (!patches.uvs.empty()) {
+            for (int k = 0; k < 4; ++k) q[k] = patches.uvs[patches.indices[4 * size_t(shape.primitive) + k]];
+            uv = bilinear::inverse(q, si.uv);
+        }
+        d.dpdu = bilinear::dpdu(p.data(), uv.y);
+        d.dpdv = bilinear::dpdv(p.data(), uv.x);
+        if (!patches.uvs.empty()) {
+            const Vec2f dqdu = bilinear::lerp(uv.y, q[1] - q[0], q[3] - q[2]),
+                        dqdv = bilinear::lerp(uv.x, q[2] - q[0], q[3] - q[1]);
+            const float determinant = dqdu.x * dqdv.y - dqdu.y * dqdv.x;
+            if (!(std::abs(determinant) > 1e-12f)) return d;
+            // [dp/ds dp/dt] = [dp/du dp/dv] J^-1, J = [dq/du dq/dv].
+            const Vec3f dpdu = d.dpdu, dpdv = d.dpdv;
+            d.dpdu = (dpdu * dqdv.y - dpdv * dqdu.y) / determinant;
+            d.dpdv = (dpdv * dqdu.x - dpdu * dqdv.x) / determinant;
+        }
         return d;
     }
     if (shape.kind == ShapeKind::Mesh) {

@@ -6,6 +6,7 @@
 #include <xmmintrin.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <optional>
 
@@ -183,6 +184,9 @@ inline void canonicalizeShapeHit(const SceneGeometry& scene, ShapeRef shape,
             hit.u = curveHit.u;
             hit.v = curveHit.v;
         }
+    } else if (shape.kind == ShapeKind::BilinearPatches) {
+        // Both backends' hits come from intersectBilinearPatch on the same ray (Embree's from our
+        // user geometry): they are canonical already.
     } else if (shape.kind != ShapeKind::Sphere) {
         const TriangleMesh& mesh = scene.triangleMeshOf(shape);
         const uint32_t* index = &mesh.indices[3 * size_t(shape.primitive)];
@@ -288,6 +292,48 @@ namespace detail {
     return si;
 }
 
+// The shading point on patch `shape.primitive` of a bilinear patch set: the patch's own point at
+// the hit's (u, v) (not the ray's, so the error bound is the interpolation's), the geometric normal
+// cross(dp/du, dp/dv) turned to the front (geometry/bilinear_patches.h), the vertex normals and uvs
+// interpolated bilinearly (pbrt-v4's BilinearPatch::InteractionFromIntersection).
+[[gnu::noinline]] inline SurfaceInteraction patchInteraction(const SceneGeometry& scene, ShapeRef shape,
+                                                             const Ray& ray, const Hit& hit) {
+    const BilinearPatches& patches = scene.patches[shape.index];
+    const std::array<Vec3f, 4> p = patches.cornerPositions(shape.primitive);
+    const float u = std::clamp(hit.u, 0.0f, 1.0f), v = std::clamp(hit.v, 0.0f, 1.0f);
+    SurfaceInteraction si;
+    si.shape = shape;
+    si.position = bilinear::point(p.data(), u, v);
+    si.positionError = bilinear::pointError(p.data());
+    Vec3f normal = cross(bilinear::dpdu(p.data(), v), bilinear::dpdv(p.data(), u));
+    const float normalLength = length(normal);
+    const bool hasNormal = normalLength > 0.0f && std::isfinite(normalLength);
+    normal = hasNormal ? normal / normalLength : normalize(-ray.direction);
+    const uint32_t* corner = &patches.indices[4 * size_t(shape.primitive)];
+    Vec3f shading = normal;
+    if (!patches.normals.empty()) {
+        const auto at = [&](int k) { return patches.normals[corner[k]]; };
+        const Vec3f ns = bilinear::lerp(v, bilinear::lerp(u, at(0), at(1)), bilinear::lerp(u, at(2), at(3)));
+        const float nsLength = length(ns);
+        if (nsLength > 0.0f && std::isfinite(nsLength)) {
+            shading = ns / nsLength;
+            normal = faceForward(normal, shading);
+        }
+    } else if (patches.reversed && hasNormal) {
+        normal = -normal;
+    }
+    si.geometricNormal = normal;
+    si.shadingNormal = faceForward(shading, normal);
+    if (!patches.uvs.empty()) {
+        const auto at = [&](int k) { return patches.uvs[corner[k]]; };
+        si.uv = bilinear::lerp(v, bilinear::lerp(u, at(0), at(1)), bilinear::lerp(u, at(2), at(3)));
+    } else {
+        si.uv = {u, v};
+    }
+    si.material = patches.material;
+    return si;
+}
+
 // The parameter along its segment of a curve hit whose uv.x is the curve's u.
 inline float curveSegmentU(const Curves& curves, uint32_t segment, float curveU) {
     const Vec2f range = curves.uRanges[segment];
@@ -326,6 +372,7 @@ inline SurfaceInteraction shapeInteraction(const SceneGeometry& scene, ShapeRef 
     if (shape.kind == ShapeKind::Instance)
         return instanceInteraction(scene, shape, *toWorld, ray, hit, faceFrames);
     if (shape.kind == ShapeKind::Curves) return curveInteraction(scene, shape, ray, hit);
+    if (shape.kind == ShapeKind::BilinearPatches) return patchInteraction(scene, shape, ray, hit);
     if (shape.kind == ShapeKind::Mesh) {
         const TriangleMesh& mesh = scene.meshes[shape.index];
         const uint32_t* index = &mesh.indices[3 * size_t(shape.primitive)];

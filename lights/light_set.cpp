@@ -258,7 +258,8 @@ int32_t LightSet::lightIndexOf(ShapeRef shape) const {
             return sphereLight_[shape.index];
         case ShapeKind::Instance:
         case ShapeKind::Curves:
-            return -1;  // instances and curves never emit (the scene loader refuses it)
+        case ShapeKind::BilinearPatches:
+            return -1;  // instances, curves and bilinear patches never emit (the scene loader refuses it)
     }
     return -1;
 }

@@ -301,27 +301,31 @@ PolygonMesh readInlinePolygons(const JsonValue& value) {
     return mesh;
 }
 
+// "normals": one non-zero normal per vertex of `count`, normalized.
+std::vector<Vec3f> readVertexNormals(const JsonValue& normals, size_t count) {
+    if (normals.arraySize() != count)
+        normals.failExpected(fmt::format("an array of {} normals, one per position", count));
+    std::vector<Vec3f> result;
+    const bool direct = readVec3sDirectly(normals.json(), result) &&
+                        std::all_of(result.begin(), result.end(), [](Vec3f n) { return length(n) > 0.0f; });
+    if (direct) {
+        for (Vec3f& n : result) n = normalize(n);
+        return result;
+    }
+    result.clear();
+    for (const JsonValue& n : normals.elements()) {
+        const Vec3f normal = n.vec3();
+        if (!(length(normal) > 0.0f)) n.failExpected("a non-zero normal");
+        result.push_back(normalize(normal));
+    }
+    return result;
+}
+
 // An inline mesh as triangles (polygons as fans), with its normals.
 TriangleMesh readInlineMesh(const JsonValue& value) {
     TriangleMesh mesh = fanTriangulate(readInlinePolygons(value));
     const size_t count = mesh.positions.size();
-    if (auto normals = value.member("normals")) {
-        if (normals->arraySize() != count)
-            normals->failExpected(fmt::format("an array of {} normals, one per position", count));
-        const bool direct =
-            readVec3sDirectly(normals->json(), mesh.normals) &&
-            std::all_of(mesh.normals.begin(), mesh.normals.end(), [](Vec3f n) { return length(n) > 0.0f; });
-        if (direct) {
-            for (Vec3f& n : mesh.normals) n = normalize(n);
-        } else {
-            mesh.normals.clear();
-            for (const JsonValue& n : normals->elements()) {
-                const Vec3f normal = n.vec3();
-                if (!(length(normal) > 0.0f)) n.failExpected("a non-zero normal");
-                mesh.normals.push_back(normalize(normal));
-            }
-        }
-    }
+    if (auto normals = value.member("normals")) mesh.normals = readVertexNormals(*normals, count);
     return mesh;
 }
 
@@ -932,9 +936,53 @@ void readCurves(const JsonValue& value, ShapeContext& context) {
     scene.curves.push_back(std::move(curves));
 }
 
+// {"type": "bilinear_mesh", "positions": [[x, y, z], ...], "indices": [p00, p10, p01, p11, ...]
+// (four a patch), "normals", "uvs" (one a position), "reverse_orientation", "material",
+// "transform" (any affine map: it maps a bilinear patch to a bilinear patch), "inside"/"outside"}:
+// geometry/bilinear_patches.h.
+void readBilinearMesh(const JsonValue& value, ShapeContext& context) {
+    Scene& scene = context.scene;
+    BilinearPatches patches;
+    patches.name = value.pointer();
+    const JsonValue positions = value.requiredMember("positions");
+    if (!readVec3sDirectly(positions.json(), patches.positions)) {
+        patches.positions.clear();
+        for (const JsonValue& p : positions.elements()) patches.positions.push_back(p.vec3());
+    }
+    if (patches.positions.empty()) positions.failExpected("a non-empty array of [x, y, z] positions");
+    const size_t count = patches.positions.size();
+    const JsonValue indices = value.requiredMember("indices");
+    if (indices.arraySize() == 0 || indices.arraySize() % 4 != 0)
+        indices.failExpected("a non-empty array of vertex indices, 4 per patch (p00, p10, p01, p11)");
+    if (!readIndicesDirectly(indices.json(), count, patches.indices)) {
+        patches.indices.clear();
+        for (const JsonValue& i : indices.elements())
+            patches.indices.push_back(uint32_t(i.integer(0, int64_t(count) - 1)));
+    }
+    if (auto v = value.member("normals")) patches.normals = readVertexNormals(*v, count);
+    if (auto uvs = value.member("uvs")) {
+        if (uvs->arraySize() != count)
+            uvs->failExpected(fmt::format("an array of {} uvs, one per position", count));
+        for (const JsonValue& uv : uvs->elements()) patches.uvs.push_back(uv.vec2());
+    }
+    if (auto v = value.member("reverse_orientation")) patches.reversed = v->boolean();
+    if (auto v = value.member("transform")) {
+        const Transform transform = readTransform(*v);
+        for (Vec3f& p : patches.positions) p = transform.applyPoint(p);
+        checkTransformedVertices(*v, patches.positions);
+        for (Vec3f& n : patches.normals) n = normalize(transform.applyNormal(n));
+        // A mirroring transform turns cross(dp/du, dp/dv) over: the front stays where it was.
+        if (transform.swapsHandedness()) patches.reversed = !patches.reversed;
+    }
+    checkVerticesWithinLimit(value, patches.positions);
+    patches.material = readMaterialReference(value.requiredMember("material"), scene.materialNames);
+    patches.media = readMediumInterface(value, scene.mediumNames);
+    scene.patches.push_back(std::move(patches));
+}
+
 using ShapeReader = void (*)(const JsonValue&, ShapeContext&);
 
-const std::array<TypeRow<ShapeReader>, 8> kShapeTypes{{
+const std::array<TypeRow<ShapeReader>, 9> kShapeTypes{{
     {"triangle_mesh",
      {"type", "positions", "indices", "face_sizes", "normals", "uvs", "subdivision", "material", "alpha",
       "emission", "transform", "motion", "inside", "outside"},
@@ -966,6 +1014,10 @@ const std::array<TypeRow<ShapeReader>, 8> kShapeTypes{{
      {"type", "points", "curve_sizes", "basis", "curve_type", "width", "curve_widths", "normals",
       "split_depth", "material", "transform", "inside", "outside"},
      readCurves},
+    {"bilinear_mesh",
+     {"type", "positions", "indices", "normals", "uvs", "reverse_orientation", "material", "transform",
+      "inside", "outside"},
+     readBilinearMesh},
 }};
 
 // A prototype: a mesh in its own space, stored once and placed by "instance" shapes. Its geometry

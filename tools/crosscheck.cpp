@@ -3,6 +3,7 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -68,6 +69,9 @@ SceneExtent measureScene(const Scene& scene) {
     for (const Curves& curves : scene.curves)
         for (const Vec3f& p : curves.points)
             if (isFinite(p)) lower = min(lower, p), upper = max(upper, p);
+    for (const BilinearPatches& patches : scene.patches)
+        for (const Vec3f& p : patches.positions)
+            if (isFinite(p)) lower = min(lower, p), upper = max(upper, p);
     // Instances: the corners of their prototype's box, placed at the shutter's opening and closing.
     std::vector<std::pair<Vec3f, Vec3f>> prototypeBoxes;
     for (const TriangleMesh& prototype : scene.prototypes) {
@@ -90,7 +94,8 @@ SceneExtent measureScene(const Scene& scene) {
 }
 
 // Every primitive of the scene by one global index: triangles of all meshes in order, then spheres,
-// then the triangles of all instances in order.
+// then the triangles of all instances in order, the segments of all curve sets, and the patches of
+// all bilinear patch sets.
 class PrimitiveIndex {
 public:
     explicit PrimitiveIndex(const Scene& scene) : scene_(scene) {
@@ -113,9 +118,16 @@ public:
             total += curves.segmentCount();
         }
         curvesFirst_.push_back(total);
+        total = 0;
+        for (const BilinearPatches& patches : scene.patches) {
+            patchesFirst_.push_back(total);
+            total += patches.patchCount();
+        }
+        patchesFirst_.push_back(total);
     }
     uint64_t count() const {
-        return triangles_ + scene_.spheres.size() + instanceFirst_.back() + curvesFirst_.back();
+        return triangles_ + scene_.spheres.size() + instanceFirst_.back() + curvesFirst_.back() +
+               patchesFirst_.back();
     }
 
     struct Point {
@@ -125,6 +137,9 @@ public:
     // A uniformly chosen point on primitive `g`.
     Point sample(uint64_t g, Vec2f u) const {
         Point point;
+        if (g >= triangles_ + scene_.spheres.size() + instanceFirst_.back() + curvesFirst_.back())
+            return samplePatch(
+                g - triangles_ - scene_.spheres.size() - instanceFirst_.back() - curvesFirst_.back(), u);
         if (g >= triangles_ + scene_.spheres.size() + instanceFirst_.back())
             return sampleCurve(g - triangles_ - scene_.spheres.size() - instanceFirst_.back(), u);
         if (g >= triangles_ + scene_.spheres.size())
@@ -206,11 +221,32 @@ private:
         return point;
     }
 
+    // A point of bilinear patch `g` (counted over all patch sets) at (u, v) = `u`, with its error
+    // bound and normal as a hit's there (geometry/surface_interaction.h).
+    Point samplePatch(uint64_t g, Vec2f u) const {
+        const size_t b =
+            size_t(std::upper_bound(patchesFirst_.begin(), patchesFirst_.end(), g) - patchesFirst_.begin()) -
+            1;
+        const BilinearPatches& patches = scene_.patches[b];
+        const size_t j = size_t(g - patchesFirst_[b]);
+        const std::array<Vec3f, 4> p = patches.cornerPositions(j);
+        Point point;
+        point.position = bilinear::point(p.data(), u.x, u.y);
+        point.positionError = bilinear::pointError(p.data());
+        const Vec3f n = cross(bilinear::dpdu(p.data(), u.y), bilinear::dpdv(p.data(), u.x));
+        point.normal = length(n) > 0.0f ? normalize(n) : Vec3f{0.0f, 0.0f, 1.0f};
+        const Hit ids = scene_.idsOf({ShapeKind::BilinearPatches, uint32_t(b), uint32_t(j)});
+        point.geomId = ids.geomId;
+        point.primId = ids.primId;
+        return point;
+    }
+
     const Scene& scene_;
     std::vector<uint64_t> first_;
     uint64_t triangles_ = 0;
     std::vector<uint64_t> instanceFirst_;  // each instance's first triangle, then the total
     std::vector<uint64_t> curvesFirst_;    // each curve set's first segment, then the total
+    std::vector<uint64_t> patchesFirst_;   // each bilinear patch set's first patch, then the total
 };
 
 Ray makeRandomRay(const SceneExtent& extent, RayRandom& random) {
@@ -274,6 +310,8 @@ TriangleLeft triangleLeft(const Scene& scene, const CrosscheckRay& ray) {
 }
 
 bool isNearEdge(const Scene& scene, const Hit& hit) {
+    if (scene.shapeOf(hit).kind == ShapeKind::BilinearPatches)
+        return std::min(std::min(hit.u, 1.0f - hit.u), std::min(hit.v, 1.0f - hit.v)) < kEdgeTolerance;
     if (!isTriangleHit(scene, hit)) return false;
     const float b0 = 1.0f - hit.u - hit.v;
     return std::min(b0, std::min(hit.u, hit.v)) < kEdgeTolerance;
@@ -291,7 +329,10 @@ float incidenceCosine(const Scene& scene, const Ray& ray, const Hit& hit) {
         const float cosine = std::min(1.0f, std::abs(dot(tangent, ray.direction)) / denominator);
         return std::sqrt(1.0f - cosine * cosine);
     }
-    if (shape.kind != ShapeKind::Sphere) {
+    if (shape.kind == ShapeKind::BilinearPatches) {
+        const std::array<Vec3f, 4> p = scene.patches[shape.index].cornerPositions(shape.primitive);
+        normal = cross(bilinear::dpdu(p.data(), hit.v), bilinear::dpdv(p.data(), hit.u));
+    } else if (shape.kind != ShapeKind::Sphere) {
         const TriangleMesh& mesh = scene.triangleMeshOf(shape);
         const uint32_t* index = &mesh.indices[3 * size_t(shape.primitive)];
         const Vec3f p0 = mesh.positions[index[0]], p1 = mesh.positions[index[1]],

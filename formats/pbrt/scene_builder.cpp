@@ -940,6 +940,7 @@ void SceneBuilder::objectDirective(const Directive& d) {
 std::string SceneBuilder::copyReason(const ShapeRecord& shape) const {
     if (shape.type == "sphere") return "spheres (penumbra's prototypes are meshes)";
     if (shape.type == "curve") return "curves (penumbra's prototypes are meshes)";
+    if (shape.type == "bilinearmesh") return "bilinear patches (penumbra's prototypes are triangle meshes)";
     if (shape.state.areaLight && !shape.state.areaLight->radiance.isBlack())
         return "area lights (instances do not emit)";
     if (!(shape.state.ctm[0] == shape.state.ctm[1])) return "shapes that move inside the object definition";
@@ -1173,7 +1174,13 @@ void SceneBuilder::addShape(const ShapeRecord& record, const std::array<Matrix4d
         addCurve(record, ctm);
         return;
     }
-    std::optional<Json> geometry = shapeGeometry(record, ctm[0].determinant3() < 0.0);
+    // Bilinear patches are penumbra's own shape where they neither emit nor move (nor have a cut-out,
+    // which our patch test has not): two triangles each otherwise.
+    const bool emits = record.state.areaLight && !record.state.areaLight->radiance.isBlack();
+    const Parameter* alpha = record.params.find("alpha", {ParamType::Float, ParamType::Texture});
+    const bool exactPatches =
+        record.type == "bilinearmesh" && !emits && ctm[0] == ctm[1] && !(alpha && cutOutAlpha(*alpha));
+    std::optional<Json> geometry = shapeGeometry(record, ctm[0].determinant3() < 0.0, exactPatches);
     if (!geometry) return;
     Json& shape = *geometry;
     shape["material"] = materialOf(record);
@@ -1185,7 +1192,47 @@ void SceneBuilder::addShape(const ShapeRecord& record, const std::array<Matrix4d
     scene_["shapes"].push_back(std::move(shape));
 }
 
-std::optional<Json> SceneBuilder::shapeGeometry(const ShapeRecord& record, bool swaps) {
+namespace {
+
+// A mesh's "positions", "normals" (each non-zero) and "uvs" in penumbra's shape object.
+void addMeshVertices(Json& shape, const std::vector<Vec3d>& positions, const std::vector<Vec3d>& normals,
+                     const std::vector<Vec2d>& uvs, const std::string& type, const ParameterList& p) {
+    Json jp = Json::array();
+    jp.get_ref<Json::array_t&>().reserve(positions.size());
+    for (const Vec3d& v : positions) jp.push_back(vec3Json(v));
+    shape["positions"] = std::move(jp);
+    if (!normals.empty()) {
+        Json jn = Json::array();
+        for (const Vec3d& v : normals) {
+            if (!(length(v) > 0.0))
+                failAt(p.find("N", {ParamType::Normal})->where, fmt::format("{}: a normal is zero", type));
+            jn.push_back(vec3Json(v));
+        }
+        shape["normals"] = std::move(jn);
+    }
+    if (!uvs.empty()) {
+        Json ju = Json::array();
+        for (const Vec2d& v : uvs) ju.push_back(Json::array({v.x, v.y}));
+        shape["uvs"] = std::move(ju);
+    }
+}
+
+// Whether every patch (four indices each) lies in a plane, to a millionth of its size: then its two
+// triangles are the same surface.
+bool patchesAreFlat(const std::vector<Vec3d>& positions, const std::vector<int64_t>& indices) {
+    for (size_t i = 0; i + 3 < indices.size(); i += 4) {
+        const Vec3d p00 = positions[size_t(indices[i])], p10 = positions[size_t(indices[i + 1])],
+                    p01 = positions[size_t(indices[i + 2])], p11 = positions[size_t(indices[i + 3])];
+        const Vec3d normal = cross(p10 - p00, p01 - p00);
+        const double size = std::max({length(p10 - p00), length(p01 - p00), length(p11 - p00)});
+        if (std::abs(dot(p11 - p00, normal)) > 1e-6 * size * length(normal)) return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+std::optional<Json> SceneBuilder::shapeGeometry(const ShapeRecord& record, bool swaps, bool exactPatches) {
     const ParameterList& p = record.params;
     const SourceLocation& where = record.where;
     const std::string& type = record.type;
@@ -1223,13 +1270,24 @@ std::optional<Json> SceneBuilder::shapeGeometry(const ShapeRecord& record, bool 
         if (!uvs.empty() && uvs.size() != positions.size())
             failAt(where, fmt::format("{}: {} uvs for {} vertices (one per vertex expected)", type,
                                       uvs.size(), positions.size()));
+        if (bilinear && exactPatches) {
+            shape["type"] = "bilinear_mesh";
+            addMeshVertices(shape, positions, normals, uvs, type, p);
+            shape["indices"] = indices;
+            if (reverse) shape["reverse_orientation"] = true;
+            p.reportUnused(log_, fmt::format("Shape \"{}\"", type));
+            return shape;
+        }
         // Triangles: a bilinear patch (p00, p10, p01, p11) becomes (p00, p10, p11) and (p00, p11, p01).
         std::vector<int64_t> triangles;
         if (bilinear) {
             for (size_t i = 0; i < indices.size(); i += 4)
                 triangles.insert(triangles.end(), {indices[i], indices[i + 1], indices[i + 3], indices[i],
                                                    indices[i + 3], indices[i + 2]});
-            log_.warn(where, "bilinear patches are rendered as two triangles each (exact for flat patches)");
+            if (!patchesAreFlat(positions, indices))
+                log_.warn(where,
+                          "bilinear patches that emit, move or have an alpha are rendered as two triangles "
+                          "each (exact for flat patches, and these are not flat)");
         } else {
             triangles = std::move(indices);
         }
@@ -1260,26 +1318,8 @@ std::optional<Json> SceneBuilder::shapeGeometry(const ShapeRecord& record, bool 
                        fmt::format("loopsubdiv: \"levels\" must be from 0 to 16, found {}", levels));
             shape["subdivision"] = Json{{"scheme", "loop"}, {"levels", levels}};
         }
-        Json jp = Json::array();
-        jp.get_ref<Json::array_t&>().reserve(positions.size());
-        for (const Vec3d& v : positions) jp.push_back(vec3Json(v));
-        shape["positions"] = std::move(jp);
+        addMeshVertices(shape, positions, normals, uvs, type, p);
         shape["indices"] = triangles;
-        if (!normals.empty()) {
-            Json jn = Json::array();
-            for (const Vec3d& v : normals) {
-                if (!(length(v) > 0.0))
-                    failAt(p.find("N", {ParamType::Normal})->where,
-                           fmt::format("{}: a normal is zero", type));
-                jn.push_back(vec3Json(v));
-            }
-            shape["normals"] = std::move(jn);
-        }
-        if (!uvs.empty()) {
-            Json ju = Json::array();
-            for (const Vec2d& v : uvs) ju.push_back(Json::array({v.x, v.y}));
-            shape["uvs"] = std::move(ju);
-        }
         p.find("S", {ParamType::Vector3});
         if (const Parameter* s = p.find("S", {ParamType::Vector3}))
             log_.warn(s->where, "mesh tangents (\"S\") are not used");

@@ -100,8 +100,9 @@ private:
     void addShape(const ShapeRecord& shape, const std::array<Matrix4d, 2>* worldFromInstance);
     // The shape's geometry as penumbra's shape (or prototype) object, without material, emission
     // or placement; empty, with a warning, for the shapes penumbra does not have. `swaps`: the
-    // placement mirrors (pbrt-v4 then turns a disk's normal).
-    std::optional<Json> shapeGeometry(const ShapeRecord& shape, bool swaps);
+    // placement mirrors (pbrt-v4 then turns a disk's normal). `exactPatches`: a bilinearmesh becomes
+    // penumbra's bilinear_mesh (else two triangles a patch).
+    std::optional<Json> shapeGeometry(const ShapeRecord& shape, bool swaps, bool exactPatches = false);
     // A shape's "alpha" (a float or a float texture's name) as penumbra's cut-out: a number or a
     // texture object; none for an opaque shape (alpha 1).
     std::optional<Json> cutOutAlpha(const Parameter& alpha) const;

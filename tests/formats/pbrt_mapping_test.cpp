@@ -637,18 +637,61 @@ TEST(PbrtMapping, ShapesOfEveryKind) {
     ASSERT_EQ(s.size(), 6u);
     EXPECT_EQ(s[0]["radius"], 2.0);
     EXPECT_EQ(s[1]["type"], "disk");
-    // Patch (p00, p10, p01, p11) -> (p00, p10, p11) and (p00, p11, p01).
-    EXPECT_EQ(s[2]["indices"], Json::array({0, 1, 3, 0, 3, 2}));
+    // A bilinear patch is penumbra's own shape, its corners in pbrt-v4's order.
+    EXPECT_EQ(s[2]["type"], "bilinear_mesh");
+    EXPECT_EQ(s[2]["indices"], Json::array({0, 1, 2, 3}));
     EXPECT_EQ(s[3]["uvs"][1], Json::array({1.0, 0.0}));
     EXPECT_EQ(s[4]["type"], "mesh_file");
     EXPECT_EQ(s[5]["type"], "curves");
     // pbrt-v3's quadrics, which pbrt-v4 dropped.
     EXPECT_TRUE(hasWarning(c, "Shape \"hyperboloid\" is not supported and was left out"));
     const Scene scene = buildPbrtScene(c, "test.pbrt");
-    EXPECT_EQ(scene.meshes.size(), 4u);
+    EXPECT_EQ(scene.meshes.size(), 3u);
+    EXPECT_EQ(scene.patches.size(), 1u);
     EXPECT_EQ(scene.curves.size(), 1u);
     EXPECT_EQ(scene.spheres.size(), 1u);
     EXPECT_EQ(scene.meshFiles.size(), 1u);
+}
+
+// A bilinearmesh is penumbra's bilinear_mesh with its normals, uvs and orientation, placed by its
+// transform; one that emits (or moves, or has a cut-out) is two triangles a patch, with a warning
+// only when a patch is not flat (its triangles then are not the same surface); an object's patches are
+// placed as copies.
+TEST(PbrtMapping, BilinearPatches) {
+    auto c = convert(
+        kCamera +
+        "WorldBegin\nAttributeBegin\nTranslate 0 0 5\nReverseOrientation\n"
+        "Shape \"bilinearmesh\" \"point3 P\" [0 0 0 1 0 1 0 1 1 1 1 0] \"point2 uv\" [0 0 2 0 0 2 2 2]\n"
+        "AttributeEnd\n"
+        "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [1 1 1]\n"
+        "Shape \"bilinearmesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0 1 1 0]\n"
+        "Shape \"bilinearmesh\" \"point3 P\" [0 0 0 1 0 1 0 1 1 1 1 0]\n"
+        "AttributeEnd\n"
+        "ObjectBegin \"tile\"\nShape \"bilinearmesh\" \"point3 P\" [0 0 0 1 0 1 0 1 1 1 1 0]\nObjectEnd\n"
+        "ObjectInstance \"tile\"\n");
+    const Json& s = c.document["shapes"];
+    ASSERT_EQ(s.size(), 4u);
+    EXPECT_EQ(s[0]["type"], "bilinear_mesh");
+    EXPECT_EQ(s[0]["indices"], Json::array({0, 1, 2, 3}));
+    EXPECT_EQ(s[0]["uvs"][3], Json::array({2.0, 2.0}));
+    EXPECT_EQ(s[0]["reverse_orientation"], true);
+    EXPECT_TRUE(s[0].contains("transform"));
+    // The emitters: a flat patch without a warning, a curved one with.
+    EXPECT_EQ(s[1]["type"], "triangle_mesh");
+    EXPECT_TRUE(s[1].contains("emission"));
+    EXPECT_EQ(s[2]["type"], "triangle_mesh");
+    EXPECT_EQ(std::count_if(c.warnings.begin(), c.warnings.end(),
+                            [](const std::string& w) {
+                                return w.find("rendered as two triangles each") != std::string::npos;
+                            }),
+              1);
+    EXPECT_EQ(s[3]["type"], "bilinear_mesh");
+    EXPECT_TRUE(hasWarning(c, "object instances of bilinear patches"));
+    const Scene scene = buildPbrtScene(c, "test.pbrt");
+    ASSERT_EQ(scene.patches.size(), 2u);
+    EXPECT_TRUE(scene.patches[0].reversed);
+    EXPECT_NEAR(scene.patches[0].positions[1].z, 6.0f, 1e-6f);
+    EXPECT_EQ(scene.meshes.size(), 2u);
 }
 
 TEST(PbrtMapping, FilmSamplerFilterIntegrator) {
