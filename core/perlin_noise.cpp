@@ -71,4 +71,24 @@ Vec3f perlinNoiseGradient(Vec3f p) {
            kDelta;
 }
 
+float fractalNoise(Vec3f p, float omega, int octaves) {
+    float sum = 0.0f, frequency = 1.0f, weight = 1.0f;
+    for (int i = 0; i < octaves; ++i) {
+        sum += weight * perlinNoise(p * frequency);
+        frequency *= 1.99f;
+        weight *= omega;
+    }
+    return sum;
+}
+
+float turbulence(Vec3f p, float omega, int octaves) {
+    float sum = 0.0f, frequency = 1.0f, weight = 1.0f;
+    for (int i = 0; i < octaves; ++i) {
+        sum += weight * std::abs(perlinNoise(p * frequency));
+        frequency *= 1.99f;
+        weight *= omega;
+    }
+    return sum + weight * 0.2f;
+}
+
 }  // namespace penumbra

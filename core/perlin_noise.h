@@ -14,4 +14,12 @@ float perlinNoise(Vec3f p);
 // The noise's gradient by forward differences of 0.01 (pbrt-v4's DNoise).
 Vec3f perlinNoiseGradient(Vec3f p);
 
+// Fractional Brownian motion: `octaves` octaves of the noise, each at 1.99 times the last one's
+// frequency and `omega` times its weight (pbrt-v4's FBm at a footprint finer than every octave).
+float fractalNoise(Vec3f p, float omega, int octaves);
+
+// Turbulence: the same sum of |noise|, plus pbrt-v4's 0.2 (about |noise|'s mean) times the weight of
+// the octave after the last, which its Turbulence adds at a footprint finer than every octave.
+float turbulence(Vec3f p, float omega, int octaves);
+
 }  // namespace penumbra

@@ -271,8 +271,8 @@ private:
 // The material shaded at a point: `index`'s, or for a mix the one it chooses there (following
 // mixes of mixes; the scene loader refuses cycles).
 inline uint32_t resolveMix(const std::vector<Material>& materials, uint32_t index, Vec3f p, Vec3f wo,
-                           Vec2f uv) {
-    while (const MaterialMix* mix = materials[index].mix()) index = mix->choose(p, wo, uv, index);
+                           Vec2f uv, Vec3f n = {0.0f, 0.0f, 0.0f}) {
+    while (const MaterialMix* mix = materials[index].mix()) index = mix->choose(p, n, wo, uv, index);
     return index;
 }
 

@@ -24,13 +24,16 @@ struct MaterialMix {
     float amount = 0.5f;             // the probability of `second`, when there is no texture
     std::shared_ptr<const Texture> amountTexture;
 
-    // Which of the two at point p seen along wo (towards the viewer), `self` being the mix's own
-    // index; uv for the texture, looked up without a footprint (the finest level).
-    uint32_t choose(Vec3f p, Vec3f wo, Vec2f uv, uint32_t self) const {
+    // Which of the two at point p (geometric normal n) seen along wo (towards the viewer), `self`
+    // being the mix's own index; uv, p and n for the texture, looked up without a footprint (the
+    // finest level).
+    uint32_t choose(Vec3f p, Vec3f n, Vec3f wo, Vec2f uv, uint32_t self) const {
         float a = amount;
         if (amountTexture) {
             TextureQuery query;
             query.uv = uv;
+            query.p = p;
+            query.n = n;
             a = amountTexture->evaluate(query).r;
         }
         if (!(a > 0.0f)) return first;

@@ -38,9 +38,12 @@ inline Vec3f perturbedNormal(const NormalPerturbation& perturbation, const Textu
         if (dv == 0.0f) dv = 0.0005f;
         TextureQuery shifted = query;
         const float height = perturbation.texture.evaluate(query).r;
+        // The point moves with (u, v), for textures of the point (pbrt-v4's BumpMap).
         shifted.uv = {query.uv.x + du, query.uv.y};
+        shifted.p = query.p + dpdu * du;
         const float heightU = perturbation.texture.evaluate(shifted).r;
         shifted.uv = {query.uv.x, query.uv.y + dv};
+        shifted.p = query.p + dpdv * dv;
         const float heightV = perturbation.texture.evaluate(shifted).r;
         turned = cross(su + n * ((heightU - height) / du), sv + n * ((heightV - height) / dv));
     } else {

@@ -164,6 +164,8 @@ inline const Material* shadeTextured(const Material& material, const IntegratorC
                                      SurfaceInteraction& si, float time, TexturedMaterialSlot& slot) {
     TextureQuery query;
     query.uv = si.uv;
+    query.p = si.position;
+    query.n = si.geometricNormal;
     const NormalPerturbation* perturbation = material.perturbation();
     if (perturbation || material.needsFootprint()) {
         const SurfaceDerivatives d = surfaceDerivatives(*ctx.scene, si, time);
@@ -189,7 +191,8 @@ inline const Material* shadeTextured(const Material& material, const IntegratorC
                                                       TexturedMaterialSlot& slot) {
     const Material* shaded = &material;
     if (material.mix())
-        shaded = &ctx.scene->materials[resolveMix(ctx.scene->materials, si.material, si.position, wo, si.uv)];
+        shaded = &ctx.scene->materials[resolveMix(ctx.scene->materials, si.material, si.position, wo, si.uv,
+                                                  si.geometricNormal)];
     if (shaded->isTextured()) shaded = shadeTextured(*shaded, ctx, si, time, slot);
     if (shaded->isFiber()) {
         // The fiber's frame is the curve's, its normal facing the ray (the BSDF models the round

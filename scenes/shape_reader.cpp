@@ -34,6 +34,11 @@ bool withinCoordinateLimit(Vec3f p) {
            std::abs(p.z) <= limits::kMaxCoordinate;
 }
 
+// Emitters and cut-outs are looked up at (u, v) alone (the same value for a hit and a sample).
+constexpr const char* kUvOnlyTexture =
+    "an emission or an alpha takes a texture of (u, v) only: not one of the point or the normal "
+    "(checkerboard_3d, fbm, wrinkled, windy, marble, direction_mix, or a texture of them)";
+
 // "radiance" may be a texture over the shape's (u, v) (scenes/README.md, "Textures"); its average
 // over [0, 1)^2 (32 x 32 lookups) then sets the light's power.
 Emission readEmission(const JsonValue& value, const fs::path& folder) {
@@ -43,6 +48,7 @@ Emission readEmission(const JsonValue& value, const fs::path& folder) {
     if (isTextureValue(radiance)) {
         emission.texture = std::make_shared<const Texture>(
             readTexture(radiance, folder, 0.0f, std::numeric_limits<float>::max()));
+        if (emission.texture->isSpatial()) radiance.fail(kUvOnlyTexture);
         const int n = 32;
         double sum[3] = {0.0, 0.0, 0.0};
         for (int j = 0; j < n; ++j)
@@ -71,7 +77,9 @@ std::shared_ptr<const Texture> readAlpha(const JsonValue& value, const fs::path&
         if (alpha == 1.0f) return nullptr;
         return std::make_shared<const Texture>(Texture::constant(Rgb(alpha)));
     }
-    return std::make_shared<const Texture>(readTexture(value, folder, 0.0f, 1.0f));
+    auto alpha = std::make_shared<const Texture>(readTexture(value, folder, 0.0f, 1.0f));
+    if (alpha->isSpatial()) value.fail(kUvOnlyTexture);
+    return alpha;
 }
 
 Transform readTransformStep(const JsonValue& step) {

@@ -1,5 +1,7 @@
 #include "textures/texture.h"
 
+#include "textures/procedural_texture.h"
+
 namespace penumbra {
 
 namespace {
@@ -22,6 +24,22 @@ Rgb Texture::lookupImage(Vec2f uv, const TextureQuery& query) const {
     lookupChannels(image_, uv, uvScale_, query, channels, texel);
     if (channels == 1) texel[1] = texel[2] = texel[0];
     return Rgb(texel[0], texel[1], texel[2]) * a_;
+}
+
+Texture Texture::procedural(std::shared_ptr<const ProceduralTexture> procedural) {
+    Texture t;
+    t.kind_ = TextureKind::Procedural;
+    t.spatial_ = penumbra::isSpatial(procedural->kind);
+    for (const Texture& input : procedural->inputs) {
+        t.proceduralNeedsFootprint_ = t.proceduralNeedsFootprint_ || input.needsFootprint();
+        t.spatial_ = t.spatial_ || input.isSpatial();
+    }
+    t.procedural_ = std::move(procedural);
+    return t;
+}
+
+Rgb Texture::evaluateProcedural(const TextureQuery& query, Vec2f uv) const {
+    return procedural_->evaluate(query, uv);
 }
 
 float Texture::lookupAlpha(const TextureQuery& query) const {

@@ -1,6 +1,7 @@
-// A material parameter's value over a surface: a constant, a procedural checkerboard, or an image
-// looked up through OpenImageIO's TextureSystem (textures/texture_plugin.h). Colours are linear
-// RGB; a scalar parameter (roughness) reads the first channel.
+// A material parameter's value over a surface: a constant, a procedural checkerboard, an image
+// looked up through OpenImageIO's TextureSystem (textures/texture_plugin.h), or one of pbrt-v4's
+// procedural and composite textures (textures/procedural_texture.h). Colours are linear RGB; a
+// scalar parameter (roughness) reads the first channel.
 //
 // Coordinates: a texture is looked up at the surface's (u, v) (geometry/surface_interaction.h:
 // mesh uvs, a quad's corners, a sphere's (phi / 2 pi, theta / pi)), first mapped by
@@ -10,6 +11,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <string>
 
 #include "core/rgb.h"
@@ -19,7 +21,9 @@
 
 namespace penumbra {
 
-enum class TextureKind : uint8_t { Constant, Checkerboard, Image };
+enum class TextureKind : uint8_t { Constant, Checkerboard, Image, Procedural };
+
+struct ProceduralTexture;
 
 // How an image is sampled (texture_plugin.h's PenumbraTextureWrap and PenumbraTextureFilter).
 enum class TextureWrap : uint8_t { Repeat, Clamp, Black, Mirror };
@@ -58,6 +62,8 @@ public:
         t.a_ = scale;
         return t;
     }
+    // pbrt-v4's procedural and composite textures (textures/procedural_texture.h).
+    static Texture procedural(std::shared_ptr<const ProceduralTexture> procedural);
     Texture& mapUv(Vec2f scale, Vec2f offset) {
         uvScale_ = scale;
         uvOffset_ = offset;
@@ -67,9 +73,13 @@ public:
     TextureKind kind() const { return kind_; }
     // Whether a lookup needs a footprint (a filter that chooses a MIP level).
     bool needsFootprint() const {
+        if (kind_ == TextureKind::Procedural) return proceduralNeedsFootprint_;
         return kind_ == TextureKind::Image &&
                (image_.filter == TextureFilter::Trilinear || image_.filter == TextureFilter::Anisotropic);
     }
+    // Whether a lookup needs the point and normal (TextureQuery::p, n), not only (u, v): then it
+    // can shade a material but not be a cut-out's or an emitter's (looked up at (u, v) alone).
+    bool isSpatial() const { return spatial_; }
 
     Rgb evaluate(const TextureQuery& query) const {
         if (kind_ == TextureKind::Constant) return a_;
@@ -78,6 +88,8 @@ public:
             const int64_t parity = int64_t(std::floor(uv.x)) + int64_t(std::floor(uv.y));
             return (parity & 1) == 0 ? a_ : b_;
         }
+        if (kind_ == TextureKind::Procedural) [[unlikely]]
+            return evaluateProcedural(query, uv);
         return lookupImage(uv, query);
     }
 
@@ -93,12 +105,16 @@ public:
 
 private:
     Rgb lookupImage(Vec2f uv, const TextureQuery& query) const;
+    Rgb evaluateProcedural(const TextureQuery& query, Vec2f uv) const;
     float lookupAlpha(const TextureQuery& query) const;
 
     TextureKind kind_ = TextureKind::Constant;
     Rgb a_, b_;  // the constant or the image's scale; the checkerboard's two colours
     Vec2f uvScale_{1.0f, 1.0f}, uvOffset_{0.0f, 0.0f};
     ImageTextureSource image_;
+    std::shared_ptr<const ProceduralTexture> procedural_;
+    bool proceduralNeedsFootprint_ = false;  // an input's needsFootprint()
+    bool spatial_ = false;                   // isSpatial()
 };
 
 }  // namespace penumbra

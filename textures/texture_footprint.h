@@ -17,6 +17,7 @@ namespace penumbra {
 // Where a texture is looked up, and how fast (u, v) changes from one pixel to the next.
 struct TextureQuery {
     Vec2f uv;
+    Vec3f p{0.0f, 0.0f, 0.0f}, n{0.0f, 0.0f, 0.0f};  // the point and geometric normal (world space)
     float dudx = 0.0f, dvdx = 0.0f, dudy = 0.0f, dvdy = 0.0f;
 };
 
@@ -37,6 +38,8 @@ inline TextureQuery textureQueryAt(const CameraFootprint& camera, Vec3f p, Vec3f
                                    Vec3f dpdv) {
     TextureQuery query;
     query.uv = uv;
+    query.p = p;
+    query.n = n;
     const Vec3f toPoint = p - camera.origin;
     const float distance = length(toPoint);
     const bool parallel = lengthSquared(camera.parallelDirection) > 0.0f;

@@ -171,8 +171,9 @@ void addUvMapping(Json& texture, const ParameterList& params, const SourceLocati
     params.getFloat("v1"), params.getFloat("v2");  // planar mapping's, with the warning above
 }
 
-// A texture object scaled by a constant: an image's "scale", a checkerboard's colours.
-Json scaled(Json texture, Rgb s) {
+// A texture object scaled by a constant factor: an image's "scale", a checkerboard's colours, or
+// else a "scale" texture of it.
+Json scaled(Json texture, float s) {
     if (texture["type"] == "image") {
         Rgb old(1.0f);
         if (const auto it = texture.find("scale"); it != texture.end())
@@ -181,12 +182,14 @@ Json scaled(Json texture, Rgb s) {
         const Rgb product = old * s;
         texture["scale"] =
             product.r == product.g && product.g == product.b ? Json(shortest(product.r)) : rgbJson(product);
-    } else {
+    } else if (texture["type"] == "checkerboard") {
         for (Json& c : texture["colors"]) {
             const Rgb v = c.is_array() ? Rgb(c[0].get<float>(), c[1].get<float>(), c[2].get<float>())
                                        : Rgb(c.get<float>());
             c = rgbJson(v * s);
         }
+    } else {
+        return Json{{"type", "scale"}, {"texture", std::move(texture)}, {"scale", shortest(s)}};
     }
     return texture;
 }
@@ -194,7 +197,8 @@ Json scaled(Json texture, Rgb s) {
 }  // namespace
 
 void TextureTable::define(const std::string& name, const std::string& kind, const std::string& textureClass,
-                          const ParameterList& params, const SourceLocation& where, WarningLog& log) {
+                          const ParameterList& params, const Matrix4d& worldFromTexture,
+                          const SourceLocation& where, WarningLog& log) {
     const bool isFloat = kind == "float";
     if (!isFloat && kind != "spectrum")
         failAt(where, fmt::format("texture \"{}\": expected the type \"float\" or \"spectrum\", found \"{}\"",
@@ -216,49 +220,82 @@ void TextureTable::define(const std::string& name, const std::string& kind, cons
         if (isFloat) return {Rgb(float(readScalar(params, param, fallback.r, *this, log))), std::nullopt, {}};
         return {readColor(params, param, fallback, SpectrumUse::Reflectance, *this, log), std::nullopt, {}};
     };
+    // A float input (a scale's factor, a mix's amount): a number, or a float texture.
+    auto floatInput = [&](std::string_view param, double fallback) -> Texture {
+        const Parameter* p = params.find(param, {ParamType::Float, ParamType::Texture});
+        if (p && p->type == ParamType::Texture) {
+            const Texture* t = p->strings.size() == 1 ? scalar(p->strings[0]) : nullptr;
+            if (!t)
+                failAt(p->where, fmt::format("parameter \"{}\": unknown float texture", p->declaration()));
+            return *t;
+        }
+        return {Rgb(float(readScalar(params, param, fallback, *this, log))), std::nullopt, {}};
+    };
+    // An input as penumbra's JSON: its texture object, or its constant.
+    auto json = [](const Texture& t, bool scalar) -> Json {
+        if (t.object) return *t.object;
+        return scalar ? Json(shortest(t.constant.r)) : rgbJson(t.constant);
+    };
+    // The space of 3D textures: the transform current at the definition.
+    auto addTransform = [&](Json& object) {
+        if (!(worldFromTexture == Matrix4d::identity()))
+            object["transform"] = Json::array({Json{{"matrix", matrixJson(worldFromTexture)}}});
+    };
     Texture texture{Rgb(0.5f), std::nullopt, {}};
     if (textureClass == "constant") {
         texture = input("value", Rgb(1.0f));
     } else if (textureClass == "scale") {
         const Texture tex = input("tex", Rgb(1.0f));
-        const Parameter* sp = params.find("scale", {ParamType::Float, ParamType::Texture});
-        if (sp && sp->type != ParamType::Texture) sp = nullptr;
-        Texture factor =
-            sp ? Texture{}
-               : Texture{Rgb(float(readScalar(params, "scale", 1.0, *this, log))), std::nullopt, {}};
-        if (sp) {
-            const Texture* t = sp->strings.size() == 1 ? scalar(sp->strings[0]) : nullptr;
-            if (!t)
-                failAt(sp->where, fmt::format("parameter \"{}\": unknown float texture", sp->declaration()));
-            factor = *t;
-        }
+        const Texture factor = floatInput("scale", 1.0);
         texture.constant = tex.constant * factor.constant.r;
         if (tex.object && !factor.object) {
-            texture.object = scaled(*tex.object, Rgb(factor.constant.r));
+            texture.object = scaled(*tex.object, factor.constant.r);
             texture.standIn = tex.standIn;
-        } else if (tex.object || factor.object) {
-            log.warn(where,
-                     "a scale texture of two textures is not supported: the first one's stand-in constant "
-                     "instead");
-            texture.constant = tex.constant;
+        } else if (factor.object) {
+            texture.object =
+                Json{{"type", "scale"}, {"texture", json(tex, isFloat)}, {"scale", json(factor, true)}};
+            texture.standIn = "the product of its inputs' stand-ins";
         }
-    } else if (textureClass == "mix") {
-        const float amount = float(readScalar(params, "amount", 0.5, *this, log));
+    } else if (textureClass == "mix" || textureClass == "directionmix") {
         const Texture a = input("tex1", Rgb(0.0f)), b = input("tex2", Rgb(1.0f));
-        texture.constant = a.constant * (1.0f - amount) + b.constant * amount;
-        if (a.object || b.object)
-            log.warn(where, "mix textures of textures are not supported: their stand-in constants are mixed");
+        if (textureClass == "mix") {
+            const Texture amount = floatInput("amount", 0.5);
+            const float amt = amount.constant.r;
+            texture.constant = a.constant * (1.0f - amt) + b.constant * amt;
+            if (a.object || b.object || amount.object)
+                texture.object = Json{{"type", "mix"},
+                                      {"textures", Json::array({json(a, isFloat), json(b, isFloat)})},
+                                      {"amount", json(amount, true)}};
+        } else {
+            // pbrt-v4 takes the direction into render space by the transform at the definition.
+            const Vec3d dir = params.getPoint3("dir").value_or(Vec3d{0.0, 1.0, 0.0});
+            const Vec3d world = worldFromTexture.applyVector(dir);
+            if (!(length(world) > 0.0) || !std::isfinite(length(world)))
+                failAt(params.find("dir", {ParamType::Vector3, ParamType::Point3})->where,
+                       "directionmix: \"dir\" must be a non-zero vector");
+            texture.constant = (a.constant + b.constant) * 0.5f;
+            texture.object = Json{{"type", "direction_mix"},
+                                  {"textures", Json::array({json(a, isFloat), json(b, isFloat)})},
+                                  {"direction", vec3Json(normalize(world))}};
+        }
+        texture.standIn = "the mix of its inputs' stand-ins";
     } else if (textureClass == "checkerboard") {
         const Texture a = input("tex1", Rgb(1.0f)), b = input("tex2", Rgb(0.0f));
         texture.constant = (a.constant + b.constant) * 0.5f;
         texture.standIn = "the mean of the checkerboard's two values";
         const int64_t dimension = params.getInt("dimension").value_or(2);
-        if (dimension != 2 || a.object || b.object) {
-            log.warn(
-                where,
-                dimension != 2
-                    ? "3D checkerboards are not supported: the mean of their two values instead"
-                    : "checkerboards of textures are not supported: the mean of their two stand-ins instead");
+        if (dimension == 3) {
+            Json object{{"type", "checkerboard_3d"},
+                        {"colors", Json::array({json(a, isFloat), json(b, isFloat)})}};
+            addTransform(object);
+            texture.object = std::move(object);
+        } else if (dimension != 2 || a.object || b.object) {
+            log.warn(where, dimension != 2
+                                ? fmt::format("checkerboard \"dimension\" {}: the mean of its two values "
+                                              "instead (2 and 3 are checkerboards)",
+                                              dimension)
+                                : "checkerboards of textures are not supported: the mean of their two "
+                                  "stand-ins instead");
         } else {
             Json object{{"type", "checkerboard"}};
             object["colors"] = isFloat ? Json::array({shortest(a.constant.r), shortest(b.constant.r)})
@@ -266,6 +303,49 @@ void TextureTable::define(const std::string& name, const std::string& kind, cons
             addUvMapping(object, params, where, log);
             texture.object = std::move(object);
         }
+    } else if (textureClass == "dots") {
+        const Texture inside = input("inside", Rgb(1.0f)), outside = input("outside", Rgb(0.0f));
+        texture.constant = (inside.constant + outside.constant) * 0.5f;
+        texture.standIn = "the mean of its two values";
+        Json object{{"type", "dots"}, {"inside", json(inside, isFloat)}, {"outside", json(outside, isFloat)}};
+        addUvMapping(object, params, where, log);
+        texture.object = std::move(object);
+    } else if (textureClass == "bilerp") {
+        Json values = Json::array();
+        Rgb sum(0.0f);
+        for (const auto& [name, fallback] : {std::pair{"v00", 0.0f}, std::pair{"v10", 0.0f},
+                                             std::pair{"v01", 1.0f}, std::pair{"v11", 1.0f}}) {
+            const Rgb v = isFloat
+                              ? Rgb(float(params.getFloat(name).value_or(fallback)))
+                              : readColor(params, name, Rgb(fallback), SpectrumUse::Reflectance, *this, log);
+            values.push_back(isFloat ? Json(shortest(v.r)) : rgbJson(v));
+            sum = sum + v;
+        }
+        texture.constant = sum * 0.25f;
+        texture.standIn = "the mean of its four values";
+        Json object{{"type", "bilerp"}, {"values", std::move(values)}};
+        addUvMapping(object, params, where, log);
+        texture.object = std::move(object);
+    } else if (textureClass == "fbm" || textureClass == "wrinkled" || textureClass == "windy" ||
+               textureClass == "marble") {
+        Json object{{"type", textureClass}};
+        if (textureClass != "windy") {
+            if (auto octaves = params.getInt("octaves"))
+                object["octaves"] = std::clamp<int64_t>(*octaves, 1, 32);
+            if (auto omega = params.getFloat("roughness")) object["roughness"] = std::clamp(*omega, 0.0, 1.0);
+        }
+        if (textureClass == "marble") {
+            if (auto scale = params.getFloat("scale")) object["scale"] = std::clamp(*scale, 0.0, 1e6);
+            if (auto variation = params.getFloat("variation"))
+                object["variation"] = std::clamp(*variation, 0.0, 1e6);
+        }
+        addTransform(object);
+        // Noise averages about 0 (fbm, windy), a turbulence about half its octaves' weights, and
+        // marble is grey: stand-ins for where penumbra takes no texture.
+        texture.constant =
+            textureClass == "marble" ? Rgb(0.87f) : Rgb(textureClass == "wrinkled" ? 0.5f : 0.0f);
+        texture.standIn = "a constant near its mean";
+        texture.object = std::move(object);
     } else if (textureClass == "imagemap") {
         const std::optional<std::string> file = params.getString("filename");
         if (!file || file->empty()) failAt(where, "imagemap needs a \"string filename\"");
@@ -399,7 +479,7 @@ Json mapMaterial(const std::string& type, const ParameterList& params, const Tex
         const double scale = params.getFloat("scale").value_or(1.0);
         auto scaledColor = [&](std::string_view name) -> Json {
             Json value = texturable(name, Rgb(0.25f));
-            if (value.is_object()) return scale == 1.0 ? value : scaled(std::move(value), Rgb(float(scale)));
+            if (value.is_object()) return scale == 1.0 ? value : scaled(std::move(value), float(scale));
             const Rgb c = readColor(params, name, Rgb(0.25f), SpectrumUse::Reflectance, textures, log);
             return rgbJson(clamp01(c * float(scale), nullptr, log, ""));  // silently, as pbrt-v4
         };

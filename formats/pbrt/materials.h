@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/rgb.h"
+#include "formats/pbrt/double_math.h"
 #include "formats/pbrt/parameter_list.h"
 #include "formats/pbrt/warning_log.h"
 #include "scenes/json_reader.h"
@@ -27,9 +28,11 @@ public:
         std::optional<Json> object;  // penumbra's texture object (scenes/README.md, "Textures")
         std::string standIn;         // for `object`: what `constant` is, for warnings
     };
-    // Texture "name" "float"|"spectrum" "class" params.
+    // Texture "name" "float"|"spectrum" "class" params, defined where the current transform is
+    // `worldFromTexture` (the space of the 3D textures and of a direction mix's direction).
     void define(const std::string& name, const std::string& kind, const std::string& textureClass,
-                const ParameterList& params, const SourceLocation& where, WarningLog& log);
+                const ParameterList& params, const Matrix4d& worldFromTexture, const SourceLocation& where,
+                WarningLog& log);
     const Texture* spectrum(const std::string& name) const;
     const Texture* scalar(const std::string& name) const;
 

@@ -23,8 +23,6 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 constexpr double kDegrees = 180.0 / kPi;
 
-Json vec3Json(Vec3d v) { return Json::array({v.x, v.y, v.z}); }
-
 Matrix4d translation(Vec3d d) {
     Matrix4d m = Matrix4d::identity();
     m.m[0][3] = d.x, m.m[1][3] = d.y, m.m[2][3] = d.z;
@@ -59,13 +57,6 @@ Matrix4d fromColumns(const std::vector<double>& v) {
     Matrix4d m;
     for (int i = 0; i < 16; ++i) m.m[i % 4][i / 4] = v[size_t(i)];
     return m;
-}
-
-Json matrixJson(const Matrix4d& m) {
-    Json out = Json::array();
-    for (const auto& row : m.m)
-        for (double v : row) out.push_back(v);
-    return out;
 }
 
 // A rigid motion key (scale, then rotate, then translate) of an affine matrix without shear;
@@ -637,7 +628,7 @@ void SceneBuilder::materialDirective(const Directive& d) {
     const std::string& n = d.name;
     const ParameterList& p = d.parameters;
     if (n == "Texture") {
-        textures_.define(d.strings[0], d.strings[1], d.strings[2], p, d.where, log_);
+        textures_.define(d.strings[0], d.strings[1], d.strings[2], p, toWorld(state_.ctm[0]), d.where, log_);
         return;
     }
     if (n == "NamedMaterial") {

@@ -606,6 +606,67 @@ TEST(PbrtMapping, TexturesBecomeTextureObjects) {
     EXPECT_TRUE(scene.materials[size_t(named - scene.materialNames.begin())].isTextured());
 }
 
+// pbrt-v4's procedural and composite textures become penumbra's (textures/procedural_texture.h),
+// inputs of inputs nested, the 3D ones placed by the transform current at their definition.
+TEST(PbrtMapping, ProceduralAndCompositeTextures) {
+    auto c =
+        convert(kCamera +
+                "WorldBegin\n"
+                "AttributeBegin\nScale 2 2 2\n"
+                "Texture \"noise\" \"float\" \"fbm\" \"integer octaves\" 5 \"float roughness\" 0.4\n"
+                "Texture \"veins\" \"spectrum\" \"marble\" \"float scale\" 3 \"float variation\" 0.5\n"
+                "Texture \"cube\" \"spectrum\" \"checkerboard\" \"integer dimension\" 3 "
+                "\"rgb tex1\" [1 0 0] \"texture tex2\" \"veins\"\n"
+                "Rotate 90 1 0 0\n"
+                "Texture \"up\" \"spectrum\" \"directionmix\" \"rgb tex1\" [1 1 1] \"rgb tex2\" [0 0 0] "
+                "\"vector3 dir\" [0 1 0]\n"
+                "AttributeEnd\n"
+                "Texture \"blend\" \"spectrum\" \"mix\" \"rgb tex1\" [0 0 1] \"texture tex2\" \"cube\" "
+                "\"texture amount\" \"noise\"\n"
+                "Texture \"spots\" \"spectrum\" \"dots\" \"rgb inside\" [1 0 0] \"float uscale\" 4 "
+                "\"float vscale\" 4\n"
+                "Texture \"ramp\" \"float\" \"bilerp\" \"float v11\" 0.5\n"
+                "Texture \"waves\" \"float\" \"windy\"\n"
+                "Texture \"skin\" \"float\" \"wrinkled\"\n"
+                "Texture \"loud\" \"spectrum\" \"scale\" \"texture tex\" \"spots\" \"texture scale\" "
+                "\"waves\"\n"
+                "MakeNamedMaterial \"a\" \"string type\" \"diffuse\" \"texture reflectance\" \"blend\"\n"
+                "MakeNamedMaterial \"b\" \"string type\" \"diffuse\" \"texture reflectance\" \"up\"\n"
+                "MakeNamedMaterial \"c\" \"string type\" \"diffuse\" \"texture reflectance\" \"loud\"\n"
+                "MakeNamedMaterial \"d\" \"string type\" \"diffuse\" \"texture displacement\" \"skin\"\n"
+                "MakeNamedMaterial \"e\" \"string type\" \"diffuse\" \"texture displacement\" \"ramp\"\n");
+    EXPECT_FALSE(hasWarning(c, "not supported"));
+    const Json& m = c.document["materials"];
+    const Json& blend = m["a"]["albedo"];
+    EXPECT_EQ(blend["type"], "mix");
+    EXPECT_EQ(blend["textures"][0], Json::parse("[0.0, 0.0, 1.0]"));
+    EXPECT_EQ(blend["textures"][1]["type"], "checkerboard_3d");
+    EXPECT_EQ(blend["textures"][1]["colors"][1]["type"], "marble");
+    EXPECT_EQ(blend["textures"][1]["colors"][1]["scale"], 3.0);
+    EXPECT_EQ(blend["amount"]["type"], "fbm");
+    EXPECT_EQ(blend["amount"]["octaves"], 5);
+    // Defined under Scale 2: texture space is the world scaled by 2.
+    EXPECT_EQ(blend["amount"]["transform"][0]["matrix"][0], 2.0);
+    // The direction (0, 1, 0) turned by Rotate 90 about x: (0, 0, 1).
+    const Json& up = m["b"]["albedo"];
+    EXPECT_EQ(up["type"], "direction_mix");
+    EXPECT_NEAR(up["direction"][2].get<double>(), 1.0, 1e-12);
+    EXPECT_NEAR(up["direction"][1].get<double>(), 0.0, 1e-12);
+    const Json& loud = m["c"]["albedo"];
+    EXPECT_EQ(loud["type"], "scale");
+    EXPECT_EQ(loud["texture"]["type"], "dots");
+    EXPECT_EQ(loud["texture"]["uv_scale"], Json::parse("[4.0, 4.0]"));
+    EXPECT_EQ(loud["scale"]["type"], "windy");
+    EXPECT_EQ(m["d"]["bump"]["type"], "wrinkled");
+    EXPECT_EQ(m["e"]["bump"], Json::parse(R"({"type": "bilerp", "values": [0.0, 0.0, 1.0, 0.5]})"));
+    const Scene scene = buildPbrtScene(c, "test.pbrt");
+    for (const char* name : {"a", "b", "c"}) {
+        const auto named = std::find(scene.materialNames.begin(), scene.materialNames.end(), name);
+        ASSERT_NE(named, scene.materialNames.end());
+        EXPECT_TRUE(scene.materials[size_t(named - scene.materialNames.begin())].isTextured()) << name;
+    }
+}
+
 TEST(PbrtSpectrum, BlackbodiesHaveUnitLuminanceAndTheirColour) {
     for (double t : {1500.0, 3000.0, 6504.0, 10000.0})
         EXPECT_NEAR(blackbodyRgb(t).luminance(), 1.0, 2e-3) << t;

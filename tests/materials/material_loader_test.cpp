@@ -183,14 +183,15 @@ TEST(MaterialMix, ChoosesTheSecondWithProbabilityAmount) {
         const MaterialMix mix{0, 1, amount, nullptr};
         int second = 0;
         for (int i = 0; i < kPoints; ++i)
-            second += mix.choose({0.001f * float(i % 1000), 0.0f, 0.001f * float(i / 1000)},
-                                 normalize(Vec3f{0.3f, 1.0f, 0.2f}), {0.0f, 0.0f}, 7) == 1;
+            second +=
+                mix.choose({0.001f * float(i % 1000), 0.0f, 0.001f * float(i / 1000)}, {0.0f, 1.0f, 0.0f},
+                           normalize(Vec3f{0.3f, 1.0f, 0.2f}), {0.0f, 0.0f}, 7) == 1;
         const double sigma = std::sqrt(amount * (1.0 - amount) / kPoints);
         EXPECT_NEAR(double(second) / kPoints, amount, 5.0 * sigma) << amount;
     }
     const MaterialMix none{4, 5, 0.0f, nullptr}, all{4, 5, 1.0f, nullptr};
-    EXPECT_EQ(none.choose({1, 2, 3}, {0, 0, 1}, {}, 0), 4u);
-    EXPECT_EQ(all.choose({1, 2, 3}, {0, 0, 1}, {}, 0), 5u);
+    EXPECT_EQ(none.choose({1, 2, 3}, {0, 1, 0}, {0, 0, 1}, {}, 0), 4u);
+    EXPECT_EQ(all.choose({1, 2, 3}, {0, 1, 0}, {0, 0, 1}, {}, 0), 5u);
 }
 
 // Flags, not hand lists, say what the integrator may do with each material.
