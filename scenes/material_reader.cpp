@@ -39,9 +39,58 @@ Rgb clampedColor(Rgb c, float max = 1.0f) {
     return {std::clamp(c.r, 0.0f, max), std::clamp(c.g, 0.0f, max), std::clamp(c.b, 0.0f, max)};
 }
 
-// A textured roughness (its first channel) as the distribution's slopes.
-void setRoughness(MicrofacetDistribution& d, Rgb value) {
-    d.alphaX = d.alphaY = std::max(roughnessToAlpha(std::clamp(value.r, 0.0f, 1.0f)), 1e-4f);
+// How "roughness" r gives the slopes alpha ("roughness_mapping"): r^2 (the default: Disney's,
+// Cycles' and Blender's), sqrt(r) (pbrt-v4's `remaproughness true`) or r itself (its
+// `remaproughness false`).
+enum class RoughnessMapping : uint8_t { Squared, SquareRoot, Identity };
+
+RoughnessMapping readRoughnessMapping(const JsonValue& material) {
+    if (auto v = material.member("roughness_mapping")) {
+        if (!material.member("roughness")) v->fail("\"roughness_mapping\" maps a \"roughness\": give one");
+        return RoughnessMapping(v->choice({"squared", "sqrt", "identity"}));
+    }
+    return RoughnessMapping::Squared;
+}
+
+float mappedRoughness(float r, RoughnessMapping mapping) {
+    switch (mapping) {
+        case RoughnessMapping::Squared:
+            return roughnessToAlpha(r);
+        case RoughnessMapping::SquareRoot:
+            return std::sqrt(r);
+        case RoughnessMapping::Identity:
+            break;
+    }
+    return r;
+}
+
+// A textured roughness (its first channel, clamped to [0, 1]) as the slopes of `Model`'s
+// distribution, mapped by `kMapping`.
+template <class Model, RoughnessMapping kMapping>
+void setRoughness(MaterialModel& m, Rgb value) {
+    MicrofacetDistribution& d = std::get<Model>(m).distribution;
+    d.alphaX = d.alphaY = std::max(mappedRoughness(std::clamp(value.r, 0.0f, 1.0f), kMapping), 1e-4f);
+}
+
+// The textured-roughness setter of `Model` for `mapping`.
+template <class Model>
+ApplyColor roughnessSetter(RoughnessMapping mapping) {
+    switch (mapping) {
+        case RoughnessMapping::Squared:
+            return setRoughness<Model, RoughnessMapping::Squared>;
+        case RoughnessMapping::SquareRoot:
+            return setRoughness<Model, RoughnessMapping::SquareRoot>;
+        case RoughnessMapping::Identity:
+            break;
+    }
+    return setRoughness<Model, RoughnessMapping::Identity>;
+}
+
+// A textured "roughness" of `Model`, recorded to set its slopes at each shading point.
+template <class Model>
+void addTexturedRoughness(const JsonValue& material, MaterialContext& context) {
+    context.textures.push_back({readTexture(*material.member("roughness"), context.folder, 0.0f, 1.0f),
+                                roughnessSetter<Model>(readRoughnessMapping(material))});
 }
 
 FresnelModel readFresnel(const JsonValue& value) {
@@ -118,7 +167,8 @@ Material readMirror(const JsonValue& material, MaterialContext& context) {
 }
 
 // A rough surface's microfacet distribution: "distribution" ("ggx" or "beckmann") and the slopes
-// from "roughness" r in [0, 1] (alpha = r^2) or "alpha" > 0, each a number or [along u, along v]
+// from "roughness" r in [0, 1] (alpha = r^2, or as "roughness_mapping" says) or "alpha" > 0, each a
+// number or [along u, along v]
 // for an anisotropic surface; none when no roughness is given.
 // A textured "roughness" (an object) gives an isotropic rough surface whose slopes come from the
 // texture's first channel at each point (`textured` is set; the slopes returned are placeholders).
@@ -141,11 +191,17 @@ std::optional<MicrofacetDistribution> readDistribution(const JsonValue& material
         return d;
     }
     const JsonValue& value = roughness ? *roughness : *alpha;
+    const RoughnessMapping mapping = readRoughnessMapping(material);
     auto read = [&](const JsonValue& v) {
         if (roughness) {
             const float r = v.number();
-            if (!(r >= 0.0f && r <= 1.0f)) v.failExpected("a roughness in [0, 1] (alpha = roughness^2)");
-            return roughnessToAlpha(r);
+            if (!(r >= 0.0f && r <= 1.0f))
+                v.failExpected(mapping == RoughnessMapping::Squared
+                                   ? "a roughness in [0, 1] (alpha = roughness^2)"
+                               : mapping == RoughnessMapping::SquareRoot
+                                   ? "a roughness in [0, 1] (alpha = sqrt(roughness))"
+                                   : "a roughness in [0, 1] (alpha = roughness)");
+            return mappedRoughness(r, mapping);
         }
         const float a = v.number();
         if (!(a > 0.0f && a <= 4.0f))
@@ -202,10 +258,7 @@ Material readConductor(const JsonValue& material, MaterialContext& context) {
                         });
     }
     if (smooth) return Material(Conductor{eta, k, tint}, readTwoSided(material), std::move(context.textures));
-    if (texturedRoughness)
-        context.textures.push_back(
-            {readTexture(*material.member("roughness"), context.folder, 0.0f, 1.0f),
-             [](MaterialModel& m, Rgb r) { setRoughness(std::get<RoughConductor>(m).distribution, r); }});
+    if (texturedRoughness) addTexturedRoughness<RoughConductor>(material, context);
     return Material(RoughConductor{eta, k, clampedForRendering(*distribution), tint}, readTwoSided(material),
                     std::move(context.textures));
 }
@@ -219,10 +272,7 @@ Material readDielectric(const JsonValue& material, MaterialContext& context) {
     bool texturedRoughness = false;
     const std::optional<MicrofacetDistribution> distribution = readDistribution(material, &texturedRoughness);
     if (isSmooth(distribution) && !texturedRoughness) return Material(smooth);
-    if (texturedRoughness)
-        context.textures.push_back(
-            {readTexture(*material.member("roughness"), context.folder, 0.0f, 1.0f),
-             [](MaterialModel& m, Rgb r) { setRoughness(std::get<RoughDielectric>(m).distribution, r); }});
+    if (texturedRoughness) addTexturedRoughness<RoughDielectric>(material, context);
     return Material(
         RoughDielectric{smooth.eta, smooth.fresnel, smooth.absorption, clampedForRendering(*distribution)},
         true, std::move(context.textures));
@@ -246,10 +296,7 @@ Material readCoatedDiffuse(const JsonValue& material, MaterialContext& context) 
     if (smooth)
         return Material(CoatedDiffuse::make(albedo, eta), readTwoSided(material),
                         std::move(context.textures));
-    if (texturedRoughness)
-        context.textures.push_back(
-            {readTexture(*material.member("roughness"), context.folder, 0.0f, 1.0f),
-             [](MaterialModel& m, Rgb r) { setRoughness(std::get<RoughCoatedDiffuse>(m).distribution, r); }});
+    if (texturedRoughness) addTexturedRoughness<RoughCoatedDiffuse>(material, context);
     return Material(RoughCoatedDiffuse::make(albedo, eta, clampedForRendering(*distribution)),
                     readTwoSided(material), std::move(context.textures));
 }
@@ -344,13 +391,16 @@ const std::array<TypeRow<MaterialReader>, 13> kMaterialTypes{{
     {"mirror", {"type", "tint", "two_sided", "bump", "normal_map"}, readMirror},
     {"conductor", {"type", "eta", "k", "tint", "two_sided", "bump", "normal_map"}, readConductor},
     {"rough_conductor",
-     {"type", "eta", "k", "tint", "roughness", "alpha", "distribution", "two_sided", "bump", "normal_map"},
+     {"type", "eta", "k", "tint", "roughness", "roughness_mapping", "alpha", "distribution", "two_sided",
+      "bump", "normal_map"},
      readConductor},
     {"rough_dielectric",
-     {"type", "eta", "fresnel", "absorption", "roughness", "alpha", "distribution", "bump", "normal_map"},
+     {"type", "eta", "fresnel", "absorption", "roughness", "roughness_mapping", "alpha", "distribution",
+      "bump", "normal_map"},
      readDielectric},
     {"coated_diffuse",
-     {"type", "albedo", "eta", "roughness", "alpha", "distribution", "two_sided", "bump", "normal_map"},
+     {"type", "albedo", "eta", "roughness", "roughness_mapping", "alpha", "distribution", "two_sided", "bump",
+      "normal_map"},
      readCoatedDiffuse},
     {"diffuse_transmission",
      {"type", "reflectance", "transmittance", "bump", "normal_map"},

@@ -72,6 +72,8 @@ Texture readImage(const JsonValue& value, const TextureContext& context) {
     if (auto v = value.member("color_space")) colorSpace = int(v->choice({"auto", "srgb", "linear"}));
     Rgb scale(1.0f);
     if (auto v = value.member("scale")) scale = v->rgb(0.0f);
+    bool invert = false;
+    if (auto v = value.member("invert")) invert = v->boolean();
 
     SourceLocation where;
     where.file = fileValue.file();
@@ -80,7 +82,7 @@ Texture readImage(const JsonValue& value, const TextureContext& context) {
     source.plugin = opened.plugin;
     source.handle = opened.handle;
     source.channels = opened.channels;
-    Texture texture = Texture::image(source, scale);
+    Texture texture = Texture::image(source, scale, invert);
     readUvMapping(value, texture);
     return texture;
 }
@@ -227,7 +229,9 @@ Texture readMarble(const JsonValue& value, const TextureContext&) {
 using TextureReaderFunction = Texture (*)(const JsonValue&, const TextureContext&);
 
 const std::array<TypeRow<TextureReaderFunction>, 13> kTextureTypes{{
-    {"image", {"type", "file", "wrap", "filter", "color_space", "scale", "uv_scale", "uv_offset"}, readImage},
+    {"image",
+     {"type", "file", "wrap", "filter", "color_space", "scale", "invert", "uv_scale", "uv_offset"},
+     readImage},
     {"checkerboard", {"type", "colors", "uv_scale", "uv_offset"}, readCheckerboard},
     {"constant", {"type", "value"}, readConstant},
     {"scale", {"type", "texture", "scale"}, readScale},

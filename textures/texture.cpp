@@ -1,5 +1,7 @@
 #include "textures/texture.h"
 
+#include <algorithm>
+
 #include "textures/procedural_texture.h"
 
 namespace penumbra {
@@ -23,7 +25,10 @@ Rgb Texture::lookupImage(Vec2f uv, const TextureQuery& query) const {
     const int channels = image_.channels >= 3 ? 3 : 1;
     lookupChannels(image_, uv, uvScale_, query, channels, texel);
     if (channels == 1) texel[1] = texel[2] = texel[0];
-    return Rgb(texel[0], texel[1], texel[2]) * a_;
+    const Rgb scaled = Rgb(texel[0], texel[1], texel[2]) * a_;
+    if (!invert_) return scaled;
+    return {std::max(0.0f, 1.0f - scaled.r), std::max(0.0f, 1.0f - scaled.g),
+            std::max(0.0f, 1.0f - scaled.b)};
 }
 
 Texture Texture::procedural(std::shared_ptr<const ProceduralTexture> procedural) {
@@ -46,7 +51,8 @@ float Texture::lookupAlpha(const TextureQuery& query) const {
     const Vec2f uv{query.uv.x * uvScale_.x + uvOffset_.x, query.uv.y * uvScale_.y + uvOffset_.y};
     float texel[4] = {0.0f, 0.0f, 0.0f, 0.0f};
     lookupChannels(image_, uv, uvScale_, query, image_.channels, texel);
-    return texel[image_.channels - 1] * a_.r;
+    const float alpha = texel[image_.channels - 1] * a_.r;
+    return invert_ ? std::max(0.0f, 1.0f - alpha) : alpha;
 }
 
 }  // namespace penumbra

@@ -54,12 +54,14 @@ public:
         t.b_ = b;
         return t;
     }
-    // `scale` multiplies the looked-up colour.
-    static Texture image(const ImageTextureSource& source, Rgb scale) {
+    // `scale` multiplies the looked-up colour; `invert` then takes it from 1 (at least 0), as
+    // pbrt-v4's imagemap `invert`.
+    static Texture image(const ImageTextureSource& source, Rgb scale, bool invert = false) {
         Texture t;
         t.kind_ = TextureKind::Image;
         t.image_ = source;
         t.a_ = scale;
+        t.invert_ = invert;
         return t;
     }
     // pbrt-v4's procedural and composite textures (textures/procedural_texture.h).
@@ -113,6 +115,7 @@ private:
     Vec2f uvScale_{1.0f, 1.0f}, uvOffset_{0.0f, 0.0f};
     ImageTextureSource image_;
     std::shared_ptr<const ProceduralTexture> procedural_;
+    bool invert_ = false;                    // an image's `invert`
     bool proceduralNeedsFootprint_ = false;  // an input's needsFootprint()
     bool spatial_ = false;                   // isSpatial()
 };

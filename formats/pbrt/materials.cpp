@@ -43,6 +43,36 @@ std::pair<double, double> readAlpha(const ParameterList& params, const TextureTa
     return {u, v};
 }
 
+// A roughness penumbra textures as pbrt-v4 does: `prefix`roughness naming a float texture that has a
+// texture object, with no uroughness or vroughness apart from it (or those two naming the same
+// one). Empty otherwise (readAlpha then reads the constants).
+std::optional<Json> texturedRoughness(const ParameterList& params, const TextureTable& textures,
+                                      const std::string& prefix = "") {
+    auto objectOf = [&](const std::string& name) -> std::optional<Json> {
+        const Parameter* p = params.find(name, {ParamType::Float, ParamType::Texture});
+        if (!p || p->type != ParamType::Texture || p->strings.size() != 1) return std::nullopt;
+        const TextureTable::Texture* t = textures.scalar(p->strings[0]);
+        return t ? t->object : std::nullopt;
+    };
+    const bool anisotropic = params.has(prefix + "uroughness") || params.has(prefix + "vroughness");
+    if (!anisotropic) return objectOf(prefix + "roughness");
+    const std::optional<Json> u = objectOf(prefix + "uroughness"), v = objectOf(prefix + "vroughness");
+    return u && v && *u == *v ? u : std::nullopt;
+}
+
+// Writes a textured roughness with pbrt-v4's mapping (alpha = sqrt(r) unless `remaproughness
+// false`), and returns true; false when the roughness is not a texture penumbra takes.
+bool addTexturedRoughness(Json& material, const ParameterList& params, const TextureTable& textures,
+                          const std::string& prefix = "") {
+    std::optional<Json> roughness = texturedRoughness(params, textures, prefix);
+    if (!roughness) return false;
+    material["roughness"] = std::move(*roughness);
+    material["roughness_mapping"] = params.getBool("remaproughness").value_or(true) ? "sqrt" : "identity";
+    for (const char* name : {"roughness", "uroughness", "vroughness"})
+        params.find(prefix + name, {ParamType::Float, ParamType::Texture});  // read: not unused
+    return true;
+}
+
 // Adds "alpha" when the surface is rough (penumbra renders alpha below 0.001 with the smooth model).
 void addAlpha(Json& material, std::pair<double, double> alpha) {
     if (alpha.first <= 0.0 && alpha.second <= 0.0) return;
@@ -171,10 +201,10 @@ void addUvMapping(Json& texture, const ParameterList& params, const SourceLocati
     params.getFloat("v1"), params.getFloat("v2");  // planar mapping's, with the warning above
 }
 
-// A texture object scaled by a constant factor: an image's "scale", a checkerboard's colours, or
-// else a "scale" texture of it.
+// A texture object scaled by a constant factor: an image's "scale" (unless it is inverted after
+// its scale), a checkerboard's colours, or else a "scale" texture of it.
 Json scaled(Json texture, float s) {
-    if (texture["type"] == "image") {
+    if (texture["type"] == "image" && !texture.value("invert", false)) {
         Rgb old(1.0f);
         if (const auto it = texture.find("scale"); it != texture.end())
             old = it->is_array() ? Rgb((*it)[0].get<float>(), (*it)[1].get<float>(), (*it)[2].get<float>())
@@ -382,8 +412,7 @@ void TextureTable::define(const std::string& name, const std::string& kind, cons
         }
         const double scale = params.getFloat("scale").value_or(1.0);
         if (scale != 1.0) object["scale"] = scale;
-        if (params.getBool("invert").value_or(false))
-            log.warn(where, "imagemap \"invert\" is not supported: the image is used as it is");
+        if (params.getBool("invert").value_or(false)) object["invert"] = true;
         addUvMapping(object, params, where, log);
         texture = {Rgb(0.5f), std::move(object), "the constant 0.5 instead of the image"};
     } else {
@@ -432,13 +461,17 @@ Json mapMaterial(const std::string& type, const ParameterList& params, const Tex
         m["type"] = "coated_diffuse";
         m["albedo"] = texturable("reflectance", Rgb(0.5f));
         m["eta"] = readEta(params, textures, log);
-        addAlpha(m, readAlpha(params, textures, log));
+        if (!addTexturedRoughness(m, params, textures)) addAlpha(m, readAlpha(params, textures, log));
     } else if (type == "dielectric") {
         m["type"] = "dielectric";
         m["eta"] = readEta(params, textures, log);
-        const auto alpha = readAlpha(params, textures, log);
-        if (alpha.first > 0.0 || alpha.second > 0.0) m["type"] = "rough_dielectric";
-        addAlpha(m, alpha);
+        if (addTexturedRoughness(m, params, textures)) {
+            m["type"] = "rough_dielectric";
+        } else {
+            const auto alpha = readAlpha(params, textures, log);
+            if (alpha.first > 0.0 || alpha.second > 0.0) m["type"] = "rough_dielectric";
+            addAlpha(m, alpha);
+        }
     } else if (type == "thindielectric") {
         m["type"] = "thin_dielectric";
         m["eta"] = readEta(params, textures, log);
@@ -462,12 +495,16 @@ Json mapMaterial(const std::string& type, const ParameterList& params, const Tex
         }
         m["eta"] = rgbJson({std::max(eta.r, 1e-4f), std::max(eta.g, 1e-4f), std::max(eta.b, 1e-4f)});
         m["k"] = rgbJson({std::max(k.r, 0.0f), std::max(k.g, 0.0f), std::max(k.b, 0.0f)});
-        const auto alpha = type == "coatedconductor"
-                               ? std::pair{readScalar(params, "conductor.roughness", 0.0, textures, log),
-                                           readScalar(params, "conductor.roughness", 0.0, textures, log)}
-                               : readAlpha(params, textures, log);
-        m["type"] = alpha.first > 0.0 || alpha.second > 0.0 ? "rough_conductor" : "conductor";
-        addAlpha(m, alpha);
+        if (addTexturedRoughness(m, params, textures, prefix)) {
+            m["type"] = "rough_conductor";
+        } else {
+            const auto alpha = type == "coatedconductor"
+                                   ? std::pair{readScalar(params, "conductor.roughness", 0.0, textures, log),
+                                               readScalar(params, "conductor.roughness", 0.0, textures, log)}
+                                   : readAlpha(params, textures, log);
+            m["type"] = alpha.first > 0.0 || alpha.second > 0.0 ? "rough_conductor" : "conductor";
+            addAlpha(m, alpha);
+        }
         if (type == "coatedconductor")
             log.warn(where, "coatedconductor is rendered as its conductor alone (the coating is left out)");
     } else if (type == "interface" || type == "" || type == "none") {

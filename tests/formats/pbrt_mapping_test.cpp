@@ -667,6 +667,40 @@ TEST(PbrtMapping, ProceduralAndCompositeTextures) {
     }
 }
 
+// A textured roughness goes to penumbra as the texture, with pbrt-v4's alpha = sqrt(r) (or r under
+// remaproughness false); uroughness and vroughness of two different textures stay constants.
+TEST(PbrtMapping, TexturedRoughness) {
+    auto c =
+        convert(kCamera +
+                "WorldBegin\n"
+                "Texture \"r\" \"float\" \"checkerboard\" \"float tex1\" 0.04 \"float tex2\" 0.36\n"
+                "Texture \"s\" \"float\" \"fbm\"\n"
+                "MakeNamedMaterial \"metal\" \"string type\" \"conductor\" \"texture roughness\" \"r\"\n"
+                "MakeNamedMaterial \"glass\" \"string type\" \"dielectric\" \"texture uroughness\" \"s\" "
+                "\"texture vroughness\" \"s\" \"bool remaproughness\" false\n"
+                "MakeNamedMaterial \"paint\" \"string type\" \"coateddiffuse\" \"texture roughness\" \"r\"\n"
+                "MakeNamedMaterial \"brushed\" \"string type\" \"conductor\" \"texture uroughness\" \"r\" "
+                "\"texture vroughness\" \"s\"\n");
+    const Json& m = c.document["materials"];
+    EXPECT_EQ(m["metal"]["type"], "rough_conductor");
+    EXPECT_EQ(m["metal"]["roughness"]["type"], "checkerboard");
+    EXPECT_EQ(m["metal"]["roughness_mapping"], "sqrt");
+    EXPECT_EQ(m["glass"]["type"], "rough_dielectric");
+    EXPECT_EQ(m["glass"]["roughness"]["type"], "fbm");
+    EXPECT_EQ(m["glass"]["roughness_mapping"], "identity");
+    EXPECT_EQ(m["paint"]["roughness"]["type"], "checkerboard");
+    EXPECT_FALSE(m["brushed"].contains("roughness"));
+    EXPECT_TRUE(hasWarning(c, "a texture where penumbra takes none (parameter \"texture uroughness\")"));
+    EXPECT_FALSE(hasWarning(c, "parameter \"texture roughness\""));
+    const Scene scene = buildPbrtScene(c, "test.pbrt");
+    const auto named = std::find(scene.materialNames.begin(), scene.materialNames.end(), "metal");
+    ASSERT_NE(named, scene.materialNames.end());
+    const Material& metal = scene.materials[size_t(named - scene.materialNames.begin())];
+    TextureQuery odd;
+    odd.uv = {1.5f, 0.5f};
+    EXPECT_FLOAT_EQ(std::get<RoughConductor>(metal.at(odd).model()).distribution.alphaX, 0.6f);
+}
+
 TEST(PbrtSpectrum, BlackbodiesHaveUnitLuminanceAndTheirColour) {
     for (double t : {1500.0, 3000.0, 6504.0, 10000.0})
         EXPECT_NEAR(blackbodyRgb(t).luminance(), 1.0, 2e-3) << t;

@@ -207,7 +207,9 @@ TEST(BilinearPatchesTest, TheShadingPointMatchesTheSaddlesClosedForms) {
                 EXPECT_NEAR(si.geometricNormal.x, expected.x, 1e-4f) << i;
                 EXPECT_NEAR(si.geometricNormal.y, expected.y, 1e-4f) << i;
                 EXPECT_NEAR(si.geometricNormal.z, expected.z, 1e-4f) << i;
-                if (withNormals) EXPECT_NEAR(si.shadingNormal.z, 1.0f, 1e-6f);
+                if (withNormals) {
+                    EXPECT_NEAR(si.shadingNormal.z, 1.0f, 1e-6f);
+                }
                 EXPECT_NEAR(si.uv.x, 3.0f * (x + 1.0f) / 2.0f, 1e-4f);
                 EXPECT_NEAR(si.uv.y, 5.0f * (y + 1.0f) / 2.0f, 1e-4f);
                 // dp/ds = dp/du / 3 = (2, 0, 2 y) / 3; dp/dt = dp/dv / 5 = (0, 2, 2 x) / 5.
@@ -325,7 +327,9 @@ TEST(BilinearPatchesTest, BothBackendsFindTheSameHitsBitForBit) {
             for (size_t k = 0; k < packet.size(); ++k) {
                 Hit single;
                 ASSERT_EQ(found[k], bvh.intersect(packet[k], single));
-                if (found[k]) EXPECT_EQ(hits[k].t, single.t);
+                if (found[k]) {
+                    EXPECT_EQ(hits[k].t, single.t);
+                }
             }
         }
     }

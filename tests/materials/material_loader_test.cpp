@@ -253,6 +253,44 @@ TEST(MaterialLoader, ReadsTheRoughMaterials) {
     EXPECT_EQ(std::get<Dielectric>(scene.materials[6].model()).eta, 1.33f);
 }
 
+// "roughness_mapping": alpha = r^2 (the default), sqrt(r) (pbrt-v4's remaproughness) or r, for
+// a constant roughness and a textured one alike (the texture's value at each point).
+TEST(MaterialLoader, RoughnessMappings) {
+    const Scene scene = parseMaterials(R"({
+        "squared": {"type": "rough_conductor", "eta": 0.2, "k": 3.9, "roughness": 0.36},
+        "sqrt": {"type": "rough_conductor", "eta": 0.2, "k": 3.9, "roughness": 0.36, "roughness_mapping": "sqrt"},
+        "identity": {"type": "rough_dielectric", "roughness": [0.36, 0.16], "roughness_mapping": "identity"},
+        "textured": {"type": "coated_diffuse", "roughness_mapping": "sqrt",
+                     "roughness": {"type": "checkerboard", "colors": [0.36, 0.04]}},
+        "glass": {"type": "rough_dielectric", "roughness_mapping": "identity",
+                  "roughness": {"type": "checkerboard", "colors": [0.36, 0.04]}}
+    })");
+    EXPECT_FLOAT_EQ(std::get<RoughConductor>(scene.materials[0].model()).distribution.alphaX, 0.1296f);
+    EXPECT_FLOAT_EQ(std::get<RoughConductor>(scene.materials[1].model()).distribution.alphaX, 0.6f);
+    const MicrofacetDistribution& identity =
+        std::get<RoughDielectric>(scene.materials[2].model()).distribution;
+    EXPECT_FLOAT_EQ(identity.alphaX, 0.36f);
+    EXPECT_FLOAT_EQ(identity.alphaY, 0.16f);
+    TextureQuery even, odd;
+    even.uv = {0.5f, 0.5f};
+    odd.uv = {1.5f, 0.5f};
+    EXPECT_FLOAT_EQ(std::get<RoughCoatedDiffuse>(scene.materials[3].at(even).model()).distribution.alphaX,
+                    0.6f);
+    EXPECT_FLOAT_EQ(std::get<RoughCoatedDiffuse>(scene.materials[3].at(odd).model()).distribution.alphaY,
+                    0.2f);
+    EXPECT_FLOAT_EQ(std::get<RoughDielectric>(scene.materials[4].at(odd).model()).distribution.alphaX, 0.04f);
+    EXPECT_NE(
+        errorOf(
+            R"({"m": {"type": "rough_conductor", "eta": 1, "k": 1, "alpha": 0.1, "roughness_mapping": "sqrt"}})")
+            .find("/materials/m/roughness_mapping"),
+        std::string::npos);
+    EXPECT_NE(
+        errorOf(
+            R"({"m": {"type": "rough_conductor", "eta": 1, "k": 1, "roughness": 0.1, "roughness_mapping": "cubed"}})")
+            .find("/materials/m/roughness_mapping"),
+        std::string::npos);
+}
+
 TEST(MaterialLoader, PhongEnergyConservation) {
     // kd + ks = 1 exactly is fine.
     EXPECT_NO_THROW(parseMaterials(R"({"p": {"type": "phong", "diffuse": 0.25, "specular": 0.75}})"));
@@ -335,8 +373,8 @@ TEST(MaterialLoader, BadValuesNameThePointerAndTheField) {
         {R"({"r": {"type": "rough_conductor", "eta": 1, "k": 1, "roughness": 0.5, "alpha": 0.2}})",
          "/materials/r/alpha: give either \"roughness\" or \"alpha\", not both"},
         {R"({"r": {"type": "coated_diffuse", "specular": 0.5}})",
-         "/materials/r/specular: unknown key (expected one of: type, albedo, eta, roughness, alpha, "
-         "distribution, two_sided, bump, normal_map)"},
+         "/materials/r/specular: unknown key (expected one of: type, albedo, eta, roughness, "
+         "roughness_mapping, alpha, distribution, two_sided, bump, normal_map)"},
         {R"({"r": {"type": "conductor", "eta": 1, "k": 1, "roughness": 0.5}})",
          "/materials/r/roughness: unknown key (expected one of: type, eta, k, tint, two_sided, bump, "
          "normal_map)"},

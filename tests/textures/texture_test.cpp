@@ -106,7 +106,7 @@ TEST(TextureSrgb, EightBitLinearisationMatchesTheSrgbFormula) {
 }
 
 // A float image is linear and looked up as it is: bilinear filtering halfway between two texel
-// centres gives their mean; the t axis runs down the image (v = 1 is its top row).
+// centres gives their mean; the t axis runs down the image (v = 1 is its top row); `invert`.
 TEST(TextureImage, LinearImageBilinearAndOrientation) {
     const std::vector<float> pixels = {0.0f, 0.0f, 0.0f, 1.0f,  2.0f,  4.0f,  // top row
                                        8.0f, 8.0f, 8.0f, 16.0f, 16.0f, 16.0f};
@@ -126,6 +126,12 @@ TEST(TextureImage, LinearImageBilinearAndOrientation) {
     // Repeat wrap: one period over, the same texel; scale multiplies.
     const Texture repeat = Texture::image(open(path, TextureFilter::Closest, TextureWrap::Repeat), Rgb(2.0f));
     EXPECT_EQ(repeat.evaluate(at(1.25f, 0.25f)), Rgb(16.0f));
+    // Inverted (pbrt-v4's invert): 1 minus the scaled texel, at least 0.
+    const Texture inverted =
+        Texture::image(open(path, TextureFilter::Closest, TextureWrap::Clamp), Rgb(0.25f), true);
+    EXPECT_EQ(inverted.evaluate(at(0.75f, 0.75f)), Rgb(0.75f, 0.5f, 0.0f));
+    EXPECT_EQ(inverted.evaluate(at(0.25f, 0.25f)), Rgb(0.0f));
+    EXPECT_EQ(inverted.coverage(at(0.75f, 0.75f)), 0.75f);
 }
 
 // A plane facing a pinhole camera at distance d, uv spanning `size` world units: one pixel covers
