@@ -94,8 +94,9 @@ inline bool intersectBilinearPatch(const Vec3f* p, Vec3f origin, Vec3f direction
     const Vec3f q00 = p[0] - origin, q10 = p[1] - origin;
     const Vec3f e00 = p[2] - p[0];  // along v at u = 0
     const Vec3f e11 = p[3] - p[1];  // along v at u = 1
-    // The signed distance (times a common factor) from the ray to the segment at u is
-    // a u^2 + b u + c: c at u = 0, c + b + a at u = 1, a from the patch's twist.
+    // The triple product of (the segment's start at u - origin, direction, the segment at u), zero
+    // where the ray meets the segment's line, is a u^2 + b u + c: c at u = 0, a + b + c at u = 1,
+    // a from the patch's twist.
     const float a = dot(cross(p[1] - p[0], p[2] - p[3]), direction);
     const float c = dot(cross(q00, direction), e00);
     const float b = dot(cross(q10, direction), e11) - (a + c);
