@@ -4,6 +4,7 @@
 // probability 1, whose weight is the reflectance itself.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 
@@ -27,6 +28,16 @@ struct Mirror {
     float pdf(Vec3f, Vec3f, bool) const { return 0.0f; }
     Rgb reflectanceForAov() const { return tint; }
 };
+
+// pbrt-v4's artist-friendly conductor: with eta 1, the extinction k = 2 sqrt(r) / sqrt(1 - r) (r
+// below 0.9999) makes the Fresnel reflectance at normal incidence, k^2 / (4 + k^2), exactly r.
+inline Rgb conductorKForReflectance(Rgb r) {
+    auto k = [](float rc) {
+        const float c = std::clamp(rc, 0.0f, 0.9999f);
+        return 2.0f * std::sqrt(c) / std::sqrt(1.0f - c);
+    };
+    return {k(r.r), k(r.g), k(r.b)};
+}
 
 struct Conductor {
     // Gold-like defaults; the loader requires both.

@@ -241,13 +241,32 @@ Rgb readConductorEta(const JsonValue& material) {
     return eta;
 }
 
-// "conductor" and "rough_conductor" (whose table row also accepts the roughness keys).
+// A conductor `Model`'s eta and k from a reflectance at normal incidence (a texture's value).
+template <class Model>
+void setConductorReflectance(MaterialModel& m, Rgb r) {
+    Model& model = std::get<Model>(m);
+    model.eta = Rgb(1.0f);
+    model.k = conductorKForReflectance(r);
+}
+
+// "conductor" and "rough_conductor" (whose table row also accepts the roughness keys): "eta" and
+// "k", or "reflectance" (a colour or a texture: pbrt-v4's artist-friendly conductor).
 Material readConductor(const JsonValue& material, MaterialContext& context) {
-    const Rgb eta = readConductorEta(material);
-    const Rgb k = material.requiredMember("k").rgb(0.0f);
     bool texturedRoughness = false;
     const std::optional<MicrofacetDistribution> distribution = readDistribution(material, &texturedRoughness);
     const bool smooth = isSmooth(distribution) && !texturedRoughness;
+    Rgb eta(1.0f), k;
+    if (auto v = material.member("reflectance")) {
+        if (material.member("eta") || material.member("k"))
+            v->fail("a conductor takes \"eta\" and \"k\", or \"reflectance\", not both");
+        const Rgb r = readColorParameter(
+            *v, 0.0f, 1.0f, Rgb(0.5f), context,
+            smooth ? setConductorReflectance<Conductor> : setConductorReflectance<RoughConductor>);
+        k = conductorKForReflectance(r);
+    } else {
+        eta = readConductorEta(material);
+        k = material.requiredMember("k").rgb(0.0f);
+    }
     Rgb tint(1.0f);
     if (auto v = material.member("tint")) {
         tint = smooth ? readColorParameter(
@@ -389,10 +408,12 @@ const std::array<TypeRow<MaterialReader>, 13> kMaterialTypes{{
     {"dielectric", {"type", "eta", "fresnel", "absorption", "bump", "normal_map"}, readDielectric},
     {"thin_dielectric", {"type", "eta", "fresnel", "bump", "normal_map"}, readThinDielectric},
     {"mirror", {"type", "tint", "two_sided", "bump", "normal_map"}, readMirror},
-    {"conductor", {"type", "eta", "k", "tint", "two_sided", "bump", "normal_map"}, readConductor},
+    {"conductor",
+     {"type", "eta", "k", "reflectance", "tint", "two_sided", "bump", "normal_map"},
+     readConductor},
     {"rough_conductor",
-     {"type", "eta", "k", "tint", "roughness", "roughness_mapping", "alpha", "distribution", "two_sided",
-      "bump", "normal_map"},
+     {"type", "eta", "k", "reflectance", "tint", "roughness", "roughness_mapping", "alpha", "distribution",
+      "two_sided", "bump", "normal_map"},
      readConductor},
     {"rough_dielectric",
      {"type", "eta", "fresnel", "absorption", "roughness", "roughness_mapping", "alpha", "distribution",

@@ -477,24 +477,18 @@ Json mapMaterial(const std::string& type, const ParameterList& params, const Tex
         m["eta"] = readEta(params, textures, log);
     } else if (type == "conductor" || type == "coatedconductor") {
         const std::string prefix = type == "coatedconductor" ? "conductor." : "";
-        Rgb eta, k;
         if (params.has(prefix + "reflectance")) {
-            // pbrt-v4's artist-friendly conductor: eta = 1 and k = 2 sqrt(r) / sqrt(1 - r) give
-            // the reflectance r at normal incidence.
-            const Rgb r = reflectance(prefix + "reflectance", Rgb(0.5f));
-            eta = Rgb(1.0f);
-            for (int c = 0; c < 3; ++c) {
-                const float rc = std::min(r[c], 0.9999f);
-                (c == 0 ? k.r : c == 1 ? k.g : k.b) = 2.0f * std::sqrt(rc) / std::sqrt(1.0f - rc);
-            }
+            // pbrt-v4's artist-friendly conductor (eta 1, k from the reflectance at normal
+            // incidence): penumbra's conductor "reflectance", a colour or a texture.
+            m["reflectance"] = texturable(prefix + "reflectance", Rgb(0.5f));
         } else {
-            eta = readColor(params, prefix + "eta", *namedSpectrumRgb("metal-Cu-eta"), SpectrumUse::Unbounded,
-                            textures, log);
-            k = readColor(params, prefix + "k", *namedSpectrumRgb("metal-Cu-k"), SpectrumUse::Unbounded,
-                          textures, log);
+            const Rgb eta = readColor(params, prefix + "eta", *namedSpectrumRgb("metal-Cu-eta"),
+                                      SpectrumUse::Unbounded, textures, log);
+            const Rgb k = readColor(params, prefix + "k", *namedSpectrumRgb("metal-Cu-k"),
+                                    SpectrumUse::Unbounded, textures, log);
+            m["eta"] = rgbJson({std::max(eta.r, 1e-4f), std::max(eta.g, 1e-4f), std::max(eta.b, 1e-4f)});
+            m["k"] = rgbJson({std::max(k.r, 0.0f), std::max(k.g, 0.0f), std::max(k.b, 0.0f)});
         }
-        m["eta"] = rgbJson({std::max(eta.r, 1e-4f), std::max(eta.g, 1e-4f), std::max(eta.b, 1e-4f)});
-        m["k"] = rgbJson({std::max(k.r, 0.0f), std::max(k.g, 0.0f), std::max(k.b, 0.0f)});
         if (addTexturedRoughness(m, params, textures, prefix)) {
             m["type"] = "rough_conductor";
         } else {

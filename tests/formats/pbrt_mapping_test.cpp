@@ -327,7 +327,7 @@ TEST(PbrtMapping, Materials) {
     EXPECT_NEAR(m["a"]["k"][0].get<double>(), 3.98316, 1e-5);
     // reflectance 0.5: eta 1, k = 2 sqrt(0.5) / sqrt(0.5) = 2 gives ((1-1)^2 + k^2) / ((1+1)^2 + k^2) = 0.5.
     EXPECT_EQ(m["r"]["type"], "conductor");
-    EXPECT_NEAR(m["r"]["k"][1].get<double>(), 2.0, 1e-6);
+    EXPECT_EQ(m["r"]["reflectance"], Json::parse("[0.5, 0.5, 0.5]"));
     EXPECT_NEAR(m["g"]["eta"].get<double>(), 1.5168, 1e-6);
     EXPECT_EQ(m["t"]["type"], "thin_dielectric");
     EXPECT_EQ(m["p"]["type"], "coated_diffuse");
@@ -596,10 +596,10 @@ TEST(PbrtMapping, TexturesBecomeTextureObjects) {
         m["b"]["albedo"],
         Json::parse(R"({"type": "checkerboard", "colors": [[1, 0, 0], [0, 0, 1]], "uv_scale": [8, 8]})"));
     EXPECT_NEAR(m["b"]["alpha"].get<double>(), 0.6, 1e-7);  // a constant float texture: sqrt(0.36)
-    // Where penumbra takes no texture (a conductor's reflectance): the stand-in 0.5, with a warning.
-    EXPECT_NEAR(m["c"]["k"][0].get<double>(), 2.0, 1e-6);
-    EXPECT_TRUE(hasWarning(
-        c, "a texture where penumbra takes none (parameter \"texture reflectance\"): the constant 0.5"));
+    // A conductor's reflectance (pbrt-v4's artist-friendly conductor) takes the texture too.
+    EXPECT_EQ(m["c"]["reflectance"]["type"], "image");
+    EXPECT_FALSE(m["c"].contains("k"));
+    EXPECT_FALSE(hasWarning(c, "a texture where penumbra takes none"));
     const Scene scene = buildPbrtScene(c, "test.pbrt");
     const auto named = std::find(scene.materialNames.begin(), scene.materialNames.end(), "a");
     ASSERT_NE(named, scene.materialNames.end());

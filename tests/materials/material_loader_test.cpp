@@ -291,6 +291,33 @@ TEST(MaterialLoader, RoughnessMappings) {
         std::string::npos);
 }
 
+// "reflectance" instead of "eta" and "k" (pbrt-v4's artist-friendly conductor): eta 1 and the k
+// whose Fresnel reflectance at normal incidence is that colour, a constant or a texture's value.
+TEST(MaterialLoader, ConductorReflectance) {
+    const Scene scene = parseMaterials(R"({
+        "gold": {"type": "conductor", "reflectance": [0.9, 0.6, 0.2]},
+        "worn": {"type": "rough_conductor", "roughness": 0.4,
+                 "reflectance": {"type": "checkerboard", "colors": [0.3, 0.8]}}
+    })");
+    const Conductor& gold = std::get<Conductor>(scene.materials[0].model());
+    EXPECT_EQ(gold.eta, Rgb(1.0f));
+    const Rgb normal = gold.reflectance({0.0f, 0.0f, 1.0f});
+    EXPECT_NEAR(normal.r, 0.9f, 1e-5f);
+    EXPECT_NEAR(normal.g, 0.6f, 1e-5f);
+    EXPECT_NEAR(normal.b, 0.2f, 1e-5f);
+    TextureQuery even, odd;
+    even.uv = {0.5f, 0.5f};
+    odd.uv = {1.5f, 0.5f};
+    for (const auto& [query, r] : {std::pair{even, 0.3f}, std::pair{odd, 0.8f}}) {
+        const RoughConductor worn = std::get<RoughConductor>(scene.materials[1].at(query).model());
+        EXPECT_EQ(worn.eta, Rgb(1.0f));
+        EXPECT_NEAR(fresnelComplex(1.0f, worn.eta, worn.k).g, r, 1e-5f);
+    }
+    EXPECT_NE(errorOf(R"({"m": {"type": "conductor", "eta": 1, "k": 1, "reflectance": 0.5}})")
+                  .find("/materials/m/reflectance: a conductor takes \"eta\" and \"k\", or \"reflectance\""),
+              std::string::npos);
+}
+
 TEST(MaterialLoader, PhongEnergyConservation) {
     // kd + ks = 1 exactly is fine.
     EXPECT_NO_THROW(parseMaterials(R"({"p": {"type": "phong", "diffuse": 0.25, "specular": 0.75}})"));
@@ -376,8 +403,8 @@ TEST(MaterialLoader, BadValuesNameThePointerAndTheField) {
          "/materials/r/specular: unknown key (expected one of: type, albedo, eta, roughness, "
          "roughness_mapping, alpha, distribution, two_sided, bump, normal_map)"},
         {R"({"r": {"type": "conductor", "eta": 1, "k": 1, "roughness": 0.5}})",
-         "/materials/r/roughness: unknown key (expected one of: type, eta, k, tint, two_sided, bump, "
-         "normal_map)"},
+         "/materials/r/roughness: unknown key (expected one of: type, eta, k, reflectance, tint, two_sided, "
+         "bump, normal_map)"},
         {R"({"r": {"type": "rough_conductor", "eta": 1, "k": 1, "alpha": 0.1, "distribution": "phong"}})",
          "/materials/r/distribution: expected one of: ggx, beckmann"},
         {R"({"r": {"type": "rough_conductor", "eta": 1, "k": 1, "distribution": "beckmann"}})",
