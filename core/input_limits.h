@@ -3,6 +3,7 @@
 // hanging, overflowing or exhausting memory.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 namespace penumbra::limits {
@@ -43,6 +44,9 @@ constexpr uint64_t kMinPbrtRereadBytes = uint64_t(16) << 20;
 // AttributeBegin, TransformBegin and ObjectBegin open at once: each keeps a copy of the graphics
 // state (10^6 of them took 500 MB); exporters nest one level per node of a scene graph.
 constexpr int kMaxPbrtNesting = 4096;
+// Values (numbers, names) in one texture a pbrt file builds of other textures: each use of a
+// texture copies it, so 40 Texture lines each naming the one before twice would hold 2^40.
+constexpr size_t kMaxPbrtTextureValues = 4096;
 // Shapes placed by ObjectInstance (one instance per mesh of the object, or a copy of a sphere, an
 // emitter or a moving shape; a copied mesh counts its triangles): one per 16 bytes of the scene's
 // text, as many as writing each out as `Shape "sphere"` would give, and at least 2^16 (about 110

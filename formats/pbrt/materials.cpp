@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/input_limits.h"
 #include "formats/pbrt/json_numbers.h"
 #include "formats/pbrt/spectrum.h"
 
@@ -224,6 +225,37 @@ Json scaled(Json texture, float s) {
     return texture;
 }
 
+// A texture object's size: its values (numbers, strings, ...) and the levels of textures in it
+// (objects with a "type"). Counting stops once past `maxValues`.
+struct TextureSize {
+    size_t values = 0;
+    int levels = 0;
+};
+void measureTexture(const Json& json, int level, size_t maxValues, TextureSize& size) {
+    if (size.values > maxValues) return;
+    if (json.is_object()) {
+        if (json.contains("type")) size.levels = std::max(size.levels, ++level);
+        for (const auto& [key, value] : json.items()) measureTexture(value, level, maxValues, size);
+    } else if (json.is_array()) {
+        for (const Json& value : json) measureTexture(value, level, maxValues, size);
+    } else {
+        ++size.values;
+    }
+}
+
+// Textures built from textures copy their inputs, so a file whose every Texture line names the one
+// before twice would double its texture at each line: a texture object is bounded in depth as the
+// JSON reader bounds it (an input of an input ... 16 deep) and in size.
+void checkTextureSize(const Json& object, const std::string& name, const SourceLocation& where) {
+    TextureSize size;
+    measureTexture(object, 0, limits::kMaxPbrtTextureValues, size);
+    if (size.levels > 17 || size.values > limits::kMaxPbrtTextureValues)
+        failAt(where,
+               fmt::format("texture \"{}\": textures of textures nest at most 16 deep and hold at most {} "
+                           "values in all (docs/limits.md)",
+                           name, limits::kMaxPbrtTextureValues));
+}
+
 }  // namespace
 
 void TextureTable::define(const std::string& name, const std::string& kind, const std::string& textureClass,
@@ -421,6 +453,7 @@ void TextureTable::define(const std::string& name, const std::string& kind, cons
                                     textureClass));
     }
     params.reportUnused(log, fmt::format("Texture \"{}\"", textureClass));
+    if (texture.object) checkTextureSize(*texture.object, name, where);
     if (isFloat) texture.constant = Rgb(texture.constant.r);
     (isFloat ? float_ : spectrum_)[name] = std::move(texture);
 }

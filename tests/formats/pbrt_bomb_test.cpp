@@ -17,6 +17,7 @@
 #include "core/input_limits.h"
 #include "formats/pbrt/pbrt_reader.h"
 #include "formats/scene_file.h"
+#include "scenes/scene_loader.h"
 
 namespace penumbra::pbrt {
 namespace {
@@ -211,6 +212,36 @@ TEST(PbrtBombs, DeepNestingIsRefusedAtTheLevelPastTheLimit) {
     for (int i = 1; i < limits::kMaxPbrtNesting; ++i) deep += "AttributeEnd\n";
     EXPECT_NO_THROW(convertPbrtText(deep + "ObjectEnd\n", "deep.pbrt"));
     EXPECT_THROW(convertPbrtText(deep + "AttributeBegin\n", "deep.pbrt"), InputError);
+}
+
+// Each Texture naming the one before twice would double the texture at every line (2^60 values at
+// line 60): refused at the line whose texture crosses the bound, of nesting or of size.
+TEST(PbrtBombs, TexturesOfTexturesAreBounded) {
+    std::string doubling = kHeader + "Texture \"t0\" \"float\" \"fbm\"\n";
+    for (int i = 1; i <= 60; ++i)
+        doubling += fmt::format(
+            "Texture \"t{}\" \"float\" \"mix\" \"texture tex1\" \"t{}\" \"texture tex2\" \"t{}\"\n", i, i - 1,
+            i - 1);
+    std::string message = refusal([&] { convertPbrtText(doubling, "doubling.pbrt"); });
+    EXPECT_TRUE(contains(message, "doubling.pbrt:")) << message;
+    EXPECT_TRUE(contains(message, fmt::format("hold at most {} values", limits::kMaxPbrtTextureValues)))
+        << message;
+    // A chain of single inputs: refused at the level past 16.
+    std::string chain = kHeader + "Texture \"t0\" \"float\" \"windy\"\n";
+    for (int i = 1; i <= 40; ++i)
+        chain += fmt::format(
+            "Texture \"t{}\" \"float\" \"scale\" \"texture tex\" \"t0\" \"texture scale\" \"t{}\"\n", i,
+            i - 1);
+    message = refusal([&] { convertPbrtText(chain, "chain.pbrt"); });
+    EXPECT_TRUE(contains(message, "chain.pbrt:22:1: texture \"t17\"")) << message;
+    // 16 levels of inputs below the top are allowed, as the JSON reader allows them.
+    std::string allowed = kHeader + "Texture \"t0\" \"float\" \"windy\"\n";
+    for (int i = 1; i <= 16; ++i)
+        allowed += fmt::format(
+            "Texture \"t{}\" \"float\" \"scale\" \"texture tex\" \"t{}\" \"float scale\" 2\n", i, i - 1);
+    allowed += "Material \"diffuse\" \"texture displacement\" \"t16\"\nShape \"sphere\"\n";
+    const PbrtConversion c = convertPbrtText(allowed, "allowed.pbrt");
+    EXPECT_NO_THROW(buildScene(c.document, "allowed.pbrt"));
 }
 
 TEST(PbrtBombs, ALoneCarriageReturnEndsAComment) {
