@@ -260,16 +260,32 @@ bool readIndicesDirectly(const Json& array, size_t count, std::vector<uint32_t>&
     return true;
 }
 
+// An inline mesh's "positions": a non-empty array of [x, y, z].
+std::vector<Vec3f> readPositions(const JsonValue& shape) {
+    const JsonValue positions = shape.requiredMember("positions");
+    std::vector<Vec3f> result;
+    if (!readVec3sDirectly(positions.json(), result)) {
+        result.clear();
+        for (const JsonValue& p : positions.elements()) result.push_back(p.vec3());
+    }
+    if (result.empty()) positions.failExpected("a non-empty array of [x, y, z] positions");
+    return result;
+}
+
+// "uvs": one [u, v] per vertex of `count`.
+std::vector<Vec2f> readVertexUvs(const JsonValue& uvs, size_t count) {
+    if (uvs.arraySize() != count)
+        uvs.failExpected(fmt::format("an array of {} uvs, one per position", count));
+    std::vector<Vec2f> result;
+    for (const JsonValue& uv : uvs.elements()) result.push_back(uv.vec2());
+    return result;
+}
+
 // An inline mesh's polygons: "indices" grouped by "face_sizes" (each 3 or more; default: all
 // triangles), and its positions and uvs. Its normals are read by readInlineMesh.
 PolygonMesh readInlinePolygons(const JsonValue& value) {
     PolygonMesh mesh;
-    const JsonValue positions = value.requiredMember("positions");
-    if (!readVec3sDirectly(positions.json(), mesh.positions)) {
-        mesh.positions.clear();
-        for (const JsonValue& p : positions.elements()) mesh.positions.push_back(p.vec3());
-    }
-    if (mesh.positions.empty()) positions.failExpected("a non-empty array of [x, y, z] positions");
+    mesh.positions = readPositions(value);
     const size_t count = mesh.positions.size();
 
     const JsonValue indices = value.requiredMember("indices");
@@ -301,11 +317,7 @@ PolygonMesh readInlinePolygons(const JsonValue& value) {
             mesh.corners.push_back(uint32_t(index));
         }
     }
-    if (auto uvs = value.member("uvs")) {
-        if (uvs->arraySize() != count)
-            uvs->failExpected(fmt::format("an array of {} uvs, one per position", count));
-        for (const JsonValue& uv : uvs->elements()) mesh.uvs.push_back(uv.vec2());
-    }
+    if (auto uvs = value.member("uvs")) mesh.uvs = readVertexUvs(*uvs, count);
     return mesh;
 }
 
@@ -952,12 +964,7 @@ void readBilinearMesh(const JsonValue& value, ShapeContext& context) {
     Scene& scene = context.scene;
     BilinearPatches patches;
     patches.name = value.pointer();
-    const JsonValue positions = value.requiredMember("positions");
-    if (!readVec3sDirectly(positions.json(), patches.positions)) {
-        patches.positions.clear();
-        for (const JsonValue& p : positions.elements()) patches.positions.push_back(p.vec3());
-    }
-    if (patches.positions.empty()) positions.failExpected("a non-empty array of [x, y, z] positions");
+    patches.positions = readPositions(value);
     const size_t count = patches.positions.size();
     const JsonValue indices = value.requiredMember("indices");
     if (indices.arraySize() == 0 || indices.arraySize() % 4 != 0)
@@ -968,11 +975,7 @@ void readBilinearMesh(const JsonValue& value, ShapeContext& context) {
             patches.indices.push_back(uint32_t(i.integer(0, int64_t(count) - 1)));
     }
     if (auto v = value.member("normals")) patches.normals = readVertexNormals(*v, count);
-    if (auto uvs = value.member("uvs")) {
-        if (uvs->arraySize() != count)
-            uvs->failExpected(fmt::format("an array of {} uvs, one per position", count));
-        for (const JsonValue& uv : uvs->elements()) patches.uvs.push_back(uv.vec2());
-    }
+    if (auto uvs = value.member("uvs")) patches.uvs = readVertexUvs(*uvs, count);
     if (auto v = value.member("reverse_orientation")) patches.reversed = v->boolean();
     if (auto v = value.member("transform")) {
         const Transform transform = readTransform(*v);
