@@ -8,8 +8,11 @@ coordinates), spp, seed, threads, width, height and the output EXR. The render c
 is not; the settings used are printed as CYCLES_SETTINGS. time_to_error.py's docstring lists
 every difference from the penumbra scene.
 """
-import json, math, sys, time
+import json, math, os, sys, time
 import bpy, mathutils
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from cycles_scene import new_cycles_scene  # noqa: E402
 
 spec = json.load(open(sys.argv[sys.argv.index("--") + 1]))
 scene_desc = spec["scene"]
@@ -17,41 +20,12 @@ scene_desc = spec["scene"]
 def to_blender(p):  # penumbra's y-up coordinates to Blender's z-up: rotate about x by 90 degrees
     return (p[0], -p[2], p[1])
 
-bpy.ops.wm.read_factory_settings(use_empty=True)
-scene = bpy.context.scene
-scene.render.engine = "CYCLES"
-cy = scene.cycles
-cy.device = "CPU"
-cy.samples = spec["spp"]
-cy.use_adaptive_sampling = False
-cy.seed = spec["seed"]
-cy.use_denoising = False
 # penumbra's max_depth counts the vertices that scatter (1: direct light only); Cycles' bounces
-# count the scatterings after the first (0: direct light only), so it gets max_depth - 1.
-bounces = scene_desc["depth"] - 1
-cy.max_bounces = cy.diffuse_bounces = cy.glossy_bounces = cy.transmission_bounces = bounces
-cy.transparent_max_bounces = bounces
-# Volume scatterings count as bounces in both: max_bounces limits them with the others, and
-# volume_bounces (default 0: single scattering only) must not cut them first.
-cy.volume_bounces = bounces
-cy.sample_clamp_direct = 0.0
-cy.sample_clamp_indirect = 0.0
-cy.blur_glossy = 0.0
-cy.caustics_reflective = cy.caustics_refractive = True
-cy.pixel_filter_type = "BOX"
-cy.filter_width = 1.0
-scene.render.threads_mode = "FIXED"
-scene.render.threads = spec["threads"]
-scene.render.resolution_x, scene.render.resolution_y = spec["width"], spec["height"]
-scene.render.resolution_percentage = 100
-scene.view_settings.view_transform = "Standard"
-scene.view_settings.look = "None"
-scene.render.image_settings.file_format = "OPEN_EXR"
-scene.render.image_settings.color_depth = "32"
-world = bpy.data.worlds.new("world")
-world.use_nodes = False
-world.color = (0.0, 0.0, 0.0)
-scene.world = world
+# count the scatterings after the first (0: direct light only), so it gets max_depth - 1. Volume
+# scatterings count as bounces in both.
+scene = new_cycles_scene(spec["spp"], spec["seed"], spec["threads"], spec["width"], spec["height"],
+                         scene_desc["depth"] - 1, (0.0, 0.0, 0.0))
+cy = scene.cycles
 
 # How Cycles samples distances in the homogeneous media (penumbra: delta tracking, which for a
 # homogeneous medium is distance sampling): multiple importance sampling of distance and

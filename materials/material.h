@@ -54,6 +54,7 @@
 #include "materials/phong.h"
 #include "materials/rough_conductor.h"
 #include "materials/rough_dielectric.h"
+#include "materials/subsurface_boundary.h"
 #include "textures/texture.h"
 
 namespace penumbra {
@@ -74,9 +75,10 @@ concept HasInteriorAbsorption = requires(const M& m) {
     { m.interiorAbsorption() } -> std::same_as<Rgb>;
 };
 
-using MaterialModel = std::variant<Lambert, Phong, Dielectric, ThinDielectric, Mirror, Conductor,
-                                   RoughConductor, RoughDielectric, CoatedDiffuse, RoughCoatedDiffuse,
-                                   DiffuseTransmission, HairBsdf, Interface>;
+using MaterialModel =
+    std::variant<Lambert, Phong, Dielectric, ThinDielectric, Mirror, Conductor, RoughConductor,
+                 RoughDielectric, CoatedDiffuse, RoughCoatedDiffuse, DiffuseTransmission, HairBsdf,
+                 SubsurfaceBoundary<Dielectric>, SubsurfaceBoundary<RoughDielectric>, Interface>;
 
 namespace detail {
 // Viable only for a BsdfModel: otherwise the compiler names the model and what it misses.

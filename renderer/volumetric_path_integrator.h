@@ -25,7 +25,15 @@
 // and BSDF or phase sampling. Without media this is the balance heuristic where the surface
 // integrator takes the power heuristic: the two agree in expectation, not bit for bit.
 //
-// Sample dimensions: the surface dimensions are drawn per scattering depth as in the surface
+// Subsurface scattering is a random walk: a subsurface material is a dielectric boundary around a
+// homogeneous medium (scenes/material_interior.h), and a path that refracts in scatters inside by
+// the delta tracking above until it is absorbed or leaves through the boundary (diffusely:
+// materials/subsurface_boundary.h, where light is sampled again). Within the walk no light is
+// sampled (the boundary would block every shadow ray: emission found through it counts in full)
+// and its events count as one bounce against max_depth, bounded apart (kMaxWalkVertices), as
+// Cycles' random walk does.
+//
+// Sample dimensions: the surface dimensions are drawn per scattering vertex as in the surface
 // integrator (a medium vertex uses LightPosition and BsdfDirection like a surface vertex); the
 // media's per segment (core/sampler.h's MediumDim: Distance, Event and their SampleStreams), so
 // that every decision has a named dimension and no value is used twice along a path.
@@ -48,6 +56,11 @@ namespace detail {
 // Rays that cross more medium boundaries than this in one segment are given up (as blocked):
 // a boundary seen edge-on repeatedly must not loop forever.
 inline constexpr int kMaxBoundaryCrossings = 256;
+
+// A random walk inside a subsurface material (Scene::isMaterialInterior) ends, as absorbed, after
+// this many scattering events and reflections off its boundary from inside; they do not count
+// against the integrator's max_depth (Cycles bounds its walks at 256 steps).
+inline constexpr uint32_t kMaxWalkVertices = 1024;
 
 // A segment through a homogeneous medium on which next-event estimation has a second strategy:
 // equiangular sampling of the scattering distance towards a point of a light chosen at the segment's
@@ -99,9 +112,11 @@ struct VolumetricPath {
     Vec3f previousPosition;
     Vec3f previousNormal;  // 0 at a medium vertex (LightSet::choose takes no normal there)
     uint32_t medium = MediumInterface::kVacuum;
-    int hero = 0;          // the channel whose majorants sample distances
-    int depth = 0;         // scattering events so far (surface or medium)
-    uint32_t segment = 0;  // ray segments so far: the media's sample dimensions' index
+    int hero = 0;               // the channel whose majorants sample distances
+    int depth = 0;              // bounces so far (surface or medium scattering events, a walk's as one)
+    uint32_t vertex = 0;        // scattering events so far, every one: the surface dimensions' index
+    uint32_t walkVertices = 0;  // events of the current walk inside a subsurface material
+    uint32_t segment = 0;       // ray segments so far: the media's sample dimensions' index
 };
 
 inline bool anyPositive(Rgb c) { return c.r > 0.0f || c.g > 0.0f || c.b > 0.0f; }
@@ -314,7 +329,7 @@ inline bool survivesVolumetricRoulette(const IntegratorContext& ctx, const Pixel
     const float survival =
         std::min(1.0f, std::sqrt((path.beta * (path.etaScale / path.rU.average())).maxComponent()));
     if (survival < 1.0f) {
-        if (sample.get1D(Dim::RussianRoulette, uint32_t(path.depth)) >= survival) return false;
+        if (sample.get1D(Dim::RussianRoulette, path.vertex) >= survival) return false;
         path.beta *= 1.0f / survival;
     }
     return true;
@@ -358,7 +373,9 @@ Radiance estimateRadianceThroughMedia(const Accel& accel, const IntegratorContex
             float uEvent = sample.get1D(MediumDim::Event, path.segment);
             const float tEnd = found ? hit.t * directionLength : std::numeric_limits<float>::infinity();
             EquiangularSegment segment;
-            if (samplesEquiangularly(ctx, path, scene.media[path.medium])) {
+            // Inside a subsurface material: a walk, whose shadow rays its boundary would block.
+            const bool inWalk = scene.isMaterialInterior(path.medium);
+            if (!inWalk && samplesEquiangularly(ctx, path, scene.media[path.medium])) {
                 const auto& homogeneous = std::get<HomogeneousMedium>(scene.media[path.medium]);
                 segment = {true,
                            ray.origin,
@@ -394,8 +411,8 @@ Radiance estimateRadianceThroughMedia(const Accel& accel, const IntegratorContex
                         return false;
                     }
                     if (u < pAbsorb + pScatter) {
-                        const uint32_t vertexDepth = uint32_t(path.depth);
-                        if (path.depth++ >= ctx.maxDepth) {
+                        const uint32_t vertexDepth = path.vertex++;
+                        if (inWalk ? ++path.walkVertices > kMaxWalkVertices : path.depth++ >= ctx.maxDepth) {
                             ended = true;
                             return false;
                         }
@@ -408,7 +425,7 @@ Radiance estimateRadianceThroughMedia(const Accel& accel, const IntegratorContex
                         }
                         // A medium vertex: light sampling, then the phase function's sample.
                         const Vec3f wo = -direction;
-                        if (!lights.empty() && ctx.strategy != LightStrategy::Bsdf) {
+                        if (!inWalk && !lights.empty() && ctx.strategy != LightStrategy::Bsdf) {
                             LightSet::Choice light{0, 1.0f};
                             if (const auto ls = sampleLightAt(ctx, sample, vertexDepth, p, Vec3f{}, &light)) {
                                 // The equiangular strategy's density for this light point, if it has one.
@@ -436,7 +453,7 @@ Radiance estimateRadianceThroughMedia(const Accel& accel, const IntegratorContex
                         path.rE = segment.active ? segment.densityRatioAt(t) / ps.pdf : Rgb(0.0f);
                         path.vertexSegment = segment;
                         path.vertexDistance = t;
-                        path.specularBounce = false;
+                        path.specularBounce = inWalk;  // no light sampled: found emission counts in full
                         path.previousPosition = p;
                         path.previousNormal = Vec3f{};
                         ray.origin = p;
@@ -527,8 +544,10 @@ Radiance estimateRadianceThroughMedia(const Accel& accel, const IntegratorContex
                        EquiangularDistance(segment.origin, segment.direction, segment.tEnd, si.position)
                            .pdf(path.vertexDistance);
             });
-        if (path.depth >= ctx.maxDepth) break;
-        const uint32_t vertexDepth = uint32_t(path.depth++);
+        // The boundary of a subsurface material seen from inside: part of the walk.
+        const bool inWalk = scene.isMaterialInterior(path.medium);
+        if (inWalk ? ++path.walkVertices > kMaxWalkVertices : path.depth++ >= ctx.maxDepth) break;
+        const uint32_t vertexDepth = path.vertex++;
 
         const LocalFrame local(si, wo, *ctx.scene);
         // Light sampling at the surface.
@@ -574,6 +593,7 @@ Radiance estimateRadianceThroughMedia(const Accel& accel, const IntegratorContex
         path.previousNormal = si.geometricNormal;
         if (!survivesVolumetricRoulette(ctx, sample, path)) break;
         path.medium = scene.mediaOf(si.shape).mediumAlong(wi, si.geometricNormal, path.medium);
+        if (!scene.isMaterialInterior(path.medium)) path.walkVertices = 0;
         continueRay(ray, si, local.leaveDistance, wi, cosWi);
         ++rays.extension;
     }

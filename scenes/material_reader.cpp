@@ -8,6 +8,8 @@
 #include <limits>
 #include <optional>
 
+#include "materials/subsurface_albedo.h"
+#include "scenes/medium_reader.h"
 #include "scenes/name_reference.h"
 #include "scenes/texture_reader.h"
 #include "scenes/type_table.h"
@@ -21,6 +23,7 @@ namespace {
 struct MaterialContext {
     const std::filesystem::path& folder;
     std::vector<TexturedParameter> textures;
+    std::optional<HomogeneousMedium> interior;  // a subsurface material's medium
 };
 
 using ApplyColor = void (*)(MaterialModel&, Rgb);
@@ -66,9 +69,19 @@ float mappedRoughness(float r, RoughnessMapping mapping) {
 
 // A textured roughness (its first channel, clamped to [0, 1]) as the slopes of `Model`'s
 // distribution, mapped by `kMapping`.
+// The microfacet distribution of a rough model (of its interface, for a subsurface boundary).
+template <class Model>
+MicrofacetDistribution& distributionOf(Model& model) {
+    return model.distribution;
+}
+template <class Surface>
+MicrofacetDistribution& distributionOf(SubsurfaceBoundary<Surface>& model) {
+    return model.surface.distribution;
+}
+
 template <class Model, RoughnessMapping kMapping>
 void setRoughness(MaterialModel& m, Rgb value) {
-    MicrofacetDistribution& d = std::get<Model>(m).distribution;
+    MicrofacetDistribution& d = distributionOf(std::get<Model>(m));
     d.alphaX = d.alphaY = std::max(mappedRoughness(std::clamp(value.r, 0.0f, 1.0f), kMapping), 1e-4f);
 }
 
@@ -322,6 +335,73 @@ Material readCoatedDiffuse(const JsonValue& material, MaterialContext& context) 
 
 Material readInterface(const JsonValue&, MaterialContext&) { return Material(Interface{}); }
 
+// pbrt-v4's default coefficients of a subsurface material given none (mm^-1, a milk).
+constexpr Rgb kDefaultSubsurfaceSigmaA{0.0011f, 0.0024f, 0.014f};
+constexpr Rgb kDefaultSubsurfaceSigmaS{2.55f, 3.21f, 3.77f};
+
+// "subsurface": a dielectric boundary ("eta", default 1.33 as pbrt-v4's, and the rough
+// dielectric's roughness keys) around a homogeneous medium that fills the shapes using it, in
+// which light that enters scatters by the volumetric integrator's random walk. The medium is
+// "sigma_a" and "sigma_s" or a "preset", times "scale", with "g" (readHomogeneousMedium), or
+// "reflectance" (the diffuse reflectance asked for, a colour in [0, 1]) and "mfp" (its mean free
+// path 1 / sigma_t, a colour > 0, default 1) times "scale" (materials/subsurface_albedo.h; with
+// g != 0 the similarity relation sigma_s (1 - g) keeps the reduced albedo); pbrt-v4's milk-like
+// coefficients when none is given.
+Material readSubsurface(const JsonValue& material, MaterialContext& context) {
+    const auto reflectance = material.member("reflectance"), mfp = material.member("mfp");
+    const auto sigmaA = material.member("sigma_a"), sigmaS = material.member("sigma_s");
+    const auto preset = material.member("preset");
+    if (int(bool(reflectance)) + int(sigmaA || sigmaS) + int(bool(preset)) > 1)
+        material.fail(
+            "a subsurface medium is given one way: \"sigma_a\" and \"sigma_s\", a \"preset\", or "
+            "\"reflectance\" and \"mfp\"");
+    if (bool(sigmaA) != bool(sigmaS))
+        material.fail("give both \"sigma_a\" and \"sigma_s\" (or a \"preset\", or \"reflectance\")");
+    if (mfp && !reflectance) mfp->fail("\"mfp\" is the mean free path of a \"reflectance\": give one");
+    const float eta = material.member("eta") ? material.member("eta")->numberAbove(0.0f) : 1.33f;
+    bool texturedRoughness = false;
+    const std::optional<MicrofacetDistribution> distribution = readDistribution(material, &texturedRoughness);
+    Material surface;
+    if (isSmooth(distribution) && !texturedRoughness) {
+        surface = Material(SubsurfaceBoundary<Dielectric>{Dielectric{eta}});
+    } else {
+        if (texturedRoughness) addTexturedRoughness<SubsurfaceBoundary<RoughDielectric>>(material, context);
+        RoughDielectric rough;
+        rough.eta = eta;
+        rough.distribution = clampedForRendering(*distribution);
+        surface = Material(SubsurfaceBoundary<RoughDielectric>{rough}, true, std::move(context.textures));
+    }
+    HomogeneousMedium medium = readHomogeneousMedium(material);
+    if (reflectance) {
+        const Rgb albedoAsked = reflectance->rgb(0.0f, 1.0f);
+        const Rgb freePath = mfp ? mfp->rgb(0.0f) : Rgb(1.0f);
+        const float scale = material.member("scale") ? material.member("scale")->number() : 1.0f;
+        float absorption[3], scattering[3];
+        for (int c = 0; c < 3; ++c) {
+            const double length = double(freePath[c]) * scale;
+            if (!(length > 0.0) || !std::isfinite(1.0 / length))
+                (mfp ? *mfp : material)
+                    .fail("the mean free path times scale must be > 0 and its inverse fit a 32-bit float");
+            const double albedo = albedoForDiffuseReflectance(albedoAsked[c], eta);
+            absorption[c] = float((1.0 - albedo) / length);
+            scattering[c] = float(albedo / (length * (1.0 - double(medium.phase.g))));
+        }
+        medium.sigmaA = {absorption[0], absorption[1], absorption[2]};
+        medium.sigmaS = {scattering[0], scattering[1], scattering[2]};
+        if (!(medium.sigmaA + medium.sigmaS).isFinite())
+            material.fail(
+                "the coefficients of this reflectance and mean free path do not fit a 32-bit float");
+    } else if (!sigmaA && !preset) {
+        const float scale = material.member("scale") ? material.member("scale")->number() : 1.0f;
+        medium.sigmaA = kDefaultSubsurfaceSigmaA * scale;
+        medium.sigmaS = kDefaultSubsurfaceSigmaS * scale;
+        if (!(medium.sigmaA + medium.sigmaS).isFinite())
+            material.fail("the default coefficients times scale do not fit a 32-bit float");
+    }
+    context.interior = medium;
+    return surface;
+}
+
 // "bump": a height field in scene units along the normal (a number, or a texture whose first
 // channel is read); "normal_map": a tangent-space normal map, a texture whose image is read as linear
 // RGB (materials/normal_perturbation.h). At most one of them.
@@ -402,7 +482,7 @@ Material readHair(const JsonValue& material, MaterialContext&) {
 // "mix": read by readMix once every material is named; a placeholder until then.
 Material readMixPlaceholder(const JsonValue&, MaterialContext&) { return Material::mixOf({}); }
 
-const std::array<TypeRow<MaterialReader>, 13> kMaterialTypes{{
+const std::array<TypeRow<MaterialReader>, 14> kMaterialTypes{{
     {"lambert", {"type", "albedo", "two_sided", "bump", "normal_map"}, readLambert},
     {"phong", {"type", "diffuse", "specular", "exponent", "two_sided", "bump", "normal_map"}, readPhong},
     {"dielectric", {"type", "eta", "fresnel", "absorption", "bump", "normal_map"}, readDielectric},
@@ -429,6 +509,10 @@ const std::array<TypeRow<MaterialReader>, 13> kMaterialTypes{{
     {"hair",
      {"type", "sigma_a", "color", "eumelanin", "pheomelanin", "eta", "beta_m", "beta_n", "alpha"},
      readHair},
+    {"subsurface",
+     {"type", "eta", "roughness", "roughness_mapping", "alpha", "distribution", "sigma_a", "sigma_s",
+      "preset", "reflectance", "mfp", "scale", "g", "bump", "normal_map"},
+     readSubsurface},
     {"interface", {"type"}, readInterface},
     {"mix", {"type", "materials", "amount"}, readMixPlaceholder},
 }};
@@ -436,7 +520,8 @@ const std::array<TypeRow<MaterialReader>, 13> kMaterialTypes{{
 // {"type": "mix", "materials": [a, b], "amount": number in [0, 1] or texture (default 0.5)}:
 // materials[index] becomes the mix, its two names resolved among all the scene's materials.
 void readMix(const JsonValue& value, uint32_t index, const std::filesystem::path& folder,
-             std::vector<Material>& materials, const std::vector<std::string>& names) {
+             std::vector<Material>& materials, const std::vector<std::string>& names,
+             const std::vector<MaterialInterior>& interiors) {
     const JsonValue pair = value.requiredMember("materials");
     if (!pair.json().is_array() || pair.arraySize() != 2) pair.failExpected("an array of two material names");
     MaterialMix mix;
@@ -445,6 +530,12 @@ void readMix(const JsonValue& value, uint32_t index, const std::filesystem::path
     for (size_t k = 0; k < 2; ++k)
         if (materials[k == 0 ? mix.first : mix.second].isInterface())
             pair.element(k).fail("a mix cannot include an interface (a medium boundary is not a surface)");
+    for (size_t k = 0; k < 2; ++k)
+        for (const MaterialInterior& interior : interiors)
+            if (interior.material == (k == 0 ? mix.first : mix.second))
+                pair.element(k).fail(
+                    "a mix cannot include a subsurface material (its medium fills the whole shape, which a "
+                    "choice per shading point cannot give)");
     if (auto v = value.member("amount")) {
         if (isTextureValue(*v))
             mix.amountTexture = std::make_shared<const Texture>(readTexture(*v, folder, 0.0f, 1.0f));
@@ -492,9 +583,10 @@ void refuseMixCycles(const JsonValue& section, const std::vector<Material>& mate
 }  // namespace
 
 void readMaterials(const JsonValue& section, const std::filesystem::path& folder,
-                   std::vector<Material>& materials, std::vector<std::string>& names) {
+                   std::vector<Material>& materials, std::vector<std::string>& names,
+                   std::vector<MaterialInterior>& interiors) {
     for (const auto& [name, value] : section.members()) {
-        MaterialContext context{folder, {}};
+        MaterialContext context{folder, {}, {}};
         Material material = findTypeRow<MaterialReader>(value, kMaterialTypes).read(value, context);
         if (auto perturbation = readNormalPerturbation(value, folder)) {
             std::vector<TexturedParameter> parameters;
@@ -502,13 +594,15 @@ void readMaterials(const JsonValue& section, const std::filesystem::path& folder
             material = Material(material.model(), material.twoSided(), std::move(parameters),
                                 std::move(perturbation));
         }
+        if (context.interior) interiors.push_back({uint32_t(materials.size()), *context.interior});
         materials.push_back(std::move(material));
         names.push_back(name);
     }
     const uint32_t first = uint32_t(materials.size() - section.members().size());
     uint32_t index = first;
     for (const auto& [name, value] : section.members()) {
-        if (value.requiredMember("type").string() == "mix") readMix(value, index, folder, materials, names);
+        if (value.requiredMember("type").string() == "mix")
+            readMix(value, index, folder, materials, names, interiors);
         ++index;
     }
     refuseMixCycles(section, materials, names);

@@ -40,25 +40,7 @@ Coefficients readCoefficients(const JsonValue& value) {
     return c;
 }
 
-MediumModel readHomogeneous(const JsonValue& value, const fs::path&) {
-    Coefficients c = readCoefficients(value);
-    // A measured medium by name (media/scattering_presets.h), in mm^-1, times "scale".
-    if (auto v = value.member("preset")) {
-        if (value.member("sigma_a") || value.member("sigma_s"))
-            v->fail("give either \"preset\" or \"sigma_a\" and \"sigma_s\"");
-        std::vector<std::string_view> names;
-        for (const ScatteringPreset& preset : kScatteringPresets) names.push_back(preset.name);
-        const ScatteringPreset& preset = kScatteringPresets[v->choice(names)];
-        const float scale = value.member("scale") ? value.member("scale")->number() : 1.0f;
-        c.sigmaA = preset.absorption * scale;
-        c.sigmaS = preset.reducedScattering * scale;
-        if (!(c.sigmaA + c.sigmaS).isFinite())
-            value.fail("the preset's coefficients times scale do not fit a 32-bit float");
-    }
-    HomogeneousMedium medium{c.sigmaA, c.sigmaS, Rgb(0.0f), c.phase};
-    if (auto v = value.member("emission")) medium.emission = v->rgb(0.0f);
-    return medium;
-}
+MediumModel readHomogeneous(const JsonValue& value, const fs::path&) { return readHomogeneousMedium(value); }
 
 // "density": {"resolution": [nx, ny, nz], "values": [nx * ny * nz numbers >= 0, x fastest]}, or
 // {"file": a .vdb (OpenVDB) or .nvdb (NanoVDB) file, "grid": the float grid's name (default
@@ -236,6 +218,26 @@ const std::array<TypeRow<MediumReader>, 4> kMediumTypes{{
 }};
 
 }  // namespace
+
+HomogeneousMedium readHomogeneousMedium(const JsonValue& value) {
+    Coefficients c = readCoefficients(value);
+    // A measured medium by name (media/scattering_presets.h), in mm^-1, times "scale".
+    if (auto v = value.member("preset")) {
+        if (value.member("sigma_a") || value.member("sigma_s"))
+            v->fail("give either \"preset\" or \"sigma_a\" and \"sigma_s\"");
+        std::vector<std::string_view> names;
+        for (const ScatteringPreset& preset : kScatteringPresets) names.push_back(preset.name);
+        const ScatteringPreset& preset = kScatteringPresets[v->choice(names)];
+        const float scale = value.member("scale") ? value.member("scale")->number() : 1.0f;
+        c.sigmaA = preset.absorption * scale;
+        c.sigmaS = preset.reducedScattering * scale;
+        if (!(c.sigmaA + c.sigmaS).isFinite())
+            value.fail("the preset's coefficients times scale do not fit a 32-bit float");
+    }
+    HomogeneousMedium medium{c.sigmaA, c.sigmaS, Rgb(0.0f), c.phase};
+    if (auto v = value.member("emission")) medium.emission = v->rgb(0.0f);
+    return medium;
+}
 
 void readMedia(const JsonValue& section, const fs::path& folder, Scene& scene) {
     for (const auto& [name, value] : section.members()) {

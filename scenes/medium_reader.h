@@ -15,6 +15,10 @@ namespace penumbra {
 // Adds the section's media to scene.media and their names to scene.mediumNames, in file order.
 void readMedia(const JsonValue& section, const std::filesystem::path& folder, Scene& scene);
 
+// A homogeneous medium's keys ("sigma_a" and "sigma_s", or a "preset", times "scale"; "g";
+// "emission"): the "homogeneous" medium, and the interior of a "subsurface" material.
+HomogeneousMedium readHomogeneousMedium(const JsonValue& value);
+
 // A medium's name as an index into `names`; "" is the vacuum (MediumInterface::kVacuum).
 uint32_t readMediumReference(const JsonValue& value, const std::vector<std::string>& names);
 

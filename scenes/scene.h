@@ -93,6 +93,9 @@ struct Scene : SceneGeometry {
     // camera may sit in; mediumNames[i] names media[i].
     std::vector<MediumModel> media;
     std::vector<std::string> mediumNames;
+    // Media from this index on fill subsurface materials (scenes/material_interior.h): the file's
+    // own media come first.
+    uint32_t firstMaterialInterior = MediumInterface::kVacuum;
     uint32_t cameraMedium = MediumInterface::kVacuum;
     // Light arriving along every direction that escapes the scene: black, a constant (the scene
     // file's "background") or an image (its "environment").
@@ -101,6 +104,11 @@ struct Scene : SceneGeometry {
     // Whether any shape moves or deforms over the shutter or the camera moves: otherwise a ray's
     // time changes nothing.
     bool hasMotion() const { return shapesMove() || !camera.motion.empty(); }
+    // Whether `medium` fills a subsurface material: paths in it are random walks, which the
+    // integrator counts and lights apart.
+    bool isMaterialInterior(uint32_t medium) const {
+        return medium != MediumInterface::kVacuum && medium >= firstMaterialInterior;
+    }
     // Whether paths may travel through media or cross medium boundaries: the scene is then
     // rendered by the volumetric integrator (renderer/volumetric_path_integrator.h).
     bool hasMedia() const {

@@ -50,8 +50,11 @@ Scene buildScene(const Json& document, const fs::path& file) {
         scene.environment = readEnvironment(*v, file.parent_path());
     }
     // Materials before the shapes that name them.
-    if (auto v = top.get("materials")) readMaterials(*v, folder, scene.materials, scene.materialNames);
+    std::vector<MaterialInterior> interiors;
+    if (auto v = top.get("materials"))
+        readMaterials(*v, folder, scene.materials, scene.materialNames, interiors);
     if (auto v = top.get("media")) readMedia(*v, folder, scene);  // before the shapes and camera naming them
+    const std::vector<uint32_t> interiorOf = addMaterialInteriors(interiors, scene);
     if (auto camera = top.get("camera"))
         if (auto v = camera->member("medium"))
             scene.cameraMedium = readMediumReference(*v, scene.mediumNames);
@@ -59,6 +62,7 @@ Scene buildScene(const Json& document, const fs::path& file) {
     if (auto v = top.get("prototypes"))
         readPrototypes(*v, folder, scene, prototypeNames);  // before the instances that name them
     if (auto v = top.get("shapes")) readShapes(*v, folder, prototypeNames, scene);
+    fillShapeInteriors(interiorOf, scene);
     if (auto v = top.get("lights")) readLights(*v, folder, scene);
     return scene;
 }

@@ -14,7 +14,7 @@ fi
 out=out/docs
 mkdir -p "$out"
 
-for scene in cornell-box depth-of-field soft-shadows motion-blur distribution materials rough-materials outdoor instancing subdivision cut-outs smoke fire \
+for scene in cornell-box depth-of-field soft-shadows motion-blur distribution materials rough-materials outdoor instancing subdivision cut-outs smoke fire subsurface \
     panorama fisheye orthographic; do
     echo "docs/$scene.png"
     "$penumbra" render "scenes/$scene.json" -o "$out/$scene.exr" --quiet

@@ -8,6 +8,7 @@
 #include "core/input_limits.h"
 #include "formats/pbrt/json_numbers.h"
 #include "formats/pbrt/spectrum.h"
+#include "media/scattering_presets.h"
 
 namespace penumbra::pbrt {
 
@@ -468,6 +469,67 @@ const TextureTable::Texture* TextureTable::scalar(const std::string& name) const
     return it == float_.end() ? nullptr : &it->second;
 }
 
+namespace {
+
+// pbrt-v4's SubsurfaceMaterial as penumbra's "subsurface": the same dielectric boundary (eta
+// 1.33 and the roughness keys) and the same four ways of giving the interior (by "name", sigma_a
+// and sigma_s, reflectance and mfp, or pbrt-v4's defaults), times "scale"; penumbra renders its
+// transport by a random walk where pbrt-v4 uses its photon beam diffusion profile. Textured
+// coefficients are read at their constant value (with a warning): a homogeneous medium has one.
+void subsurfaceMaterial(Json& m, const ParameterList& params, const TextureTable& textures, WarningLog& log,
+                        const SourceLocation& where) {
+    m["type"] = "subsurface";
+    m["eta"] = params.has("eta") ? readEta(params, textures, log) : 1.33;
+    double g = params.getFloat("g").value_or(0.0);
+    if (const std::optional<double> scale = params.getFloat("scale")) {
+        if (!(*scale > 0.0) || !std::isfinite(*scale))
+            failAt(params.find("scale", {ParamType::Float})->where,
+                   fmt::format("parameter \"float scale\" of a subsurface material must be > 0, found {}",
+                               *scale));
+        m["scale"] = *scale;
+    }
+    const std::string name = params.getString("name").value_or("");
+    const bool hasSigmaA = params.has("sigma_a"), hasSigmaS = params.has("sigma_s");
+    if (!name.empty()) {
+        const auto preset = std::find_if(kScatteringPresets.begin(), kScatteringPresets.end(),
+                                         [&](const ScatteringPreset& p) { return p.name == name; });
+        if (preset == kScatteringPresets.end())
+            failAt(params.find("name", {ParamType::String})->where,
+                   fmt::format("unknown measured medium \"{}\" (known: the names of pbrt-v4's "
+                               "GetMediumScatteringProperties, e.g. Skin1, Marble, Ketchup)",
+                               name));
+        m["preset"] = name;
+        if (g != 0.0)
+            log.warn(where, "\"g\" is ignored with named scattering coefficients (they are reduced: g is 0)");
+        g = 0.0;
+    } else if (hasSigmaA || hasSigmaS) {
+        if (hasSigmaA != hasSigmaS)
+            failAt(where, fmt::format("a subsurface material with \"{}\" needs \"{}\" too",
+                                      hasSigmaA ? "sigma_a" : "sigma_s", hasSigmaA ? "sigma_s" : "sigma_a"));
+        for (const char* coefficient : {"sigma_a", "sigma_s"}) {
+            const Rgb c = readColor(params, coefficient, Rgb(0.0f), SpectrumUse::Unbounded, textures, log);
+            m[coefficient] = rgbJson({std::max(c.r, 0.0f), std::max(c.g, 0.0f), std::max(c.b, 0.0f)});
+        }
+    } else if (params.has("reflectance")) {
+        m["reflectance"] = rgbJson(
+            clamp01(readColor(params, "reflectance", Rgb(1.0f), SpectrumUse::Reflectance, textures, log),
+                    nullptr, log, ""));
+        const Rgb mfp = readColor(params, "mfp", Rgb(1.0f), SpectrumUse::Unbounded, textures, log);
+        if (!(mfp.minComponent() > 0.0f) || !mfp.isFinite())
+            failAt(
+                params
+                    .find("mfp", {ParamType::Rgb, ParamType::Spectrum, ParamType::Float, ParamType::Texture})
+                    ->where,
+                "parameter \"mfp\" (the mean free path) must be > 0 and finite in every channel");
+        m["mfp"] = rgbJson(mfp);
+    }
+    if (g != 0.0) m["g"] = std::clamp(g, -0.99, 0.99);
+    if (addTexturedRoughness(m, params, textures)) return;
+    addAlpha(m, readAlpha(params, textures, log));
+}
+
+}  // namespace
+
 Json mapMaterial(const std::string& type, const ParameterList& params, const TextureTable& textures,
                  const SourceLocation& where, WarningLog& log) {
     auto reflectance = [&](std::string_view name, Rgb fallback) {
@@ -579,7 +641,9 @@ Json mapMaterial(const std::string& type, const ParameterList& params, const Tex
         if (m.contains("beta_m")) m["beta_m"] = std::clamp(m["beta_m"].get<double>(), 0.0, 1.0);
         if (m.contains("beta_n")) m["beta_n"] = std::clamp(m["beta_n"].get<double>(), 0.0, 1.0);
         params.markAllUsed();
-    } else if (type == "measured" || type == "subsurface") {
+    } else if (type == "subsurface") {
+        subsurfaceMaterial(m, params, textures, log, where);
+    } else if (type == "measured") {
         params.markAllUsed();
         m["type"] = "lambert";
         m["albedo"] = 0.5;

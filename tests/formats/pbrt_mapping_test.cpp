@@ -351,6 +351,54 @@ TEST(PbrtMapping, Materials) {
     EXPECT_EQ(scene.materials.size(), m.size());
 }
 
+// pbrt-v4's subsurface material (materials.cpp SubsurfaceMaterial::Create): its four ways of
+// giving the interior, eta 1.33 by default, the roughness as a dielectric's, and its errors.
+TEST(PbrtMapping, SubsurfaceMaterials) {
+    auto c =
+        convert(kCamera +
+                "WorldBegin\n"
+                "MakeNamedMaterial \"skin\" \"string type\" \"subsurface\" \"string name\" \"Skin1\" "
+                "\"float scale\" 10 \"float g\" 0.5\n"
+                "MakeNamedMaterial \"wax\" \"string type\" \"subsurface\" \"rgb sigma_a\" [0.1 0.2 0.3] "
+                "\"rgb sigma_s\" [1 2 3] \"float eta\" 1.5 \"float roughness\" 0.04\n"
+                "MakeNamedMaterial \"jade\" \"string type\" \"subsurface\" \"rgb reflectance\" [0.3 0.7 0.4] "
+                "\"rgb mfp\" [0.5 1 0.5]\n"
+                "MakeNamedMaterial \"milk\" \"string type\" \"subsurface\"\n"
+                "Material \"subsurface\" \"rgb reflectance\" [0.5 0.5 0.5]\n"
+                "Shape \"sphere\"\n");
+    const Json& m = c.document["materials"];
+    EXPECT_EQ(m["skin"],
+              Json::parse(R"({"type": "subsurface", "eta": 1.33, "scale": 10.0, "preset": "Skin1"})"));
+    EXPECT_TRUE(hasWarning(c, "\"g\" is ignored with named scattering coefficients"));
+    EXPECT_EQ(m["wax"]["sigma_a"], Json::parse("[0.1, 0.2, 0.3]"));
+    EXPECT_EQ(m["wax"]["sigma_s"], Json::parse("[1.0, 2.0, 3.0]"));
+    EXPECT_DOUBLE_EQ(m["wax"]["eta"].get<double>(), 1.5);
+    EXPECT_DOUBLE_EQ(m["wax"]["alpha"].get<double>(), 0.2);  // remaproughness: sqrt(0.04)
+    EXPECT_EQ(m["jade"]["mfp"], Json::parse("[0.5, 1.0, 0.5]"));
+    EXPECT_NEAR(m["jade"]["reflectance"][1].get<double>(), 0.7, 1e-6);
+    EXPECT_EQ(m["milk"], Json::parse(R"({"type": "subsurface", "eta": 1.33})"));
+    EXPECT_FALSE(hasWarning(c, "subsurface"));
+    // It builds: one interior medium per subsurface material, inside the sphere.
+    const Scene scene = buildPbrtScene(c, "test.pbrt");
+    EXPECT_EQ(scene.media.size(), 5u);
+    ASSERT_EQ(scene.spheres.size(), 1u);
+    EXPECT_TRUE(scene.isMaterialInterior(scene.spheres[0].media.inside));
+
+    const InputError unknown = testing::catchInputError(
+        [] { convert(kCamera + "WorldBegin\nMaterial \"subsurface\" \"string name\" \"Jelly\"\n"); });
+    EXPECT_CONTAINS(unknown.what(), "test.pbrt:");
+    EXPECT_CONTAINS(unknown.what(), "unknown measured medium \"Jelly\"");
+    const InputError half = testing::catchInputError(
+        [] { convert(kCamera + "WorldBegin\nMaterial \"subsurface\" \"rgb sigma_a\" [1 1 1]\n"); });
+    EXPECT_CONTAINS(half.what(), "a subsurface material with \"sigma_a\" needs \"sigma_s\" too");
+    const InputError path = testing::catchInputError([] {
+        convert(kCamera +
+                "WorldBegin\nMaterial \"subsurface\" \"rgb reflectance\" [1 1 1] \"float mfp\" 0\n");
+    });
+    EXPECT_CONTAINS(path.what(),
+                    "parameter \"mfp\" (the mean free path) must be > 0 and finite in every channel");
+}
+
 // pbrt-v4's spot light (lights.cpp SpotLight::Create): from, to, coneangle (30), conedelta (5);
 // "power" divides by 2 pi ((1 - cos(25)) + (cos(25) - cos(30)) / 2) = 0.715236 for the defaults.
 TEST(PbrtMapping, SpotLights) {

@@ -4,7 +4,8 @@
 // by Material::sample with a fixed seed are counted in the cells of a partition of the sphere
 // (20 x 40 cells in (cos theta, phi), see SphereBinning), and the counts are compared with the
 // expected counts N * integral of Material::pdf over each cell (adaptive cubature). Samples that
-// the routine rejects (a Phong specular direction below the horizon) form one more cell, expected
+// the routine rejects (a Phong specular direction below the horizon), or draws from a delta lobe
+// beside the continuous ones (a subsurface exit's internal reflection), form one more cell, expected
 // to hold N * (1 - integral of the pdf over the sphere). Cells expected to hold fewer than 5 are
 // pooled (test_statistics.h). The polar axis of the cells is the lobe's axis: +z for diffuse
 // lobes, the mirror direction of wo for Phong, with rings made finer near the axis for narrow
@@ -56,7 +57,18 @@ struct ContinuousCase {
 struct Reference {
     Rgb albedo;
     double mass;  // integral of the pdf over the sphere = probability that sample() returns a direction
+    // The share of the albedo that is energy: 1 but for a subsurface exit, whose diffuse exit's
+    // eta^2 restores the radiance that refraction in divided by it.
+    double energy = -1.0;  // < 0: the albedo's
 };
+
+// A subsurface boundary seen from inside at thetaUp: it reflects F back in (a delta lobe) and lets
+// 1 - F out diffusely, times eta^2 (radiance); F the Fresnel reflectance from inside (Hecht).
+template <class Surface>
+Reference subsurfaceExitReference(const SubsurfaceBoundary<Surface>& b, double thetaUp) {
+    const double eta = b.surface.eta, f = test::fresnelHecht(std::cos(thetaUp), 1.0 / eta);
+    return {Rgb(float(f + (1.0 - f) * eta * eta)), 1.0 - f, 1.0};
+}
 
 Reference referenceOf(const ContinuousCase& c) {
     const double thetaUp = test::radians(c.thetaO > 90.0 ? 180.0 - c.thetaO : c.thetaO);
@@ -64,6 +76,10 @@ Reference referenceOf(const ContinuousCase& c) {
     // Reflection and transmission, each R or T over pi on its hemisphere: albedo R + T.
     if (const auto* d = std::get_if<DiffuseTransmission>(&c.material.model()))
         return {d->reflectance + d->transmittance, 1.0};
+    if (const auto* b = std::get_if<SubsurfaceBoundary<Dielectric>>(&c.material.model()))
+        return subsurfaceExitReference(*b, thetaUp);
+    if (const auto* b = std::get_if<SubsurfaceBoundary<RoughDielectric>>(&c.material.model()))
+        return subsurfaceExitReference(*b, thetaUp);
     const Phong& p = std::get<Phong>(c.material.model());
     const double share = test::phongLobeShareAbove(p.exponent, thetaUp);
     const double specularAlbedo = test::phongSpecularAlbedo(p.exponent, thetaUp);
@@ -104,6 +120,16 @@ std::vector<ContinuousCase> continuousCases() {
             cases.push_back(
                 {std::string("DiffuseTransmission_") + d.name + "_theta" + std::to_string(int(theta)),
                  Material(DiffuseTransmission{d.r, d.t}), theta, 60.0});
+    // The exit of a subsurface walk (wo inside, below the outward normal), smooth and rough.
+    // (Inside at 40 and 10 degrees from the normal, within the critical angle of 48.8 degrees.)
+    for (double theta : {140.0, 170.0})
+        cases.push_back({"SubsurfaceExit_theta" + std::to_string(int(theta)),
+                         Material(SubsurfaceBoundary<Dielectric>{Dielectric{1.33f}}), theta, 20.0});
+    RoughDielectric rough;
+    rough.eta = 1.5f;
+    rough.distribution.alphaX = rough.distribution.alphaY = 0.3f;
+    cases.push_back(
+        {"SubsurfaceExitRough_theta145", Material(SubsurfaceBoundary<RoughDielectric>{rough}), 145.0, 20.0});
     // wo below the surface: the two-sided model mirrors itself.
     cases.push_back(
         {"Phong_n10_Even_theta120", test::makePhongMaterial(Rgb(0.5f), Rgb(0.5f), 10.0f), 120.0, 75.0});
@@ -225,8 +251,17 @@ TEST_P(ContinuousLobe, SamplesFollowThePdf) {
         const float uLobe = rng.next();
         const Vec2f u = rng.next2D();
         const auto s = material.sample(wo, uLobe, u, front);
-        if (!s) {
+        if (!s || s->isSpecular()) {
+            // A delta lobe beside the continuous ones (a subsurface exit's internal reflection):
+            // counted with the rejections, outside the density; its weight in the albedo.
             rejected += 1.0;
+            if (s) {
+                for (int ch = 0; ch < 3; ++ch) {
+                    weightSum[ch] += s->weight[ch];
+                    weightSquares[ch] += double(s->weight[ch]) * s->weight[ch];
+                }
+                if (s->wi != reflectAboutZ(wo) || s->weight != Rgb(1.0f)) ++inconsistent;
+            }
             continue;
         }
         observed[size_t(binning.cellOf(s->wi))] += 1.0;
@@ -273,7 +308,8 @@ TEST_P(ContinuousLobe, SamplesFollowThePdf) {
         const double variance = std::max(0.0, weightSquares[ch] / kSamples - mean * mean);
         EXPECT_TRUE(test::withinSigmas(mean, reference.albedo[ch], std::sqrt(variance / kSamples) + 1e-7))
             << "channel " << ch;
-        EXPECT_LE(reference.albedo[ch], 1.0f + 1e-6f);  // energy conservation of the model itself
+        const double energy = reference.energy < 0.0 ? reference.albedo[ch] : reference.energy;
+        EXPECT_LE(energy, 1.0 + 1e-6);  // energy conservation of the model itself
     }
 }
 
@@ -444,6 +480,36 @@ TEST(PhongExponent, HalfWidthOfTheLobe) {
         const Rgb peak = m.eval(wo, wo, true);
         const Rgb atHalf = m.eval(wo, directionFromAngles(half, 0.0), true);
         EXPECT_NEAR(atHalf.g / peak.g, 0.5, 2e-3) << "n = " << n;
+    }
+}
+
+// A subsurface boundary seen from outside is its interface: the same samples, values and
+// densities as the dielectric alone (whose tests are above and in microfacet_test.cpp).
+TEST(SubsurfaceBoundary, FromOutsideItIsItsInterface) {
+    RoughDielectric rough;
+    rough.eta = 1.4f;
+    rough.distribution.alphaX = rough.distribution.alphaY = 0.2f;
+    const Material boundary(SubsurfaceBoundary<RoughDielectric>{rough}), interface(rough);
+    const Material smoothBoundary(SubsurfaceBoundary<Dielectric>{Dielectric{1.4f}}), smooth(Dielectric{1.4f});
+    EXPECT_FALSE(smoothBoundary.isPurelySpecular());  // light is sampled where a walk leaves
+    test::UniformRng rng(0x5b5b);
+    for (int i = 0; i < 1000; ++i) {
+        const Vec3f wo = directionFromAngles(80.0 * rng.next(), 360.0 * rng.next());
+        const float uLobe = rng.next();
+        const Vec2f u = rng.next2D();
+        const auto a = boundary.sample(wo, uLobe, u, true), b = interface.sample(wo, uLobe, u, true);
+        ASSERT_EQ(a.has_value(), b.has_value());
+        if (a) {
+            EXPECT_EQ(a->wi, b->wi);
+            EXPECT_EQ(a->weight, b->weight);
+            EXPECT_EQ(a->pdf, b->pdf);
+            EXPECT_EQ(boundary.eval(wo, a->wi, true), interface.eval(wo, a->wi, true));
+        }
+        const auto c = smoothBoundary.sample(wo, uLobe, u, true), d = smooth.sample(wo, uLobe, u, true);
+        ASSERT_TRUE(c && d);
+        EXPECT_EQ(c->wi, d->wi);
+        EXPECT_EQ(c->weight, d->weight);
+        EXPECT_EQ(c->eta, d->eta);
     }
 }
 

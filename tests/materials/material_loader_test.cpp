@@ -7,6 +7,7 @@
 #include <variant>
 #include <vector>
 
+#include "materials/subsurface_albedo.h"
 #include "scenes/scene_loader.h"
 #include "tests/support/expect_input_error.h"
 
@@ -316,6 +317,81 @@ TEST(MaterialLoader, ConductorReflectance) {
     EXPECT_NE(errorOf(R"({"m": {"type": "conductor", "eta": 1, "k": 1, "reflectance": 0.5}})")
                   .find("/materials/m/reflectance: a conductor takes \"eta\" and \"k\", or \"reflectance\""),
               std::string::npos);
+}
+
+// "subsurface": a dielectric boundary (smooth or rough) and a medium that fills the shapes using
+// it, given one of four ways; the medium added after the file's own, each shape's inside unless it
+// names one.
+TEST(MaterialLoader, SubsurfaceMaterials) {
+    const Scene scene = parseScene(R"({
+        "materials": {
+            "skin": {"type": "subsurface", "preset": "Skin1", "scale": 10, "eta": 1.4},
+            "wax": {"type": "subsurface", "sigma_a": [0.1, 0.2, 0.3], "sigma_s": 2, "g": 0.3, "roughness": 0.5},
+            "jade": {"type": "subsurface", "reflectance": [0.2, 0.5, 0.9], "mfp": [1, 2, 4], "scale": 0.5},
+            "milk": {"type": "subsurface"},
+            "grey": {"type": "lambert"}},
+        "media": {"fog": {"type": "homogeneous", "sigma_s": 0.1}},
+        "shapes": [
+            {"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "skin"},
+            {"type": "sphere", "center": [3, 0, 0], "radius": 1, "material": "wax", "outside": "fog"},
+            {"type": "sphere", "center": [6, 0, 0], "radius": 1, "material": "jade", "inside": "fog"},
+            {"type": "sphere", "center": [9, 0, 0], "radius": 1, "material": "grey"}]})",
+                                   "s.json");
+    ASSERT_EQ(scene.media.size(), 5u);
+    EXPECT_EQ(scene.firstMaterialInterior, 1u);
+    EXPECT_EQ(scene.mediumNames[1], "(inside of material \"skin\")");
+    EXPECT_FALSE(scene.isMaterialInterior(0));
+    EXPECT_TRUE(scene.isMaterialInterior(4));
+    EXPECT_TRUE(std::holds_alternative<SubsurfaceBoundary<Dielectric>>(scene.materials[0].model()));
+    EXPECT_FLOAT_EQ(std::get<SubsurfaceBoundary<Dielectric>>(scene.materials[0].model()).surface.eta, 1.4f);
+    const auto& wax = std::get<SubsurfaceBoundary<RoughDielectric>>(scene.materials[1].model());
+    EXPECT_FLOAT_EQ(wax.surface.eta, 1.33f);
+    EXPECT_FLOAT_EQ(wax.surface.distribution.alphaX, 0.25f);
+    // Skin1 (Jensen et al. 2001) in mm^-1, times 10.
+    const auto& skin = std::get<HomogeneousMedium>(scene.media[1]);
+    EXPECT_FLOAT_EQ(skin.sigmaA.b, 4.8f);
+    EXPECT_FLOAT_EQ(skin.sigmaS.r, 7.4f);
+    const auto& waxMedium = std::get<HomogeneousMedium>(scene.media[2]);
+    EXPECT_FLOAT_EQ(waxMedium.sigmaA.g, 0.2f);
+    EXPECT_FLOAT_EQ(waxMedium.sigmaS.b, 2.0f);
+    EXPECT_FLOAT_EQ(waxMedium.phase.g, 0.3f);
+    // reflectance and mfp: sigma_t = 1 / (mfp scale), and the albedo whose dipole reflectance under
+    // eta 1.33 is the reflectance asked for.
+    const auto& jade = std::get<HomogeneousMedium>(scene.media[3]);
+    const double internal = diffuseFresnelReflectance(1.0 / 1.33);
+    const double asked[3] = {0.2, 0.5, 0.9}, mfp[3] = {1, 2, 4};
+    for (int c = 0; c < 3; ++c) {
+        const double sigmaT = double(jade.sigmaA[c]) + double(jade.sigmaS[c]);
+        EXPECT_NEAR(sigmaT, 1.0 / (0.5 * mfp[c]), 1e-6) << c;
+        EXPECT_NEAR(dipoleDiffuseReflectance(double(jade.sigmaS[c]) / sigmaT, internal), asked[c], 1e-6) << c;
+    }
+    // pbrt-v4's default coefficients.
+    EXPECT_FLOAT_EQ(std::get<HomogeneousMedium>(scene.media[4]).sigmaS.g, 3.21f);
+    // The shapes: the interior inside unless the shape names one; the outside as named.
+    EXPECT_EQ(scene.spheres[0].media.inside, 1u);
+    EXPECT_EQ(scene.spheres[0].media.outside, MediumInterface::kVacuum);
+    EXPECT_EQ(scene.spheres[1].media.inside, 2u);
+    EXPECT_EQ(scene.spheres[1].media.outside, 0u);
+    EXPECT_EQ(scene.spheres[2].media.inside, 0u);
+    EXPECT_FALSE(scene.spheres[3].media.isTransition());
+    EXPECT_TRUE(scene.hasMedia());
+
+    EXPECT_CONTAINS(errorOf(R"({"m": {"type": "subsurface", "sigma_a": 1}})"),
+                    "/materials/m: give both \"sigma_a\" and \"sigma_s\"");
+    EXPECT_CONTAINS(errorOf(R"({"m": {"type": "subsurface", "preset": "Skin1", "reflectance": 0.5}})"),
+                    "/materials/m: a subsurface medium is given one way");
+    EXPECT_CONTAINS(errorOf(R"({"m": {"type": "subsurface", "mfp": 1}})"),
+                    "/materials/m/mfp: \"mfp\" is the mean free path of a \"reflectance\"");
+    EXPECT_CONTAINS(errorOf(R"({"m": {"type": "subsurface", "reflectance": 1.5}})"),
+                    "/materials/m/reflectance");
+    EXPECT_CONTAINS(errorOf(R"({"m": {"type": "subsurface", "reflectance": 0.5, "mfp": 0}})"),
+                    "/materials/m/mfp: the mean free path times scale must be > 0");
+    EXPECT_CONTAINS(errorOf(R"({"m": {"type": "subsurface", "preset": "Jelly"}})"), "/materials/m/preset");
+    EXPECT_CONTAINS(errorOf(R"({"m": {"type": "subsurface", "emission": 1}})"),
+                    "/materials/m/emission: unknown key");
+    EXPECT_CONTAINS(errorOf(R"({"s": {"type": "subsurface"}, "d": {"type": "lambert"},
+                                "m": {"type": "mix", "materials": ["d", "s"]}})"),
+                    "/materials/m/materials/1: a mix cannot include a subsurface material");
 }
 
 TEST(MaterialLoader, PhongEnergyConservation) {

@@ -17,6 +17,7 @@
 #include "core/sampling.h"
 #include "film/film.h"
 #include "renderer/render.h"
+#include "tests/support/pixel_mean.h"
 #include "tests/support/scene_builders.h"
 #include "tests/support/test_statistics.h"
 
@@ -24,29 +25,8 @@ namespace penumbra {
 namespace {
 
 using test::withinSigmas;
-
-// The pixels' mean of one channel and its standard error.
-struct PixelMean {
-    double mean, standardError;
-};
-
-PixelMean renderedChannelMean(const Scene& scene, int channel,
-                              AcceleratorKind accelerator = AcceleratorKind::Embree) {
-    Film film(scene.film.width, scene.film.height);
-    RenderOptions options;
-    options.accelerator = accelerator;
-    render(scene, options, film);
-    std::vector<double> values;
-    for (int y = 0; y < film.height(); ++y)
-        for (int x = 0; x < film.width(); ++x)
-            values.push_back(film.at(x, y).radiance[channel] / film.at(x, y).weight);
-    double sum = 0, sumSquares = 0;
-    for (double v : values) sum += v;
-    const double mean = sum / double(values.size());
-    for (double v : values) sumSquares += (v - mean) * (v - mean);
-    const double variance = sumSquares / double(values.size() - 1);
-    return {mean, std::sqrt(variance / double(values.size()))};
-}
+using testing::PixelMean;
+using testing::renderedChannelMean;
 
 // Simpson's rule for f over [a, b] in `steps` (even) steps.
 template <typename F>
