@@ -22,7 +22,9 @@ TEST(SubsurfaceAlbedo, TheDipoleReflectanceRisesFromZeroToOne) {
             previous = r;
         }
         // A boundary that reflects light back in (A > 1) lets less out.
-        if (eta > 1.0) EXPECT_LT(dipoleDiffuseReflectance(0.9, internal), dipoleDiffuseReflectance(0.9, 0.0));
+        if (eta > 1.0) {
+            EXPECT_LT(dipoleDiffuseReflectance(0.9, internal), dipoleDiffuseReflectance(0.9, 0.0));
+        }
     }
     // Index-matched: A = 1, R_d(a) = a / 2 (1 + exp(-4/3 s)) exp(-s), s = sqrt(3 (1 - a)).
     const double s = std::sqrt(3.0 * 0.25);
