@@ -37,7 +37,8 @@ bool withinCoordinateLimit(Vec3f p) {
 // Emitters and cut-outs are looked up at (u, v) alone (the same value for a hit and a sample).
 constexpr const char* kUvOnlyTexture =
     "an emission or an alpha takes a texture of (u, v) only: not one of the point or the normal "
-    "(checkerboard_3d, fbm, wrinkled, windy, marble, direction_mix, or a texture of them)";
+    "(checkerboard_3d, fbm, wrinkled, windy, marble, direction_mix, a spherical, cylindrical or planar "
+    "mapping, or a texture of them)";
 
 // "radiance" may be a texture over the shape's (u, v) (scenes/README.md, "Textures"); its average
 // over [0, 1)^2 (32 x 32 lookups) then sets the light's power.

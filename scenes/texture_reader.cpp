@@ -29,11 +29,35 @@ Vec2f readPair(const JsonValue& value) {
     return value.vec2();
 }
 
+// "mapping": {"type": "uv" (the default) | "spherical" | "cylindrical" | "planar", "transform" (places
+// the texture's space in the world; not for "uv"), "v1", "v2" (planar: the directions of s and t
+// in that space, default x and y)} (textures/texture_mapping.h); then "uv_scale" and "uv_offset".
 void readUvMapping(const JsonValue& value, Texture& texture) {
     Vec2f scale{1.0f, 1.0f}, offset{0.0f, 0.0f};
     if (auto v = value.member("uv_scale")) scale = readPair(*v);
     if (auto v = value.member("uv_offset")) offset = readPair(*v);
     texture.mapUv(scale, offset);
+    const auto mappingValue = value.member("mapping");
+    if (!mappingValue) return;
+    const JsonObject object(*mappingValue, {"type", "transform", "v1", "v2"});
+    TextureMapping mapping;
+    mapping.kind =
+        TextureMappingKind(object.require("type").choice({"uv", "spherical", "cylindrical", "planar"}));
+    if (mapping.kind == TextureMappingKind::Uv) {
+        for (const char* key : {"transform", "v1", "v2"})
+            if (auto v = object.get(key)) v->fail("the (u, v) mapping takes no \"" + std::string(key) + "\"");
+        return;
+    }
+    if (auto v = object.get("transform")) mapping.worldToTexture = readTransform(*v).inverse();
+    for (const auto& [key, axis] : {std::pair{"v1", &mapping.v1}, std::pair{"v2", &mapping.v2}}) {
+        if (auto v = object.get(key)) {
+            if (mapping.kind != TextureMappingKind::Planar)
+                v->fail("only a planar mapping takes \"" + std::string(key) + "\"");
+            *axis = v->vec3();
+            if (!isFinite(*axis)) v->failExpected("a finite direction");
+        }
+    }
+    texture.setMapping(mapping);
 }
 
 Texture readConstant(const JsonValue& value, const TextureContext& context) {
@@ -230,15 +254,15 @@ using TextureReaderFunction = Texture (*)(const JsonValue&, const TextureContext
 
 const std::array<TypeRow<TextureReaderFunction>, 13> kTextureTypes{{
     {"image",
-     {"type", "file", "wrap", "filter", "color_space", "scale", "invert", "uv_scale", "uv_offset"},
+     {"type", "file", "wrap", "filter", "color_space", "scale", "invert", "uv_scale", "uv_offset", "mapping"},
      readImage},
-    {"checkerboard", {"type", "colors", "uv_scale", "uv_offset"}, readCheckerboard},
+    {"checkerboard", {"type", "colors", "uv_scale", "uv_offset", "mapping"}, readCheckerboard},
     {"constant", {"type", "value"}, readConstant},
     {"scale", {"type", "texture", "scale"}, readScale},
     {"mix", {"type", "textures", "amount"}, readMix},
     {"direction_mix", {"type", "textures", "direction"}, readDirectionMix},
-    {"bilerp", {"type", "values", "uv_scale", "uv_offset"}, readBilerp},
-    {"dots", {"type", "inside", "outside", "uv_scale", "uv_offset"}, readDots},
+    {"bilerp", {"type", "values", "uv_scale", "uv_offset", "mapping"}, readBilerp},
+    {"dots", {"type", "inside", "outside", "uv_scale", "uv_offset", "mapping"}, readDots},
     {"checkerboard_3d", {"type", "colors", "transform"}, readCheckerboard3D},
     {"fbm", {"type", "octaves", "roughness", "transform"}, readFbm},
     {"wrinkled", {"type", "octaves", "roughness", "transform"}, readWrinkled},

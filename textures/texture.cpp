@@ -8,22 +8,20 @@ namespace penumbra {
 
 namespace {
 
-// The first `channels` channels of `image` at `uv` (before the scale), into `texel`.
-void lookupChannels(const ImageTextureSource& image, Vec2f uv, Vec2f uvScale, const TextureQuery& query,
-                    int channels, float* texel) {
-    // t = 1 - v: derivatives change sign.
-    const float dsdx = query.dudx * uvScale.x, dsdy = query.dudy * uvScale.x;
-    const float dtdx = -query.dvdx * uvScale.y, dtdy = -query.dvdy * uvScale.y;
-    image.plugin->lookup(image.handle, int(image.wrapS), int(image.wrapT), int(image.filter), uv.x,
-                         1.0f - uv.y, dsdx, dtdx, dsdy, dtdy, channels, texel);
+// The first `channels` channels of `image` at `c` (before the scale), into `texel`.
+void lookupChannels(const ImageTextureSource& image, const TextureCoordinates& c, int channels,
+                    float* texel) {
+    // The image's row coordinate is 1 - t: t's derivatives change sign.
+    image.plugin->lookup(image.handle, int(image.wrapS), int(image.wrapT), int(image.filter), c.st.x,
+                         1.0f - c.st.y, c.dsdx, -c.dtdx, c.dsdy, -c.dtdy, channels, texel);
 }
 
 }  // namespace
 
-Rgb Texture::lookupImage(Vec2f uv, const TextureQuery& query) const {
+Rgb Texture::lookupImage(const TextureCoordinates& c) const {
     float texel[3] = {0.0f, 0.0f, 0.0f};
     const int channels = image_.channels >= 3 ? 3 : 1;
-    lookupChannels(image_, uv, uvScale_, query, channels, texel);
+    lookupChannels(image_, c, channels, texel);
     if (channels == 1) texel[1] = texel[2] = texel[0];
     const Rgb scaled = Rgb(texel[0], texel[1], texel[2]) * a_;
     if (!invert_) return scaled;
@@ -48,9 +46,8 @@ Rgb Texture::evaluateProcedural(const TextureQuery& query, Vec2f uv) const {
 }
 
 float Texture::lookupAlpha(const TextureQuery& query) const {
-    const Vec2f uv{query.uv.x * uvScale_.x + uvOffset_.x, query.uv.y * uvScale_.y + uvOffset_.y};
     float texel[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-    lookupChannels(image_, uv, uvScale_, query, image_.channels, texel);
+    lookupChannels(image_, coordinates(query), image_.channels, texel);
     const float alpha = texel[image_.channels - 1] * a_.r;
     return invert_ ? std::max(0.0f, 1.0f - alpha) : alpha;
 }

@@ -4,9 +4,10 @@
 // scalar parameter (roughness) reads the first channel.
 //
 // Coordinates: a texture is looked up at the surface's (u, v) (geometry/surface_interaction.h:
-// mesh uvs, a quad's corners, a sphere's (phi / 2 pi, theta / pi)), first mapped by
-// (u, v) * uvScale + uvOffset. Images put v = 0 at their bottom row (OBJ's and pbrt's convention),
-// so the image row coordinate is t = 1 - v.
+// mesh uvs, a quad's corners, a sphere's (phi / 2 pi, theta / pi)), or at the (s, t) a spherical,
+// cylindrical or planar mapping gives the point (textures/texture_mapping.h), then scaled and offset:
+// (s, t) * uvScale + uvOffset. Images put t = 0 at their bottom row (OBJ's and pbrt's convention),
+// so the image row coordinate is 1 - t.
 #pragma once
 
 #include <cmath>
@@ -17,6 +18,7 @@
 #include "core/rgb.h"
 #include "core/vec.h"
 #include "textures/texture_footprint.h"
+#include "textures/texture_mapping.h"
 #include "textures/texture_plugin.h"
 
 namespace penumbra {
@@ -71,6 +73,13 @@ public:
         uvOffset_ = offset;
         return *this;
     }
+    // Coordinates from the point instead of (u, v) (not TextureMappingKind::Uv): the texture is
+    // then spatial.
+    Texture& setMapping(const TextureMapping& mapping) {
+        mapping_ = std::make_shared<const TextureMapping>(mapping);
+        spatial_ = true;
+        return *this;
+    }
 
     TextureKind kind() const { return kind_; }
     // Whether a lookup needs a footprint (a filter that chooses a MIP level).
@@ -85,14 +94,27 @@ public:
 
     Rgb evaluate(const TextureQuery& query) const {
         if (kind_ == TextureKind::Constant) return a_;
-        const Vec2f uv{query.uv.x * uvScale_.x + uvOffset_.x, query.uv.y * uvScale_.y + uvOffset_.y};
+        const TextureCoordinates c = coordinates(query);
         if (kind_ == TextureKind::Checkerboard) {
-            const int64_t parity = int64_t(std::floor(uv.x)) + int64_t(std::floor(uv.y));
+            const int64_t parity = int64_t(std::floor(c.st.x)) + int64_t(std::floor(c.st.y));
             return (parity & 1) == 0 ? a_ : b_;
         }
         if (kind_ == TextureKind::Procedural) [[unlikely]]
-            return evaluateProcedural(query, uv);
-        return lookupImage(uv, query);
+            return evaluateProcedural(query, c.st);
+        return lookupImage(c);
+    }
+
+    // The query's coordinates (mapped, then scaled and offset) and their derivatives.
+    TextureCoordinates coordinates(const TextureQuery& query) const {
+        TextureCoordinates c =
+            mapping_ ? mapping_->map(query)
+                     : TextureCoordinates{query.uv, query.dudx, query.dudy, query.dvdx, query.dvdy};
+        c.st = {c.st.x * uvScale_.x + uvOffset_.x, c.st.y * uvScale_.y + uvOffset_.y};
+        c.dsdx *= uvScale_.x;
+        c.dsdy *= uvScale_.x;
+        c.dtdx *= uvScale_.y;
+        c.dtdy *= uvScale_.y;
+        return c;
     }
 
     // The texture read as a surface's coverage (a cut-out's alpha, geometry/cut_out.h): an image's
@@ -106,13 +128,14 @@ public:
     }
 
 private:
-    Rgb lookupImage(Vec2f uv, const TextureQuery& query) const;
+    Rgb lookupImage(const TextureCoordinates& c) const;
     Rgb evaluateProcedural(const TextureQuery& query, Vec2f uv) const;
     float lookupAlpha(const TextureQuery& query) const;
 
     TextureKind kind_ = TextureKind::Constant;
     Rgb a_, b_;  // the constant or the image's scale; the checkerboard's two colours
     Vec2f uvScale_{1.0f, 1.0f}, uvOffset_{0.0f, 0.0f};
+    std::shared_ptr<const TextureMapping> mapping_;  // null: (u, v)
     ImageTextureSource image_;
     std::shared_ptr<const ProceduralTexture> procedural_;
     bool invert_ = false;                    // an image's `invert`

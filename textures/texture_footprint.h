@@ -19,6 +19,7 @@ struct TextureQuery {
     Vec2f uv;
     Vec3f p{0.0f, 0.0f, 0.0f}, n{0.0f, 0.0f, 0.0f};  // the point and geometric normal (world space)
     float dudx = 0.0f, dvdx = 0.0f, dudy = 0.0f, dvdy = 0.0f;
+    Vec3f dpdx{0.0f, 0.0f, 0.0f}, dpdy{0.0f, 0.0f, 0.0f};  // the point's footprint (for mapped textures)
 };
 
 // The camera as the footprint needs it: the lens centre, the image's right and up axes (unit), the
@@ -60,6 +61,8 @@ inline TextureQuery textureQueryAt(const CameraFootprint& camera, Vec3f p, Vec3f
         return (hit - p) * camera.sampleScale;
     };
     const Vec3f dpdx = offsetOnPlane(camera.right), dpdy = offsetOnPlane(camera.up);
+    query.dpdx = dpdx;
+    query.dpdy = dpdy;
     // Least squares for (du, dv) with dpdu du + dpdv dv = dp (pbrt-v4's ComputeDifferentials).
     const float ata00 = dot(dpdu, dpdu), ata01 = dot(dpdu, dpdv), ata11 = dot(dpdv, dpdv);
     float invDet = 1.0f / (ata00 * ata11 - ata01 * ata01);

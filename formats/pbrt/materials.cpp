@@ -190,17 +190,34 @@ double readScalar(const ParameterList& params, std::string_view name, double fal
 
 namespace {
 
-// pbrt-v4's (u, v) mapping of image and checkerboard textures: st = (uscale u + udelta, vscale v + vdelta).
-void addUvMapping(Json& texture, const ParameterList& params, const SourceLocation& where, WarningLog& log) {
+// pbrt-v4's 2D texture mappings (TextureMapping2D::Create): "uv" (st = (uscale u + udelta, vscale v +
+// vdelta)), and "spherical", "cylindrical" and "planar" (v1, v2, udelta, vdelta) of the point in the
+// texture's space (the CTM at the Texture directive), which take no uscale or vscale (nor udelta or
+// vdelta but planar), as pbrt-v4's.
+void addUvMapping(Json& texture, const ParameterList& params, const Matrix4d& worldFromTexture) {
     const std::string mapping = params.getString("mapping").value_or("uv");
-    if (mapping != "uv")
-        log.warn(where, fmt::format("texture mapping \"{}\" is not supported: the surface's (u, v) are used",
-                                    mapping));
     const double us = params.getFloat("uscale").value_or(1.0), vs = params.getFloat("vscale").value_or(1.0);
     const double ud = params.getFloat("udelta").value_or(0.0), vd = params.getFloat("vdelta").value_or(0.0);
-    if (us != 1.0 || vs != 1.0) texture["uv_scale"] = Json::array({us, vs});
-    if (ud != 0.0 || vd != 0.0) texture["uv_offset"] = Json::array({ud, vd});
-    params.getFloat("v1"), params.getFloat("v2");  // planar mapping's, with the warning above
+    const std::optional<Vec3d> v1 = params.getPoint3("v1"), v2 = params.getPoint3("v2");
+    if (mapping == "uv") {
+        if (us != 1.0 || vs != 1.0) texture["uv_scale"] = Json::array({us, vs});
+        if (ud != 0.0 || vd != 0.0) texture["uv_offset"] = Json::array({ud, vd});
+        return;
+    }
+    if (mapping != "spherical" && mapping != "cylindrical" && mapping != "planar")
+        failAt(params.find("mapping", {ParamType::String})->where,
+               fmt::format("unknown texture mapping \"{}\" (expected uv, spherical, cylindrical or planar)",
+                           mapping));
+    Json object{{"type", mapping}};
+    if (!(worldFromTexture == Matrix4d::identity()))
+        object["transform"] = Json::array({Json{{"matrix", matrixJson(worldFromTexture)}}});
+    if (mapping == "planar") {
+        // pbrt-v4's defaults: v1 (1, 0, 0), v2 (0, 1, 0).
+        object["v1"] = vec3Json(v1.value_or(Vec3d{1.0, 0.0, 0.0}));
+        object["v2"] = vec3Json(v2.value_or(Vec3d{0.0, 1.0, 0.0}));
+        if (ud != 0.0 || vd != 0.0) texture["uv_offset"] = Json::array({ud, vd});
+    }
+    texture["mapping"] = std::move(object);
 }
 
 // A texture object scaled by a constant factor: an image's "scale" (unless it is inverted after
@@ -363,7 +380,7 @@ void TextureTable::define(const std::string& name, const std::string& kind, cons
             Json object{{"type", "checkerboard"}};
             object["colors"] = isFloat ? Json::array({shortest(a.constant.r), shortest(b.constant.r)})
                                        : Json::array({rgbJson(a.constant), rgbJson(b.constant)});
-            addUvMapping(object, params, where, log);
+            addUvMapping(object, params, worldFromTexture);
             texture.object = std::move(object);
         }
     } else if (textureClass == "dots") {
@@ -371,7 +388,7 @@ void TextureTable::define(const std::string& name, const std::string& kind, cons
         texture.constant = (inside.constant + outside.constant) * 0.5f;
         texture.standIn = "the mean of its two values";
         Json object{{"type", "dots"}, {"inside", json(inside, isFloat)}, {"outside", json(outside, isFloat)}};
-        addUvMapping(object, params, where, log);
+        addUvMapping(object, params, worldFromTexture);
         texture.object = std::move(object);
     } else if (textureClass == "bilerp") {
         Json values = Json::array();
@@ -387,7 +404,7 @@ void TextureTable::define(const std::string& name, const std::string& kind, cons
         texture.constant = sum * 0.25f;
         texture.standIn = "the mean of its four values";
         Json object{{"type", "bilerp"}, {"values", std::move(values)}};
-        addUvMapping(object, params, where, log);
+        addUvMapping(object, params, worldFromTexture);
         texture.object = std::move(object);
     } else if (textureClass == "fbm" || textureClass == "wrinkled" || textureClass == "windy" ||
                textureClass == "marble") {
@@ -446,7 +463,7 @@ void TextureTable::define(const std::string& name, const std::string& kind, cons
         const double scale = params.getFloat("scale").value_or(1.0);
         if (scale != 1.0) object["scale"] = scale;
         if (params.getBool("invert").value_or(false)) object["invert"] = true;
-        addUvMapping(object, params, where, log);
+        addUvMapping(object, params, worldFromTexture);
         texture = {Rgb(0.5f), std::move(object), "the constant 0.5 instead of the image"};
     } else {
         params.markAllUsed();

@@ -1405,6 +1405,23 @@ std::optional<Json> SceneBuilder::shapeGeometry(const ShapeRecord& record, bool 
     return shape;
 }
 
+namespace {
+
+// Removes the texture mappings of the point (spherical, cylindrical, planar) from a texture object
+// and the textures in it; whether there was one. A cut-out is looked up at (u, v) alone.
+bool dropPointMappings(Json& texture) {
+    bool dropped = false;
+    if (texture.is_object()) {
+        dropped = texture.erase("mapping") > 0;
+        for (auto& [key, value] : texture.items()) dropped = dropPointMappings(value) || dropped;
+    } else if (texture.is_array()) {
+        for (Json& value : texture) dropped = dropPointMappings(value) || dropped;
+    }
+    return dropped;
+}
+
+}  // namespace
+
 std::optional<Json> SceneBuilder::cutOutAlpha(const Parameter& alpha) const {
     if (alpha.type == ParamType::Float) {
         if (alpha.numbers.size() != 1)
@@ -1419,7 +1436,14 @@ std::optional<Json> SceneBuilder::cutOutAlpha(const Parameter& alpha) const {
     if (!texture)
         failAt(alpha.where, fmt::format("parameter \"{}\": unknown float texture \"{}\"", alpha.declaration(),
                                         alpha.strings[0]));
-    if (texture->object) return *texture->object;
+    if (texture->object) {
+        Json object = *texture->object;
+        if (dropPointMappings(object))
+            log_.warn(alpha.where,
+                      "an alpha texture is looked up at the surface's (u, v): its spherical, "
+                      "cylindrical or planar mapping is not used");
+        return object;
+    }
     const double constant = std::clamp(double(texture->constant.r), 0.0, 1.0);
     if (constant == 1.0) return std::nullopt;
     return Json(constant);

@@ -654,6 +654,48 @@ TEST(PbrtMapping, TexturesBecomeTextureObjects) {
     EXPECT_TRUE(scene.materials[size_t(named - scene.materialNames.begin())].isTextured());
 }
 
+// pbrt-v4's 2D mappings of the point (TextureMapping2D::Create): spherical and cylindrical in the
+// texture's space (the transform current at the Texture directive), which take no uscale or
+// udelta; planar with its v1, v2 (defaults x, y) and udelta, vdelta. An alpha is looked up at
+// (u, v): its mapping is dropped with a warning. An unknown mapping is an error at its line.
+TEST(PbrtMapping, TextureMappingsOfThePoint) {
+    auto c = convert(kCamera +
+                     "WorldBegin\n"
+                     "AttributeBegin\nTranslate 0 0 3\n"
+                     "Texture \"globe\" \"spectrum\" \"checkerboard\" \"string mapping\" \"spherical\" "
+                     "\"float uscale\" 4\n"
+                     "AttributeEnd\n"
+                     "Texture \"can\" \"float\" \"checkerboard\" \"string mapping\" \"cylindrical\"\n"
+                     "Texture \"floor\" \"spectrum\" \"checkerboard\" \"string mapping\" \"planar\" "
+                     "\"vector3 v1\" [0 0 1] \"float udelta\" 0.5\n"
+                     "MakeNamedMaterial \"a\" \"string type\" \"diffuse\" \"texture reflectance\" \"globe\"\n"
+                     "MakeNamedMaterial \"b\" \"string type\" \"diffuse\" \"texture reflectance\" \"floor\"\n"
+                     "Shape \"sphere\" \"texture alpha\" \"can\"\n");
+    const Json& m = c.document["materials"];
+    const Json& globe = m["a"]["albedo"];
+    EXPECT_EQ(globe["mapping"]["type"], "spherical");
+    EXPECT_EQ(globe["mapping"]["transform"][0]["matrix"][3], 0.0);
+    EXPECT_EQ(globe["mapping"]["transform"][0]["matrix"][11], 3.0);  // the translation's z
+    EXPECT_FALSE(globe.contains("uv_scale"));
+    const Json& floor = m["b"]["albedo"];
+    EXPECT_EQ(floor["mapping"], Json::parse(R"({"type": "planar", "v1": [0, 0, 1], "v2": [0, 1, 0]})"));
+    EXPECT_EQ(floor["uv_offset"], Json::parse("[0.5, 0]"));
+    EXPECT_FALSE(hasWarning(c, "mapping \"spherical\""));
+    EXPECT_TRUE(hasWarning(c, "an alpha texture is looked up at the surface's (u, v)"));
+    const Json& alpha = c.document["shapes"][0]["alpha"];
+    EXPECT_EQ(alpha["type"], "checkerboard");
+    EXPECT_FALSE(alpha.contains("mapping"));
+    EXPECT_NO_THROW(buildPbrtScene(c, "test.pbrt"));
+
+    const InputError e = testing::catchInputError([] {
+        convert(kCamera +
+                "WorldBegin\nTexture \"t\" \"float\" \"checkerboard\" \"string mapping\" \"conic\"\n");
+    });
+    EXPECT_CONTAINS(e.what(), "test.pbrt:");
+    EXPECT_CONTAINS(e.what(),
+                    "unknown texture mapping \"conic\" (expected uv, spherical, cylindrical or planar)");
+}
+
 // pbrt-v4's procedural and composite textures become penumbra's (textures/procedural_texture.h),
 // inputs of inputs nested, the 3D ones placed by the transform current at their definition.
 TEST(PbrtMapping, ProceduralAndCompositeTextures) {
