@@ -1,6 +1,7 @@
 #include "core/colorimetry.h"
 
 #include <algorithm>
+#include <array>
 #include <vector>
 
 namespace penumbra {
@@ -54,6 +55,41 @@ Rgb xyzToLinearSrgb(const Xyz& xyz) {
 Rgb unitLuminanceLinearSrgb(const Xyz& xyz) {
     if (!(xyz[1] > 0.0)) return Rgb(0.0f);
     return xyzToLinearSrgb({xyz[0] / xyz[1], 1.0, xyz[2] / xyz[1]});
+}
+
+namespace {
+
+using Matrix3 = std::array<std::array<double, 3>, 3>;
+
+Xyz times(const Matrix3& m, const Xyz& v) {
+    Xyz out{};
+    for (int i = 0; i < 3; ++i) out[i] = m[i][0] * v[0] + m[i][1] * v[1] + m[i][2] * v[2];
+    return out;
+}
+
+// XYZ to the Bradford cone responses, and back (the inverse as published with it).
+constexpr Matrix3 kBradford{
+    {{0.8951, 0.2664, -0.1614}, {-0.7502, 1.7135, 0.0367}, {0.0389, -0.0685, 1.0296}}};
+constexpr Matrix3 kBradfordInverse{{{0.9869929, -0.1470543, 0.1599627},
+                                    {0.4323053, 0.5183603, 0.0492912},
+                                    {-0.0085287, 0.0400428, 0.9684867}}};
+
+Xyz adaptEqualEnergyToD65(const Xyz& xyz) {
+    static const Xyz equalEnergyCones = times(kBradford, spectrumToXyz([](double) { return 1.0; }));
+    static const Xyz d65Cones = times(kBradford, {0.95047, 1.0, 1.08883});
+    Xyz cones = times(kBradford, xyz);
+    for (int i = 0; i < 3; ++i) cones[i] *= d65Cones[i] / equalEnergyCones[i];
+    return times(kBradfordInverse, cones);
+}
+
+}  // namespace
+
+Rgb reflectanceXyzToLinearSrgb(const Xyz& xyzUnderEqualEnergy) {
+    // The transforms above map white to (1, 1, 1) within their published digits; the division makes it exact.
+    static const Rgb white =
+        xyzToLinearSrgb(adaptEqualEnergyToD65(spectrumToXyz([](double) { return 1.0; })));
+    const Rgb c = xyzToLinearSrgb(adaptEqualEnergyToD65(xyzUnderEqualEnergy));
+    return {c.r / white.r, c.g / white.g, c.b / white.b};
 }
 
 double planckRadiance(double lambdaNm, double kelvin) {

@@ -29,6 +29,11 @@ double cieYIntegral();
 Rgb xyzToLinearSrgb(const Xyz& xyz);
 // The colour of `xyz` scaled to luminance Y = 1 (black where Y is not positive).
 Rgb unitLuminanceLinearSrgb(const Xyz& xyz);
+// The colour of a reflectance spectrum from its spectrumToXyz (the XYZ it has under an equal-energy
+// light) as seen under penumbra's D65 white: the Bradford transform from the equal-energy white to
+// D65 (Lam 1985, as in CIECAM97s), then xyzToLinearSrgb, scaled so that a flat reflectance c is
+// exactly (c, c, c).
+Rgb reflectanceXyzToLinearSrgb(const Xyz& xyzUnderEqualEnergy);
 
 // The sum of spectrum(lambda) times the matching functions over the 1 nm steps of the visible range,
 // divided by cieYIntegral().

@@ -74,6 +74,10 @@ constexpr uint64_t kMaxVolumeFileBytes = uint64_t(4) << 30;
 // is allocated for it.
 constexpr int64_t kMaxGridVoxels = int64_t(1) << 28;
 
+// Bytes of a measured BRDF (.bsdf, materials/measured_bsdf_reader.h): the RGL database's spectral
+// files are tens of megabytes. The tables built from one take at most about three times its size.
+constexpr uint64_t kMaxMeasuredBsdfFileBytes = uint64_t(1) << 30;
+
 // Magnitude of a coordinate or a length in a scene (positions, corners, centres, radii, lens
 // sizes), after transforms: below it, squared distances stay within a 32-bit float (1e36 < 3.4e38);
 // beyond it, intersection tests overflow and geometry would silently vanish.

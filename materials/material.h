@@ -50,6 +50,7 @@
 #include "materials/interface.h"
 #include "materials/lambert.h"
 #include "materials/material_mix.h"
+#include "materials/measured_bsdf.h"
 #include "materials/normal_perturbation.h"
 #include "materials/phong.h"
 #include "materials/rough_conductor.h"
@@ -75,10 +76,10 @@ concept HasInteriorAbsorption = requires(const M& m) {
     { m.interiorAbsorption() } -> std::same_as<Rgb>;
 };
 
-using MaterialModel =
-    std::variant<Lambert, Phong, Dielectric, ThinDielectric, Mirror, Conductor, RoughConductor,
-                 RoughDielectric, CoatedDiffuse, RoughCoatedDiffuse, DiffuseTransmission, HairBsdf,
-                 SubsurfaceBoundary<Dielectric>, SubsurfaceBoundary<RoughDielectric>, Interface>;
+using MaterialModel = std::variant<Lambert, Phong, Dielectric, ThinDielectric, Mirror, Conductor,
+                                   RoughConductor, RoughDielectric, CoatedDiffuse, RoughCoatedDiffuse,
+                                   DiffuseTransmission, HairBsdf, SubsurfaceBoundary<Dielectric>,
+                                   SubsurfaceBoundary<RoughDielectric>, MeasuredBsdf, Interface>;
 
 namespace detail {
 // Viable only for a BsdfModel: otherwise the compiler names the model and what it misses.

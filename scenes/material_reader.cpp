@@ -6,8 +6,10 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <optional>
 
+#include "materials/measured_bsdf_reader.h"
 #include "materials/subsurface_albedo.h"
 #include "scenes/medium_reader.h"
 #include "scenes/name_reference.h"
@@ -24,6 +26,8 @@ struct MaterialContext {
     const std::filesystem::path& folder;
     std::vector<TexturedParameter> textures;
     std::optional<HomogeneousMedium> interior;  // a subsurface material's medium
+    // The measured BRDFs read so far for this scene, by canonical path: each file is read once.
+    std::map<std::filesystem::path, std::shared_ptr<const MeasuredBrdfTables>>& measuredFiles;
 };
 
 using ApplyColor = void (*)(MaterialModel&, Rgb);
@@ -79,31 +83,67 @@ MicrofacetDistribution& distributionOf(SubsurfaceBoundary<Surface>& model) {
     return model.surface.distribution;
 }
 
-template <class Model, RoughnessMapping kMapping>
+// Which slopes a textured roughness sets: both, or (one texture per axis) those along u or along v.
+enum class RoughnessAxis : uint8_t { Both, U, V };
+
+template <class Model, RoughnessMapping kMapping, RoughnessAxis kAxis>
 void setRoughness(MaterialModel& m, Rgb value) {
     MicrofacetDistribution& d = distributionOf(std::get<Model>(m));
-    d.alphaX = d.alphaY = std::max(mappedRoughness(std::clamp(value.r, 0.0f, 1.0f), kMapping), 1e-4f);
+    const float alpha = std::max(mappedRoughness(std::clamp(value.r, 0.0f, 1.0f), kMapping), 1e-4f);
+    if (kAxis != RoughnessAxis::V) d.alphaX = alpha;
+    if (kAxis != RoughnessAxis::U) d.alphaY = alpha;
 }
 
-// The textured-roughness setter of `Model` for `mapping`.
-template <class Model>
+template <class Model, RoughnessAxis kAxis>
 ApplyColor roughnessSetter(RoughnessMapping mapping) {
     switch (mapping) {
         case RoughnessMapping::Squared:
-            return setRoughness<Model, RoughnessMapping::Squared>;
+            return setRoughness<Model, RoughnessMapping::Squared, kAxis>;
         case RoughnessMapping::SquareRoot:
-            return setRoughness<Model, RoughnessMapping::SquareRoot>;
+            return setRoughness<Model, RoughnessMapping::SquareRoot, kAxis>;
         case RoughnessMapping::Identity:
             break;
     }
-    return setRoughness<Model, RoughnessMapping::Identity>;
+    return setRoughness<Model, RoughnessMapping::Identity, kAxis>;
 }
 
-// A textured "roughness" of `Model`, recorded to set its slopes at each shading point.
+// The textured-roughness setter of `Model` for `mapping` and `axis`.
+template <class Model>
+ApplyColor roughnessSetter(RoughnessMapping mapping, RoughnessAxis axis) {
+    switch (axis) {
+        case RoughnessAxis::Both:
+            return roughnessSetter<Model, RoughnessAxis::Both>(mapping);
+        case RoughnessAxis::U:
+            return roughnessSetter<Model, RoughnessAxis::U>(mapping);
+        case RoughnessAxis::V:
+            break;
+    }
+    return roughnessSetter<Model, RoughnessAxis::V>(mapping);
+}
+
+// A "roughness" that is a texture, or an array (along u, along v) of which one or both are.
+bool isTexturedRoughness(const JsonValue& roughness) {
+    if (isTextureValue(roughness)) return true;
+    return roughness.json().is_array() && roughness.arraySize() == 2 &&
+           (isTextureValue(roughness.element(0)) || isTextureValue(roughness.element(1)));
+}
+
+// A textured "roughness" of `Model`, recorded to set its slopes at each shading point: one texture
+// for both axes, or one per axis (a number for the other is already in the model).
 template <class Model>
 void addTexturedRoughness(const JsonValue& material, MaterialContext& context) {
-    context.textures.push_back({readTexture(*material.member("roughness"), context.folder, 0.0f, 1.0f),
-                                roughnessSetter<Model>(readRoughnessMapping(material))});
+    const JsonValue roughness = *material.member("roughness");
+    const RoughnessMapping mapping = readRoughnessMapping(material);
+    if (isTextureValue(roughness)) {
+        context.textures.push_back({readTexture(roughness, context.folder, 0.0f, 1.0f),
+                                    roughnessSetter<Model>(mapping, RoughnessAxis::Both)});
+        return;
+    }
+    for (size_t k = 0; k < 2; ++k)
+        if (const JsonValue axis = roughness.element(k); isTextureValue(axis))
+            context.textures.push_back(
+                {readTexture(axis, context.folder, 0.0f, 1.0f),
+                 roughnessSetter<Model>(mapping, k == 0 ? RoughnessAxis::U : RoughnessAxis::V)});
 }
 
 FresnelModel readFresnel(const JsonValue& value) {
@@ -183,8 +223,9 @@ Material readMirror(const JsonValue& material, MaterialContext& context) {
 // from "roughness" r in [0, 1] (alpha = r^2, or as "roughness_mapping" says) or "alpha" > 0, each a
 // number or [along u, along v]
 // for an anisotropic surface; none when no roughness is given.
-// A textured "roughness" (an object) gives an isotropic rough surface whose slopes come from the
-// texture's first channel at each point (`textured` is set; the slopes returned are placeholders).
+// A textured "roughness" (an object, or an array along u and v of which one or both are objects)
+// gives a rough surface whose slopes come from the textures' first channel at each point (`textured`
+// is set; the slopes returned are placeholders where a texture will write them).
 std::optional<MicrofacetDistribution> readDistribution(const JsonValue& material, bool* textured = nullptr) {
     const auto roughness = material.member("roughness");
     const auto alpha = material.member("alpha");
@@ -193,15 +234,6 @@ std::optional<MicrofacetDistribution> readDistribution(const JsonValue& material
     if (!roughness && !alpha) {
         if (kind) kind->fail("a distribution needs a \"roughness\" or an \"alpha\"");
         return std::nullopt;
-    }
-    if (roughness && isTextureValue(*roughness)) {
-        if (!textured) roughness->fail("this material's roughness cannot be a texture");
-        *textured = true;
-        MicrofacetDistribution d;
-        if (kind)
-            d.kind = kind->choice({"ggx", "beckmann"}) == 0 ? MicrofacetKind::Ggx : MicrofacetKind::Beckmann;
-        d.alphaX = d.alphaY = 0.25f;
-        return d;
     }
     const JsonValue& value = roughness ? *roughness : *alpha;
     const RoughnessMapping mapping = readRoughnessMapping(material);
@@ -221,6 +253,19 @@ std::optional<MicrofacetDistribution> readDistribution(const JsonValue& material
             v.failExpected("an alpha in (0, 4] (0 is a smooth surface: use the smooth material)");
         return a;
     };
+    if (roughness && isTexturedRoughness(*roughness)) {
+        if (!textured) roughness->fail("this material's roughness cannot be a texture");
+        *textured = true;
+        MicrofacetDistribution d;
+        if (kind)
+            d.kind = kind->choice({"ggx", "beckmann"}) == 0 ? MicrofacetKind::Ggx : MicrofacetKind::Beckmann;
+        d.alphaX = d.alphaY = 0.25f;        // until a texture's value is written in
+        if (!isTextureValue(*roughness)) {  // one texture per axis, or a number for one of them
+            if (!isTextureValue(roughness->element(0))) d.alphaX = read(roughness->element(0));
+            if (!isTextureValue(roughness->element(1))) d.alphaY = read(roughness->element(1));
+        }
+        return d;
+    }
     MicrofacetDistribution d;
     if (kind)
         d.kind = kind->choice({"ggx", "beckmann"}) == 0 ? MicrofacetKind::Ggx : MicrofacetKind::Beckmann;
@@ -262,8 +307,19 @@ void setConductorReflectance(MaterialModel& m, Rgb r) {
     model.k = conductorKForReflectance(r);
 }
 
+// A conductor `Model`'s eta or k from a texture's value.
+template <class Model>
+void setConductorEta(MaterialModel& m, Rgb eta) {
+    std::get<Model>(m).eta = {std::max(eta.r, 1e-4f), std::max(eta.g, 1e-4f), std::max(eta.b, 1e-4f)};
+}
+template <class Model>
+void setConductorK(MaterialModel& m, Rgb k) {
+    std::get<Model>(m).k = {std::max(k.r, 0.0f), std::max(k.g, 0.0f), std::max(k.b, 0.0f)};
+}
+
 // "conductor" and "rough_conductor" (whose table row also accepts the roughness keys): "eta" and
-// "k", or "reflectance" (a colour or a texture: pbrt-v4's artist-friendly conductor).
+// "k" (colours or textures), or "reflectance" (a colour or a texture: pbrt-v4's artist-friendly
+// conductor).
 Material readConductor(const JsonValue& material, MaterialContext& context) {
     bool texturedRoughness = false;
     const std::optional<MicrofacetDistribution> distribution = readDistribution(material, &texturedRoughness);
@@ -277,8 +333,18 @@ Material readConductor(const JsonValue& material, MaterialContext& context) {
             smooth ? setConductorReflectance<Conductor> : setConductorReflectance<RoughConductor>);
         k = conductorKForReflectance(r);
     } else {
-        eta = readConductorEta(material);
-        k = material.requiredMember("k").rgb(0.0f);
+        // Textured eta and k (pbrt-v4's conductor takes spectrum textures of both), kept where the
+        // complex Fresnel term holds: eta > 0, k >= 0.
+        const JsonValue etaValue = material.requiredMember("eta"), kValue = material.requiredMember("k");
+        if (isTextureValue(etaValue))
+            eta = readColorParameter(etaValue, 0.0f, std::numeric_limits<float>::max(), Rgb(1.0f), context,
+                                     smooth ? setConductorEta<Conductor> : setConductorEta<RoughConductor>);
+        else
+            eta = readConductorEta(material);
+        k = isTextureValue(kValue)
+                ? readColorParameter(kValue, 0.0f, std::numeric_limits<float>::max(), Rgb(1.0f), context,
+                                     smooth ? setConductorK<Conductor> : setConductorK<RoughConductor>)
+                : kValue.rgb(0.0f);
     }
     Rgb tint(1.0f);
     if (auto v = material.member("tint")) {
@@ -334,6 +400,16 @@ Material readCoatedDiffuse(const JsonValue& material, MaterialContext& context) 
 }
 
 Material readInterface(const JsonValue&, MaterialContext&) { return Material(Interface{}); }
+
+// "measured": a measured BRDF of the RGL database, "filename" naming its .bsdf file (spectral or
+// RGB) relative to the scene file (materials/measured_bsdf.h).
+Material readMeasured(const JsonValue& material, MaterialContext& context) {
+    const std::filesystem::path path = std::filesystem::weakly_canonical(
+        material.requiredMember("filename").existingFile(context.folder, "measured BRDF"));
+    std::shared_ptr<const MeasuredBrdfTables>& tables = context.measuredFiles[path];
+    if (!tables) tables = readMeasuredBsdf(path);
+    return Material(MeasuredBsdf{tables}, readTwoSided(material), std::move(context.textures));
+}
 
 // pbrt-v4's default coefficients of a subsurface material given none (mm^-1, a milk).
 constexpr Rgb kDefaultSubsurfaceSigmaA{0.0011f, 0.0024f, 0.014f};
@@ -482,7 +558,7 @@ Material readHair(const JsonValue& material, MaterialContext&) {
 // "mix": read by readMix once every material is named; a placeholder until then.
 Material readMixPlaceholder(const JsonValue&, MaterialContext&) { return Material::mixOf({}); }
 
-const std::array<TypeRow<MaterialReader>, 14> kMaterialTypes{{
+const std::array<TypeRow<MaterialReader>, 15> kMaterialTypes{{
     {"lambert", {"type", "albedo", "two_sided", "bump", "normal_map"}, readLambert},
     {"phong", {"type", "diffuse", "specular", "exponent", "two_sided", "bump", "normal_map"}, readPhong},
     {"dielectric", {"type", "eta", "fresnel", "absorption", "bump", "normal_map"}, readDielectric},
@@ -513,6 +589,7 @@ const std::array<TypeRow<MaterialReader>, 14> kMaterialTypes{{
      {"type", "eta", "roughness", "roughness_mapping", "alpha", "distribution", "sigma_a", "sigma_s",
       "preset", "reflectance", "mfp", "scale", "g", "bump", "normal_map"},
      readSubsurface},
+    {"measured", {"type", "filename", "two_sided", "bump", "normal_map"}, readMeasured},
     {"interface", {"type"}, readInterface},
     {"mix", {"type", "materials", "amount"}, readMixPlaceholder},
 }};
@@ -585,8 +662,9 @@ void refuseMixCycles(const JsonValue& section, const std::vector<Material>& mate
 void readMaterials(const JsonValue& section, const std::filesystem::path& folder,
                    std::vector<Material>& materials, std::vector<std::string>& names,
                    std::vector<MaterialInterior>& interiors) {
+    std::map<std::filesystem::path, std::shared_ptr<const MeasuredBrdfTables>> measuredFiles;
     for (const auto& [name, value] : section.members()) {
-        MaterialContext context{folder, {}, {}};
+        MaterialContext context{folder, {}, {}, measuredFiles};
         Material material = findTypeRow<MaterialReader>(value, kMaterialTypes).read(value, context);
         if (auto perturbation = readNormalPerturbation(value, folder)) {
             std::vector<TexturedParameter> parameters;

@@ -46,8 +46,9 @@ std::pair<double, double> readAlpha(const ParameterList& params, const TextureTa
 }
 
 // A roughness penumbra textures as pbrt-v4 does: `prefix`roughness naming a float texture that has a
-// texture object, with no uroughness or vroughness apart from it (or those two naming the same
-// one). Empty otherwise (readAlpha then reads the constants).
+// texture object, or uroughness and vroughness (each defaulting to roughness) of which one or both
+// do: that object, or [u, v] with a number (clamped to [0, 1]) for an axis that is constant. Empty
+// when no texture is involved (readAlpha then reads the constants) or one has no object.
 std::optional<Json> texturedRoughness(const ParameterList& params, const TextureTable& textures,
                                       const std::string& prefix = "") {
     auto objectOf = [&](const std::string& name) -> std::optional<Json> {
@@ -58,8 +59,20 @@ std::optional<Json> texturedRoughness(const ParameterList& params, const Texture
     };
     const bool anisotropic = params.has(prefix + "uroughness") || params.has(prefix + "vroughness");
     if (!anisotropic) return objectOf(prefix + "roughness");
-    const std::optional<Json> u = objectOf(prefix + "uroughness"), v = objectOf(prefix + "vroughness");
-    return u && v && *u == *v ? u : std::nullopt;
+    // One axis: its texture's object, or its number; nothing for a texture without an object.
+    auto axis = [&](const std::string& name) -> std::optional<Json> {
+        const std::string source = params.has(prefix + name) ? prefix + name : prefix + "roughness";
+        if (std::optional<Json> object = objectOf(source)) return object;
+        const Parameter* p = params.find(source, {ParamType::Float, ParamType::Texture});
+        if (!p) return Json(0.0);
+        if (p->type == ParamType::Float && !p->numbers.empty())
+            return Json(std::clamp(p->numbers[0], 0.0, 1.0));
+        return std::nullopt;
+    };
+    const std::optional<Json> u = axis("uroughness"), v = axis("vroughness");
+    if (!u || !v || (!u->is_object() && !v->is_object())) return std::nullopt;
+    if (*u == *v) return u;
+    return Json::array({*u, *v});
 }
 
 // Writes a textured roughness with pbrt-v4's mapping (alpha = sqrt(r) unless `remaproughness
@@ -556,13 +569,18 @@ Json mapMaterial(const std::string& type, const ParameterList& params, const Tex
                                           ParamType::Float, ParamType::Blackbody}),
                        log, "a reflectance");
     };
-    // A reflectance that penumbra may texture: the texture object itself when it is one.
-    auto texturable = [&](std::string_view name, Rgb fallback) -> Json {
+    // The texture object a spectrum parameter names, if it names one that has one.
+    auto textureObject = [&](std::string_view name) -> std::optional<Json> {
         const Parameter* p = params.find(name, {ParamType::Rgb, ParamType::Spectrum, ParamType::Texture,
                                                 ParamType::Float, ParamType::Blackbody});
         if (p && p->type == ParamType::Texture && p->strings.size() == 1)
             if (const TextureTable::Texture* t = textures.spectrum(p->strings[0]); t && t->object)
                 return *t->object;
+        return std::nullopt;
+    };
+    // A reflectance that penumbra may texture: the texture object itself when it is one.
+    auto texturable = [&](std::string_view name, Rgb fallback) -> Json {
+        if (std::optional<Json> object = textureObject(name)) return *object;
         return rgbJson(reflectance(name, fallback));
     };
     Json m = Json::object();
@@ -594,12 +612,21 @@ Json mapMaterial(const std::string& type, const ParameterList& params, const Tex
             // incidence): penumbra's conductor "reflectance", a colour or a texture.
             m["reflectance"] = texturable(prefix + "reflectance", Rgb(0.5f));
         } else {
-            const Rgb eta = readColor(params, prefix + "eta", *namedSpectrumRgb("metal-Cu-eta"),
-                                      SpectrumUse::Unbounded, textures, log);
-            const Rgb k = readColor(params, prefix + "k", *namedSpectrumRgb("metal-Cu-k"),
-                                    SpectrumUse::Unbounded, textures, log);
-            m["eta"] = rgbJson({std::max(eta.r, 1e-4f), std::max(eta.g, 1e-4f), std::max(eta.b, 1e-4f)});
-            m["k"] = rgbJson({std::max(k.r, 0.0f), std::max(k.g, 0.0f), std::max(k.b, 0.0f)});
+            // Each a constant or (pbrt-v4's spectrum textures) the texture, clamped where it is read.
+            if (std::optional<Json> object = textureObject(prefix + "eta")) {
+                m["eta"] = *object;
+            } else {
+                const Rgb eta = readColor(params, prefix + "eta", *namedSpectrumRgb("metal-Cu-eta"),
+                                          SpectrumUse::Unbounded, textures, log);
+                m["eta"] = rgbJson({std::max(eta.r, 1e-4f), std::max(eta.g, 1e-4f), std::max(eta.b, 1e-4f)});
+            }
+            if (std::optional<Json> object = textureObject(prefix + "k")) {
+                m["k"] = *object;
+            } else {
+                const Rgb k = readColor(params, prefix + "k", *namedSpectrumRgb("metal-Cu-k"),
+                                        SpectrumUse::Unbounded, textures, log);
+                m["k"] = rgbJson({std::max(k.r, 0.0f), std::max(k.g, 0.0f), std::max(k.b, 0.0f)});
+            }
         }
         if (addTexturedRoughness(m, params, textures, prefix)) {
             m["type"] = "rough_conductor";
@@ -661,11 +688,13 @@ Json mapMaterial(const std::string& type, const ParameterList& params, const Tex
     } else if (type == "subsurface") {
         subsurfaceMaterial(m, params, textures, log, where);
     } else if (type == "measured") {
-        params.markAllUsed();
-        m["type"] = "lambert";
-        m["albedo"] = 0.5;
-        log.warn(where,
-                 fmt::format("material \"{}\" is not supported: rendered as grey diffuse (0.5)", type));
+        // pbrt-v4's MeasuredMaterial: a BRDF of the RGL database, its .bsdf file found relative to
+        // the scene file when the scene loads (materials/measured_bsdf.h).
+        const std::optional<std::string> file = params.getString("filename");
+        if (!file || file->empty())
+            failAt(where, "a measured material needs its .bsdf file as \"string filename\"");
+        m["type"] = "measured";
+        m["filename"] = *file;
     } else {
         failAt(where,
                fmt::format("unknown material type \"{}\" (expected diffuse, coateddiffuse, coatedconductor, "

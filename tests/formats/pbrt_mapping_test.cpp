@@ -353,6 +353,20 @@ TEST(PbrtMapping, Materials) {
 
 // pbrt-v4's subsurface material (materials.cpp SubsurfaceMaterial::Create): its four ways of
 // giving the interior, eta 1.33 by default, the roughness as a dielectric's, and its errors.
+TEST(PbrtMapping, MeasuredMaterials) {
+    const auto c = convert(kCamera +
+                           "WorldBegin\n"
+                           "Material \"measured\" \"string filename\" \"bsdfs/gold.bsdf\"\n"
+                           "Shape \"sphere\"\n");
+    EXPECT_EQ(c.document["materials"].begin().value(),
+              Json::parse(R"({"type": "measured", "filename": "bsdfs/gold.bsdf"})"));
+    EXPECT_FALSE(hasWarning(c, "measured"));
+    EXPECT_CONTAINS(testing::catchInputError([&] {
+                        convert(kCamera + "WorldBegin\nMaterial \"measured\"\nShape \"sphere\"\n");
+                    }).what(),
+                    "test.pbrt:5:1: a measured material needs its .bsdf file as \"string filename\"");
+}
+
 TEST(PbrtMapping, SubsurfaceMaterials) {
     auto c =
         convert(kCamera +
@@ -758,19 +772,23 @@ TEST(PbrtMapping, ProceduralAndCompositeTextures) {
 }
 
 // A textured roughness goes to penumbra as the texture, with pbrt-v4's alpha = sqrt(r) (or r under
-// remaproughness false); uroughness and vroughness of two different textures stay constants.
+// remaproughness false); uroughness and vroughness of two textures, or of a texture and a number,
+// as one per axis; a conductor's eta and k textures as themselves.
 TEST(PbrtMapping, TexturedRoughness) {
-    auto c =
-        convert(kCamera +
-                "WorldBegin\n"
-                "Texture \"r\" \"float\" \"checkerboard\" \"float tex1\" 0.04 \"float tex2\" 0.36\n"
-                "Texture \"s\" \"float\" \"fbm\"\n"
-                "MakeNamedMaterial \"metal\" \"string type\" \"conductor\" \"texture roughness\" \"r\"\n"
-                "MakeNamedMaterial \"glass\" \"string type\" \"dielectric\" \"texture uroughness\" \"s\" "
-                "\"texture vroughness\" \"s\" \"bool remaproughness\" false\n"
-                "MakeNamedMaterial \"paint\" \"string type\" \"coateddiffuse\" \"texture roughness\" \"r\"\n"
-                "MakeNamedMaterial \"brushed\" \"string type\" \"conductor\" \"texture uroughness\" \"r\" "
-                "\"texture vroughness\" \"s\"\n");
+    auto c = convert(
+        kCamera +
+        "WorldBegin\n"
+        "Texture \"r\" \"float\" \"checkerboard\" \"float tex1\" 0.04 \"float tex2\" 0.36\n"
+        "Texture \"s\" \"float\" \"fbm\"\n"
+        "Texture \"e\" \"spectrum\" \"checkerboard\" \"rgb tex1\" [0.2 0.3 0.4] \"rgb tex2\" [1 1 1]\n"
+        "MakeNamedMaterial \"metal\" \"string type\" \"conductor\" \"texture roughness\" \"r\"\n"
+        "MakeNamedMaterial \"glass\" \"string type\" \"dielectric\" \"texture uroughness\" \"s\" "
+        "\"texture vroughness\" \"s\" \"bool remaproughness\" false\n"
+        "MakeNamedMaterial \"paint\" \"string type\" \"coateddiffuse\" \"texture roughness\" \"r\"\n"
+        "MakeNamedMaterial \"brushed\" \"string type\" \"conductor\" \"texture uroughness\" \"r\" "
+        "\"texture vroughness\" \"s\"\n"
+        "MakeNamedMaterial \"combed\" \"string type\" \"conductor\" \"texture uroughness\" \"r\" "
+        "\"float vroughness\" 0.25 \"texture eta\" \"e\" \"texture k\" \"e\"\n");
     const Json& m = c.document["materials"];
     EXPECT_EQ(m["metal"]["type"], "rough_conductor");
     EXPECT_EQ(m["metal"]["roughness"]["type"], "checkerboard");
@@ -779,16 +797,30 @@ TEST(PbrtMapping, TexturedRoughness) {
     EXPECT_EQ(m["glass"]["roughness"]["type"], "fbm");
     EXPECT_EQ(m["glass"]["roughness_mapping"], "identity");
     EXPECT_EQ(m["paint"]["roughness"]["type"], "checkerboard");
-    EXPECT_FALSE(m["brushed"].contains("roughness"));
-    EXPECT_TRUE(hasWarning(c, "a texture where penumbra takes none (parameter \"texture uroughness\")"));
-    EXPECT_FALSE(hasWarning(c, "parameter \"texture roughness\""));
+    EXPECT_EQ(m["brushed"]["roughness"][0]["type"], "checkerboard");
+    EXPECT_EQ(m["brushed"]["roughness"][1]["type"], "fbm");
+    EXPECT_EQ(m["combed"]["roughness"][1], 0.25);
+    EXPECT_EQ(m["combed"]["eta"]["type"], "checkerboard");
+    EXPECT_EQ(m["combed"]["k"]["type"], "checkerboard");
+    EXPECT_FALSE(hasWarning(c, "a texture where penumbra takes none"));
     const Scene scene = buildPbrtScene(c, "test.pbrt");
-    const auto named = std::find(scene.materialNames.begin(), scene.materialNames.end(), "metal");
-    ASSERT_NE(named, scene.materialNames.end());
-    const Material& metal = scene.materials[size_t(named - scene.materialNames.begin())];
+    auto material = [&](const std::string& name) -> const Material& {
+        const auto named = std::find(scene.materialNames.begin(), scene.materialNames.end(), name);
+        EXPECT_NE(named, scene.materialNames.end()) << name;
+        return scene.materials[size_t(named - scene.materialNames.begin())];
+    };
     TextureQuery odd;
     odd.uv = {1.5f, 0.5f};
-    EXPECT_FLOAT_EQ(std::get<RoughConductor>(metal.at(odd).model()).distribution.alphaX, 0.6f);
+    EXPECT_FLOAT_EQ(std::get<RoughConductor>(material("metal").at(odd).model()).distribution.alphaX, 0.6f);
+    const RoughConductor combed = std::get<RoughConductor>(material("combed").at(odd).model());
+    EXPECT_FLOAT_EQ(combed.distribution.alphaX, 0.6f);  // sqrt(0.36)
+    EXPECT_FLOAT_EQ(combed.distribution.alphaY, 0.5f);  // sqrt(0.25)
+    EXPECT_FLOAT_EQ(combed.eta.r, 1.0f);
+    TextureQuery even;
+    even.uv = {0.5f, 0.5f};
+    const RoughConductor combedEven = std::get<RoughConductor>(material("combed").at(even).model());
+    EXPECT_FLOAT_EQ(combedEven.eta.g, 0.3f);
+    EXPECT_FLOAT_EQ(combedEven.k.b, 0.4f);
 }
 
 TEST(PbrtSpectrum, BlackbodiesHaveUnitLuminanceAndTheirColour) {

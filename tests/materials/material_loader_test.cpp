@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <string>
 #include <variant>
 #include <vector>
@@ -10,6 +11,7 @@
 #include "materials/subsurface_albedo.h"
 #include "scenes/scene_loader.h"
 #include "tests/support/expect_input_error.h"
+#include "tests/support/rgl_bsdf_writer.h"
 
 namespace penumbra {
 namespace {
@@ -319,6 +321,41 @@ TEST(MaterialLoader, ConductorReflectance) {
               std::string::npos);
 }
 
+// A conductor's eta and k as textures, and a roughness textured per axis: [texture, texture] or
+// [texture, number].
+TEST(MaterialLoader, TexturedConductorIndicesAndRoughnessPerAxis) {
+    const Scene scene = parseMaterials(R"({
+        "patina": {"type": "conductor", "eta": {"type": "checkerboard", "colors": [0.2, [1, 2, 3]]},
+                   "k": {"type": "checkerboard", "colors": [0, 4]}},
+        "brushed": {"type": "rough_conductor", "eta": 1.5, "k": 2,
+                    "roughness": [{"type": "checkerboard", "colors": [0.2, 0.6]}, 0.5]},
+        "combed": {"type": "rough_dielectric", "eta": 1.5, "roughness_mapping": "identity",
+                   "roughness": [{"type": "checkerboard", "colors": [0.2, 0.6]},
+                                 {"type": "checkerboard", "colors": [0.7, 0.1]}]}
+    })");
+    TextureQuery even, odd;
+    even.uv = {0.5f, 0.5f};
+    odd.uv = {1.5f, 0.5f};
+    const Conductor evenPatina = std::get<Conductor>(scene.materials[0].at(even).model());
+    const Conductor oddPatina = std::get<Conductor>(scene.materials[0].at(odd).model());
+    EXPECT_EQ(evenPatina.eta, Rgb(0.2f));
+    EXPECT_EQ(evenPatina.k, Rgb(0.0f));
+    EXPECT_EQ(oddPatina.eta, Rgb(1.0f, 2.0f, 3.0f));
+    EXPECT_EQ(oddPatina.k, Rgb(4.0f));
+    const RoughConductor brushed = std::get<RoughConductor>(scene.materials[1].at(odd).model());
+    EXPECT_FLOAT_EQ(brushed.distribution.alphaX, 0.36f);  // 0.6^2
+    EXPECT_FLOAT_EQ(brushed.distribution.alphaY, 0.25f);  // 0.5^2
+    const RoughDielectric evenCombed = std::get<RoughDielectric>(scene.materials[2].at(even).model());
+    const RoughDielectric oddCombed = std::get<RoughDielectric>(scene.materials[2].at(odd).model());
+    EXPECT_FLOAT_EQ(evenCombed.distribution.alphaX, 0.2f);
+    EXPECT_FLOAT_EQ(evenCombed.distribution.alphaY, 0.7f);
+    EXPECT_FLOAT_EQ(oddCombed.distribution.alphaX, 0.6f);
+    EXPECT_FLOAT_EQ(oddCombed.distribution.alphaY, 0.1f);
+    EXPECT_CONTAINS(errorOf(R"({"m": {"type": "rough_conductor", "eta": 1, "k": 1,
+                                      "roughness": [{"type": "checkerboard", "colors": [0, 1]}, 2]}})"),
+                    "/materials/m/roughness/1");
+}
+
 // "subsurface": a dielectric boundary (smooth or rough) and a medium that fills the shapes using
 // it, given one of four ways; the medium added after the file's own, each shape's inside unless it
 // names one.
@@ -392,6 +429,46 @@ TEST(MaterialLoader, SubsurfaceMaterials) {
     EXPECT_CONTAINS(errorOf(R"({"s": {"type": "subsurface"}, "d": {"type": "lambert"},
                                 "m": {"type": "mix", "materials": ["d", "s"]}})"),
                     "/materials/m/materials/1: a mix cannot include a subsurface material");
+}
+
+// "measured": a .bsdf file relative to the scene's folder, read once however many materials name
+// it; a missing or malformed file is an error naming the file.
+TEST(MaterialLoader, MeasuredMaterials) {
+    const std::string folder = ::testing::TempDir();
+    {
+        std::ofstream out(folder + "/penumbra-loader-grey.bsdf", std::ios::binary);
+        test::TabulationGrid grid;
+        grid.thetaNodes = 4;
+        grid.normalGrid = 8;
+        grid.sampleGrid = 8;
+        out << test::tabulateIsotropicGgxBrdf(
+            0.5f, [](Vec3f, Vec3f wi) { return Rgb(0.3f * wi.z); }, grid);
+        std::ofstream(folder + "/penumbra-loader-broken.bsdf", std::ios::binary)
+            << std::string("tensor_file", 12);
+    }
+    const Scene scene = parseScene(R"({"materials": {
+        "a": {"type": "measured", "filename": "penumbra-loader-grey.bsdf"},
+        "b": {"type": "measured", "filename": "penumbra-loader-grey.bsdf", "two_sided": false}}})",
+                                   folder + "/scene.json");
+    const auto& a = std::get<MeasuredBsdf>(scene.materials[0].model());
+    const auto& b = std::get<MeasuredBsdf>(scene.materials[1].model());
+    EXPECT_EQ(a.tables, b.tables);  // read once
+    EXPECT_EQ(a.tables->description, "a GGX BRDF tabulated by penumbra's tests");
+    EXPECT_FALSE(scene.materials[1].twoSided());
+    EXPECT_CONTAINS(catchInputError([&] {
+                        parseScene(
+                            R"({"materials": {"m": {"type": "measured", "filename": "nowhere.bsdf"}}})",
+                            folder + "/scene.json");
+                    }).what(),
+                    "/materials/m/filename");
+    EXPECT_CONTAINS(
+        catchInputError([&] {
+            parseScene(
+                R"({"materials": {"m": {"type": "measured", "filename": "penumbra-loader-broken.bsdf"}}})",
+                folder + "/scene.json");
+        }).what(),
+        "penumbra-loader-broken.bsdf: the header ends within the version");
+    EXPECT_CONTAINS(errorOf(R"({"m": {"type": "measured"}})"), "/materials/m");
 }
 
 TEST(MaterialLoader, PhongEnergyConservation) {

@@ -640,7 +640,7 @@ TEST(SceneErrors, UnknownNamesGetTheLikelyOneSuggested) {
         std::string(e.what()),
         "s.json: /materials/m/type: expected one of: lambert, phong, dielectric, thin_dielectric, mirror, "
         "conductor, rough_conductor, rough_dielectric, coated_diffuse, diffuse_transmission, hair, "
-        "subsurface, interface, mix, "
+        "subsurface, measured, interface, mix, "
         "found the "
         "string "
         "\"diffuse\"; did you "

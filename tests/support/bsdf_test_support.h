@@ -168,6 +168,21 @@ CellIntegrals integrateOverCells(const SphereBinning& binning, const Density& de
     return result;
 }
 
+// The integral of f cos over the hemisphere of wi above the surface, by the midpoint rule in
+// (cos theta, phi) on a 400 x 400 grid: accurate to about 1e-4 for lobes as broad as GGX of alpha 0.3.
+inline Rgb directionalAlbedo(const Material& material, Vec3f wo) {
+    Rgb sum(0.0f);
+    const int n = 400;
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            const double mu = (i + 0.5) / n, phi = 2.0 * kPiD * (j + 0.5) / n;
+            const double s = std::sqrt(1.0 - mu * mu);
+            const Vec3f wi{float(s * std::cos(phi)), float(s * std::sin(phi)), float(mu)};
+            sum = sum + material.eval(wo, wi, true) * float(mu);
+        }
+    return sum * float(2.0 * kPiD / (double(n) * n));
+}
+
 // Composite Simpson rule of f over [a, b] with n (even) intervals.
 template <typename F>
 double simpson(const F& f, double a, double b, int n) {
