@@ -54,6 +54,10 @@ constexpr size_t kMaxPbrtTextureValues = 4096;
 constexpr int kPbrtTextBytesPerPlacedShape = 16;
 constexpr int64_t kMinPbrtPlacedShapes = int64_t(1) << 16;
 
+// Bytes of a spectrum file a pbrt scene names (pbrt-v4's .spd: wavelength and value pairs as text):
+// measured ones are a few kilobytes. Each file is read once per scene.
+constexpr uint64_t kMaxSpectrumFileBytes = uint64_t(1) << 20;
+
 // Bytes of a mesh file as read: an OBJ or PLY file, or a .ply.gz once decompressed.
 constexpr uint64_t kMaxMeshFileBytes = uint64_t(4) << 30;
 

@@ -148,11 +148,9 @@ Rgb readColor(const ParameterList& params, std::string_view name, Rgb fallback, 
         case ParamType::Spectrum: {
             if (!p->strings.empty()) {
                 if (auto named = namedSpectrumRgb(p->strings[0])) return *named;
-                failAt(p->where,
-                       fmt::format("parameter \"{}\": unknown named spectrum \"{}\" (penumbra knows the "
-                                   "metal-{{Cu,Au,Ag,Al}}-{{eta,k}}, glass-{{BK7,BAF10,FK51A,LASF9,F5}}, "
-                                   "stdillum-D65 and stdillum-A spectra; spectrum files are not read)",
-                                   p->declaration(), p->strings[0]));
+                failAt(p->where,  // the parser reads any other name as a file
+                       fmt::format("parameter \"{}\": unknown named spectrum \"{}\"", p->declaration(),
+                                   p->strings[0]));
             }
             for (size_t i = 2; i < p->numbers.size(); i += 2)
                 if (!(p->numbers[i] > p->numbers[i - 2]))

@@ -8,12 +8,14 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <map>
 #include <set>
 #include <string_view>
 #include <utility>
 
 #include "core/input_file.h"
 #include "core/input_limits.h"
+#include "formats/pbrt/spectrum.h"
 #include "formats/pbrt/tokenizer.h"
 
 namespace penumbra::pbrt {
@@ -414,11 +416,39 @@ private:
             tokens.fail(declaration,
                         fmt::format("parameter \"{}\" needs (wavelength, value) pairs, found {} numbers",
                                     p.declaration(), p.numbers.size()));
+        if (p.type == ParamType::Spectrum && p.strings.size() == 1 && !namedSpectrumRgb(p.strings[0]))
+            readSpectrumFile(tokens, declaration, p);
+    }
+
+    // pbrt-v4 reads a spectrum parameter's string that names no named spectrum as a file of
+    // (wavelength, value) pairs, relative to the scene's folder: its pairs replace the name. Each
+    // file is read once per scene.
+    void readSpectrumFile(Tokenizer& tokens, const Token& declaration, Parameter& p) {
+        const fs::path name = p.strings[0];
+        const fs::path path = name.is_absolute() ? name : baseFolder_ / name;
+        auto known = spectrumFiles_.find(path);
+        if (known == spectrumFiles_.end()) {
+            std::error_code error;
+            if (name.empty() || !fs::exists(path, error))
+                tokens.fail(
+                    declaration,
+                    fmt::format(
+                        "parameter \"{}\": \"{}\" is neither a named spectrum (penumbra knows the "
+                        "metal-{{Cu,Au,Ag,Al}}-{{eta,k}}, glass-{{BK7,BAF10,FK51A,LASF9,F5,F10,F11}}, "
+                        "stdillum-D65 and stdillum-A spectra) nor a spectrum file (looked for {})",
+                        p.declaration(), name.string(), path.string()));
+            InputFile input(path, "spectrum file", limits::kMaxSpectrumFileBytes);
+            known = spectrumFiles_.emplace(path, parseSpectrumFile(input.readAll(), path.string())).first;
+            filesRead_.push_back(path);
+        }
+        p.strings.clear();
+        p.numbers = known->second;
     }
 
     DirectiveTarget& target_;
     std::vector<fs::path>& filesRead_;
     fs::path baseFolder_;
+    std::map<fs::path, std::vector<double>> spectrumFiles_;  // read so far, by path
     int fileReads_ = 0;
     uint64_t textBytes_ = 0;  // every reading
     std::set<std::pair<dev_t, ino_t>> filesSeen_;

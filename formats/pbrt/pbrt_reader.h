@@ -17,7 +17,7 @@ namespace penumbra::pbrt {
 struct PbrtConversion {
     Json document;                             // the scene in penumbra's format
     std::vector<Origin> origins;               // which directive each part comes from
-    std::vector<std::filesystem::path> files;  // the scene file and every file it includes
+    std::vector<std::filesystem::path> files;  // the scene file, every file it includes, spectrum files
     std::vector<std::string> warnings;         // one line each, with its count
 };
 

@@ -1,9 +1,15 @@
 #include "formats/pbrt/spectrum.h"
 
+#include <fmt/format.h>
+
 #include <array>
+#include <cctype>
+#include <charconv>
 #include <cmath>
+#include <string>
 
 #include "core/colorimetry.h"
+#include "core/error.h"
 
 namespace penumbra::pbrt {
 
@@ -42,7 +48,7 @@ std::optional<Rgb> namedSpectrumRgb(std::string_view name) {
         std::string_view name;
         Rgb rgb;
     };
-    static const std::array<Named, 13> kNamed{{
+    static const std::array<Named, 15> kNamed{{
         {"metal-Cu-eta", {0.200438f, 0.924033f, 1.102212f}},
         {"metal-Cu-k", {3.912949f, 2.452848f, 2.142188f}},
         {"metal-Au-eta", {0.143119f, 0.374957f, 1.442479f}},
@@ -55,13 +61,57 @@ std::optional<Rgb> namedSpectrumRgb(std::string_view name) {
         {"glass-BAF10", Rgb(1.6700f)},
         {"glass-FK51A", Rgb(1.4866f)},
         {"glass-LASF9", Rgb(1.8503f)},
-        {"glass-F5", Rgb(1.6034f)},
+        {"glass-F5", Rgb(1.67270f)},   // SF5
+        {"glass-F10", Rgb(1.72825f)},  // SF10
+        {"glass-F11", Rgb(1.78472f)},  // SF11
     }};
     for (const Named& n : kNamed)
         if (n.name == name) return n.rgb;
     if (name == "stdillum-D65") return Rgb(1.0f);
     if (name == "stdillum-A") return blackbodyRgb(2856.0);
     return std::nullopt;
+}
+
+std::vector<double> parseSpectrumFile(std::string_view text, const std::string& fileName) {
+    std::vector<double> pairs;
+    int line = 1, lastNumberLine = 1;
+    size_t i = 0;
+    const auto fail = [&](const std::string& message) {
+        throw InputError(SourceLocation{fileName, line, 0, {}}, message);
+    };
+    while (i < text.size()) {
+        const char c = text[i];
+        if (c == '\n') {
+            ++line;
+            ++i;
+        } else if (c == '#') {
+            while (i < text.size() && text[i] != '\n') ++i;
+        } else if (std::isspace(static_cast<unsigned char>(c))) {
+            ++i;
+        } else {
+            size_t end = i;
+            while (end < text.size() && !std::isspace(static_cast<unsigned char>(text[end])) &&
+                   text[end] != '#')
+                ++end;
+            const std::string_view word = text.substr(i, end - i);
+            double value = 0.0;
+            const char* first = word.data() + (word.front() == '+' ? 1 : 0);
+            const auto [stop, error] = std::from_chars(first, word.data() + word.size(), value);
+            if (error != std::errc() || stop != word.data() + word.size() || !std::isfinite(value))
+                fail(fmt::format("expected a number, found '{}'", word));
+            if (pairs.size() % 2 == 0 && !pairs.empty() && !(value > pairs[pairs.size() - 2]))
+                fail(fmt::format("wavelengths must increase: {} follows {}", value, pairs[pairs.size() - 2]));
+            pairs.push_back(value);
+            lastNumberLine = line;
+            i = end;
+        }
+    }
+    if (pairs.empty()) fail("a spectrum file holds (wavelength, value) pairs: this one holds none");
+    line = lastNumberLine;  // where the pair is left incomplete
+    if (pairs.size() % 2 != 0)
+        fail(fmt::format("a spectrum file holds (wavelength, value) pairs: this one holds {} numbers",
+                         pairs.size()));
+    return pairs;
 }
 
 }  // namespace penumbra::pbrt

@@ -823,6 +823,54 @@ TEST(PbrtMapping, TexturedRoughness) {
     EXPECT_FLOAT_EQ(combedEven.k.b, 0.4f);
 }
 
+// pbrt-v4's named glasses (F5, F10, F11 are Schott's SF5, SF10, SF11: n_d of their data sheets),
+// and spectrum files (.spd): a conductor of gold given by two files of our own, read once, and
+// every malformed file refused at its line.
+TEST(PbrtSpectrum, NamedGlassesAndSpectrumFiles) {
+    const std::string folder = ::testing::TempDir() + "/penumbra-spd";
+    std::filesystem::create_directories(folder + "/spds");
+    // Constant spectra: as an index or a reflectance, a constant spectrum c is exactly c.
+    std::ofstream(folder + "/spds/Au.eta.spd")
+        << "# eta of a grey metal\n400 0.25\n550 0.25 # green\n700 0.25\n";
+    std::ofstream(folder + "/spds/Au.k.spd") << "  380\t3.5 780 3.5\n";
+    std::ofstream(folder + "/spds/odd.spd") << "400 1\n500\n";
+    std::ofstream(folder + "/spds/down.spd") << "400 1\n# second line\n300 1\n";
+    std::ofstream(folder + "/spds/word.spd") << "400 1 500 x\n";
+    const auto convertIn = [&](const std::string& text) {
+        return convertPbrtText(kCamera + "WorldBegin\n" + text + "Shape \"sphere\"\n",
+                               folder + "/scene.pbrt");
+    };
+    const PbrtConversion c = convertIn(
+        "MakeNamedMaterial \"gold\" \"string type\" \"conductor\" \"spectrum eta\" \"spds/Au.eta.spd\" "
+        "\"spectrum k\" \"spds/Au.k.spd\"\n"
+        "MakeNamedMaterial \"again\" \"string type\" \"conductor\" \"spectrum eta\" \"spds/Au.eta.spd\"\n"
+        "MakeNamedMaterial \"flint\" \"string type\" \"dielectric\" \"spectrum eta\" \"glass-F11\"\n"
+        "MakeNamedMaterial \"f10\" \"string type\" \"dielectric\" \"spectrum eta\" \"glass-F10\"\n"
+        "MakeNamedMaterial \"f5\" \"string type\" \"dielectric\" \"spectrum eta\" \"glass-F5\"\n");
+    const Json& m = c.document["materials"];
+    for (int ch = 0; ch < 3; ++ch) {
+        EXPECT_NEAR(m["gold"]["eta"][ch].get<double>(), 0.25, 1e-6);
+        EXPECT_NEAR(m["gold"]["k"][ch].get<double>(), 3.5, 1e-5);
+    }
+    EXPECT_NEAR(m["flint"]["eta"].get<double>(), 1.78472, 1e-5);
+    EXPECT_NEAR(m["f10"]["eta"].get<double>(), 1.72825, 1e-5);
+    EXPECT_NEAR(m["f5"]["eta"].get<double>(), 1.67270, 1e-5);
+    const std::vector<std::filesystem::path> read(c.files.begin(), c.files.end());
+    EXPECT_EQ(std::count(read.begin(), read.end(), std::filesystem::path(folder + "/spds/Au.eta.spd")), 1);
+
+    const auto errorOf = [&](const std::string& file) {
+        return std::string(testing::catchInputError([&] {
+                               convertIn("Material \"conductor\" \"spectrum eta\" \"spds/" + file + "\"\n");
+                           }).what());
+    };
+    EXPECT_CONTAINS(errorOf("odd.spd"),
+                    "odd.spd:2: a spectrum file holds (wavelength, value) pairs: this one holds 3");
+    EXPECT_CONTAINS(errorOf("down.spd"), "down.spd:3: wavelengths must increase: 300 follows 400");
+    EXPECT_CONTAINS(errorOf("word.spd"), "word.spd:1: expected a number, found 'x'");
+    EXPECT_CONTAINS(errorOf("missing.spd"), "scene.pbrt:5:");
+    EXPECT_CONTAINS(errorOf("missing.spd"), "is neither a named spectrum");
+}
+
 TEST(PbrtSpectrum, BlackbodiesHaveUnitLuminanceAndTheirColour) {
     for (double t : {1500.0, 3000.0, 6504.0, 10000.0})
         EXPECT_NEAR(blackbodyRgb(t).luminance(), 1.0, 2e-3) << t;
