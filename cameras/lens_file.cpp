@@ -5,52 +5,31 @@
 #include <charconv>
 #include <cmath>
 
+#include "core/commented_numbers.h"
 #include "core/error.h"
 #include "core/input_file.h"
 
 namespace penumbra {
 
-namespace {
-
-bool isSpace(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f'; }
-
-}  // namespace
-
 std::vector<LensSurface> parseLensFile(std::string_view text, const std::string& fileName) {
     std::vector<float> numbers;
     std::vector<int> lines;  // the line of each number
-    int line = 1;
-    size_t i = 0;
     auto fail = [&](int atLine, const std::string& message) {
         throw InputError(SourceLocation{fileName, atLine, 0, {}}, message);
     };
-    while (i < text.size()) {
-        const char c = text[i];
-        if (c == '\n') {
-            ++line;
-            ++i;
-        } else if (isSpace(c)) {
-            ++i;
-        } else if (c == '#') {
-            while (i < text.size() && text[i] != '\n') ++i;
-        } else {
-            size_t end = i;
-            while (end < text.size() && !isSpace(text[end]) && text[end] != '#') ++end;
-            const std::string_view word = text.substr(i, end - i);
-            double value = 0.0;
-            const auto [stop, error] = std::from_chars(word.data(), word.data() + word.size(), value);
-            if (error != std::errc() || stop != word.data() + word.size() || !std::isfinite(value) ||
-                std::abs(value) > 1e9)
-                fail(line, fmt::format("expected a number (a lens surface's radius, thickness, index or "
-                                       "diameter in millimetres), found \"{}\"",
-                                       word.substr(0, 40)));
-            if (numbers.size() == 4 * kMaxLensSurfaces)
-                fail(line, fmt::format("more than {} lens surfaces", kMaxLensSurfaces));
-            numbers.push_back(float(value));
-            lines.push_back(line);
-            i = end;
-        }
-    }
+    forEachWordOutsideComments(text, [&](std::string_view word, int line) {
+        double value = 0.0;
+        const auto [stop, error] = std::from_chars(word.data(), word.data() + word.size(), value);
+        if (error != std::errc() || stop != word.data() + word.size() || !std::isfinite(value) ||
+            std::abs(value) > 1e9)
+            fail(line, fmt::format("expected a number (a lens surface's radius, thickness, index or "
+                                   "diameter in millimetres), found \"{}\"",
+                                   word.substr(0, 40)));
+        if (numbers.size() == 4 * kMaxLensSurfaces)
+            fail(line, fmt::format("more than {} lens surfaces", kMaxLensSurfaces));
+        numbers.push_back(float(value));
+        lines.push_back(line);
+    });
     if (numbers.empty()) fail(0, "no lens surface: expected rows of radius, thickness, index and diameter");
     if (numbers.size() % 4 != 0)
         fail(lines.back(),

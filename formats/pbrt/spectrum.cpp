@@ -3,12 +3,12 @@
 #include <fmt/format.h>
 
 #include <array>
-#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <string>
 
 #include "core/colorimetry.h"
+#include "core/commented_numbers.h"
 #include "core/error.h"
 
 namespace penumbra::pbrt {
@@ -74,42 +74,26 @@ std::optional<Rgb> namedSpectrumRgb(std::string_view name) {
 
 std::vector<double> parseSpectrumFile(std::string_view text, const std::string& fileName) {
     std::vector<double> pairs;
-    int line = 1, lastNumberLine = 1;
-    size_t i = 0;
-    const auto fail = [&](const std::string& message) {
+    int lastNumberLine = 1;
+    const auto fail = [&](int line, const std::string& message) {
         throw InputError(SourceLocation{fileName, line, 0, {}}, message);
     };
-    while (i < text.size()) {
-        const char c = text[i];
-        if (c == '\n') {
-            ++line;
-            ++i;
-        } else if (c == '#') {
-            while (i < text.size() && text[i] != '\n') ++i;
-        } else if (std::isspace(static_cast<unsigned char>(c))) {
-            ++i;
-        } else {
-            size_t end = i;
-            while (end < text.size() && !std::isspace(static_cast<unsigned char>(text[end])) &&
-                   text[end] != '#')
-                ++end;
-            const std::string_view word = text.substr(i, end - i);
-            double value = 0.0;
-            const char* first = word.data() + (word.front() == '+' ? 1 : 0);
-            const auto [stop, error] = std::from_chars(first, word.data() + word.size(), value);
-            if (error != std::errc() || stop != word.data() + word.size() || !std::isfinite(value))
-                fail(fmt::format("expected a number, found '{}'", word));
-            if (pairs.size() % 2 == 0 && !pairs.empty() && !(value > pairs[pairs.size() - 2]))
-                fail(fmt::format("wavelengths must increase: {} follows {}", value, pairs[pairs.size() - 2]));
-            pairs.push_back(value);
-            lastNumberLine = line;
-            i = end;
-        }
-    }
-    if (pairs.empty()) fail("a spectrum file holds (wavelength, value) pairs: this one holds none");
-    line = lastNumberLine;  // where the pair is left incomplete
-    if (pairs.size() % 2 != 0)
-        fail(fmt::format("a spectrum file holds (wavelength, value) pairs: this one holds {} numbers",
+    const int lastLine = forEachWordOutsideComments(text, [&](std::string_view word, int line) {
+        double value = 0.0;
+        const char* first = word.data() + (word.front() == '+' ? 1 : 0);
+        const auto [stop, error] = std::from_chars(first, word.data() + word.size(), value);
+        if (error != std::errc() || stop != word.data() + word.size() || !std::isfinite(value))
+            fail(line, fmt::format("expected a number, found '{}'", word));
+        if (pairs.size() % 2 == 0 && !pairs.empty() && !(value > pairs[pairs.size() - 2]))
+            fail(line,
+                 fmt::format("wavelengths must increase: {} follows {}", value, pairs[pairs.size() - 2]));
+        pairs.push_back(value);
+        lastNumberLine = line;
+    });
+    if (pairs.empty()) fail(lastLine, "a spectrum file holds (wavelength, value) pairs: this one holds none");
+    if (pairs.size() % 2 != 0)  // at the line where the pair is left incomplete
+        fail(lastNumberLine,
+             fmt::format("a spectrum file holds (wavelength, value) pairs: this one holds {} numbers",
                          pairs.size()));
     return pairs;
 }
