@@ -73,7 +73,10 @@ TEST(PiecewiseLinear2D, DensityIntegratesToOneAndInvertUndoesSample) {
     const PiecewiseLinear2D density(values, nx, ny, 2);
     for (const float parameter : {0.0f, 0.3f, 1.0f}) {
         const ParameterBlend blend = grid.blend(&parameter);
-        // The midpoint rule on a fine grid integrates the bilinear density to within ~1e-5.
+        // The midpoint rule on a 700 x 700 grid integrates the bilinear density to within ~1e-5 (its
+        // error is second order in the step; 1.4e-7 measured). The tolerances below are float
+        // rounding budgets for a few hundred operations over cumulative sums near 1 (measured:
+        // 2.7e-7 for the round trip, 1e-6 relative for the densities).
         double integral = 0.0;
         const int n = 700;
         for (int y = 0; y < n; ++y)
