@@ -70,6 +70,19 @@ struct Dielectric {
         return BsdfSample{*wt, Rgb(1.0f / (etaRelative * etaRelative)), 1.0f - reflect, kSpecularTransmission,
                           etaRelative};
     }
+    // One lobe alone, for the walk between a layered material's interfaces (layered_bsdf.h): the
+    // reflection or the refraction sampled with probability 1, so pdf 1 and weight F, or (1 - F) /
+    // eta^2; none where the lobe carries nothing (no refraction beyond the critical angle).
+    std::optional<BsdfSample> sampleLobe(Vec3f wo, bool transmission, bool woOutside) const {
+        if (wo.z == 0.0f) return std::nullopt;
+        const float reflect = reflectance(wo, woOutside);
+        if (!transmission) return BsdfSample{reflectAboutZ(wo), Rgb(reflect), 1.0f, kSpecularReflection};
+        const float etaRelative = relativeEta(woOutside);
+        const std::optional<Vec3f> wt = refractAcrossZ(wo, etaRelative);
+        if (!(reflect < 1.0f) || !wt) return std::nullopt;
+        return BsdfSample{*wt, Rgb((1.0f - reflect) / (etaRelative * etaRelative)), 1.0f,
+                          kSpecularTransmission, etaRelative};
+    }
     Rgb eval(Vec3f, Vec3f, bool) const { return Rgb(0.0f); }
     float pdf(Vec3f, Vec3f, bool) const { return 0.0f; }
     Rgb reflectanceForAov() const { return Rgb(1.0f); }

@@ -49,6 +49,7 @@
 #include "materials/hair_bsdf.h"
 #include "materials/interface.h"
 #include "materials/lambert.h"
+#include "materials/layered_bsdf.h"
 #include "materials/material_mix.h"
 #include "materials/measured_bsdf.h"
 #include "materials/normal_perturbation.h"
@@ -79,7 +80,7 @@ concept HasInteriorAbsorption = requires(const M& m) {
 using MaterialModel = std::variant<Lambert, Phong, Dielectric, ThinDielectric, Mirror, Conductor,
                                    RoughConductor, RoughDielectric, CoatedDiffuse, RoughCoatedDiffuse,
                                    DiffuseTransmission, HairBsdf, SubsurfaceBoundary<Dielectric>,
-                                   SubsurfaceBoundary<RoughDielectric>, MeasuredBsdf, Interface>;
+                                   SubsurfaceBoundary<RoughDielectric>, MeasuredBsdf, LayeredBsdf, Interface>;
 
 namespace detail {
 // Viable only for a BsdfModel: otherwise the compiler names the model and what it misses.

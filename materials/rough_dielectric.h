@@ -55,10 +55,38 @@ struct RoughDielectric {
         const Geometry g = geometryOf(wo, wi, front);
         if (!g.valid) return 0.0f;
         const float F = reflectance(g.cosO, g.eta);
-        if (g.reflects) return distribution.reflectionPdf(g.wo, g.wm) * F;
-        // The Jacobian dwm / dwi of refraction.
-        return distribution.normalPdf(g.wo, g.wm) * std::abs(g.cosI) / sqr(g.cosI + g.cosO / g.eta) *
-               (1.0f - F);
+        return lobeDensity(g) * (g.reflects ? F : 1.0f - F);
+    }
+
+    // One lobe alone, for the walk between a layered material's interfaces (layered_bsdf.h): a
+    // microfacet normal sampled as sample() does, then always reflected or always refracted; its
+    // density is lobePdf, pdf() without the choice between the lobes.
+    std::optional<BsdfSample> sampleLobe(Vec3f wo, Vec2f u, bool transmission, bool front) const {
+        if (wo.z == 0.0f) return std::nullopt;
+        const float side = wo.z > 0.0f ? 1.0f : -1.0f;
+        const Vec3f woUp{wo.x, wo.y, wo.z * side};
+        const float etaRelative = front ? eta : 1.0f / eta;
+        const Vec3f wm = distribution.sampleNormal(woUp, u);
+        if (!(dot(woUp, wm) > 0.0f)) return std::nullopt;
+        Vec3f wi;
+        if (transmission) {
+            const std::optional<Vec3f> refracted = refractAbout(woUp, wm, etaRelative);
+            if (!refracted || !(refracted->z < 0.0f)) return std::nullopt;
+            wi = *refracted;
+        } else {
+            wi = reflectAbout(woUp, wm);
+            if (!(wi.z > 0.0f)) return std::nullopt;
+        }
+        wi.z *= side;
+        const float pdfValue = lobePdf(wo, wi, front);
+        if (!(pdfValue > 0.0f)) return std::nullopt;
+        const BsdfFlags lobe = transmission ? BsdfFlags::Transmission : BsdfFlags::Reflection;
+        return BsdfSample{wi, eval(wo, wi, front) * (std::abs(wi.z) / pdfValue), pdfValue,
+                          BsdfFlags::Glossy | lobe, transmission ? etaRelative : 1.0f};
+    }
+    float lobePdf(Vec3f wo, Vec3f wi, bool front) const {
+        const Geometry g = geometryOf(wo, wi, front);
+        return g.valid ? lobeDensity(g) : 0.0f;
     }
 
     std::optional<BsdfSample> sample(Vec3f wo, float uLobe, Vec2f u, bool front) const {
@@ -122,6 +150,13 @@ private:
         if (!(g.cosO > 0.0f) || !(g.cosI * g.wi.z > 0.0f)) return g;
         g.valid = true;
         return g;
+    }
+
+    // The density of wi within its lobe: the microfacet normal's, times the Jacobian dwm / dwi of
+    // reflection or of refraction.
+    float lobeDensity(const Geometry& g) const {
+        if (g.reflects) return distribution.reflectionPdf(g.wo, g.wm);
+        return distribution.normalPdf(g.wo, g.wm) * std::abs(g.cosI) / sqr(g.cosI + g.cosO / g.eta);
     }
 };
 

@@ -8,10 +8,10 @@
 
 #include <algorithm>
 
+#include "core/henyey_greenstein.h"
 #include "core/perlin_noise.h"
 #include "core/rgb.h"
 #include "core/transform.h"
-#include "media/henyey_greenstein.h"
 #include "media/majorant_grid.h"
 #include "media/sampled_grid.h"
 

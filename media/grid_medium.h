@@ -5,10 +5,10 @@
 // the coefficients, are in world units.
 #pragma once
 
+#include "core/henyey_greenstein.h"
 #include "core/rgb.h"
 #include "core/transform.h"
 #include "media/grid_emission.h"
-#include "media/henyey_greenstein.h"
 #include "media/majorant_grid.h"
 #include "media/sampled_grid.h"
 

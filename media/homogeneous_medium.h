@@ -4,8 +4,8 @@
 // delta tracking through it makes no null collisions.
 #pragma once
 
+#include "core/henyey_greenstein.h"
 #include "core/rgb.h"
-#include "media/henyey_greenstein.h"
 
 namespace penumbra {
 

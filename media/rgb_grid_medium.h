@@ -7,9 +7,9 @@
 
 #include <optional>
 
+#include "core/henyey_greenstein.h"
 #include "core/rgb.h"
 #include "core/transform.h"
-#include "media/henyey_greenstein.h"
 #include "media/majorant_grid.h"
 #include "media/sampled_grid.h"
 

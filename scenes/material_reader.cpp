@@ -9,6 +9,7 @@
 #include <map>
 #include <optional>
 
+#include "materials/layered_bsdf.h"
 #include "materials/measured_bsdf_reader.h"
 #include "materials/subsurface_albedo.h"
 #include "scenes/medium_reader.h"
@@ -71,9 +72,10 @@ float mappedRoughness(float r, RoughnessMapping mapping) {
     return r;
 }
 
-// A textured roughness (its first channel, clamped to [0, 1]) as the slopes of `Model`'s
-// distribution, mapped by `kMapping`.
-// The microfacet distribution of a rough model (of its interface, for a subsurface boundary).
+// Where a textured roughness writes its slopes: a model's microfacet distribution (of its
+// interface, for a subsurface boundary; of its coat or of its base, for a layered material).
+using DistributionAccess = MicrofacetDistribution& (*)(MaterialModel&);
+
 template <class Model>
 MicrofacetDistribution& distributionOf(Model& model) {
     return model.distribution;
@@ -82,43 +84,54 @@ template <class Surface>
 MicrofacetDistribution& distributionOf(SubsurfaceBoundary<Surface>& model) {
     return model.surface.distribution;
 }
+template <class Model>
+MicrofacetDistribution& distributionIn(MaterialModel& m) {
+    return distributionOf(std::get<Model>(m));
+}
+MicrofacetDistribution& layeredCoatDistribution(MaterialModel& m) {
+    return std::get<LayeredBsdf>(m).coatDistribution;
+}
+MicrofacetDistribution& layeredConductorDistribution(MaterialModel& m) {
+    return std::get<LayeredBsdf>(m).conductorDistribution;
+}
 
 // Which slopes a textured roughness sets: both, or (one texture per axis) those along u or along v.
 enum class RoughnessAxis : uint8_t { Both, U, V };
 
-template <class Model, RoughnessMapping kMapping, RoughnessAxis kAxis>
+// A textured roughness (its first channel, clamped to [0, 1]) as slopes, mapped by `kMapping`.
+template <DistributionAccess kAccess, RoughnessMapping kMapping, RoughnessAxis kAxis>
 void setRoughness(MaterialModel& m, Rgb value) {
-    MicrofacetDistribution& d = distributionOf(std::get<Model>(m));
+    MicrofacetDistribution& d = kAccess(m);
     const float alpha = std::max(mappedRoughness(std::clamp(value.r, 0.0f, 1.0f), kMapping), 1e-4f);
     if (kAxis != RoughnessAxis::V) d.alphaX = alpha;
     if (kAxis != RoughnessAxis::U) d.alphaY = alpha;
 }
 
-template <class Model, RoughnessAxis kAxis>
+template <DistributionAccess kAccess, RoughnessAxis kAxis>
 ApplyColor roughnessSetter(RoughnessMapping mapping) {
     switch (mapping) {
         case RoughnessMapping::Squared:
-            return setRoughness<Model, RoughnessMapping::Squared, kAxis>;
+            return setRoughness<kAccess, RoughnessMapping::Squared, kAxis>;
         case RoughnessMapping::SquareRoot:
-            return setRoughness<Model, RoughnessMapping::SquareRoot, kAxis>;
+            return setRoughness<kAccess, RoughnessMapping::SquareRoot, kAxis>;
         case RoughnessMapping::Identity:
             break;
     }
-    return setRoughness<Model, RoughnessMapping::Identity, kAxis>;
+    return setRoughness<kAccess, RoughnessMapping::Identity, kAxis>;
 }
 
-// The textured-roughness setter of `Model` for `mapping` and `axis`.
-template <class Model>
+// The textured-roughness setter of the distribution `kAccess` names, for `mapping` and `axis`.
+template <DistributionAccess kAccess>
 ApplyColor roughnessSetter(RoughnessMapping mapping, RoughnessAxis axis) {
     switch (axis) {
         case RoughnessAxis::Both:
-            return roughnessSetter<Model, RoughnessAxis::Both>(mapping);
+            return roughnessSetter<kAccess, RoughnessAxis::Both>(mapping);
         case RoughnessAxis::U:
-            return roughnessSetter<Model, RoughnessAxis::U>(mapping);
+            return roughnessSetter<kAccess, RoughnessAxis::U>(mapping);
         case RoughnessAxis::V:
             break;
     }
-    return roughnessSetter<Model, RoughnessAxis::V>(mapping);
+    return roughnessSetter<kAccess, RoughnessAxis::V>(mapping);
 }
 
 // A "roughness" that is a texture, or an array (along u, along v) of which one or both are.
@@ -128,22 +141,22 @@ bool isTexturedRoughness(const JsonValue& roughness) {
            (isTextureValue(roughness.element(0)) || isTextureValue(roughness.element(1)));
 }
 
-// A textured "roughness" of `Model`, recorded to set its slopes at each shading point: one texture
-// for both axes, or one per axis (a number for the other is already in the model).
-template <class Model>
+// A textured "roughness", recorded to set the slopes `kAccess` names at each shading point: one
+// texture for both axes, or one per axis (a number for the other is already in the model).
+template <DistributionAccess kAccess>
 void addTexturedRoughness(const JsonValue& material, MaterialContext& context) {
     const JsonValue roughness = *material.member("roughness");
     const RoughnessMapping mapping = readRoughnessMapping(material);
     if (isTextureValue(roughness)) {
         context.textures.push_back({readTexture(roughness, context.folder, 0.0f, 1.0f),
-                                    roughnessSetter<Model>(mapping, RoughnessAxis::Both)});
+                                    roughnessSetter<kAccess>(mapping, RoughnessAxis::Both)});
         return;
     }
     for (size_t k = 0; k < 2; ++k)
         if (const JsonValue axis = roughness.element(k); isTextureValue(axis))
             context.textures.push_back(
                 {readTexture(axis, context.folder, 0.0f, 1.0f),
-                 roughnessSetter<Model>(mapping, k == 0 ? RoughnessAxis::U : RoughnessAxis::V)});
+                 roughnessSetter<kAccess>(mapping, k == 0 ? RoughnessAxis::U : RoughnessAxis::V)});
 }
 
 FresnelModel readFresnel(const JsonValue& value) {
@@ -317,35 +330,47 @@ void setConductorK(MaterialModel& m, Rgb k) {
     std::get<Model>(m).k = {std::max(k.r, 0.0f), std::max(k.g, 0.0f), std::max(k.b, 0.0f)};
 }
 
-// "conductor" and "rough_conductor" (whose table row also accepts the roughness keys): "eta" and
-// "k" (colours or textures), or "reflectance" (a colour or a texture: pbrt-v4's artist-friendly
-// conductor).
-Material readConductor(const JsonValue& material, MaterialContext& context) {
-    bool texturedRoughness = false;
-    const std::optional<MicrofacetDistribution> distribution = readDistribution(material, &texturedRoughness);
-    const bool smooth = isSmooth(distribution) && !texturedRoughness;
+// How textures of a conductor's index reach its model.
+struct ConductorSetters {
+    ApplyColor reflectance, eta, k;
+};
+template <class Model>
+constexpr ConductorSetters kConductorSetters{setConductorReflectance<Model>, setConductorEta<Model>,
+                                             setConductorK<Model>};
+
+// A conductor's complex index (eta, k): "eta" and "k" (colours or textures), or "reflectance" (a
+// colour or a texture: pbrt-v4's artist-friendly conductor, eta 1).
+std::pair<Rgb, Rgb> readConductorIndex(const JsonValue& material, MaterialContext& context,
+                                       const ConductorSetters& setters) {
     Rgb eta(1.0f), k;
     if (auto v = material.member("reflectance")) {
         if (material.member("eta") || material.member("k"))
             v->fail("a conductor takes \"eta\" and \"k\", or \"reflectance\", not both");
-        const Rgb r = readColorParameter(
-            *v, 0.0f, 1.0f, Rgb(0.5f), context,
-            smooth ? setConductorReflectance<Conductor> : setConductorReflectance<RoughConductor>);
-        k = conductorKForReflectance(r);
-    } else {
-        // Textured eta and k (pbrt-v4's conductor takes spectrum textures of both), kept where the
-        // complex Fresnel term holds: eta > 0, k >= 0.
-        const JsonValue etaValue = material.requiredMember("eta"), kValue = material.requiredMember("k");
-        if (isTextureValue(etaValue))
-            eta = readColorParameter(etaValue, 0.0f, std::numeric_limits<float>::max(), Rgb(1.0f), context,
-                                     smooth ? setConductorEta<Conductor> : setConductorEta<RoughConductor>);
-        else
-            eta = readConductorEta(material);
-        k = isTextureValue(kValue)
-                ? readColorParameter(kValue, 0.0f, std::numeric_limits<float>::max(), Rgb(1.0f), context,
-                                     smooth ? setConductorK<Conductor> : setConductorK<RoughConductor>)
-                : kValue.rgb(0.0f);
+        const Rgb r = readColorParameter(*v, 0.0f, 1.0f, Rgb(0.5f), context, setters.reflectance);
+        return {eta, conductorKForReflectance(r)};
     }
+    // Textured eta and k (pbrt-v4's conductor takes spectrum textures of both), kept where the
+    // complex Fresnel term holds: eta > 0, k >= 0.
+    const JsonValue etaValue = material.requiredMember("eta"), kValue = material.requiredMember("k");
+    if (isTextureValue(etaValue))
+        eta = readColorParameter(etaValue, 0.0f, std::numeric_limits<float>::max(), Rgb(1.0f), context,
+                                 setters.eta);
+    else
+        eta = readConductorEta(material);
+    k = isTextureValue(kValue) ? readColorParameter(kValue, 0.0f, std::numeric_limits<float>::max(),
+                                                    Rgb(1.0f), context, setters.k)
+                               : kValue.rgb(0.0f);
+    return {eta, k};
+}
+
+// "conductor" and "rough_conductor" (whose table row also accepts the roughness keys): its index
+// (readConductorIndex) and a "tint".
+Material readConductor(const JsonValue& material, MaterialContext& context) {
+    bool texturedRoughness = false;
+    const std::optional<MicrofacetDistribution> distribution = readDistribution(material, &texturedRoughness);
+    const bool smooth = isSmooth(distribution) && !texturedRoughness;
+    const auto [eta, k] = readConductorIndex(
+        material, context, smooth ? kConductorSetters<Conductor> : kConductorSetters<RoughConductor>);
     Rgb tint(1.0f);
     if (auto v = material.member("tint")) {
         tint = smooth ? readColorParameter(
@@ -356,7 +381,7 @@ Material readConductor(const JsonValue& material, MaterialContext& context) {
                         });
     }
     if (smooth) return Material(Conductor{eta, k, tint}, readTwoSided(material), std::move(context.textures));
-    if (texturedRoughness) addTexturedRoughness<RoughConductor>(material, context);
+    if (texturedRoughness) addTexturedRoughness<distributionIn<RoughConductor>>(material, context);
     return Material(RoughConductor{eta, k, clampedForRendering(*distribution), tint}, readTwoSided(material),
                     std::move(context.textures));
 }
@@ -370,13 +395,71 @@ Material readDielectric(const JsonValue& material, MaterialContext& context) {
     bool texturedRoughness = false;
     const std::optional<MicrofacetDistribution> distribution = readDistribution(material, &texturedRoughness);
     if (isSmooth(distribution) && !texturedRoughness) return Material(smooth);
-    if (texturedRoughness) addTexturedRoughness<RoughDielectric>(material, context);
+    if (texturedRoughness) addTexturedRoughness<distributionIn<RoughDielectric>>(material, context);
     return Material(
         RoughDielectric{smooth.eta, smooth.fresnel, smooth.absorption, clampedForRendering(*distribution)},
         true, std::move(context.textures));
 }
 
+// The keys of the layered model (materials/layered_bsdf.h) besides its coat and its base.
+constexpr std::array<std::string_view, 5> kLayeredSlabKeys{"thickness", "medium_albedo", "g", "max_depth",
+                                                           "samples"};
+
+// The slab between a layered material's interfaces and its walk: "thickness" (a number >= 0 or a
+// texture; pbrt-v4's 0.01), "medium_albedo" (a colour or a texture; black: the slab only absorbs),
+// "g" (its Henyey-Greenstein asymmetry), "max_depth" (10) and "samples" (1) of the walk.
+void readLayeredSlab(const JsonValue& material, MaterialContext& context, LayeredBsdf& layered) {
+    static constexpr float kThinnest = std::numeric_limits<float>::min();  // 0 is a slab of no thickness
+    if (auto v = material.member("thickness")) {
+        if (isTextureValue(*v))
+            context.textures.push_back(
+                {readTexture(*v, context.folder, 0.0f, std::numeric_limits<float>::max()),
+                 [](MaterialModel& m, Rgb c) {
+                     std::get<LayeredBsdf>(m).thickness = std::max(c.r, kThinnest);
+                 }});
+        else
+            layered.thickness = std::max(v->numberAtLeast(0.0f), kThinnest);
+    }
+    if (auto v = material.member("medium_albedo"))
+        layered.albedo = readColorParameter(
+            *v, 0.0f, 1.0f, layered.albedo, context,
+            [](MaterialModel& m, Rgb c) { std::get<LayeredBsdf>(m).albedo = clampedColor(c); });
+    if (auto v = material.member("g")) layered.g = v->numberInRange(-0.999f, 0.999f);
+    if (auto v = material.member("max_depth")) layered.maxDepth = int(v->integer(1, 1000));
+    if (auto v = material.member("samples")) layered.samples = int(v->integer(1, 256));
+}
+
+// The coat of a layered material: "eta" and the roughness keys (smooth without them).
+void readLayeredCoat(const JsonValue& material, MaterialContext& context, LayeredBsdf& layered) {
+    if (auto v = material.member("eta")) layered.eta = v->numberAbove(0.0f);
+    bool texturedRoughness = false;
+    const std::optional<MicrofacetDistribution> distribution = readDistribution(material, &texturedRoughness);
+    if (texturedRoughness) addTexturedRoughness<layeredCoatDistribution>(material, context);
+    if (distribution && (texturedRoughness || !isSmooth(distribution)))
+        layered.coatDistribution = clampedForRendering(*distribution);
+}
+
+// "coated_diffuse": a Lambertian "albedo" under a dielectric coat ("eta", roughness). Its
+// "model" is "analytic" (the default: materials/coated_diffuse.h, one closed form) or "layered"
+// (pbrt-v4's coateddiffuse: materials/layered_bsdf.h, a random walk between the interfaces, with
+// the slab's keys).
 Material readCoatedDiffuse(const JsonValue& material, MaterialContext& context) {
+    const bool layered =
+        material.member("model") && material.member("model")->choice({"analytic", "layered"}) == 1;
+    if (!layered)
+        for (const std::string_view key : kLayeredSlabKeys)
+            if (auto v = material.member(key))
+                v->fail(fmt::format("\"{}\" is a key of the layered model: add \"model\": \"layered\"", key));
+    if (layered) {
+        LayeredBsdf model;
+        if (auto v = material.member("albedo"))
+            model.baseAlbedo = readColorParameter(
+                *v, 0.0f, 1.0f, model.baseAlbedo, context,
+                [](MaterialModel& m, Rgb c) { std::get<LayeredBsdf>(m).baseAlbedo = clampedColor(c); });
+        readLayeredCoat(material, context, model);
+        readLayeredSlab(material, context, model);
+        return Material(model, readTwoSided(material), std::move(context.textures));
+    }
     float eta = 1.5f;
     if (auto v = material.member("eta")) eta = v->numberAbove(0.0f);
     bool texturedRoughness = false;
@@ -394,9 +477,43 @@ Material readCoatedDiffuse(const JsonValue& material, MaterialContext& context) 
     if (smooth)
         return Material(CoatedDiffuse::make(albedo, eta), readTwoSided(material),
                         std::move(context.textures));
-    if (texturedRoughness) addTexturedRoughness<RoughCoatedDiffuse>(material, context);
+    if (texturedRoughness) addTexturedRoughness<distributionIn<RoughCoatedDiffuse>>(material, context);
     return Material(RoughCoatedDiffuse::make(albedo, eta, clampedForRendering(*distribution)),
                     readTwoSided(material), std::move(context.textures));
+}
+
+// "coated_conductor" (pbrt-v4's coatedconductor, materials/layered_bsdf.h): a dielectric coat
+// ("eta", roughness) over the metal "conductor" ({"eta", "k"} or {"reflectance"}, relative to the
+// outside, and its own roughness keys), with the slab's keys. Two-sided.
+Material readCoatedConductor(const JsonValue& material, MaterialContext& context) {
+    LayeredBsdf model;
+    model.base = LayeredBsdf::Base::Conductor;
+    readLayeredCoat(material, context, model);
+    const JsonObject conductor(
+        material.requiredMember("conductor"),
+        {"eta", "k", "reflectance", "roughness", "roughness_mapping", "alpha", "distribution"});
+    const ConductorSetters setters{[](MaterialModel& m, Rgb r) {
+                                       std::get<LayeredBsdf>(m).conductorEta = Rgb(1.0f);
+                                       std::get<LayeredBsdf>(m).conductorK = conductorKForReflectance(r);
+                                   },
+                                   [](MaterialModel& m, Rgb eta) {
+                                       std::get<LayeredBsdf>(m).conductorEta = {std::max(eta.r, 1e-4f),
+                                                                                std::max(eta.g, 1e-4f),
+                                                                                std::max(eta.b, 1e-4f)};
+                                   },
+                                   [](MaterialModel& m, Rgb k) {
+                                       std::get<LayeredBsdf>(m).conductorK = {
+                                           std::max(k.r, 0.0f), std::max(k.g, 0.0f), std::max(k.b, 0.0f)};
+                                   }};
+    std::tie(model.conductorEta, model.conductorK) = readConductorIndex(conductor.value(), context, setters);
+    bool texturedRoughness = false;
+    const std::optional<MicrofacetDistribution> distribution =
+        readDistribution(conductor.value(), &texturedRoughness);
+    if (texturedRoughness) addTexturedRoughness<layeredConductorDistribution>(conductor.value(), context);
+    if (distribution && (texturedRoughness || !isSmooth(distribution)))
+        model.conductorDistribution = clampedForRendering(*distribution);
+    readLayeredSlab(material, context, model);
+    return Material(model, true, std::move(context.textures));
 }
 
 Material readInterface(const JsonValue&, MaterialContext&) { return Material(Interface{}); }
@@ -441,7 +558,8 @@ Material readSubsurface(const JsonValue& material, MaterialContext& context) {
     if (isSmooth(distribution) && !texturedRoughness) {
         surface = Material(SubsurfaceBoundary<Dielectric>{Dielectric{eta}});
     } else {
-        if (texturedRoughness) addTexturedRoughness<SubsurfaceBoundary<RoughDielectric>>(material, context);
+        if (texturedRoughness)
+            addTexturedRoughness<distributionIn<SubsurfaceBoundary<RoughDielectric>>>(material, context);
         RoughDielectric rough;
         rough.eta = eta;
         rough.distribution = clampedForRendering(*distribution);
@@ -558,7 +676,7 @@ Material readHair(const JsonValue& material, MaterialContext&) {
 // "mix": read by readMix once every material is named; a placeholder until then.
 Material readMixPlaceholder(const JsonValue&, MaterialContext&) { return Material::mixOf({}); }
 
-const std::array<TypeRow<MaterialReader>, 15> kMaterialTypes{{
+const std::array<TypeRow<MaterialReader>, 16> kMaterialTypes{{
     {"lambert", {"type", "albedo", "two_sided", "bump", "normal_map"}, readLambert},
     {"phong", {"type", "diffuse", "specular", "exponent", "two_sided", "bump", "normal_map"}, readPhong},
     {"dielectric", {"type", "eta", "fresnel", "absorption", "bump", "normal_map"}, readDielectric},
@@ -577,8 +695,12 @@ const std::array<TypeRow<MaterialReader>, 15> kMaterialTypes{{
      readDielectric},
     {"coated_diffuse",
      {"type", "albedo", "eta", "roughness", "roughness_mapping", "alpha", "distribution", "two_sided", "bump",
-      "normal_map"},
+      "normal_map", "model", "thickness", "medium_albedo", "g", "max_depth", "samples"},
      readCoatedDiffuse},
+    {"coated_conductor",
+     {"type", "conductor", "eta", "roughness", "roughness_mapping", "alpha", "distribution", "bump",
+      "normal_map", "thickness", "medium_albedo", "g", "max_depth", "samples"},
+     readCoatedConductor},
     {"diffuse_transmission",
      {"type", "reflectance", "transmittance", "bump", "normal_map"},
      readDiffuseTransmission},

@@ -27,13 +27,13 @@ Rgb clamp01(Rgb c, const Parameter* p, WarningLog& log, std::string_view what) {
 // microfacet alpha with pbrt-v4's RoughnessToAlpha (sqrt) unless "remaproughness" is false.
 // Returns {alpha along u, alpha along v}.
 std::pair<double, double> readAlpha(const ParameterList& params, const TextureTable& textures,
-                                    WarningLog& log) {
-    const double r = readScalar(params, "roughness", 0.0, textures, log);
-    double u = readScalar(params, "uroughness", r, textures, log);
-    double v = readScalar(params, "vroughness", r, textures, log);
+                                    WarningLog& log, const std::string& prefix = "") {
+    const double r = readScalar(params, prefix + "roughness", 0.0, textures, log);
+    double u = readScalar(params, prefix + "uroughness", r, textures, log);
+    double v = readScalar(params, prefix + "vroughness", r, textures, log);
     // A negative roughness has no alpha (pbrt-v4 would take its square root): not a smooth surface.
     for (const char* name : {"roughness", "uroughness", "vroughness"})
-        if (const Parameter* p = params.find(name, {ParamType::Float, ParamType::Texture});
+        if (const Parameter* p = params.find(prefix + name, {ParamType::Float, ParamType::Texture});
             p && !p->numbers.empty() && p->numbers[0] < 0.0)
             failAt(p->where,
                    fmt::format("parameter \"{}\" must be >= 0, found {}", p->declaration(), p->numbers[0]));
@@ -100,12 +100,13 @@ void addAlpha(Json& material, std::pair<double, double> alpha) {
 
 // An index of refraction given as a float, a spectrum or a texture: its value (the spectrum's
 // green channel, near 550 nm; dispersion is not rendered).
-double readEta(const ParameterList& params, const TextureTable& textures, WarningLog& log) {
+double readEta(const ParameterList& params, const TextureTable& textures, WarningLog& log,
+               const std::string& name = "eta") {
     const Parameter* p =
-        params.find("eta", {ParamType::Float, ParamType::Spectrum, ParamType::Rgb, ParamType::Texture});
+        params.find(name, {ParamType::Float, ParamType::Spectrum, ParamType::Rgb, ParamType::Texture});
     if (!p) return 1.5;
     if (p->type == ParamType::Float) return p->numbers.at(0);
-    const Rgb eta = readColor(params, "eta", Rgb(1.5f), SpectrumUse::Unbounded, textures, log);
+    const Rgb eta = readColor(params, name, Rgb(1.5f), SpectrumUse::Unbounded, textures, log);
     if (eta.r != eta.g || eta.g != eta.b)
         log.warn(
             p->where,
@@ -581,15 +582,62 @@ Json mapMaterial(const std::string& type, const ParameterList& params, const Tex
         if (std::optional<Json> object = textureObject(name)) return *object;
         return rgbJson(reflectance(name, fallback));
     };
+    // A conductor's index: pbrt-v4's artist-friendly `reflectance` (eta 1, k from the reflectance
+    // at normal incidence: penumbra's conductor "reflectance", a colour or a texture), or eta and
+    // k, each a constant or (pbrt-v4's spectrum textures) the texture, clamped where it is read.
+    auto conductorJson = [&](const std::string& prefix, const std::string& reflectanceName) {
+        Json c = Json::object();
+        if (params.has(reflectanceName)) {
+            c["reflectance"] = texturable(reflectanceName, Rgb(0.5f));
+            return c;
+        }
+        if (std::optional<Json> object = textureObject(prefix + "eta")) {
+            c["eta"] = *object;
+        } else {
+            const Rgb eta = readColor(params, prefix + "eta", *namedSpectrumRgb("metal-Cu-eta"),
+                                      SpectrumUse::Unbounded, textures, log);
+            c["eta"] = rgbJson({std::max(eta.r, 1e-4f), std::max(eta.g, 1e-4f), std::max(eta.b, 1e-4f)});
+        }
+        if (std::optional<Json> object = textureObject(prefix + "k")) {
+            c["k"] = *object;
+        } else {
+            const Rgb k = readColor(params, prefix + "k", *namedSpectrumRgb("metal-Cu-k"),
+                                    SpectrumUse::Unbounded, textures, log);
+            c["k"] = rgbJson({std::max(k.r, 0.0f), std::max(k.g, 0.0f), std::max(k.b, 0.0f)});
+        }
+        return c;
+    };
+    // The slab and walk of pbrt-v4's layered materials: thickness 0.01, albedo black, g 0, maxdepth
+    // 10, nsamples 1 (written only where a file changes them).
+    auto addLayeredSlab = [&](Json& material) {
+        material["thickness"] = std::max(readScalar(params, "thickness", 0.01, textures, log), 0.0);
+        if (params.has("albedo")) {
+            Json albedo = texturable("albedo", Rgb(0.0f));
+            if (!albedo.is_object())
+                albedo = rgbJson(
+                    clamp01(readColor(params, "albedo", Rgb(0.0f), SpectrumUse::Reflectance, textures, log),
+                            nullptr, log, ""));
+            material["medium_albedo"] = std::move(albedo);
+        }
+        if (params.has("g"))
+            material["g"] = std::clamp(readScalar(params, "g", 0.0, textures, log), -0.999, 0.999);
+        if (const std::optional<int64_t> depth = params.getInt("maxdepth"))
+            material["max_depth"] = std::clamp<int64_t>(*depth, 1, 1000);
+        if (const std::optional<int64_t> n = params.getInt("nsamples"))
+            material["samples"] = std::clamp<int64_t>(*n, 1, 256);
+    };
     Json m = Json::object();
     if (type == "diffuse") {
         m["type"] = "lambert";
         m["albedo"] = texturable("reflectance", Rgb(0.5f));
     } else if (type == "coateddiffuse") {
+        // pbrt-v4's LayeredBxDF (materials/layered_bsdf.h), as pbrt-v4 renders it.
         m["type"] = "coated_diffuse";
+        m["model"] = "layered";
         m["albedo"] = texturable("reflectance", Rgb(0.5f));
         m["eta"] = readEta(params, textures, log);
         if (!addTexturedRoughness(m, params, textures)) addAlpha(m, readAlpha(params, textures, log));
+        addLayeredSlab(m);
     } else if (type == "dielectric") {
         m["type"] = "dielectric";
         m["eta"] = readEta(params, textures, log);
@@ -603,41 +651,26 @@ Json mapMaterial(const std::string& type, const ParameterList& params, const Tex
     } else if (type == "thindielectric") {
         m["type"] = "thin_dielectric";
         m["eta"] = readEta(params, textures, log);
-    } else if (type == "conductor" || type == "coatedconductor") {
-        const std::string prefix = type == "coatedconductor" ? "conductor." : "";
-        if (params.has(prefix + "reflectance")) {
-            // pbrt-v4's artist-friendly conductor (eta 1, k from the reflectance at normal
-            // incidence): penumbra's conductor "reflectance", a colour or a texture.
-            m["reflectance"] = texturable(prefix + "reflectance", Rgb(0.5f));
-        } else {
-            // Each a constant or (pbrt-v4's spectrum textures) the texture, clamped where it is read.
-            if (std::optional<Json> object = textureObject(prefix + "eta")) {
-                m["eta"] = *object;
-            } else {
-                const Rgb eta = readColor(params, prefix + "eta", *namedSpectrumRgb("metal-Cu-eta"),
-                                          SpectrumUse::Unbounded, textures, log);
-                m["eta"] = rgbJson({std::max(eta.r, 1e-4f), std::max(eta.g, 1e-4f), std::max(eta.b, 1e-4f)});
-            }
-            if (std::optional<Json> object = textureObject(prefix + "k")) {
-                m["k"] = *object;
-            } else {
-                const Rgb k = readColor(params, prefix + "k", *namedSpectrumRgb("metal-Cu-k"),
-                                        SpectrumUse::Unbounded, textures, log);
-                m["k"] = rgbJson({std::max(k.r, 0.0f), std::max(k.g, 0.0f), std::max(k.b, 0.0f)});
-            }
-        }
-        if (addTexturedRoughness(m, params, textures, prefix)) {
+    } else if (type == "coatedconductor") {
+        // pbrt-v4's LayeredBxDF over its conductor (materials/layered_bsdf.h).
+        m["type"] = "coated_conductor";
+        m["eta"] = readEta(params, textures, log, "interface.eta");
+        if (!addTexturedRoughness(m, params, textures, "interface."))
+            addAlpha(m, readAlpha(params, textures, log, "interface."));
+        Json conductor = conductorJson("conductor.", "reflectance");
+        if (!addTexturedRoughness(conductor, params, textures, "conductor."))
+            addAlpha(conductor, readAlpha(params, textures, log, "conductor."));
+        m["conductor"] = std::move(conductor);
+        addLayeredSlab(m);
+    } else if (type == "conductor") {
+        m = conductorJson("", "reflectance");
+        if (addTexturedRoughness(m, params, textures)) {
             m["type"] = "rough_conductor";
         } else {
-            const auto alpha = type == "coatedconductor"
-                                   ? std::pair{readScalar(params, "conductor.roughness", 0.0, textures, log),
-                                               readScalar(params, "conductor.roughness", 0.0, textures, log)}
-                                   : readAlpha(params, textures, log);
+            const auto alpha = readAlpha(params, textures, log);
             m["type"] = alpha.first > 0.0 || alpha.second > 0.0 ? "rough_conductor" : "conductor";
             addAlpha(m, alpha);
         }
-        if (type == "coatedconductor")
-            log.warn(where, "coatedconductor is rendered as its conductor alone (the coating is left out)");
     } else if (type == "interface" || type == "" || type == "none") {
         // pbrt-v4 gives all three no BSDF: the boundary of a participating medium.
         m["type"] = "interface";

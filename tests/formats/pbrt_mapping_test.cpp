@@ -353,6 +353,53 @@ TEST(PbrtMapping, Materials) {
 
 // pbrt-v4's subsurface material (materials.cpp SubsurfaceMaterial::Create): its four ways of
 // giving the interior, eta 1.33 by default, the roughness as a dielectric's, and its errors.
+// pbrt-v4's coateddiffuse and coatedconductor (materials.cpp, their Create): the layered model
+// with the file's interface, base, slab and walk; coatedconductor's "reflectance" has no prefix.
+TEST(PbrtMapping, LayeredMaterials) {
+    const auto c =
+        convert(kCamera +
+                "WorldBegin\n"
+                "MakeNamedMaterial \"plastic\" \"string type\" \"coateddiffuse\" "
+                "\"rgb reflectance\" [0.2 0.3 0.4] \"float roughness\" 0.01 \"float thickness\" 0.05 "
+                "\"rgb albedo\" [0.5 0.5 0.5] \"float g\" 0.3 \"integer maxdepth\" 20 "
+                "\"integer nsamples\" 2\n"
+                "MakeNamedMaterial \"paint\" \"string type\" \"coatedconductor\" "
+                "\"float interface.eta\" 1.7 \"float interface.roughness\" 0.04 "
+                "\"rgb conductor.eta\" [0.2 0.9 1.1] \"rgb conductor.k\" [3.9 2.4 1.8] "
+                "\"float conductor.uroughness\" 0.09 \"float conductor.vroughness\" 0.16\n"
+                "MakeNamedMaterial \"chrome\" \"string type\" \"coatedconductor\" "
+                "\"rgb reflectance\" [0.9 0.8 0.7]\n"
+                "Material \"coatedconductor\"\n"
+                "Shape \"sphere\"\n");
+    const Json& m = c.document["materials"];
+    EXPECT_EQ(m["plastic"]["type"], "coated_diffuse");
+    EXPECT_EQ(m["plastic"]["model"], "layered");
+    EXPECT_DOUBLE_EQ(m["plastic"]["alpha"].get<double>(), 0.1);  // remaproughness: sqrt
+    EXPECT_DOUBLE_EQ(m["plastic"]["thickness"].get<double>(), 0.05);
+    EXPECT_EQ(m["plastic"]["medium_albedo"], Json::parse("[0.5, 0.5, 0.5]"));
+    EXPECT_DOUBLE_EQ(m["plastic"]["g"].get<double>(), 0.3);
+    EXPECT_EQ(m["plastic"]["max_depth"], 20);
+    EXPECT_EQ(m["plastic"]["samples"], 2);
+    EXPECT_EQ(m["paint"]["type"], "coated_conductor");
+    EXPECT_DOUBLE_EQ(m["paint"]["eta"].get<double>(), 1.7);
+    EXPECT_DOUBLE_EQ(m["paint"]["alpha"].get<double>(), 0.2);
+    EXPECT_NEAR(m["paint"]["conductor"]["eta"][1].get<double>(), 0.9, 1e-6);
+    EXPECT_NEAR(m["paint"]["conductor"]["k"][0].get<double>(), 3.9, 1e-6);
+    EXPECT_NEAR(m["paint"]["conductor"]["alpha"][0].get<double>(), 0.3, 1e-6);
+    EXPECT_NEAR(m["paint"]["conductor"]["alpha"][1].get<double>(), 0.4, 1e-6);
+    EXPECT_DOUBLE_EQ(m["paint"]["thickness"].get<double>(), 0.01);  // pbrt-v4's default
+    EXPECT_NEAR(m["chrome"]["conductor"]["reflectance"][2].get<double>(), 0.7, 1e-6);
+    EXPECT_FALSE(hasWarning(c, "coated"));
+    EXPECT_FALSE(hasWarning(c, "reflectance"));
+    // pbrt-v4's default coatedconductor: copper under a smooth coat of index 1.5.
+    const Scene scene = buildPbrtScene(c, "test.pbrt");
+    const auto& copper = std::get<LayeredBsdf>(scene.materials.back().model());
+    EXPECT_EQ(copper.base, LayeredBsdf::Base::Conductor);
+    EXPECT_FLOAT_EQ(copper.eta, 1.5f);
+    EXPECT_GT(copper.conductorK.r, 2.0f);
+    EXPECT_EQ(copper.coatDistribution.alphaX, 0.0f);
+}
+
 TEST(PbrtMapping, MeasuredMaterials) {
     const auto c = convert(kCamera +
                            "WorldBegin\n"

@@ -431,6 +431,88 @@ TEST(MaterialLoader, SubsurfaceMaterials) {
                     "/materials/m/materials/1: a mix cannot include a subsurface material");
 }
 
+// The layered materials (materials/layered_bsdf.h): "coated_conductor", and "coated_diffuse" with
+// "model": "layered"; their values in the model, textures at each textured parameter, and errors.
+TEST(MaterialLoader, LayeredMaterials) {
+    const Scene scene = parseScene(R"({"materials": {
+        "paint": {"type": "coated_conductor", "eta": 1.6, "roughness": 0.5,
+                  "conductor": {"eta": [0.2, 0.9, 1.1], "k": [3.9, 2.4, 1.8], "alpha": [0.1, 0.3]},
+                  "thickness": 0.1, "medium_albedo": [0.5, 0.4, 0.3], "g": 0.2, "max_depth": 20, "samples": 4},
+        "chrome": {"type": "coated_conductor", "conductor": {"reflectance": 0.9}},
+        "plastic": {"type": "coated_diffuse", "model": "layered", "albedo": [0.1, 0.2, 0.3], "thickness": 0},
+        "analytic": {"type": "coated_diffuse", "albedo": 0.4},
+        "textured": {"type": "coated_conductor",
+                     "roughness": {"type": "checkerboard", "colors": [0.1, 0.9]},
+                     "conductor": {"reflectance": {"type": "checkerboard", "colors": [0.2, 0.8]},
+                                   "roughness": {"type": "checkerboard", "colors": [0.3, 0.7]}},
+                     "thickness": {"type": "checkerboard", "colors": [0.01, 2]},
+                     "medium_albedo": {"type": "checkerboard", "colors": [0.25, 0.75]}}}})",
+                                   "s.json");
+    const auto& paint = std::get<LayeredBsdf>(scene.materials[0].model());
+    EXPECT_EQ(paint.base, LayeredBsdf::Base::Conductor);
+    EXPECT_FLOAT_EQ(paint.eta, 1.6f);
+    EXPECT_FLOAT_EQ(paint.coatDistribution.alphaX, 0.25f);  // roughness^2
+    EXPECT_EQ(paint.conductorEta, Rgb(0.2f, 0.9f, 1.1f));
+    EXPECT_EQ(paint.conductorK, Rgb(3.9f, 2.4f, 1.8f));
+    EXPECT_FLOAT_EQ(paint.conductorDistribution.alphaX, 0.1f);
+    EXPECT_FLOAT_EQ(paint.conductorDistribution.alphaY, 0.3f);
+    EXPECT_FLOAT_EQ(paint.thickness, 0.1f);
+    EXPECT_EQ(paint.albedo, Rgb(0.5f, 0.4f, 0.3f));
+    EXPECT_FLOAT_EQ(paint.g, 0.2f);
+    EXPECT_EQ(paint.maxDepth, 20);
+    EXPECT_EQ(paint.samples, 4);
+    const auto& chrome = std::get<LayeredBsdf>(scene.materials[1].model());
+    EXPECT_EQ(chrome.conductorEta, Rgb(1.0f));
+    EXPECT_EQ(chrome.conductorK, conductorKForReflectance(Rgb(0.9f)));
+    EXPECT_EQ(chrome.coatDistribution.alphaX, 0.0f);  // smooth: no roughness given
+    EXPECT_FLOAT_EQ(chrome.eta, 1.5f);
+    EXPECT_FLOAT_EQ(chrome.thickness, 0.01f);  // pbrt-v4's defaults
+    EXPECT_EQ(chrome.maxDepth, 10);
+    EXPECT_EQ(chrome.samples, 1);
+    const auto& plastic = std::get<LayeredBsdf>(scene.materials[2].model());
+    EXPECT_EQ(plastic.base, LayeredBsdf::Base::Diffuse);
+    EXPECT_EQ(plastic.baseAlbedo, Rgb(0.1f, 0.2f, 0.3f));
+    EXPECT_GT(plastic.thickness, 0.0f);  // 0: the thinnest slab
+    EXPECT_TRUE(std::holds_alternative<CoatedDiffuse>(scene.materials[3].model()));
+    // Each texture writes its parameter: at the checkerboards' two kinds of squares.
+    const Material& textured = scene.materials[4];
+    ASSERT_TRUE(textured.isTextured());
+    EXPECT_EQ(textured.texturedParameters()->size(), 5u);
+    TextureQuery even, odd;
+    even.uv = {0.5f, 0.5f};
+    odd.uv = {1.5f, 0.5f};
+    const auto atEven = std::get<LayeredBsdf>(textured.at(even).model());
+    const auto atOdd = std::get<LayeredBsdf>(textured.at(odd).model());
+    EXPECT_FLOAT_EQ(atEven.coatDistribution.alphaX, 0.01f);
+    EXPECT_FLOAT_EQ(atOdd.coatDistribution.alphaY, 0.81f);
+    EXPECT_EQ(atEven.conductorK, conductorKForReflectance(Rgb(0.2f)));
+    EXPECT_EQ(atOdd.conductorK, conductorKForReflectance(Rgb(0.8f)));
+    EXPECT_FLOAT_EQ(atEven.conductorDistribution.alphaX, 0.09f);
+    EXPECT_FLOAT_EQ(atOdd.conductorDistribution.alphaY, 0.49f);
+    EXPECT_FLOAT_EQ(atEven.thickness, 0.01f);
+    EXPECT_FLOAT_EQ(atOdd.thickness, 2.0f);
+    EXPECT_EQ(atEven.albedo, Rgb(0.25f));
+    EXPECT_EQ(atOdd.albedo, Rgb(0.75f));
+
+    EXPECT_CONTAINS(errorOf(R"({"m": {"type": "coated_conductor"}})"),
+                    "/materials/m: missing required key \"conductor\"");
+    EXPECT_CONTAINS(errorOf(R"({"m": {"type": "coated_conductor", "conductor": {"eta": 1}}})"),
+                    "/materials/m/conductor: missing required key \"k\"");
+    EXPECT_CONTAINS(errorOf(R"({"m": {"type": "coated_conductor", "conductor": {"tint": 1}}})"),
+                    "/materials/m/conductor/tint: unknown key");
+    EXPECT_CONTAINS(errorOf(R"({"m": {"type": "coated_conductor", "conductor": {"reflectance": 0.5},
+                                      "samples": 0}})"),
+                    "/materials/m/samples");
+    EXPECT_CONTAINS(errorOf(R"({"m": {"type": "coated_conductor", "conductor": {"reflectance": 0.5},
+                                      "g": 1}})"),
+                    "/materials/m/g");
+    EXPECT_CONTAINS(errorOf(R"({"m": {"type": "coated_diffuse", "thickness": 0.1}})"),
+                    "/materials/m/thickness: \"thickness\" is a key of the layered model: add \"model\": "
+                    "\"layered\"");
+    EXPECT_CONTAINS(errorOf(R"({"m": {"type": "coated_diffuse", "model": "stochastic"}})"),
+                    "/materials/m/model");
+}
+
 // "measured": a .bsdf file relative to the scene's folder, read once however many materials name
 // it; a missing or malformed file is an error naming the file.
 TEST(MaterialLoader, MeasuredMaterials) {
@@ -554,7 +636,9 @@ TEST(MaterialLoader, BadValuesNameThePointerAndTheField) {
          "/materials/r/alpha: give either \"roughness\" or \"alpha\", not both"},
         {R"({"r": {"type": "coated_diffuse", "specular": 0.5}})",
          "/materials/r/specular: unknown key (expected one of: type, albedo, eta, roughness, "
-         "roughness_mapping, alpha, distribution, two_sided, bump, normal_map)"},
+         "roughness_mapping, alpha, distribution, two_sided, bump, normal_map, model, thickness, "
+         "medium_albedo, g, "
+         "max_depth, samples)"},
         {R"({"r": {"type": "conductor", "eta": 1, "k": 1, "roughness": 0.5}})",
          "/materials/r/roughness: unknown key (expected one of: type, eta, k, reflectance, tint, two_sided, "
          "bump, normal_map)"},

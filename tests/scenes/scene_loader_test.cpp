@@ -639,7 +639,8 @@ TEST(SceneErrors, UnknownNamesGetTheLikelyOneSuggested) {
     EXPECT_EQ(
         std::string(e.what()),
         "s.json: /materials/m/type: expected one of: lambert, phong, dielectric, thin_dielectric, mirror, "
-        "conductor, rough_conductor, rough_dielectric, coated_diffuse, diffuse_transmission, hair, "
+        "conductor, rough_conductor, rough_dielectric, coated_diffuse, coated_conductor, "
+        "diffuse_transmission, hair, "
         "subsurface, measured, interface, mix, "
         "found the "
         "string "

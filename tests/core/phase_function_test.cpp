@@ -1,4 +1,4 @@
-// The Henyey-Greenstein phase function (media/henyey_greenstein.h): normalized, its samples
+// The Henyey-Greenstein phase function (core/henyey_greenstein.h): normalized, its samples
 // distributed as it says (chi-square over cos(theta) and the azimuth), and each sample's density
 // the function's value, for forward, backward and isotropic g.
 #include <gtest/gtest.h>
@@ -6,7 +6,7 @@
 #include <cmath>
 #include <vector>
 
-#include "media/henyey_greenstein.h"
+#include "core/henyey_greenstein.h"
 #include "tests/support/test_statistics.h"
 
 namespace penumbra {
