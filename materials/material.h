@@ -213,6 +213,16 @@ public:
     // Only the models that declare one (HasInteriorAbsorption) are tested, in the variant's order.
     Rgb interiorAbsorption() const { return interiorAbsorptionFrom(); }
 
+    // A subsurface material's interior coefficients (sigma_a, sigma_s) at this shading point,
+    // where textures give them (materials/subsurface_boundary.h); none otherwise.
+    std::optional<std::pair<Rgb, Rgb>> texturedInterior() const {
+        if (const auto* b = std::get_if<SubsurfaceBoundary<Dielectric>>(&model_))
+            return b->interior.coefficients();
+        if (const auto* b = std::get_if<SubsurfaceBoundary<RoughDielectric>>(&model_))
+            return b->interior.coefficients();
+        return std::nullopt;
+    }
+
     // Reflectance for the albedo AOV (as denoisers expect it): a diffuse albedo (a coated base's
     // too), Phong's kd + ks, a mirror's tint, a conductor's reflectance at normal incidence, white
     // for what transmits. Out of line: asked once per camera ray, its visit of every model (complex

@@ -27,17 +27,35 @@ inline double dipoleDiffuseReflectance(double albedo, double internalReflectance
     return albedo / 2.0 * (1.0 + std::exp(-4.0 / 3.0 * a * root)) * std::exp(-root);
 }
 
-// The reduced albedo whose dipole reflectance under a boundary of relative index eta (inside over
-// outside) is `reflectance` (clamped to [0, 1]): 60 bisection steps, exact to double rounding.
-inline double albedoForDiffuseReflectance(double reflectance, double eta) {
+// The reduced albedo whose dipole reflectance, under a boundary whose internal diffuse Fresnel
+// reflectance is `internalReflectance`, is `reflectance` (clamped to [0, 1]): 60 bisection steps,
+// exact to double rounding.
+inline double albedoForDiffuseReflectanceUnder(double reflectance, double internalReflectance) {
     const double target = std::fmin(std::fmax(reflectance, 0.0), 1.0);
-    const double internalReflectance = diffuseFresnelReflectance(1.0 / eta);
     double low = 0.0, high = 1.0;
     for (int step = 0; step < 60; ++step) {
         const double middle = 0.5 * (low + high);
         (dipoleDiffuseReflectance(middle, internalReflectance) < target ? low : high) = middle;
     }
     return 0.5 * (low + high);
+}
+
+// The same under a boundary of relative index eta (inside over outside).
+inline double albedoForDiffuseReflectance(double reflectance, double eta) {
+    return albedoForDiffuseReflectanceUnder(reflectance, diffuseFresnelReflectance(1.0 / eta));
+}
+
+// A medium's absorption and scattering coefficients from a reflectance and its mean free path
+// `length` (> 0): sigma_t = 1 / length, of which the albedo above scatters; scattering is the
+// reduced coefficient's, sigma_s = sigma_s' / (1 - g), so that the asymmetry g keeps the
+// reflectance.
+struct SubsurfaceCoefficients {
+    double sigmaA, sigmaS;
+};
+inline SubsurfaceCoefficients coefficientsForDiffuseReflectance(double reflectance, double length,
+                                                                double internalReflectance, double g) {
+    const double albedo = albedoForDiffuseReflectanceUnder(reflectance, internalReflectance);
+    return {(1.0 - albedo) / length, albedo / (length * (1.0 - g))};
 }
 
 }  // namespace penumbra

@@ -16,7 +16,9 @@
 #pragma once
 
 #include <cmath>
+#include <cstdint>
 #include <optional>
+#include <utility>
 
 #include "core/rgb.h"
 #include "core/sampling.h"
@@ -25,12 +27,46 @@
 #include "materials/dielectric.h"
 #include "materials/fresnel.h"
 #include "materials/rough_dielectric.h"
+#include "materials/subsurface_albedo.h"
 
 namespace penumbra {
+
+// Interior coefficients that vary over the surface: textures of sigma_a and sigma_s, or of the
+// reflectance and its mean free path, written at each shading point (Material::at) and taken by
+// the walk that enters there instead of its medium's, as pbrt-v4 evaluates its BSSRDF's
+// coefficients where light enters. The walk keeps them until it leaves.
+struct TexturedInterior {
+    enum class Kind : uint8_t { None, Coefficients, Reflectance };
+    Kind kind = Kind::None;
+    Rgb sigmaA{0.0f}, sigmaS{0.0f};             // Coefficients: per unit length, before scale
+    Rgb reflectance{0.0f}, meanFreePath{1.0f};  // Reflectance
+    float scale = 1.0f;
+    float g = 0.0f;                    // the medium's asymmetry (the reflectance's inversion keeps it)
+    float internalReflectance = 0.0f;  // diffuseFresnelReflectance(1 / eta), for the inversion
+
+    // sigma_a and sigma_s here; none when nothing is textured (the medium's own hold) or the
+    // values give no finite medium.
+    std::optional<std::pair<Rgb, Rgb>> coefficients() const {
+        if (kind == Kind::None) return std::nullopt;
+        Rgb a = sigmaA * scale, s = sigmaS * scale;
+        if (kind == Kind::Reflectance)
+            for (int c = 0; c < 3; ++c) {
+                const double length = double(meanFreePath[c]) * scale;
+                if (!(length > 0.0)) return std::nullopt;
+                const SubsurfaceCoefficients k =
+                    coefficientsForDiffuseReflectance(reflectance[c], length, internalReflectance, g);
+                (c == 0 ? a.r : c == 1 ? a.g : a.b) = float(k.sigmaA);
+                (c == 0 ? s.r : c == 1 ? s.g : s.b) = float(k.sigmaS);
+            }
+        if (!(a + s).isFinite()) return std::nullopt;
+        return std::pair{a, s};
+    }
+};
 
 template <class Surface>
 struct SubsurfaceBoundary {
     Surface surface;  // what light from outside meets; its eta: interior index over exterior
+    TexturedInterior interior;
 
     static constexpr BsdfFlags kFlags = Surface::kFlags | BsdfFlags::Diffuse | BsdfFlags::Transmission |
                                         BsdfFlags::Specular | BsdfFlags::Reflection;

@@ -353,6 +353,12 @@ Radiance estimateRadianceThroughMedia(const Accel& accel, const IntegratorContex
     TriangleLeft left;
     bool sawSurface = false;
     float cameraDistance = 0.0f;  // the camera ray's length up to the last boundary it crossed
+    // The medium of the current walk when its subsurface material's coefficients are textured: the
+    // interior's, with the coefficients found where the walk entered.
+    std::optional<MediumModel> walkMedium;
+    auto currentMedium = [&]() -> const MediumModel& {
+        return walkMedium ? *walkMedium : scene.media[path.medium];
+    };
     ++rays.primary;
 
     for (;; ++path.segment) {
@@ -389,7 +395,7 @@ Radiance estimateRadianceThroughMedia(const Accel& accel, const IntegratorContex
                                                         path.medium, ray.time, rays);
             }
             const Rgb tMaj = sampleFreeFlight(
-                scene.media[path.medium], ray.origin, direction, tEnd, path.hero,
+                currentMedium(), ray.origin, direction, tEnd, path.hero,
                 sample.get1D(MediumDim::Distance, path.segment), [&] { return distances.next(); },
                 [&](float t, Vec3f p, const MediumProperties& mp, Rgb sigmaMaj, Rgb tMajHere) {
                     const int h = path.hero;
@@ -512,7 +518,9 @@ Radiance estimateRadianceThroughMedia(const Accel& accel, const IntegratorContex
             // A medium boundary: the ray goes on unchanged, into the medium beyond it.
             cameraDistance += hit.t * directionLength;
             const float cosGeometric = dot(ray.direction, si.geometricNormal);
+            const uint32_t before = path.medium;
             path.medium = scene.mediaOf(si.shape).mediumAlong(ray.direction, si.geometricNormal, path.medium);
+            if (path.medium != before) walkMedium.reset();
             ray.origin = offsetRayOrigin(si.position, si.positionError,
                                          cosGeometric >= 0.0f ? si.geometricNormal : -si.geometricNormal);
             ray.tnear = 0.0f;
@@ -592,8 +600,21 @@ Radiance estimateRadianceThroughMedia(const Accel& accel, const IntegratorContex
         path.previousPosition = si.position;
         path.previousNormal = si.geometricNormal;
         if (!survivesVolumetricRoulette(ctx, sample, path)) break;
+        const bool walked = scene.isMaterialInterior(path.medium);
         path.medium = scene.mediaOf(si.shape).mediumAlong(wi, si.geometricNormal, path.medium);
-        if (!scene.isMaterialInterior(path.medium)) path.walkVertices = 0;
+        if (!scene.isMaterialInterior(path.medium)) {
+            path.walkVertices = 0;
+            walkMedium.reset();
+        } else if (!walked) {
+            walkMedium.reset();
+            if (const std::optional<std::pair<Rgb, Rgb>> k = vertex.material.texturedInterior())
+                [[unlikely]] {
+                HomogeneousMedium interior = std::get<HomogeneousMedium>(scene.media[path.medium]);
+                interior.sigmaA = k->first;
+                interior.sigmaS = k->second;
+                walkMedium = interior;
+            }
+        }
         continueRay(ray, si, local.leaveDistance, wi, cosWi);
         ++rays.extension;
     }

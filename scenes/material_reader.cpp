@@ -528,6 +528,28 @@ Material readMeasured(const JsonValue& material, MaterialContext& context) {
     return Material(MeasuredBsdf{tables}, readTwoSided(material), std::move(context.textures));
 }
 
+// Where a texture of a subsurface material's interior writes its value (TexturedInterior).
+template <class Boundary>
+TexturedInterior& texturedInteriorOf(MaterialModel& m) {
+    return std::get<Boundary>(m).interior;
+}
+template <class Boundary>
+struct InteriorSetters {
+    static void sigmaA(MaterialModel& m, Rgb c) {
+        texturedInteriorOf<Boundary>(m).sigmaA = clampedColor(c, kMax);
+    }
+    static void sigmaS(MaterialModel& m, Rgb c) {
+        texturedInteriorOf<Boundary>(m).sigmaS = clampedColor(c, kMax);
+    }
+    static void reflectance(MaterialModel& m, Rgb c) {
+        texturedInteriorOf<Boundary>(m).reflectance = clampedColor(c);
+    }
+    static void meanFreePath(MaterialModel& m, Rgb c) {
+        texturedInteriorOf<Boundary>(m).meanFreePath = clampedColor(c, kMax);
+    }
+    static constexpr float kMax = std::numeric_limits<float>::max();
+};
+
 // pbrt-v4's default coefficients of a subsurface material given none (mm^-1, a milk).
 constexpr Rgb kDefaultSubsurfaceSigmaA{0.0011f, 0.0024f, 0.014f};
 constexpr Rgb kDefaultSubsurfaceSigmaS{2.55f, 3.21f, 3.77f};
@@ -539,7 +561,8 @@ constexpr Rgb kDefaultSubsurfaceSigmaS{2.55f, 3.21f, 3.77f};
 // "reflectance" (the diffuse reflectance asked for, a colour in [0, 1]) and "mfp" (its mean free
 // path 1 / sigma_t, a colour > 0, default 1) times "scale" (materials/subsurface_albedo.h; with
 // g != 0 the similarity relation sigma_s (1 - g) keeps the reduced albedo); pbrt-v4's milk-like
-// coefficients when none is given.
+// coefficients when none is given. "sigma_a", "sigma_s", "reflectance" and "mfp" may be textures:
+// a walk then takes the coefficients at the point where it enters (materials/subsurface_boundary.h).
 Material readSubsurface(const JsonValue& material, MaterialContext& context) {
     const auto reflectance = material.member("reflectance"), mfp = material.member("mfp");
     const auto sigmaA = material.member("sigma_a"), sigmaS = material.member("sigma_s");
@@ -554,46 +577,78 @@ Material readSubsurface(const JsonValue& material, MaterialContext& context) {
     const float eta = material.member("eta") ? material.member("eta")->numberAbove(0.0f) : 1.33f;
     bool texturedRoughness = false;
     const std::optional<MicrofacetDistribution> distribution = readDistribution(material, &texturedRoughness);
-    Material surface;
-    if (isSmooth(distribution) && !texturedRoughness) {
-        surface = Material(SubsurfaceBoundary<Dielectric>{Dielectric{eta}});
-    } else {
-        if (texturedRoughness)
-            addTexturedRoughness<distributionIn<SubsurfaceBoundary<RoughDielectric>>>(material, context);
-        RoughDielectric rough;
-        rough.eta = eta;
-        rough.distribution = clampedForRendering(*distribution);
-        surface = Material(SubsurfaceBoundary<RoughDielectric>{rough}, true, std::move(context.textures));
-    }
-    HomogeneousMedium medium = readHomogeneousMedium(material);
-    if (reflectance) {
+    const bool smooth = isSmooth(distribution) && !texturedRoughness;
+    auto textured = [](const std::optional<JsonValue>& v) { return v && isTextureValue(*v); };
+    TexturedInterior interior;
+    if (textured(sigmaA) || textured(sigmaS)) interior.kind = TexturedInterior::Kind::Coefficients;
+    if (textured(reflectance) || textured(mfp)) interior.kind = TexturedInterior::Kind::Reflectance;
+
+    // The medium: its phase function, and its coefficients where nothing is textured (the
+    // textured ones read as 0 there; the walk takes the textures' values).
+    Json constants = material.json();
+    for (const char* key : {"sigma_a", "sigma_s"})
+        if (constants.contains(key) && isTextureValue(*material.member(key))) constants[key] = 0;
+    HomogeneousMedium medium =
+        readHomogeneousMedium(JsonValue(constants, material.file(), material.pointer()));
+    const float scale = material.member("scale") ? material.member("scale")->number() : 1.0f;
+    interior.scale = scale;
+    interior.g = medium.phase.g;
+    interior.internalReflectance = float(diffuseFresnelReflectance(1.0 / eta));
+    auto setters = [&]<class Boundary>() {
+        using S = InteriorSetters<Boundary>;
+        const float largest = std::numeric_limits<float>::max();
+        if (interior.kind == TexturedInterior::Kind::Coefficients) {
+            interior.sigmaA = readColorParameter(*sigmaA, 0.0f, largest, Rgb(0.0f), context, S::sigmaA);
+            interior.sigmaS = readColorParameter(*sigmaS, 0.0f, largest, Rgb(0.0f), context, S::sigmaS);
+        } else if (interior.kind == TexturedInterior::Kind::Reflectance) {
+            interior.reflectance =
+                readColorParameter(*reflectance, 0.0f, 1.0f, Rgb(0.0f), context, S::reflectance);
+            if (mfp)
+                interior.meanFreePath =
+                    readColorParameter(*mfp, 0.0f, largest, Rgb(1.0f), context, S::meanFreePath);
+        }
+    };
+    if (smooth)
+        setters.template operator()<SubsurfaceBoundary<Dielectric>>();
+    else
+        setters.template operator()<SubsurfaceBoundary<RoughDielectric>>();
+
+    if (reflectance && !textured(reflectance) && !textured(mfp)) {
         const Rgb albedoAsked = reflectance->rgb(0.0f, 1.0f);
         const Rgb freePath = mfp ? mfp->rgb(0.0f) : Rgb(1.0f);
-        const float scale = material.member("scale") ? material.member("scale")->number() : 1.0f;
         float absorption[3], scattering[3];
         for (int c = 0; c < 3; ++c) {
             const double length = double(freePath[c]) * scale;
             if (!(length > 0.0) || !std::isfinite(1.0 / length))
                 (mfp ? *mfp : material)
                     .fail("the mean free path times scale must be > 0 and its inverse fit a 32-bit float");
-            const double albedo = albedoForDiffuseReflectance(albedoAsked[c], eta);
-            absorption[c] = float((1.0 - albedo) / length);
-            scattering[c] = float(albedo / (length * (1.0 - double(medium.phase.g))));
+            const SubsurfaceCoefficients k = coefficientsForDiffuseReflectance(
+                albedoAsked[c], length, diffuseFresnelReflectance(1.0 / eta), double(medium.phase.g));
+            absorption[c] = float(k.sigmaA);
+            scattering[c] = float(k.sigmaS);
         }
         medium.sigmaA = {absorption[0], absorption[1], absorption[2]};
         medium.sigmaS = {scattering[0], scattering[1], scattering[2]};
         if (!(medium.sigmaA + medium.sigmaS).isFinite())
             material.fail(
                 "the coefficients of this reflectance and mean free path do not fit a 32-bit float");
-    } else if (!sigmaA && !preset) {
-        const float scale = material.member("scale") ? material.member("scale")->number() : 1.0f;
+    } else if (!sigmaA && !preset && !reflectance) {
         medium.sigmaA = kDefaultSubsurfaceSigmaA * scale;
         medium.sigmaS = kDefaultSubsurfaceSigmaS * scale;
         if (!(medium.sigmaA + medium.sigmaS).isFinite())
             material.fail("the default coefficients times scale do not fit a 32-bit float");
     }
     context.interior = medium;
-    return surface;
+
+    if (smooth)
+        return Material(SubsurfaceBoundary<Dielectric>{Dielectric{eta}, interior}, true,
+                        std::move(context.textures));
+    if (texturedRoughness)
+        addTexturedRoughness<distributionIn<SubsurfaceBoundary<RoughDielectric>>>(material, context);
+    RoughDielectric rough;
+    rough.eta = eta;
+    rough.distribution = clampedForRendering(*distribution);
+    return Material(SubsurfaceBoundary<RoughDielectric>{rough, interior}, true, std::move(context.textures));
 }
 
 // "bump": a height field in scene units along the normal (a number, or a texture whose first

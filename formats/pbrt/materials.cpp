@@ -517,6 +517,16 @@ void subsurfaceMaterial(Json& m, const ParameterList& params, const TextureTable
                                *scale));
         m["scale"] = *scale;
     }
+    // A coefficient's texture object: the walk takes its value where it enters (pbrt-v4 evaluates
+    // its BSSRDF's coefficients there).
+    auto textureObject = [&](const char* parameter) -> std::optional<Json> {
+        const Parameter* p = params.find(parameter, {ParamType::Rgb, ParamType::Spectrum, ParamType::Texture,
+                                                     ParamType::Float, ParamType::Blackbody});
+        if (p && p->type == ParamType::Texture && p->strings.size() == 1)
+            if (const TextureTable::Texture* t = textures.spectrum(p->strings[0]); t && t->object)
+                return *t->object;
+        return std::nullopt;
+    };
     const std::string name = params.getString("name").value_or("");
     const bool hasSigmaA = params.has("sigma_a"), hasSigmaS = params.has("sigma_s");
     if (!name.empty()) {
@@ -536,21 +546,33 @@ void subsurfaceMaterial(Json& m, const ParameterList& params, const TextureTable
             failAt(where, fmt::format("a subsurface material with \"{}\" needs \"{}\" too",
                                       hasSigmaA ? "sigma_a" : "sigma_s", hasSigmaA ? "sigma_s" : "sigma_a"));
         for (const char* coefficient : {"sigma_a", "sigma_s"}) {
+            if (std::optional<Json> object = textureObject(coefficient)) {
+                m[coefficient] = *object;
+                continue;
+            }
             const Rgb c = readColor(params, coefficient, Rgb(0.0f), SpectrumUse::Unbounded, textures, log);
             m[coefficient] = rgbJson({std::max(c.r, 0.0f), std::max(c.g, 0.0f), std::max(c.b, 0.0f)});
         }
     } else if (params.has("reflectance")) {
-        m["reflectance"] = rgbJson(
-            clamp01(readColor(params, "reflectance", Rgb(1.0f), SpectrumUse::Reflectance, textures, log),
-                    nullptr, log, ""));
-        const Rgb mfp = readColor(params, "mfp", Rgb(1.0f), SpectrumUse::Unbounded, textures, log);
-        if (!(mfp.minComponent() > 0.0f) || !mfp.isFinite())
-            failAt(
-                params
-                    .find("mfp", {ParamType::Rgb, ParamType::Spectrum, ParamType::Float, ParamType::Texture})
-                    ->where,
-                "parameter \"mfp\" (the mean free path) must be > 0 and finite in every channel");
-        m["mfp"] = rgbJson(mfp);
+        if (std::optional<Json> object = textureObject("reflectance"))
+            m["reflectance"] = *object;
+        else
+            m["reflectance"] = rgbJson(
+                clamp01(readColor(params, "reflectance", Rgb(1.0f), SpectrumUse::Reflectance, textures, log),
+                        nullptr, log, ""));
+        if (std::optional<Json> object = textureObject("mfp")) {
+            m["mfp"] = *object;
+            params.find("mfp", {ParamType::Texture});  // read: not unused
+        } else {
+            const Rgb mfp = readColor(params, "mfp", Rgb(1.0f), SpectrumUse::Unbounded, textures, log);
+            if (!(mfp.minComponent() > 0.0f) || !mfp.isFinite())
+                failAt(params
+                           .find("mfp",
+                                 {ParamType::Rgb, ParamType::Spectrum, ParamType::Float, ParamType::Texture})
+                           ->where,
+                       "parameter \"mfp\" (the mean free path) must be > 0 and finite in every channel");
+            m["mfp"] = rgbJson(mfp);
+        }
     }
     if (g != 0.0) m["g"] = std::clamp(g, -0.99, 0.99);
     if (addTexturedRoughness(m, params, textures)) return;

@@ -400,6 +400,30 @@ TEST(PbrtMapping, LayeredMaterials) {
     EXPECT_EQ(copper.coatDistribution.alphaX, 0.0f);
 }
 
+// pbrt-v4's subsurface coefficients as textures: the texture objects themselves (evaluated where a
+// walk enters), no warning.
+TEST(PbrtMapping, TexturedSubsurfaceCoefficients) {
+    const auto c =
+        convert(kCamera +
+                "WorldBegin\n"
+                "Texture \"cb\" \"spectrum\" \"checkerboard\" \"rgb tex1\" [0.2 0.2 0.2] \"rgb tex2\" "
+                "[0.4 0.4 0.4]\n"
+                "MakeNamedMaterial \"jade\" \"string type\" \"subsurface\" \"texture reflectance\" \"cb\" "
+                "\"texture mfp\" \"cb\"\n"
+                "MakeNamedMaterial \"wax\" \"string type\" \"subsurface\" \"texture sigma_a\" \"cb\" "
+                "\"rgb sigma_s\" [1 2 3]\n"
+                "Material \"subsurface\"\n"
+                "Shape \"sphere\"\n");
+    const Json& m = c.document["materials"];
+    EXPECT_EQ(m["jade"]["reflectance"]["type"], "checkerboard");
+    EXPECT_EQ(m["jade"]["mfp"]["type"], "checkerboard");
+    EXPECT_EQ(m["wax"]["sigma_a"]["type"], "checkerboard");
+    EXPECT_EQ(m["wax"]["sigma_s"], Json::parse("[1.0, 2.0, 3.0]"));
+    EXPECT_FALSE(hasWarning(c, "texture"));
+    const Scene scene = buildPbrtScene(c, "test.pbrt");
+    EXPECT_TRUE(scene.materials[0].isTextured());
+}
+
 TEST(PbrtMapping, MeasuredMaterials) {
     const auto c = convert(kCamera +
                            "WorldBegin\n"

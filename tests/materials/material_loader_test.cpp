@@ -431,6 +431,36 @@ TEST(MaterialLoader, SubsurfaceMaterials) {
                     "/materials/m/materials/1: a mix cannot include a subsurface material");
 }
 
+// A subsurface material's textured coefficients: written at each shading point into its boundary,
+// whose walk takes them (sigma_a and sigma_s times scale; a reflectance inverted with its mfp).
+TEST(MaterialLoader, TexturedSubsurfaceCoefficients) {
+    const Scene scene = parseScene(R"({"materials": {
+        "wax": {"type": "subsurface", "scale": 2,
+                "sigma_a": {"type": "checkerboard", "colors": [0.1, 0.2]}, "sigma_s": [1, 2, 3]},
+        "jade": {"type": "subsurface", "eta": 1.4, "roughness": 0.2, "g": 0.3,
+                 "reflectance": {"type": "checkerboard", "colors": [0.3, 0.6]}, "mfp": 0.5},
+        "plain": {"type": "subsurface", "sigma_a": 1, "sigma_s": 1}}})",
+                                   "s.json");
+    TextureQuery even, odd;
+    even.uv = {0.5f, 0.5f};
+    odd.uv = {1.5f, 0.5f};
+    ASSERT_TRUE(scene.materials[0].isTextured());
+    const auto waxEven = scene.materials[0].at(even).texturedInterior();
+    const auto waxOdd = scene.materials[0].at(odd).texturedInterior();
+    ASSERT_TRUE(waxEven && waxOdd);
+    EXPECT_FLOAT_EQ(waxEven->first.g, 0.2f);
+    EXPECT_FLOAT_EQ(waxOdd->first.g, 0.4f);
+    EXPECT_EQ(waxEven->second, Rgb(2.0f, 4.0f, 6.0f));
+    const auto jade = scene.materials[1].at(odd).texturedInterior();
+    ASSERT_TRUE(jade);
+    const SubsurfaceCoefficients k =
+        coefficientsForDiffuseReflectance(0.6, 0.5, diffuseFresnelReflectance(1.0 / 1.4), 0.3);
+    EXPECT_NEAR(jade->first.r, k.sigmaA, 1e-5 * k.sigmaA);
+    EXPECT_NEAR(jade->second.b, k.sigmaS, 1e-5 * k.sigmaS);
+    EXPECT_FALSE(scene.materials[2].texturedInterior());
+    EXPECT_FALSE(scene.materials[2].isTextured());
+}
+
 // The layered materials (materials/layered_bsdf.h): "coated_conductor", and "coated_diffuse" with
 // "model": "layered"; their values in the model, textures at each textured parameter, and errors.
 TEST(MaterialLoader, LayeredMaterials) {

@@ -221,5 +221,59 @@ TEST(Subsurface, AWalkThatWouldNotEndIsCutShort) {
     EXPECT_LT(m.mean + 5 * m.standardError, 1.0);
 }
 
+// Textured coefficients are taken where a walk enters (pbrt-v4 evaluates its BSSRDF's there):
+// the semi-infinite medium above, its sigma_a and sigma_s checkerboards in the plane (squares of
+// side 1) giving albedo 0.5 on one kind of square and 0.95 on the other. Seen at a point in each
+// kind, every channel is the plane albedo of that square's albedo, though the walks wander
+// across squares (the coefficients stay those of the entry).
+TEST(Subsurface, TexturedCoefficientsAreTakenWhereTheWalkEnters) {
+    const std::string box = boxJson({-1000, -1000, -1000}, {1000, 1000, 0}, "slab");
+    for (const auto& [target, albedo] :
+         {std::pair{Vec3f{0.5f, 0.5f, 0.0f}, 0.5}, std::pair{Vec3f{1.5f, 0.5f, 0.0f}, 0.95}}) {
+        const Scene scene = parseScene(R"({
+            "film": {"resolution": [16, 16], "spp": 512, "filter": {"type": "box"}},
+            "integrator": {"max_depth": 8},
+            "background": 1,
+            )" + narrowCameraJson(target + Vec3f{0.0f, 0.0f, 5.0f}, target) +
+                                           R"(,
+            "materials": {"slab": {"type": "subsurface", "eta": 1,
+                "sigma_a": {"type": "checkerboard", "colors": [0.5, 0.05], "mapping": {"type": "planar"}},
+                "sigma_s": {"type": "checkerboard", "colors": [0.5, 0.95], "mapping": {"type": "planar"}}}},
+            "shapes": [)" + box + "]}",
+                                       "slab.json");
+        const PixelMean m = renderedChannelMean(scene, 1);
+        EXPECT_TRUE(withinSigmas(m.mean, planeAlbedo(albedo, 1.0), m.standardError)) << "albedo " << albedo;
+    }
+}
+
+// A textured reflectance (and mean free path) renders as the constant one at each point: a slab
+// under a rough boundary (eta 1.33) whose reflectance checkerboard holds 0.3 on the square seen
+// and 0.8 on the others, against the same slab of constant reflectance 0.3 (the two means within 5
+// standard errors of their difference).
+TEST(Subsurface, ATexturedReflectanceIsTheConstantOneWhereTheWalkEnters) {
+    const std::string box = boxJson({-1000, -1000, -1000}, {1000, 1000, 0}, "slab");
+    auto slab = [&](const std::string& reflectance, const std::string& mfp) {
+        return parseScene(R"({
+            "film": {"resolution": [16, 16], "spp": 256, "filter": {"type": "box"}},
+            "integrator": {"max_depth": 8},
+            "background": 1,
+            )" + narrowCameraJson({0.5f, 0.5f, 5.0f}, {0.5f, 0.5f, 0.0f}) +
+                              R"(,
+            "materials": {"slab": {"type": "subsurface", "eta": 1.33, "roughness": 0.3,
+                "reflectance": )" +
+                              reflectance + R"(, "mfp": )" + mfp + R"(}},
+            "shapes": [)" + box +
+                              "]}",
+                          "slab.json");
+    };
+    const Scene textured =
+        slab(R"({"type": "checkerboard", "colors": [0.3, 0.8], "mapping": {"type": "planar"}})",
+             R"({"type": "checkerboard", "colors": [0.5, 4], "mapping": {"type": "planar"}})");
+    const Scene constant = slab("0.3", "0.5");
+    const PixelMean a = renderedChannelMean(textured, 0), b = renderedChannelMean(constant, 0);
+    EXPECT_TRUE(withinSigmas(a.mean - b.mean, 0.0, std::hypot(a.standardError, b.standardError)))
+        << a.mean << " against " << b.mean;
+}
+
 }  // namespace
 }  // namespace penumbra
