@@ -52,6 +52,31 @@ Rgb xyzToLinearSrgb(const Xyz& xyz) {
     return {float(r), float(g), float(b)};
 }
 
+Xyz linearSrgbToXyz(Rgb c) {
+    return {0.4124564 * c.r + 0.3575761 * c.g + 0.1804375 * c.b,
+            0.2126729 * c.r + 0.7151522 * c.g + 0.0721750 * c.b,
+            0.0193339 * c.r + 0.1191920 * c.g + 0.9503041 * c.b};
+}
+
+std::array<double, 2> daylightChromaticity(double kelvin) {
+    const double t = kelvin * 1.4388 / 1.4380;
+    if (!(t >= 4000.0)) {
+        // The Planckian locus by Kim, Kim and Lee's cubics (2002, "Design of advanced color
+        // temperature control system for HDTV applications"; within about 5e-4 of the locus from
+        // 1667 K, clamped below): integrating Planck's law with the matching functions' fit errs by
+        // 1e-3 here, which a white balance to 3000 K turns into 5% of red.
+        const double v = 1.0 / std::max(t, 1667.0);
+        const double x = ((-0.2661239e9 * v - 0.2343589e6) * v + 0.8776956e3) * v + 0.179910;
+        const double y = t <= 2222.0 ? ((-1.1063814 * x - 1.34811020) * x + 2.18555832) * x - 0.20219683
+                                     : ((-0.9549476 * x - 1.37418593) * x + 2.09137015) * x - 0.16748867;
+        return {x, y};
+    }
+    const double u = 1.0 / std::min(t, 25000.0);
+    const double x = t <= 7000.0 ? ((-4.6070e9 * u + 2.9678e6) * u + 0.09911e3) * u + 0.244063
+                                 : ((-2.0064e9 * u + 1.9018e6) * u + 0.24748e3) * u + 0.237040;
+    return {x, -3.0 * x * x + 2.870 * x - 0.275};
+}
+
 Rgb unitLuminanceLinearSrgb(const Xyz& xyz) {
     if (!(xyz[1] > 0.0)) return Rgb(0.0f);
     return xyzToLinearSrgb({xyz[0] / xyz[1], 1.0, xyz[2] / xyz[1]});
@@ -83,6 +108,24 @@ Xyz adaptEqualEnergyToD65(const Xyz& xyz) {
 }
 
 }  // namespace
+
+std::array<Xyz, 3> whiteBalanceXyz(std::array<double, 2> from, std::array<double, 2> to) {
+    auto whiteCones = [](std::array<double, 2> xy) {
+        return times(kBradford, {xy[0] / xy[1], 1.0, (1.0 - xy[0] - xy[1]) / xy[1]});
+    };
+    const Xyz source = whiteCones(from), target = whiteCones(to);
+    // Bradford^-1 diag(target / source) Bradford, column by column.
+    std::array<Xyz, 3> m{};
+    for (int column = 0; column < 3; ++column) {
+        Xyz unit{};
+        unit[column] = 1.0;
+        Xyz cones = times(kBradford, unit);
+        for (int i = 0; i < 3; ++i) cones[i] *= target[i] / source[i];
+        const Xyz out = times(kBradfordInverse, cones);
+        for (int row = 0; row < 3; ++row) m[row][column] = out[row];
+    }
+    return m;
+}
 
 Rgb reflectanceXyzToLinearSrgb(const Xyz& xyzUnderEqualEnergy) {
     // The transforms above map white to (1, 1, 1) within their published digits; the division makes it exact.

@@ -27,6 +27,19 @@ const std::vector<Xyz>& cieMatchingAt1nm();
 // The sum of y-bar over the 1 nm steps from 360 to 830 nm.
 double cieYIntegral();
 Rgb xyzToLinearSrgb(const Xyz& xyz);
+// Its inverse (Lindbloom's sRGB to XYZ matrix, D65).
+Xyz linearSrgbToXyz(Rgb c);
+// The chromaticity (x, y) of penumbra's white, D65 (CIE 015:2004).
+constexpr std::array<double, 2> kD65Chromaticity{0.31271, 0.32902};
+// The chromaticity of CIE daylight at correlated colour temperature `kelvin`: the CIE daylight
+// locus (CIE 015:2004, eq. 3.3 and 3.4) from 4000 K to 25000 K (clamped above), at the
+// temperature corrected from the old radiation constant c2 = 1.4380e-2 to 1.4388e-2 m K (as
+// pbrt-v4's Spectra::D), and below 4000 K, where daylight is not defined, a blackbody's (the
+// Planckian locus, Kim et al.'s cubics).
+std::array<double, 2> daylightChromaticity(double kelvin);
+// A von Kries white balance (pbrt-v4's WhiteBalance): the 3 x 3 matrix on XYZ that takes the white of
+// chromaticity `from` to the white of chromaticity `to`, scaling the Bradford cone responses.
+std::array<Xyz, 3> whiteBalanceXyz(std::array<double, 2> from, std::array<double, 2> to);
 // The colour of `xyz` scaled to luminance Y = 1 (black where Y is not positive).
 Rgb unitLuminanceLinearSrgb(const Xyz& xyz);
 // The colour of a reflectance spectrum from its spectrumToXyz (the XYZ it has under an equal-energy

@@ -66,7 +66,7 @@ struct TexturedInterior {
 template <class Surface>
 struct SubsurfaceBoundary {
     Surface surface;  // what light from outside meets; its eta: interior index over exterior
-    TexturedInterior interior;
+    TexturedInterior interior{};
 
     static constexpr BsdfFlags kFlags = Surface::kFlags | BsdfFlags::Diffuse | BsdfFlags::Transmission |
                                         BsdfFlags::Specular | BsdfFlags::Reflection;

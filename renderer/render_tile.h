@@ -55,6 +55,7 @@ TileResult renderTile(const Accel& accel, const Scene& scene, const Camera& came
     TracedRay traced[kPacket];
     Hit hits[kPacket];
     bool found[kPacket];
+    const SensorResponse* sensor = scene.film.sensor ? &*scene.film.sensor : nullptr;
     for (int y = tile.y0; y < tile.y1; ++y)
         for (int x = tile.x0; x < tile.x1; ++x) {
             if (active && !active->active(x, y)) continue;  // stopped by adaptive sampling
@@ -98,6 +99,7 @@ TileResult renderTile(const Accel& accel, const Scene& scene, const Camera& came
                         radiance = Rgb(0.0f);
                     }
                     if (cameraWeights[i] != 1.0f) radiance = radiance * cameraWeights[i];
+                    if (sensor) radiance = sensor->apply(radiance);
                     pixel.add(radiance, 1.0f, aovs);
                     ++result.samples;
                 }

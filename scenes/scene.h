@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "cameras/camera.h"
+#include "cameras/sensor_response.h"
 #include "core/adaptive_schedule.h"
 #include "core/rgb.h"
 #include "core/sampler.h"
@@ -37,6 +38,9 @@ struct FilmSettings {
     // film.crop_window (pbrt-v4's cropwindow): only the pixels in these fractions x0, x1, y0, y1
     // of the image are rendered (x0 < x1, y0 < y1, in [0, 1]); --crop takes its place.
     std::optional<std::array<float, 4>> cropWindow{};
+    // film.sensor (pbrt-v4's iso, exposure time and white balance): what each sample's radiance
+    // becomes on the film (cameras/sensor_response.h). None: the radiance itself.
+    std::optional<SensorResponse> sensor{};
 };
 
 // How the integrator finds light at each vertex: both strategies weighted by multiple importance

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <cstdint>
 #include <limits>
 
@@ -18,8 +19,24 @@ constexpr int64_t kMaxInt = std::numeric_limits<int32_t>::max();
 }  // namespace
 
 FilmSettings readFilm(const JsonValue& value) {
-    const JsonObject object(value, {"resolution", "spp", "filter", "crop_window", "adaptive"});
+    const JsonObject object(value, {"resolution", "spp", "filter", "crop_window", "adaptive", "sensor"});
     FilmSettings film;
+    if (auto v = object.get("sensor")) {
+        // A physical camera's exposure (cameras/sensor_response.h): ISO, exposure time, white balance.
+        const JsonObject sensor(*v, {"iso", "exposure_time", "white_balance"});
+        const float iso = sensor.get("iso") ? sensor.get("iso")->numberAbove(0.0f) : 100.0f;
+        const float time =
+            sensor.get("exposure_time") ? sensor.get("exposure_time")->numberAbove(0.0f) : 1.0f;
+        float kelvin = 0.0f;
+        if (auto k = sensor.get("white_balance")) {
+            kelvin = k->number();
+            if (!(kelvin == 0.0f || (kelvin >= 1000.0f && kelvin <= 100000.0f)))
+                k->failExpected("a colour temperature from 1000 to 100000 kelvin, or 0 for none");
+        }
+        film.sensor = SensorResponse::make(iso, time, kelvin);
+        if (!std::isfinite(film.sensor->imagingRatio()))
+            v->fail("exposure_time x iso / 100 must fit a 32-bit float");
+    }
     if (auto v = object.get("resolution")) {
         if (!v->json().is_array() || v->json().size() != 2)
             v->failExpected("an array [width, height] of 2 integers");

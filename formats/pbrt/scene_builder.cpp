@@ -318,6 +318,25 @@ void SceneBuilder::optionDirective(const Directive& d) {
         }
         film["resolution"] = {w, h};
         origins_.push_back({"/film/resolution", d.where});
+        // pbrt-v4's sensor: the imaging ratio exposure time x iso / 100 and a white balance; for a
+        // measured camera response (not here) pbrt-v4 balances to 6500 K unless told otherwise.
+        filmIso_ = p.getFloat("iso").value_or(100.0);
+        if (!(filmIso_ > 0.0 && filmIso_ <= 1e7))
+            failAt(p.find("iso", {ParamType::Float})->where,
+                   fmt::format("Film: iso must be > 0 and at most 1e7, found {}", filmIso_));
+        const std::string sensor = p.getString("sensor").value_or("cie1931");
+        filmWhiteBalance_ = p.getFloat("whitebalance").value_or(sensor == "cie1931" ? 0.0 : 6500.0);
+        if (!(filmWhiteBalance_ == 0.0 || (filmWhiteBalance_ >= 1000.0 && filmWhiteBalance_ <= 100000.0)))
+            failAt(
+                p.find("whitebalance", {ParamType::Float})->where,
+                fmt::format("Film: whitebalance must be 0 or a temperature from 1000 to 100000 K, found {}",
+                            filmWhiteBalance_));
+        if (sensor != "cie1931")
+            log_.warn(
+                p.find("sensor", {ParamType::String})->where,
+                fmt::format("Film sensor \"{}\": its measured response is not in penumbra; rendered with "
+                            "the CIE 1931 observer, white-balanced to {} K",
+                            sensor, filmWhiteBalance_));
         if (auto f = p.getString("filename"))
             log_.warn(
                 p.find("filename", {ParamType::String})->where,
@@ -519,6 +538,22 @@ void SceneBuilder::finishCamera(Json& scene) {
     }
     camera["shutter"] = Json::array({open, close});
     scene["camera"] = camera;
+    // pbrt-v4 exposes the film for the shutter's time at the film's ISO (PixelSensor::Create).
+    if (close - open != 1.0 || filmIso_ != 100.0 || filmWhiteBalance_ != 0.0) {
+        Json sensor = Json::object();
+        if (filmIso_ != 100.0) sensor["iso"] = filmIso_;
+        if (close - open != 1.0) {
+            if (close > open)
+                sensor["exposure_time"] = close - open;
+            else
+                log_.warn(
+                    where,
+                    "Camera: the shutter never opens (shutterclose = shutteropen), which pbrt-v4 refuses; "
+                    "rendered with an exposure time of 1");
+        }
+        if (filmWhiteBalance_ != 0.0) sensor["white_balance"] = filmWhiteBalance_;
+        scene_["film"]["sensor"] = std::move(sensor);
+    }
     if (camera_.given) origins_.push_back({"/camera", where});
     p.reportUnused(log_, fmt::format("Camera \"{}\"", camera_.type));
     if (!filterGiven_)

@@ -165,6 +165,8 @@ private:
     Matrix4d mirror_ = Matrix4d::identity();
     int filmWidth_ = 1280, filmHeight_ = 720;
     double filmDiagonalMm_ = 35.0;  // Film "diagonal": the realistic camera's film size
+    // Film "iso" and "whitebalance" (pbrt-v4's PixelSensor), exposed with the camera's shutter time.
+    double filmIso_ = 100.0, filmWhiteBalance_ = 0.0;
 
     TextureTable textures_;
     std::map<std::string, std::string> namedMaterials_;  // pbrt name -> JSON material name

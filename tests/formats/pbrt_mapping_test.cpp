@@ -424,6 +424,28 @@ TEST(PbrtMapping, TexturedSubsurfaceCoefficients) {
     EXPECT_TRUE(scene.materials[0].isTextured());
 }
 
+// pbrt-v4's PixelSensor (film.cpp, PixelSensor::Create): the imaging ratio from the film's iso and
+// the camera's shutter time, the film's white balance, and a measured sensor's default 6500 K.
+TEST(PbrtMapping, FilmSensor) {
+    auto sensorOf = [](const std::string& film, const std::string& camera) {
+        const auto c = convert(film + camera + "WorldBegin\nShape \"sphere\"\n");
+        return c.document["film"].contains("sensor") ? c.document["film"]["sensor"] : Json();
+    };
+    const std::string camera = "Camera \"perspective\"\n";
+    EXPECT_TRUE(sensorOf("", camera).is_null());  // shutter 0 to 1, iso 100: the radiance itself
+    EXPECT_EQ(sensorOf("Film \"rgb\" \"float iso\" 400 \"float whitebalance\" 3000\n",
+                       "Camera \"perspective\" \"float shutteropen\" 0.25 \"float shutterclose\" 0.75\n"),
+              Json::parse(R"({"iso": 400.0, "exposure_time": 0.5, "white_balance": 3000.0})"));
+    const auto c = convert("Film \"rgb\" \"string sensor\" \"canon_eos_100d\"\n" + camera +
+                           "WorldBegin\nShape \"sphere\"\n");
+    EXPECT_EQ(c.document["film"]["sensor"], Json::parse(R"({"white_balance": 6500.0})"));
+    EXPECT_TRUE(hasWarning(c, "Film sensor \"canon_eos_100d\": its measured response is not in penumbra"));
+    EXPECT_CONTAINS(testing::catchInputError([&] {
+                        convert("Film \"rgb\" \"float iso\" -5\n" + camera + "WorldBegin\n");
+                    }).what(),
+                    "Film: iso must be > 0");
+}
+
 TEST(PbrtMapping, MeasuredMaterials) {
     const auto c = convert(kCamera +
                            "WorldBegin\n"

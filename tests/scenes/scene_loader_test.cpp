@@ -753,6 +753,27 @@ TEST(SceneErrors, SppZero) {
     EXPECT_EQ(std::string(e.what()), "scene.json: /film/spp: expected an integer >= 1, found 0");
 }
 
+TEST(SceneErrors, BadSensors) {
+    auto error = [](const char* json) {
+        return std::string(catchInputError([&] { parseScene(json, "scene.json"); }).what());
+    };
+    EXPECT_CONTAINS(error(R"({"film": {"sensor": {"iso": 0}}})"),
+                    "scene.json: /film/sensor/iso: expected a number > 0");
+    EXPECT_CONTAINS(error(R"({"film": {"sensor": {"exposure_time": -1}}})"), "/film/sensor/exposure_time");
+    EXPECT_CONTAINS(
+        error(R"({"film": {"sensor": {"white_balance": 500}}})"),
+        "/film/sensor/white_balance: expected a colour temperature from 1000 to 100000 kelvin, or 0");
+    EXPECT_CONTAINS(error(R"({"film": {"sensor": {"iso": 1e30, "exposure_time": 1e30}}})"),
+                    "/film/sensor: exposure_time x iso / 100 must fit a 32-bit float");
+    EXPECT_CONTAINS(error(R"({"film": {"sensor": {"gain": 2}}})"), "/film/sensor/gain: unknown key");
+    const Scene scene =
+        parseScene(R"({"film": {"sensor": {"iso": 200, "white_balance": 3200}}})", "scene.json");
+    ASSERT_TRUE(scene.film.sensor);
+    EXPECT_EQ(scene.film.sensor->imagingRatio(), 2.0f);
+    EXPECT_EQ(scene.film.sensor->whiteBalance, 3200.0f);
+    EXPECT_FALSE(parseScene("{}", "scene.json").film.sensor);
+}
+
 TEST(SceneErrors, UnknownLightStrategy) {
     const InputError e =
         catchInputError([] { parseScene(R"({"integrator": {"strategy": "photons"}})", "scene.json"); });
