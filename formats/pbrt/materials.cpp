@@ -629,10 +629,19 @@ Json mapMaterial(const std::string& type, const ParameterList& params, const Tex
         }
         return c;
     };
-    // The slab and walk of pbrt-v4's layered materials: thickness 0.01, albedo black, g 0, maxdepth
-    // 10, nsamples 1 (written only where a file changes them).
+    // The slab and walk of pbrt-v4's layered materials: thickness 0.01 (a float texture's object
+    // where it has one), albedo black, g 0, maxdepth 10, nsamples 1 (the others written only where a
+    // file changes them).
     auto addLayeredSlab = [&](Json& material) {
-        material["thickness"] = std::max(readScalar(params, "thickness", 0.01, textures, log), 0.0);
+        const Parameter* thickness = params.find("thickness", {ParamType::Float, ParamType::Texture});
+        const TextureTable::Texture* texture =
+            thickness && thickness->type == ParamType::Texture && thickness->strings.size() == 1
+                ? textures.scalar(thickness->strings[0])
+                : nullptr;
+        if (texture && texture->object)
+            material["thickness"] = *texture->object;
+        else
+            material["thickness"] = std::max(readScalar(params, "thickness", 0.01, textures, log), 0.0);
         if (params.has("albedo")) {
             Json albedo = texturable("albedo", Rgb(0.0f));
             if (!albedo.is_object())

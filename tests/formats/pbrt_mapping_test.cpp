@@ -367,8 +367,9 @@ TEST(PbrtMapping, LayeredMaterials) {
                 "\"float interface.eta\" 1.7 \"float interface.roughness\" 0.04 "
                 "\"rgb conductor.eta\" [0.2 0.9 1.1] \"rgb conductor.k\" [3.9 2.4 1.8] "
                 "\"float conductor.uroughness\" 0.09 \"float conductor.vroughness\" 0.16\n"
+                "Texture \"thin\" \"float\" \"checkerboard\" \"float tex1\" 0.01 \"float tex2\" 0.5\n"
                 "MakeNamedMaterial \"chrome\" \"string type\" \"coatedconductor\" "
-                "\"rgb reflectance\" [0.9 0.8 0.7]\n"
+                "\"rgb reflectance\" [0.9 0.8 0.7] \"texture thickness\" \"thin\"\n"
                 "Material \"coatedconductor\"\n"
                 "Shape \"sphere\"\n");
     const Json& m = c.document["materials"];
@@ -389,6 +390,7 @@ TEST(PbrtMapping, LayeredMaterials) {
     EXPECT_NEAR(m["paint"]["conductor"]["alpha"][1].get<double>(), 0.4, 1e-6);
     EXPECT_DOUBLE_EQ(m["paint"]["thickness"].get<double>(), 0.01);  // pbrt-v4's default
     EXPECT_NEAR(m["chrome"]["conductor"]["reflectance"][2].get<double>(), 0.7, 1e-6);
+    EXPECT_EQ(m["chrome"]["thickness"]["type"], "checkerboard");
     EXPECT_FALSE(hasWarning(c, "coated"));
     EXPECT_FALSE(hasWarning(c, "reflectance"));
     // pbrt-v4's default coatedconductor: copper under a smooth coat of index 1.5.
