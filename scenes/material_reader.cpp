@@ -593,7 +593,8 @@ Material readSubsurface(const JsonValue& material, MaterialContext& context) {
     const float scale = material.member("scale") ? material.member("scale")->number() : 1.0f;
     interior.scale = scale;
     interior.g = medium.phase.g;
-    interior.internalReflectance = float(diffuseFresnelReflectance(1.0 / eta));
+    const double internalReflectance = diffuseFresnelReflectance(1.0 / eta);  // a quadrature: once
+    interior.internalReflectance = float(internalReflectance);
     auto setters = [&]<class Boundary>() {
         using S = InteriorSetters<Boundary>;
         const float largest = std::numeric_limits<float>::max();
@@ -623,7 +624,7 @@ Material readSubsurface(const JsonValue& material, MaterialContext& context) {
                 (mfp ? *mfp : material)
                     .fail("the mean free path times scale must be > 0 and its inverse fit a 32-bit float");
             const SubsurfaceCoefficients k = coefficientsForDiffuseReflectance(
-                albedoAsked[c], length, diffuseFresnelReflectance(1.0 / eta), double(medium.phase.g));
+                albedoAsked[c], length, internalReflectance, double(medium.phase.g));
             absorption[c] = float(k.sigmaA);
             scattering[c] = float(k.sigmaS);
         }

@@ -505,6 +505,17 @@ namespace {
 // and sigma_s, reflectance and mfp, or pbrt-v4's defaults), times "scale"; penumbra renders its
 // transport by a random walk where pbrt-v4 uses its photon beam diffusion profile. Textured
 // coefficients are read at their constant value (with a warning): a homogeneous medium has one.
+// The texture object a spectrum parameter names, if it names one that has one.
+std::optional<Json> spectrumTextureObject(const ParameterList& params, const TextureTable& textures,
+                                          std::string_view name) {
+    const Parameter* p = params.find(name, {ParamType::Rgb, ParamType::Spectrum, ParamType::Texture,
+                                            ParamType::Float, ParamType::Blackbody});
+    if (p && p->type == ParamType::Texture && p->strings.size() == 1)
+        if (const TextureTable::Texture* t = textures.spectrum(p->strings[0]); t && t->object)
+            return *t->object;
+    return std::nullopt;
+}
+
 void subsurfaceMaterial(Json& m, const ParameterList& params, const TextureTable& textures, WarningLog& log,
                         const SourceLocation& where) {
     m["type"] = "subsurface";
@@ -519,13 +530,8 @@ void subsurfaceMaterial(Json& m, const ParameterList& params, const TextureTable
     }
     // A coefficient's texture object: the walk takes its value where it enters (pbrt-v4 evaluates
     // its BSSRDF's coefficients there).
-    auto textureObject = [&](const char* parameter) -> std::optional<Json> {
-        const Parameter* p = params.find(parameter, {ParamType::Rgb, ParamType::Spectrum, ParamType::Texture,
-                                                     ParamType::Float, ParamType::Blackbody});
-        if (p && p->type == ParamType::Texture && p->strings.size() == 1)
-            if (const TextureTable::Texture* t = textures.spectrum(p->strings[0]); t && t->object)
-                return *t->object;
-        return std::nullopt;
+    auto textureObject = [&](const char* parameter) {
+        return spectrumTextureObject(params, textures, parameter);
     };
     const std::string name = params.getString("name").value_or("");
     const bool hasSigmaA = params.has("sigma_a"), hasSigmaS = params.has("sigma_s");
@@ -590,15 +596,7 @@ Json mapMaterial(const std::string& type, const ParameterList& params, const Tex
                                           ParamType::Float, ParamType::Blackbody}),
                        log, "a reflectance");
     };
-    // The texture object a spectrum parameter names, if it names one that has one.
-    auto textureObject = [&](std::string_view name) -> std::optional<Json> {
-        const Parameter* p = params.find(name, {ParamType::Rgb, ParamType::Spectrum, ParamType::Texture,
-                                                ParamType::Float, ParamType::Blackbody});
-        if (p && p->type == ParamType::Texture && p->strings.size() == 1)
-            if (const TextureTable::Texture* t = textures.spectrum(p->strings[0]); t && t->object)
-                return *t->object;
-        return std::nullopt;
-    };
+    auto textureObject = [&](std::string_view name) { return spectrumTextureObject(params, textures, name); };
     // A reflectance that penumbra may texture: the texture object itself when it is one.
     auto texturable = [&](std::string_view name, Rgb fallback) -> Json {
         if (std::optional<Json> object = textureObject(name)) return *object;
