@@ -30,8 +30,18 @@ struct LightBounds {
 
     // The importance at a point `p` whose surface normal is `n` (any orientation; a zero vector
     // for a point in a medium).
-    float importance(Vec3f p, Vec3f n) const;
+    float importance(Vec3f p, Vec3f n) const { return importance(p, n, radius * radius); }
+    // The same with the squared distance clamped below at `nearestDistanceSquared` instead of the
+    // squared radius: a node of many lights (lights/light_tree.h), where p inside the sphere may
+    // lie much nearer to some of them than the radius.
+    float importance(Vec3f p, Vec3f n, float nearestDistanceSquared) const;
 };
+
+// Bounds of two lights together (a node of lights/light_tree.h): the sphere that holds both
+// spheres, the cone that holds both cones of normals (pbrt-v4's DirectionCone::Union), the wider
+// emission angle, the summed power. Widened by a little more than rounding. Bounds of power 0
+// are empty: the union is the other one.
+LightBounds unionOf(const LightBounds& a, const LightBounds& b);
 
 namespace detail {
 
@@ -41,7 +51,7 @@ namespace detail {
 inline float lightImportance(float px, float py, float pz, float nx, float ny, float nz, float centerX,
                              float centerY, float centerZ, float radius, float radiusSquared, float axisX,
                              float axisY, float axisZ, float phi, float cosThetaO, float sinThetaO,
-                             float cosThetaE, float twoSided) {
+                             float cosThetaE, float twoSided, float nearestDistanceSquared) {
     const float dx = px - centerX, dy = py - centerY, dz = pz - centerZ;
     const float distanceSquared = dx * dx + dy * dy + dz * dz;
     // Every operation is done in every lane (no division by zero to avoid); a point at the light's
@@ -70,16 +80,18 @@ inline float lightImportance(float px, float py, float pz, float nx, float ny, f
     const bool hasNormal = (nx != 0.0f) | (ny != 0.0f) | (nz != 0.0f);
     const float cosThetaIPWithin = cosThetaI * cosThetaB + sinThetaI * sinThetaB;
     const float cosThetaIP = !hasNormal || cosThetaI > cosThetaB ? 1.0f : cosThetaIPWithin;
-    const float importance = phi * cosThetaP / std::max(clampedDistanceSquared, radiusSquared) * cosThetaIP;
+    const float importance =
+        phi * cosThetaP / std::max(clampedDistanceSquared, nearestDistanceSquared) * cosThetaIP;
     return cosThetaP <= cosThetaE ? 0.0f : std::max(importance, 0.0f);
 }
 
 }  // namespace detail
 
-inline float LightBounds::importance(Vec3f p, Vec3f n) const {
+inline float LightBounds::importance(Vec3f p, Vec3f n, float nearestDistanceSquared) const {
     return detail::lightImportance(p.x, p.y, p.z, n.x, n.y, n.z, center.x, center.y, center.z, radius,
                                    radius * radius, axis.x, axis.y, axis.z, phi, cosThetaO,
-                                   safeSqrt(1.0f - cosThetaO * cosThetaO), cosThetaE, twoSided ? 1.0f : 0.0f);
+                                   safeSqrt(1.0f - cosThetaO * cosThetaO), cosThetaE, twoSided ? 1.0f : 0.0f,
+                                   nearestDistanceSquared);
 }
 
 // The bounds of up to kCapacity lights, a field per array, for the importances of all of them at

@@ -74,7 +74,7 @@ LightBounds meshBounds(const LightModel* lights, uint32_t count, float power) {
 }  // namespace
 
 LightSet::LightSet(const SceneGeometry& scene, const std::vector<LightModel>& sceneLights,
-                   const EnvironmentLight& environment)
+                   const EnvironmentLight& environment, LightSampler sampler)
     : hasEnvironment_(!environment.isBlack()),
       environment_(std::make_shared<const EnvironmentLight>(environment)) {
     std::vector<uint32_t> emitterSizes;  // lights per emitter, in order: a mesh's triangles, or one light
@@ -124,7 +124,7 @@ LightSet::LightSet(const SceneGeometry& scene, const std::vector<LightModel>& sc
         hasPointIndependentLights_ =
             hasPointIndependentLights_ || penumbra::isPointIndependentOfReference(light);
 
-    groupEmitters(emitterSizes, power);
+    if (sampler == LightSampler::Bvh) groupEmitters(emitterSizes, power);
 }
 
 void LightSet::groupEmitters(std::vector<uint32_t> emitterSizes, const std::vector<double>& power) {
@@ -137,10 +137,12 @@ void LightSet::groupEmitters(std::vector<uint32_t> emitterSizes, const std::vect
         first += size;
     }
     if (finiteEmitterCount < 2) return;
+    if (choice_.empty()) return;
     if (lights_.size() <= kMaxLocallyChosenEmitters) emitterSizes.assign(lights_.size(), 1);
-    // Beyond the batch's capacity the choice stays by power (a light tree's work), and nothing
-    // below is needed.
-    if (choice_.empty() || emitterSizes.size() > kMaxLocallyChosenEmitters) return;
+    if (emitterSizes.size() > kMaxLocallyChosenEmitters) {
+        buildTree(power);
+        return;
+    }
     emitterOfLight_.resize(lights_.size());
     probabilityWithinEmitter_.resize(lights_.size());
     for (uint32_t first = 0; const uint32_t size : emitterSizes) {
@@ -179,6 +181,43 @@ void LightSet::groupEmitters(std::vector<uint32_t> emitterSizes, const std::vect
     }
 }
 
+void LightSet::buildTree(const std::vector<double>& power) {
+    std::vector<LightBounds> bounds(lights_.size());  // infinite lights: power 0, left out of the tree
+    for (uint32_t i = 0; i < lights_.size(); ++i) {
+        if (isInfinite(i)) {
+            infiniteLights_.push_back(i);
+            finiteShare_ -= choice_.probability(i);
+            continue;
+        }
+        bounds[i] = std::visit([&](const auto& l) { return l.bounds(float(power[i])); }, lights_[i]);
+    }
+    PENUMBRA_CHECK(
+        infiniteLights_.empty() || infiniteLights_.back() - infiniteLights_[0] + 1 == infiniteLights_.size(),
+        "the infinite lights come last (the constructor's order)");
+    tree_ = LightTree(bounds);
+    if (tree_.empty()) return;  // no finite light has power: by power, then
+    std::vector<double> infinitePower;
+    for (const uint32_t i : infiniteLights_) infinitePower.push_back(power[i]);
+    infiniteChoice_ = DiscreteDistribution(infinitePower);
+    hasInfiniteLights_ = !infiniteChoice_.empty();
+    finiteShare_ = hasInfiniteLights_ ? std::clamp(finiteShare_, 0.0f, 1.0f) : 1.0f;
+    choosesLocally_ = true;
+}
+
+LightSet::Choice LightSet::chooseByTree(Vec2f& uPoint, Vec3f p, Vec3f n) const {
+    float& u = uPoint.x;
+    if (hasInfiniteLights_) {
+        if (u >= finiteShare_) {
+            u = std::clamp((u - finiteShare_) / (1.0f - finiteShare_), 0.0f, 0x1.fffffep-1f);
+            const uint32_t k = infiniteChoice_.sampleAndRemap(u);
+            return {infiniteLights_[k], (1.0f - finiteShare_) * infiniteChoice_.probability(k)};
+        }
+        u = std::min(u / finiteShare_, 0x1.fffffep-1f);
+    }
+    const LightTree::Choice choice = tree_.choose(u, p, n);
+    return {choice.light, finiteShare_ * choice.probability};
+}
+
 float LightSet::localChoiceWeights(Vec3f p, Vec3f n, float* weights) const {
     // The infinite lights' slots hold empty bounds: their importance is 0.
     bounds_.importances(p, n, weights);
@@ -202,6 +241,7 @@ float LightSet::localChoiceWeights(Vec3f p, Vec3f n, float* weights) const {
 }
 
 LightSet::Choice LightSet::chooseLocally(Vec2f& uPoint, Vec3f p, Vec3f n) const {
+    if (!tree_.empty()) return chooseByTree(uPoint, p, n);
     float weights[kMaxLocallyChosenEmitters];
     const float total = localChoiceWeights(p, n, weights);
     // The emitter whose interval of [0, total) holds uPoint.x * total; uPoint.x then becomes the
@@ -227,6 +267,12 @@ LightSet::Choice LightSet::chooseLocally(Vec2f& uPoint, Vec3f p, Vec3f n) const 
 }
 
 float LightSet::localChoiceProbability(uint32_t light, Vec3f p, Vec3f n) const {
+    if (!tree_.empty()) {
+        if (!isInfinite(light)) return finiteShare_ * tree_.probability(light, p, n);
+        return hasInfiniteLights_
+                   ? (1.0f - finiteShare_) * infiniteChoice_.probability(light - infiniteLights_[0])
+                   : 0.0f;
+    }
     float weights[kMaxLocallyChosenEmitters];
     const float total = localChoiceWeights(p, n, weights);
     return weights[emitterOfLight_[light]] / total * probabilityWithinEmitter_[light];

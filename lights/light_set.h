@@ -21,6 +21,8 @@
 #include "lights/light.h"
 #include "lights/light_bounds.h"
 #include "lights/light_sample.h"
+#include "lights/light_sampler.h"
+#include "lights/light_tree.h"
 
 namespace penumbra {
 
@@ -30,7 +32,7 @@ public:
     // The area lights of `geometry`'s emitting shapes, the lights the scene names (`sceneLights`:
     // none of them an area light or an environment) and `environment`.
     LightSet(const SceneGeometry& geometry, const std::vector<LightModel>& sceneLights,
-             const EnvironmentLight& environment);
+             const EnvironmentLight& environment, LightSampler sampler = LightSampler::Bvh);
 
     bool empty() const { return choice_.empty(); }
     // Whether a ray can find emission by hitting something (an area light or the environment);
@@ -44,13 +46,14 @@ public:
     // points stay stratified). Point, spot and directional lights (isDelta) ignore uPoint; with a
     // single light choose() leaves it as it is.
     //
-    // The choice: where the scene has two finite emitters or more (an emitter is one light, or an
-    // emitting mesh's triangles together) and at most kMaxLocallyChosenEmitters emitters in all,
-    // an emitter by what it can contribute at the vertex (lights/light_bounds.h, as pbrt-v4's
-    // light BVH weighs its nodes), the infinite lights (directional, environment) keeping their
-    // share of the power, then one of its lights by power; where all lights fit, each light is an
-    // emitter of its own. Otherwise a light by power alone; beyond that count a light tree would
-    // be needed to keep the cost per vertex down.
+    // The choice (LightSampler::Bvh): where the scene has two finite emitters or more (an emitter
+    // is one light, or an emitting mesh's triangles together) and at most
+    // kMaxLocallyChosenEmitters emitters in all, an emitter by what it can contribute at the
+    // vertex (lights/light_bounds.h, as pbrt-v4's light BVH weighs its nodes), the infinite lights
+    // (directional, environment) keeping their share of the power, then one of its lights by
+    // power; where all lights fit, each light is an emitter of its own. With more emitters, the
+    // infinite lights by their power share, the finite ones by a tree over each of their lights
+    // (lights/light_tree.h). With one finite emitter, or LightSampler::Power, by power alone.
     struct Choice {
         uint32_t light;
         float probability;
@@ -130,6 +133,8 @@ private:
     // choiceProbability() divide by it alike.
     float localChoiceWeights(Vec3f p, Vec3f n, float* weights) const;
     Choice chooseLocally(Vec2f& uPoint, Vec3f p, Vec3f n) const;
+    void buildTree(const std::vector<double>& power);
+    Choice chooseByTree(Vec2f& uPoint, Vec3f p, Vec3f n) const;
     float localChoiceProbability(uint32_t light, Vec3f p, Vec3f n) const;
     Rgb emittedByAreaLight(const SurfaceInteraction& si, Vec3f towardsViewer) const;
     int32_t lightIndexOf(ShapeRef shape) const;
@@ -142,6 +147,10 @@ private:
     LightBoundsBatch bounds_;
     std::vector<uint32_t> emitterOfLight_;
     std::vector<float> probabilityWithinEmitter_;
+    // The choice among many lights: the finite ones by the tree, the infinite ones by power.
+    LightTree tree_;
+    std::vector<uint32_t> infiniteLights_;
+    DiscreteDistribution infiniteChoice_;
     bool choosesLocally_ = false;
     float finiteShare_ = 1.0f;             // the finite lights' share of the power
     bool hasInfiniteLights_ = false;       // directional or environment

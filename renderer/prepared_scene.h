@@ -16,7 +16,7 @@ public:
     explicit PreparedScene(const Scene& scene)
         : scene_(scene),
           camera_(scene.camera, scene.film.width, scene.film.height),
-          lights_(scene, scene.lights, scene.environment),
+          lights_(scene, scene.lights, scene.environment, scene.integrator.lightSampler),
           faceFrames_(scene),
           moves_(scene.hasMotion()) {}
     // The context points into this object.

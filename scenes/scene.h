@@ -19,6 +19,7 @@
 #include "geometry/scene_geometry.h"
 #include "lights/environment_light.h"
 #include "lights/light.h"
+#include "lights/light_sampler.h"
 #include "materials/material.h"
 #include "media/medium.h"
 
@@ -58,6 +59,7 @@ struct IntegratorSettings {
     // Russian roulette starts at this bounce; before it every path survives.
     int rouletteStartDepth = 3;
     LightStrategy strategy = LightStrategy::Mis;
+    LightSampler lightSampler = LightSampler::Bvh;
 };
 
 struct RenderSettings {

@@ -90,7 +90,7 @@ FilmSettings readFilm(const JsonValue& value) {
 }
 
 IntegratorSettings readIntegrator(const JsonValue& value) {
-    const JsonObject object(value, {"max_depth", "roulette_start", "strategy"});
+    const JsonObject object(value, {"max_depth", "roulette_start", "strategy", "light_sampler"});
     IntegratorSettings integrator;
     // Bounded: in a closed lossless mirror a path never ends before max_depth (roulette keeps a
     // throughput of 1), so 2^31 bounces would run for days and never reach a pass end (SIGTERM).
@@ -99,6 +99,8 @@ IntegratorSettings readIntegrator(const JsonValue& value) {
         integrator.rouletteStartDepth = int(v->integer(0, limits::kMaxPathDepth));
     if (auto v = object.get("strategy"))
         integrator.strategy = LightStrategy(v->choice({"mis", "bsdf", "light"}));
+    if (auto v = object.get("light_sampler"))
+        integrator.lightSampler = LightSampler(v->choice({"bvh", "power"}));
     return integrator;
 }
 

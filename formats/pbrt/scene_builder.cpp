@@ -425,6 +425,17 @@ void SceneBuilder::optionDirective(const Directive& d) {
         if (depth < 0) failAt(d.where, fmt::format("Integrator: maxdepth must be >= 0, found {}", depth));
         scene_["integrator"]["max_depth"] = depth;
         origins_.push_back({"/integrator", d.where});
+        if (const auto sampler = p.getString("lightsampler")) {
+            if (*sampler == "power") {
+                scene_["integrator"]["light_sampler"] = "power";
+            } else if (*sampler != "bvh") {
+                log_.warn(
+                    d.where,
+                    fmt::format("Integrator \"lightsampler\" \"{}\" is not supported: lights are chosen "
+                                "by penumbra's default (\"bvh\")",
+                                *sampler));
+            }
+        }
         if (const Parameter* r = p.find("regularize", {ParamType::Bool}))
             log_.warn(r->where, "Integrator \"regularize\" is not supported and was ignored");
         if (type != "path" && type != "volpath")

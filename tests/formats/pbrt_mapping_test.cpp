@@ -1076,6 +1076,20 @@ TEST(PbrtMapping, FilmSamplerFilterIntegrator) {
     EXPECT_EQ(box.document["film"]["spp"], 7);
 }
 
+// pbrt-v4's "lightsampler": "power" is ours, "bvh" our default (the key left out); "uniform"
+// warns and keeps the default.
+TEST(PbrtMapping, IntegratorLightSampler) {
+    auto power = convert("Integrator \"path\" \"string lightsampler\" \"power\"\nWorldBegin\n");
+    EXPECT_EQ(power.document["integrator"]["light_sampler"], "power");
+    EXPECT_FALSE(hasWarning(power, "lightsampler"));
+    auto bvh = convert("Integrator \"path\" \"string lightsampler\" \"bvh\"\nWorldBegin\n");
+    EXPECT_FALSE(bvh.document["integrator"].contains("light_sampler"));
+    EXPECT_FALSE(hasWarning(bvh, "lightsampler"));
+    auto uniform = convert("Integrator \"path\" \"string lightsampler\" \"uniform\"\nWorldBegin\n");
+    EXPECT_FALSE(uniform.document["integrator"].contains("light_sampler"));
+    EXPECT_TRUE(hasWarning(uniform, "lightsampler"));
+}
+
 TEST(PbrtMapping, UnsupportedDirectivesWarnOnceWithACount) {
     auto c = convert(
         "WorldBegin\nAttribute \"shape\" \"float radius\" 2\n"

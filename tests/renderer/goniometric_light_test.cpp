@@ -115,9 +115,10 @@ TEST(GoniometricLight, PowerIsTheProfileIntegratedOverTheSphere) {
 }
 
 TEST(GoniometricLight, ChosenInProportionToItsPower) {
-    // 16 point lights and the goniometric one: more emitters than the choice at a vertex weighs,
-    // so next-event estimation chooses by power: 4 pi I for a point light, 4 pi x 100 cd x scale
-    // for the isotropic profile. Chi-square of 200000 choices against those shares.
+    // 16 point lights and the goniometric one, chosen by power (LightSampler::Power; with more
+    // emitters than LightSet weighs one by one, the default chooses through a tree): 4 pi I for a point
+    // light, 4 pi x 100 cd x scale for the isotropic profile. Chi-square of 200000 choices against those
+    // shares.
     Scene scene = planeUnderProfile("isotropic_2002.ies", R"(, "scale": 0.05)");
     std::vector<double> expectedShare;
     for (int i = 0; i < 16; ++i) {
@@ -125,7 +126,7 @@ TEST(GoniometricLight, ChosenInProportionToItsPower) {
         expectedShare.push_back(4.0 * kPi * (1.0 + 0.5 * i));
     }
     const double goniometricPower = 4.0 * kPi * 100.0 * 0.05;
-    const LightSet lights(scene, scene.lights, scene.environment);
+    const LightSet lights(scene, scene.lights, scene.environment, LightSampler::Power);
     ASSERT_FALSE(lights.choosesLocally());
     ASSERT_EQ(lights.size(), 17u);
     // The light set puts the goniometric light after the point lights (the variant's order).

@@ -68,6 +68,7 @@ TEST(SceneLoader, ReadsEveryKey) {
     EXPECT_EQ(scene.integrator.maxDepth, 5);
     EXPECT_EQ(scene.integrator.rouletteStartDepth, 2);
     EXPECT_EQ(scene.integrator.strategy, LightStrategy::Light);
+    EXPECT_EQ(scene.integrator.lightSampler, LightSampler::Power);
     EXPECT_EQ(scene.settings.sampler, SamplerKind::Independent);
     EXPECT_EQ(scene.settings.seed, 42u);
     EXPECT_FALSE(scene.settings.watertight);
@@ -132,6 +133,7 @@ TEST(SceneLoader, EmptySceneIsValidAndUsesDefaults) {
     EXPECT_EQ(scene.film.width, FilmSettings{}.width);
     EXPECT_EQ(scene.film.samplesPerPixel, FilmSettings{}.samplesPerPixel);
     EXPECT_EQ(scene.integrator.strategy, LightStrategy::Mis);
+    EXPECT_EQ(scene.integrator.lightSampler, LightSampler::Bvh);
     EXPECT_EQ(scene.integrator.maxDepth, IntegratorSettings{}.maxDepth);
     EXPECT_TRUE(scene.settings.watertight);
     EXPECT_TRUE(scene.settings.canonicalHits);
@@ -779,6 +781,13 @@ TEST(SceneErrors, UnknownLightStrategy) {
         catchInputError([] { parseScene(R"({"integrator": {"strategy": "photons"}})", "scene.json"); });
     EXPECT_CONTAINS(std::string(e.what()),
                     "scene.json: /integrator/strategy: expected one of: mis, bsdf, light");
+}
+
+TEST(SceneErrors, UnknownLightSampler) {
+    const InputError e =
+        catchInputError([] { parseScene(R"({"integrator": {"light_sampler": "uniform"}})", "scene.json"); });
+    EXPECT_CONTAINS(std::string(e.what()),
+                    "scene.json: /integrator/light_sampler: expected one of: bvh, power");
 }
 
 TEST(SceneErrors, ResolutionZero) {
