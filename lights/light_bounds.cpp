@@ -73,12 +73,14 @@ LightBounds unionOf(const LightBounds& a, const LightBounds& b) {
     return u;
 }
 
-void LightBoundsBatch::set(size_t i, const LightBounds& b) {
+template <size_t Capacity>
+void LightBoundsBatchOf<Capacity>::set(size_t i, const LightBounds& b, float nearestDistanceSquared) {
     centerX_[i] = b.center.x;
     centerY_[i] = b.center.y;
     centerZ_[i] = b.center.z;
     radius_[i] = b.radius;
     radiusSquared_[i] = b.radius * b.radius;
+    nearestDistanceSquared_[i] = nearestDistanceSquared;
     axisX_[i] = b.axis.x;
     axisY_[i] = b.axis.y;
     axisZ_[i] = b.axis.z;
@@ -91,13 +93,17 @@ void LightBoundsBatch::set(size_t i, const LightBounds& b) {
 }
 
 // Vectorized by GCC under `omp simd` (-fopenmp-simd; bench/README.md, "Speed tricks").
-void LightBoundsBatch::importances(Vec3f p, Vec3f n, float* out) const {
+template <size_t Capacity>
+void LightBoundsBatchOf<Capacity>::importances(Vec3f p, Vec3f n, float* out) const {
 #pragma omp simd
     for (size_t i = 0; i < used_; ++i)
         out[i] = detail::lightImportance(p.x, p.y, p.z, n.x, n.y, n.z, centerX_[i], centerY_[i], centerZ_[i],
                                          radius_[i], radiusSquared_[i], axisX_[i], axisY_[i], axisZ_[i],
                                          phi_[i], cosThetaO_[i], sinThetaO_[i], cosThetaE_[i], twoSided_[i],
-                                         radiusSquared_[i]);
+                                         nearestDistanceSquared_[i]);
 }
+
+template class LightBoundsBatchOf<8>;
+template class LightBoundsBatchOf<16>;
 
 }  // namespace penumbra

@@ -94,16 +94,21 @@ inline float LightBounds::importance(Vec3f p, Vec3f n, float nearestDistanceSqua
                                    nearestDistanceSquared);
 }
 
-// The bounds of up to kCapacity lights, a field per array, for the importances of all of them at
-// one point, computed several at a time (SIMD lanes).
-class LightBoundsBatch {
+// The bounds of up to Capacity lights, a field per array, for the importances of all of them at
+// one point, computed several at a time (SIMD lanes). Instantiated for 16 (LightSet's choice among
+// few emitters) and 8 (a light tree's node: lights/light_tree.h).
+template <size_t Capacity>
+class LightBoundsBatchOf {
 public:
-    static constexpr size_t kCapacity = 16;
+    static constexpr size_t kCapacity = Capacity;
     static constexpr size_t kLanes = 8;  // AVX
+    static_assert(Capacity % kLanes == 0);
 
-    // Bounds `b` in slot `i` (< kCapacity). importances() computes the slots up to the last one
-    // set; the caller sets every slot it reads.
-    void set(size_t i, const LightBounds& b);
+    // Bounds `b` in slot `i` (< kCapacity), its squared distance clamped below at
+    // `nearestDistanceSquared` (LightBounds::importance; by default the squared radius).
+    // importances() computes the slots up to the last one set; the caller sets every slot it reads.
+    void set(size_t i, const LightBounds& b) { set(i, b, b.radius * b.radius); }
+    void set(size_t i, const LightBounds& b, float nearestDistanceSquared);
     // out[i] = bounds i's importance at (p, n), for the slots up to the last one set, rounded up
     // to a multiple of kLanes (out has room for kCapacity).
     void importances(Vec3f p, Vec3f n, float* out) const;
@@ -111,11 +116,16 @@ public:
 private:
     alignas(32) float centerX_[kCapacity] = {}, centerY_[kCapacity] = {}, centerZ_[kCapacity] = {};
     alignas(32) float radius_[kCapacity] = {}, radiusSquared_[kCapacity] = {};
+    alignas(32) float nearestDistanceSquared_[kCapacity] = {};
     alignas(32) float axisX_[kCapacity] = {}, axisY_[kCapacity] = {}, axisZ_[kCapacity] = {};
     alignas(32) float phi_[kCapacity] = {};
     alignas(32) float cosThetaO_[kCapacity] = {}, sinThetaO_[kCapacity] = {}, cosThetaE_[kCapacity] = {};
     alignas(32) float twoSided_[kCapacity] = {};
     size_t used_ = 0;  // slots computed: the last one set, rounded up to kLanes
 };
+
+using LightBoundsBatch = LightBoundsBatchOf<16>;
+extern template class LightBoundsBatchOf<8>;
+extern template class LightBoundsBatchOf<16>;
 
 }  // namespace penumbra

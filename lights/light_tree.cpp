@@ -77,6 +77,12 @@ struct LightTree::Item {
     uint32_t light;
 };
 
+struct LightTree::BinaryNode {
+    LightBounds bounds;
+    uint32_t secondChildOrLight = 0;  // the first child is the next node
+    bool isLeaf = false;
+};
+
 LightTree::LightTree(const std::vector<LightBounds>& bounds) {
     std::vector<Item> items;
     for (size_t i = 0; i < bounds.size(); ++i) {
@@ -88,22 +94,23 @@ LightTree::LightTree(const std::vector<LightBounds>& bounds) {
         item.box.grow(b.center + r);
         items.push_back(item);
     }
-    leafOfLight_.assign(bounds.size(), kNone);
+    PENUMBRA_CHECK(bounds.size() < kLightBit, "light indices leave kLightBit free");
+    slotOfLight_.assign(bounds.size(), Slot{});
     if (items.empty()) return;
-    nodes_.reserve(2 * items.size() - 1);
-    build(items, 0, items.size(), kNone, 0);
+    std::vector<BinaryNode> binary;
+    binary.reserve(2 * items.size() - 1);
+    buildBinary(binary, items, 0, items.size(), 0);
+    collapse(binary, 0, kNone, 0, 0);
 }
 
-uint32_t LightTree::build(std::vector<Item>& items, size_t begin, size_t end, uint32_t parent, int depth) {
-    const uint32_t index = uint32_t(nodes_.size());
-    nodes_.push_back(Node{});
-    nodes_[index].parent = parent;
-    depth_ = std::max(depth_, depth);
+uint32_t LightTree::buildBinary(std::vector<BinaryNode>& binary, std::vector<Item>& items, size_t begin,
+                                size_t end, int depth) {
+    const uint32_t index = uint32_t(binary.size());
+    binary.push_back(BinaryNode{});
     if (end - begin == 1) {
-        nodes_[index].bounds = items[begin].bounds;
-        nodes_[index].isLeaf = true;
-        nodes_[index].secondChildOrLight = items[begin].light;
-        leafOfLight_[items[begin].light] = index;
+        binary[index].bounds = items[begin].bounds;
+        binary[index].isLeaf = true;
+        binary[index].secondChildOrLight = items[begin].light;
         return index;
     }
     Box box, centroids;
@@ -171,63 +178,111 @@ uint32_t LightTree::build(std::vector<Item>& items, size_t begin, size_t end, ui
                              return a.centroid[axis] < b.centroid[axis];
                          });
     }
-    build(items, begin, middle, index, depth + 1);
-    const uint32_t second = build(items, middle, end, index, depth + 1);
-    nodes_[index].secondChildOrLight = second;
-    nodes_[index].bounds = unionOf(nodes_[index + 1].bounds, nodes_[second].bounds);
+    buildBinary(binary, items, begin, middle, depth + 1);
+    const uint32_t second = buildBinary(binary, items, middle, end, depth + 1);
+    binary[index].secondChildOrLight = second;
+    binary[index].bounds = unionOf(binary[index + 1].bounds, binary[second].bounds);
     return index;
 }
 
-float LightTree::importanceOf(uint32_t node, Vec3f p, Vec3f n) const {
-    const LightBounds& b = nodes_[node].bounds;
-    // A light's own distance clamp is its radius (lights/light_bounds.h); a node's a half of its
-    // radius: a point inside a node's sphere usually lies nearer than the radius to some of its
-    // lights, and the larger clamp took that away from the nodes beside it (bench/README.md, "The
-    // light tree", measured).
-    const float nearest = nodes_[node].isLeaf ? b.radius : kNodeNearestDistanceFraction * b.radius;
-    return b.importance(p, n, nearest * nearest);
+uint32_t LightTree::collapse(const std::vector<BinaryNode>& binary, uint32_t root, uint32_t parent,
+                             uint32_t slot, int depth) {
+    // The frontier: the binary root's children (or the root, a lone light), the one of most power
+    // among them replaced by its two children until kWidth of them.
+    std::vector<uint32_t> frontier;
+    if (binary[root].isLeaf)
+        frontier = {root};
+    else
+        frontier = {root + 1, binary[root].secondChildOrLight};
+    while (frontier.size() < kWidth) {
+        size_t widest = frontier.size();
+        for (size_t k = 0; k < frontier.size(); ++k)
+            if (!binary[frontier[k]].isLeaf &&
+                (widest == frontier.size() ||
+                 binary[frontier[k]].bounds.phi > binary[frontier[widest]].bounds.phi))
+                widest = k;
+        if (widest == frontier.size()) break;  // all lights
+        const uint32_t expanded = frontier[widest];
+        frontier[widest] = expanded + 1;
+        frontier.insert(frontier.begin() + ptrdiff_t(widest) + 1, binary[expanded].secondChildOrLight);
+    }
+    const uint32_t index = uint32_t(nodes_.size());
+    nodes_.emplace_back();
+    depth_ = std::max(depth_, depth);
+    nodes_[index].parent = parent;
+    nodes_[index].slotInParent = slot;
+    nodes_[index].childCount = uint32_t(frontier.size());
+    for (uint32_t k = 0; k < frontier.size(); ++k) {
+        const BinaryNode& b = binary[frontier[k]];
+        nodes_[index].phi[k] = b.bounds.phi;
+        if (b.isLeaf) {
+            // A light's own distance clamp is its radius (lights/light_bounds.h).
+            nodes_[index].children.set(k, b.bounds);
+            nodes_[index].child[k] = b.secondChildOrLight | kLightBit;
+            slotOfLight_[b.secondChildOrLight] = {index, k};
+        } else {
+            // A node's is half its radius: a point inside a node's sphere usually lies nearer than
+            // the radius to some of its lights, and the larger clamp took that away from the nodes
+            // beside it (bench/README.md, "The light tree", measured).
+            const float nearest = kNodeNearestDistanceFraction * b.bounds.radius;
+            nodes_[index].children.set(k, b.bounds, nearest * nearest);
+            const uint32_t child = collapse(binary, frontier[k], index, k, depth + 1);
+            nodes_[index].child[k] = child;
+        }
+    }
+    return index;
 }
 
-float LightTree::firstChildProbability(uint32_t node, Vec3f p, Vec3f n) const {
-    const LightBounds& first = nodes_[node + 1].bounds;
-    const LightBounds& second = nodes_[nodes_[node].secondChildOrLight].bounds;
-    float w0 = importanceOf(node + 1, p, n), w1 = importanceOf(nodes_[node].secondChildOrLight, p, n);
-    if (!(w0 + w1 > 0.0f)) {
-        w0 = first.phi;
-        w1 = second.phi;
-    }
-    const float p0 = w0 / (w0 + w1);
-    return p0 >= 0.0f && p0 <= 1.0f ? p0 : 0.5f;  // infinite powers: halves
+float LightTree::childWeights(const Node& node, Vec3f p, Vec3f n, float* w) const {
+    node.children.importances(p, n, w);
+    float total = 0.0f;
+    for (uint32_t k = 0; k < node.childCount; ++k) total += w[k];
+    if (total > 0.0f && std::isfinite(total)) return total;
+    // No light below can light the point (or powers overflow): by power, which keeps every
+    // light's probability positive.
+    total = 0.0f;
+    for (uint32_t k = 0; k < node.childCount; ++k) total += w[k] = node.phi[k];
+    return total;
 }
 
 LightTree::Choice LightTree::choose(float& u, Vec3f p, Vec3f n) const {
     PENUMBRA_CHECK(!nodes_.empty(), "a light tree chooses among some lights");
-    uint32_t node = 0;
     float probability = 1.0f;
-    while (!nodes_[node].isLeaf) {
-        const float p0 = firstChildProbability(node, p, n);
-        if (u < p0) {
-            u = std::min(u / p0, kOneMinusUlp);
-            probability *= p0;
-            node = node + 1;
-        } else {
-            u = std::clamp((u - p0) / (1.0f - p0), 0.0f, kOneMinusUlp);
-            probability *= 1.0f - p0;
-            node = nodes_[node].secondChildOrLight;
+    for (uint32_t node = 0;;) {
+        const Node& current = nodes_[node];
+        alignas(32) float w[kWidth];
+        const float total = childWeights(current, p, n, w);
+        // The child whose interval of [0, total) holds u * total; u then becomes the position
+        // within it (as LightSet::chooseLocally).
+        const float target = u * total;
+        uint32_t chosen = 0;
+        float chosenStart = 0.0f, start = 0.0f;
+        for (uint32_t k = 0; k < current.childCount; ++k) {
+            if (w[k] > 0.0f) {  // a child of weight 0 is never chosen, even through rounding
+                chosen = k;
+                chosenStart = start;
+                if (target < start + w[k]) break;
+            }
+            start += w[k];
         }
+        u = std::clamp((target - chosenStart) / w[chosen], 0.0f, kOneMinusUlp);
+        probability *= w[chosen] / total;
+        const uint32_t child = current.child[chosen];
+        if (child & kLightBit) return {child & ~kLightBit, probability};
+        node = child;
     }
-    return {nodes_[node].secondChildOrLight, probability};
 }
 
 float LightTree::probability(uint32_t light, Vec3f p, Vec3f n) const {
-    if (light >= leafOfLight_.size() || leafOfLight_[light] == kNone) return 0.0f;
-    // The choices from the leaf up, then multiplied from the root down as choose() does.
+    if (light >= slotOfLight_.size() || slotOfLight_[light].node == kNone) return 0.0f;
+    // The choices from the light up, then multiplied from the root down as choose() does.
     std::array<float, kMaxDepth + 1> factors;
     int count = 0;
-    for (uint32_t node = leafOfLight_[light]; nodes_[node].parent != kNone; node = nodes_[node].parent) {
-        const uint32_t parent = nodes_[node].parent;
-        const float p0 = firstChildProbability(parent, p, n);
-        factors[size_t(count++)] = node == parent + 1 ? p0 : 1.0f - p0;
+    for (Slot at = slotOfLight_[light]; at.node != kNone;
+         at = {nodes_[at.node].parent, nodes_[at.node].slotInParent}) {
+        alignas(32) float w[kWidth];
+        const float total = childWeights(nodes_[at.node], p, n, w);
+        factors[size_t(count++)] = w[at.slot] / total;
     }
     float probability = 1.0f;
     while (count > 0) probability *= factors[size_t(--count)];

@@ -7,7 +7,7 @@
 // as pbrt-v4 builds it: each node split at the boundary of 12 buckets along an axis that
 // minimises power x orientation measure x box area of the two halves.
 //
-// Where both children's importances are 0 (no light below can light the vertex), the choice goes
+// Where all children's importances are 0 (no light below can light the vertex), the choice goes
 // by the children's power instead, so every light of positive power keeps a positive probability
 // everywhere (as LightSet's choice among few lights falls back to power); pbrt-v4 returns no
 // light there, which would save the shadow ray but not change the estimate.
@@ -23,9 +23,12 @@ namespace penumbra {
 
 class LightTree {
 public:
-    // Deep enough for a tree built by halving 2^32 lights after kMaxDepthBySurfaceAreaSplit
+    // Deep enough for a binary tree built by halving 2^32 lights after kMaxDepthBySurfaceAreaSplit
     // levels of the cost-driven splits (light_tree.cpp).
     static constexpr int kMaxDepth = 64;
+    // Children per node: the binary tree's levels collapsed so that one SIMD batch weighs a node's
+    // children (bench/README.md, "The light tree").
+    static constexpr size_t kWidth = 8;
 
     LightTree() = default;
     // The tree over lights 0 .. bounds.size() - 1 (`bounds[i]` light i's, its phi the light's power);
@@ -34,7 +37,7 @@ public:
 
     bool empty() const { return nodes_.empty(); }
     size_t nodeCount() const { return nodes_.size(); }
-    // Levels below the root of the deepest leaf.
+    // Levels of nodes below the root above the deepest light.
     int depth() const { return depth_; }
 
     struct Choice {
@@ -51,22 +54,31 @@ public:
 
 private:
     static constexpr uint32_t kNone = UINT32_MAX;
+    static constexpr uint32_t kLightBit = 1u << 31;  // in Node::child: a light, not a node
     struct Node {
-        LightBounds bounds;
-        uint32_t parent = kNone;
-        // An interior node's children are the next node and secondChild; a leaf holds a light.
-        uint32_t secondChildOrLight = 0;
-        bool isLeaf = false;
+        LightBoundsBatchOf<kWidth> children;
+        float phi[kWidth] = {};
+        uint32_t child[kWidth] = {};  // a node's index, or a light's with kLightBit
+        uint32_t childCount = 0;
+        uint32_t parent = kNone, slotInParent = 0;
     };
+    struct Slot {
+        uint32_t node = kNone, slot = 0;
+    };
+    struct BinaryNode;
     struct Item;
-    uint32_t build(std::vector<Item>& items, size_t begin, size_t end, uint32_t parent, int depth);
-    // A node's importance at (p, n).
-    float importanceOf(uint32_t node, Vec3f p, Vec3f n) const;
-    // The probability of descending from `node` to its first child at (p, n).
-    float firstChildProbability(uint32_t node, Vec3f p, Vec3f n) const;
+    // The binary tree over items[begin, end) (pbrt-v4's build), its root's index in `binary`.
+    static uint32_t buildBinary(std::vector<BinaryNode>& binary, std::vector<Item>& items, size_t begin,
+                                size_t end, int depth);
+    // The node over the binary subtree at `root`, and below it the nodes over its frontier.
+    uint32_t collapse(const std::vector<BinaryNode>& binary, uint32_t root, uint32_t parent, uint32_t slot,
+                      int depth);
+    // The weights of `node`'s children at (p, n), into w: their importances, or where all are 0
+    // their powers. Returns their sum.
+    float childWeights(const Node& node, Vec3f p, Vec3f n, float* w) const;
 
     std::vector<Node> nodes_;
-    std::vector<uint32_t> leafOfLight_;  // kNone for lights left out
+    std::vector<Slot> slotOfLight_;  // node kNone for lights left out
     int depth_ = 0;
 };
 

@@ -108,7 +108,7 @@ TEST(LightTree, ChoosesEachLightWithTheProbabilityItReports) {
     const std::vector<LightBounds> bounds = randomLights(rng, 300, 5.0f);
     const LightTree tree(bounds);
     ASSERT_FALSE(tree.empty());
-    EXPECT_EQ(tree.nodeCount(), 2 * bounds.size() - 1);
+    EXPECT_LT(tree.nodeCount(), bounds.size() / 2);  // up to 8 children a node
     for (int point = 0; point < 6; ++point) {
         const Vec3f p = randomPoint(rng, 5.0f), n = randomUnit(rng);
         double sum = 0.0;
@@ -177,7 +177,7 @@ TEST(LightTree, ALightBesideThePointIsChosenFarMoreOftenThanByPower) {
     EXPECT_GT(tree.probability(beside, p, Vec3f{}), 0.01f);
     EXPECT_LT(tree.probability(far, p, Vec3f{}), 0.001f);
     EXPECT_GT(tree.probability(far, p, Vec3f{}), 0.0f);
-    EXPECT_LE(tree.depth(), 20);
+    EXPECT_LE(tree.depth(), 6);
 }
 
 // No layout makes the tree deeper than kMaxDepth: 100,000 lights at doubling distances along a
@@ -205,11 +205,10 @@ TEST(LightTree, DepthIsBoundedAndDegenerateLightsAreLeftOut) {
         EXPECT_NEAR(sum, 1.0, 1e-4);
     }
     const LightTree tree(stack);
-    EXPECT_EQ(tree.nodeCount(), 2 * (stack.size() - 3) - 1);
     EXPECT_EQ(tree.probability(10, {0, 1, 0}, {}), 0.0f);
     EXPECT_EQ(tree.probability(11, {0, 1, 0}, {}), 0.0f);
     EXPECT_EQ(tree.probability(12, {0, 1, 0}, {}), 0.0f);
-    EXPECT_LE(tree.depth(), 14);  // ceil(log2(4997)) = 13, from halving
+    EXPECT_LE(tree.depth(), 13);  // ceil(log2(4997)) = 13 binary levels from halving, 3 or more to a node
 }
 
 // A scene with 40 emitting quads (80 triangle lights, more emitters than LightSet weighs one by
