@@ -16,7 +16,7 @@ namespace {
 // (kMaxDepth) and the recursion whatever the lights' layout.
 constexpr int kMaxDepthBySurfaceAreaSplit = 32;
 constexpr int kBuckets = 12;
-constexpr float kNodeNearestDistanceFraction = 0.5f;  // of the node's radius (importanceOf)
+constexpr float kNodeNearestDistanceFraction = 0.5f;  // of the node's radius (collapse)
 constexpr float kOneMinusUlp = 0x1.fffffep-1f;        // the largest float below 1
 
 struct Box {

@@ -82,7 +82,9 @@ TEST(LightTreeBounds, UnionIsPositiveWhereEitherPartIs) {
                     ASSERT_GT(three.importance(p, n), 0.0f) << "trial " << trial;
                 }
             }
-            if (c.importance(p, n) > 0.0f) ASSERT_GT(three.importance(p, n), 0.0f) << "trial " << trial;
+            if (c.importance(p, n) > 0.0f) {
+                ASSERT_GT(three.importance(p, n), 0.0f) << "trial " << trial;
+            }
         }
     }
     EXPECT_GT(positive, 20000);  // the check ran where it matters
@@ -93,8 +95,9 @@ TEST(LightTreeBounds, UnionIsPositiveWhereEitherPartIs) {
             EXPECT_LE(length(part->center - u.center) + part->radius, u.radius * (1.0f + 1e-5f));
             const float angle = std::atan2(length(cross(part->axis, u.axis)), dot(part->axis, u.axis));
             const float partSpread = std::acos(std::clamp(part->cosThetaO, -1.0f, 1.0f));
-            if (u.cosThetaO > -1.0f)
+            if (u.cosThetaO > -1.0f) {
                 EXPECT_LE(angle + partSpread, std::acos(u.cosThetaO) + 1e-4f) << "trial " << trial;
+            }
         }
     }
 }
@@ -129,7 +132,9 @@ TEST(LightTree, ChoosesEachLightWithTheProbabilityItReports) {
         }
         for (uint32_t l = 0; l < bounds.size(); ++l) {
             EXPECT_NEAR(observed[l], expected[l] * samples, 4.0 + 1e-4 * samples) << "point " << point;
-            if (observed[l] > 2000) EXPECT_NEAR(lowerHalf[l], observed[l] / 2.0, 4.0 + 1e-4 * samples);
+            if (observed[l] > 2000) {
+                EXPECT_NEAR(lowerHalf[l], observed[l] / 2.0, 4.0 + 1e-4 * samples);
+            }
         }
     }
 }
