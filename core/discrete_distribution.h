@@ -57,9 +57,10 @@ public:
         return index;
     }
 
-private:
+    // The largest float below 1: where a remapped sample value is clamped to stay in [0, 1).
     static constexpr float kOneMinusUlp = 0x1.fffffep-1f;
 
+private:
     std::vector<double> cdf_;
     std::vector<float> probabilities_;
 };

@@ -4,14 +4,9 @@
 #pragma once
 
 #include <cstdint>
-#include <string_view>
 
 namespace penumbra {
 
 enum class LightSampler : uint8_t { Bvh, Power };
-
-constexpr std::string_view lightSamplerName(LightSampler sampler) {
-    return sampler == LightSampler::Bvh ? "bvh" : "power";
-}
 
 }  // namespace penumbra

@@ -208,11 +208,12 @@ LightSet::Choice LightSet::chooseByTree(Vec2f& uPoint, Vec3f p, Vec3f n) const {
     float& u = uPoint.x;
     if (hasInfiniteLights_) {
         if (u >= finiteShare_) {
-            u = std::clamp((u - finiteShare_) / (1.0f - finiteShare_), 0.0f, 0x1.fffffep-1f);
+            u = std::clamp((u - finiteShare_) / (1.0f - finiteShare_), 0.0f,
+                           DiscreteDistribution::kOneMinusUlp);
             const uint32_t k = infiniteChoice_.sampleAndRemap(u);
             return {infiniteLights_[k], (1.0f - finiteShare_) * infiniteChoice_.probability(k)};
         }
-        u = std::min(u / finiteShare_, 0x1.fffffep-1f);
+        u = std::min(u / finiteShare_, DiscreteDistribution::kOneMinusUlp);
     }
     const LightTree::Choice choice = tree_.choose(u, p, n);
     return {choice.light, finiteShare_ * choice.probability};
@@ -260,7 +261,7 @@ LightSet::Choice LightSet::chooseLocally(Vec2f& uPoint, Vec3f p, Vec3f n) const 
     PENUMBRA_CHECK(chosen < emitters_.size(), "some emitter has a positive weight");
     if (chosen >= emitters_.size()) chosen = 0;
     const float weight = weights[chosen];
-    uPoint.x = std::clamp((target - chosenStart) / weight, 0.0f, 0x1.fffffep-1f);
+    uPoint.x = std::clamp((target - chosenStart) / weight, 0.0f, DiscreteDistribution::kOneMinusUlp);
     const Emitter& emitter = emitters_[chosen];
     const uint32_t light = emitter.firstLight + emitter.withinEmitter.sampleAndRemap(uPoint.x);
     return {light, weight / total * probabilityWithinEmitter_[light]};

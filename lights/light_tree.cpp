@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "core/check.h"
+#include "core/discrete_distribution.h"
 
 namespace penumbra {
 
@@ -17,7 +18,6 @@ namespace {
 constexpr int kMaxDepthBySurfaceAreaSplit = 32;
 constexpr int kBuckets = 12;
 constexpr float kNodeNearestDistanceFraction = 0.5f;  // of the node's radius (collapse)
-constexpr float kOneMinusUlp = 0x1.fffffep-1f;        // the largest float below 1
 
 struct Box {
     Vec3f lo{std::numeric_limits<float>::max(), std::numeric_limits<float>::max(),
@@ -265,7 +265,7 @@ LightTree::Choice LightTree::choose(float& u, Vec3f p, Vec3f n) const {
             }
             start += w[k];
         }
-        u = std::clamp((target - chosenStart) / w[chosen], 0.0f, kOneMinusUlp);
+        u = std::clamp((target - chosenStart) / w[chosen], 0.0f, DiscreteDistribution::kOneMinusUlp);
         probability *= w[chosen] / total;
         const uint32_t child = current.child[chosen];
         if (child & kLightBit) return {child & ~kLightBit, probability};

@@ -14,21 +14,15 @@
 #include "core/sampling.h"
 #include "lights/light_bounds.h"
 #include "lights/light_set.h"
+#include "tests/support/random_vectors.h"
 #include "tests/support/scene_builders.h"
 #include "tests/support/test_statistics.h"
 
 namespace penumbra {
 namespace {
 
-Vec3f randomPoint(std::mt19937& rng, float extent) {
-    std::uniform_real_distribution<float> u(-extent, extent);
-    return {u(rng), u(rng), u(rng)};
-}
-
-Vec3f randomUnit(std::mt19937& rng) {
-    std::uniform_real_distribution<float> u(0.0f, 1.0f);
-    return sampleUniformSphere({u(rng), u(rng)});
-}
+using testing::randomPoint;
+using testing::randomUnit;
 
 // Bounds of a random light: a small one-sided triangle (one normal), a point light (every
 // direction) or a spot light (a cone of emission about its axis), of random power.

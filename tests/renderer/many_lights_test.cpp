@@ -17,33 +17,13 @@
 #include "film/film.h"
 #include "renderer/render.h"
 #include "scenes/scene_loader.h"
+#include "tests/support/rendered_mean.h"
 
 namespace penumbra {
 namespace {
 
-struct Estimate {
-    double mean = 0.0, standardError = 0.0;
-};
-
-// The red channel of `scene` seen from one unit above `target` looking down (a narrow field of
-// view: the footprint is +-0.44% of the height): the pixels' mean and its standard error.
-Estimate renderAt(Scene scene, Vec3f target) {
-    scene.camera.lookFrom = target + Vec3f{0.0f, 1.0f, 0.0f};
-    scene.camera.lookAt = target;
-    scene.camera.up = {0.0f, 0.0f, -1.0f};
-    Film film(scene.film.width, scene.film.height);
-    render(scene, RenderOptions{}, film);
-    double sum = 0.0, sumSquares = 0.0;
-    const double n = double(film.width()) * film.height();
-    for (int y = 0; y < film.height(); ++y)
-        for (int x = 0; x < film.width(); ++x) {
-            const double value = double(film.at(x, y).radiance[0]) / double(film.at(x, y).weight);
-            sum += value;
-            sumSquares += value * value;
-        }
-    const double mean = sum / n;
-    return {mean, std::sqrt(std::max(sumSquares / n - mean * mean, 0.0) / (n - 1.0))};
-}
+using testing::MeanEstimate;
+using testing::renderedMeanAndErrorAt;  // the narrow field of view's footprint: +-0.44% of the height
 
 std::string sceneHeader(const std::string& lightSampler) {
     return R"({
@@ -88,11 +68,11 @@ TEST(ManyLights, PointLightsRenderTheirClosedFormWithLessNoiseThroughTheTree) {
             expected += 0.5 / kPi * std::stof(std::to_string(l.intensity)) *
                         (d.y / std::sqrt(distanceSquared)) / distanceSquared;
         }
-        Estimate estimates[2];
+        MeanEstimate estimates[2];
         for (int s = 0; s < 2; ++s) {
             const std::string json = sceneHeader(s == 0 ? "bvh" : "power") + R"("shapes": [)" + kPlane +
                                      R"(], "lights": [)" + lightsJson + "]}";
-            estimates[s] = renderAt(parseScene(json, "many-point-lights.json"), target);
+            estimates[s] = renderedMeanAndErrorAt(target, parseScene(json, "many-point-lights.json"));
             EXPECT_NEAR(estimates[s].mean, expected, 5.0 * estimates[s].standardError)
                 << (s == 0 ? "bvh" : "power") << " at x " << target.x;
         }
@@ -115,11 +95,11 @@ TEST(ManyLights, EmittingQuadsRenderTheSameImageWithEitherSampler) {
                  R"(], "material": "black", "emission": {"radiance": )" + std::to_string(radiance) + "}}";
     }
     for (const Vec3f target : {Vec3f{0.2f, 0.0f, 0.1f}, Vec3f{-3.0f, 0.0f, 2.0f}}) {
-        Estimate estimates[2];
+        MeanEstimate estimates[2];
         for (int s = 0; s < 2; ++s) {
             const std::string json =
                 sceneHeader(s == 0 ? "bvh" : "power") + R"("shapes": [)" + kPlane + quads + "]}";
-            estimates[s] = renderAt(parseScene(json, "many-quads.json"), target);
+            estimates[s] = renderedMeanAndErrorAt(target, parseScene(json, "many-quads.json"));
         }
         const double combined = std::hypot(estimates[0].standardError, estimates[1].standardError);
         EXPECT_GT(estimates[0].mean, 0.0);
