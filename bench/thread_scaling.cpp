@@ -8,7 +8,6 @@
 
 #include <chrono>
 #include <cstdio>
-#include <cstring>
 #include <string>
 #include <vector>
 
@@ -69,8 +68,7 @@ int main(int argc, char** argv) {
             }
             bool same = true;
             for (int y = 0; y < film.height() && same; ++y)
-                for (int x = 0; x < film.width() && same; ++x)
-                    same = std::memcmp(&film.at(x, y), &reference.at(x, y), sizeof(PixelSums)) == 0;
+                for (int x = 0; x < film.width() && same; ++x) same = film.at(x, y) == reference.at(x, y);
             std::printf("| %d | %.3f | %.2f | %.2f | %.2fx | %s |\n", threads, best,
                         stats.samples / best * 1e-6, stats.rays.total() / best * 1e-6,
                         oneThreadSeconds / best, same ? "yes" : "NO");

@@ -30,6 +30,7 @@
 #include "core/rgb.h"
 #include "core/vec.h"
 #include "film/aov.h"
+#include "film/high_words.h"
 
 namespace penumbra {
 
@@ -50,7 +51,7 @@ public:
     static constexpr int kFractionBits = 48;
     static constexpr double kMaxAddend = 0x1p46;
 
-    void add(double value) {
+    void add(double value) & {
         const double scaled = value * 0x1p48;
         // Fast path: truncation of a value that fits a 64-bit integer.
         if (std::abs(scaled) < 0x1p62)
@@ -70,7 +71,7 @@ public:
         return true;
     }
     // Adds a sum of addends' units (see smallAddendUnits).
-    void addUnits(int64_t units) {
+    void addUnits(int64_t units) & {
         PENUMBRA_CHECK(!addOverflows(raw_, units), "a sum stays within 128 bits");
         raw_ += units;
     }
@@ -83,14 +84,22 @@ public:
     operator double() const { return value(); }
     // For sums of this render's own samples (a film read from a file is added with tryAdd): each
     // addend is clamped to kMaxAddend, so 2^32 samples stay far below 2^127 units.
-    ExactSum& operator+=(const ExactSum& other) {
+    ExactSum& operator+=(const ExactSum& other) & {
         PENUMBRA_CHECK(!addOverflows(raw_, other.raw_), "a sum stays within 128 bits");
         raw_ += other.raw_;
         return *this;
     }
     // Adds `other` unless the 128-bit sum would overflow; false (and unchanged) then.
-    bool tryAdd(const ExactSum& other) { return !__builtin_add_overflow(raw_, other.raw_, &raw_); }
+    bool tryAdd(const ExactSum& other) & { return !__builtin_add_overflow(raw_, other.raw_, &raw_); }
     bool operator==(const ExactSum&) const = default;
+
+    // The 128-bit integer of units itself (Film stores it in two halves).
+    __int128 raw() const { return raw_; }
+    static ExactSum fromRaw(__int128 raw) {
+        ExactSum s;
+        s.raw_ = raw;
+        return s;
+    }
 
     // Word w (least significant first) of the raw 128-bit integer lies at byte 4 * w of an
     // ExactSum, so a file writer may read the words in place (film_exr.cpp does).
@@ -136,6 +145,8 @@ struct PixelSums {
     ExactSum hitWeight;           // sum of the weights of the samples that hit something
     uint32_t sampleCount = 0;
 
+    bool operator==(const PixelSums&) const = default;
+
     // The sums by index, in the order above (the order of the film's EXR channels).
     enum SumIndex : int {
         kRadiance = 0,
@@ -175,15 +186,16 @@ struct PixelSums {
         addTo(kHitWeight, w);
     }
 
-    void add(Rgb value, float sampleWeight) { addSample(value, sampleWeight, nullptr); }
+    // Not on a temporary (`&`): Film::at returns a copy, and a sample added to it would be lost.
+    void add(Rgb value, float sampleWeight) & { addSample(value, sampleWeight, nullptr); }
     // A sample with its first-hit AOVs.
-    void add(Rgb value, float sampleWeight, const FirstHitAovs& aovs) {
+    void add(Rgb value, float sampleWeight, const FirstHitAovs& aovs) & {
         addSample(value, sampleWeight, &aovs);
     }
     // Adds another film's sums for the same pixel (exact: the order of merges does not matter).
     // False, with this pixel unchanged, when a sum would overflow or the sample count would pass
     // 2^32 - 1 (only crafted or corrupt films get there).
-    bool tryMerge(const PixelSums& o) {
+    bool tryMerge(const PixelSums& o) & {
         PixelSums merged = *this;
         for (int i = 0; i < kSumCount; ++i)
             if (!merged.sum(i).tryAdd(o.sum(i))) return false;
@@ -191,7 +203,7 @@ struct PixelSums {
         *this = merged;
         return true;
     }
-    void merge(const PixelSums& o) {
+    void merge(const PixelSums& o) & {
         for (int c = 0; c < 3; ++c) {
             radiance[c] += o.radiance[c];
             radianceSquared[c] += o.radianceSquared[c];
@@ -225,10 +237,17 @@ private:
     }
 };
 
+// A film's sums in memory, 130 B a pixel (it was 256 with every sum 128 bits wide): each sum's low
+// 64 bits, the beauty's seven (radiance, its square, weight) and the sample count in one 64-byte
+// line, the eight AOV sums in another array, and the high 64 bits of a sum only where it has
+// outgrown the low (film/high_words.h: 2 B a pixel of block pointers). Pixels are read out as PixelSums, to
+// the same 128-bit integers: merges and resumes stay exact (bench/README.md, "The film's memory").
 class Film {
 public:
     // Bytes a pixel needs beside its sums when the film is written: the EXR's 14 floats.
     static constexpr size_t kOutputBytesPerPixel = 14 * sizeof(float);
+    static constexpr int kBeautySums = PixelSums::kAlbedo;  // radiance, its square, the weight
+    static constexpr int kAovSums = PixelSums::kSumCount - kBeautySums;
 
     // Throws InputError when the film, and the buffer to write it, would not fit in the memory
     // available now (an impossible resolution, or a file that claims one), rather than failing
@@ -237,14 +256,23 @@ public:
 
     int width() const { return width_; }
     int height() const { return height_; }
-    PixelSums& at(int x, int y) {
-        PENUMBRA_CHECK(x >= 0 && x < width_ && y >= 0 && y < height_, "a pixel lies in the film");
-        return pixels_[size_t(y) * width_ + x];
+    // Bytes a pixel takes in memory, high words aside (their block pointers included).
+    static constexpr size_t bytesPerPixel() {
+        return sizeof(BeautyPixel) + sizeof(AovPixel) + HighWords::kPointerBytesPerPixel;
     }
-    const PixelSums& at(int x, int y) const {
-        PENUMBRA_CHECK(x >= 0 && x < width_ && y >= 0 && y < height_, "a pixel lies in the film");
-        return pixels_[size_t(y) * width_ + x];
-    }
+
+    // A pixel's sums, to their full 128 bits.
+    PixelSums at(int x, int y) const;
+    uint32_t sampleCount(int x, int y) const { return beauty_[index(x, y)].sampleCount; }
+
+    // Adds one sample as PixelSums::add does (`aovs` may be null).
+    void add(int x, int y, Rgb value, float sampleWeight, const FirstHitAovs* aovs = nullptr);
+    // Adds units[i] 2^-48 units to sum i, and `samples` to the sample count (PixelAccumulator).
+    void addUnits(int x, int y, const int64_t (&units)[PixelSums::kSumCount], uint32_t samples);
+    // Adds one addend to sum `sum` exactly as ExactSum::add adds it.
+    void addAddend(int x, int y, int sum, double addend);
+    // Replaces a pixel's sums (a film read from a file).
+    void set(int x, int y, const PixelSums& sums);
 
     // Mean radiance, row-major RGB triples, top row first.
     std::vector<float> meanRgb() const;
@@ -255,11 +283,55 @@ public:
     // True when every sum of every pixel is the same bit for bit.
     bool identicalTo(const Film& other) const;
 
+    // For a writer that reads the stored words in place: the low 64 bits of sum `sum` of pixel
+    // (0, 0) and the bytes from one pixel's to the next's; the sample counts likewise.
+    const int64_t* lowWords(int sum) const {
+        return sum < kBeautySums ? beauty_.data()->low + sum : aovs_.data()->low + (sum - kBeautySums);
+    }
+    static constexpr size_t lowWordStride(int sum) {
+        return sum < kBeautySums ? sizeof(BeautyPixel) : sizeof(AovPixel);
+    }
+    const uint32_t* sampleCounts() const { return &beauty_.data()->sampleCount; }
+    static constexpr size_t sampleCountStride() { return sizeof(BeautyPixel); }
+    // False when every pixel's sum `sum` lies within its low 64 bits.
+    bool hasHighWords(int sum) const { return highWords_.anyAllocated(sum); }
+
 private:
+    struct BeautyPixel {
+        int64_t low[kBeautySums] = {};
+        uint32_t sampleCount = 0;
+    };
+    struct AovPixel {
+        int64_t low[kAovSums] = {};
+    };
+    static_assert(sizeof(BeautyPixel) == 64 && sizeof(AovPixel) == 64,
+                  "a pixel's sums fill whole cache lines");
+
+    size_t index(int x, int y) const {
+        PENUMBRA_CHECK(x >= 0 && x < width_ && y >= 0 && y < height_, "a pixel lies in the film");
+        return size_t(y) * size_t(width_) + size_t(x);
+    }
+    int64_t& low(size_t pixel, int sum) {
+        return sum < kBeautySums ? beauty_[pixel].low[sum] : aovs_[pixel].low[sum - kBeautySums];
+    }
+    int64_t low(size_t pixel, int sum) const { return const_cast<Film*>(this)->low(pixel, sum); }
+    // Adds to a sum's low word, counting a wrap in its high word: the sum is high * 2^64 + low.
+    void addToLow(size_t pixel, int sum, int64_t units) {
+        if (__builtin_add_overflow(low(pixel, sum), units, &low(pixel, sum)))
+            highWords_.at(pixel, sum) += units > 0 ? 1 : -1;
+    }
+    PixelSums sums(size_t pixel) const;
+    void set(size_t pixel, const PixelSums& sums);
+    __int128 sum(size_t pixel, int sum) const;
+    void setSum(size_t pixel, int sum, __int128 value);
+    void addToSum(size_t pixel, int sum, __int128 value);
+
     int width_, height_;
-    // On huge pages: a 512x512 film is 64 MiB, which by 4 KiB pages costs 16,384 page faults
+    // On huge pages: a 512x512 film is 32 MiB, which by 4 KiB pages costs 8,192 page faults
     // (core/huge_page_allocator.h).
-    std::vector<PixelSums, HugePageAllocator<PixelSums>> pixels_;
+    std::vector<BeautyPixel, HugePageAllocator<BeautyPixel>> beauty_;
+    std::vector<AovPixel, HugePageAllocator<AovPixel>> aovs_;
+    HighWords highWords_;
 };
 
 }  // namespace penumbra

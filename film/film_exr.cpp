@@ -362,9 +362,10 @@ FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& fi
     const size_t pixelCount = size_t(window.width()) * window.height();
     size_t wordsRead = 0;
     for (int p : sumParts) wordsRead += namesOf[p].size();
-    requireMemory(double(fullWidth) * fullHeight * double(sizeof(PixelSums) + Film::kOutputBytesPerPixel) +
-                      double(pixelCount) * double(wordsRead) * sizeof(uint32_t),
-                  fmt::format("{}: reading its {}x{} film", path.string(), fullWidth, fullHeight));
+    requireMemory(
+        double(fullWidth) * fullHeight * double(Film::bytesPerPixel() + Film::kOutputBytesPerPixel) +
+            double(pixelCount) * double(wordsRead) * sizeof(uint32_t),
+        fmt::format("{}: reading its {}x{} film", path.string(), fullWidth, fullHeight));
     FilmFile result{Film(fullWidth, fullHeight), m};
 
     std::vector<std::optional<HugePageBuffer<uint32_t>>> buffers(file.parts());
@@ -394,7 +395,7 @@ FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& fi
     size_t i = 0;
     for (int y = window.y0; y < window.y1; ++y)
         for (int x = window.x0; x < window.x1; ++x, ++i) {
-            PixelSums& p = result.film.at(x, y);
+            PixelSums p;
             for (int s = 0; s < kSumCount; ++s) {
                 // A word left out is 0 below the highest stored one, and its sign extension above.
                 uint32_t words[4] = {};
@@ -410,6 +411,7 @@ FilmFile readFilm(const std::filesystem::path& path, Imf::MultiPartInputFile& fi
                     throwFileError(path, fmt::format("pixel ({}, {}): {} is beyond what 2^32 samples can add "
                                                      "(2^78 in magnitude); the file is corrupt",
                                                      x, y, kSumNames[s]));
+            result.film.set(x, y, p);
         }
 
     const Imf::Header& sumsHeader = file.header(*std::find_if(
@@ -598,13 +600,42 @@ void writeExr(const Film& film, const RenderMetadata& metadata, const std::files
     for (int c : zipChannels) sums.channels().insert(sumChannels()[c], Imf::Channel(Imf::UINT));
     for (int c : rleChannels) noise.channels().insert(sumChannels()[c], Imf::Channel(Imf::UINT));
 
-    // The stored words are read by OpenEXR in place, from the film's own memory: copying them out
-    // first took a second pass over the film and buffers as large as half of it.
+    // The low two words of each sum, and the sample counts, are read by OpenEXR in place, from the
+    // film's own memory: copying them out first took a second pass over the film and buffers as
+    // large as half of it. The high two words, where a sum needs them (rare: Film keeps them only
+    // where a sum has outgrown 64 bits), are copied out.
+    std::vector<int> highChannels;
+    for (const std::vector<int>* stored : {&zipChannels, &rleChannels})
+        for (int c : *stored)
+            if (c != kSppChannel && c % 4 >= 2) highChannels.push_back(c);
+    std::sort(highChannels.begin(), highChannels.end());
+    std::optional<HugePageBuffer<uint32_t>> highWords;
+    if (!highChannels.empty()) {
+        highWords.emplace(pixelCount * highChannels.size());
+        tbb::parallel_for(0, height, [&](int row) {
+            uint32_t* out = highWords->get() + size_t(row) * width * highChannels.size();
+            for (int x = 0; x < width; ++x) {
+                const PixelSums p = film.at(window.x0 + x, window.y0 + row);
+                for (int c : highChannels) {
+                    uint32_t words[4];
+                    p.sum(c / 4).toWords(words);
+                    *out++ = words[c % 4];
+                }
+            }
+        });
+    }
     auto filmWord = [&](int c) {
-        const size_t xStride = sizeof(PixelSums), yStride = xStride * size_t(film.width());
-        const PixelSums& origin = film.at(0, 0);  // the slices address pixels by absolute (x, y)
-        const char* word = c == kSppChannel ? reinterpret_cast<const char*>(&origin.sampleCount)
-                                            : reinterpret_cast<const char*>(&origin.sum(c / 4)) +
+        if (c != kSppChannel && c % 4 >= 2) {
+            const size_t k =
+                size_t(std::find(highChannels.begin(), highChannels.end(), c) - highChannels.begin());
+            const size_t xStride = sizeof(uint32_t) * highChannels.size();
+            return Imf::Slice::Make(Imf::UINT, highWords->get() + k, data, xStride, xStride * size_t(width));
+        }
+        const size_t xStride = c == kSppChannel ? Film::sampleCountStride() : Film::lowWordStride(c / 4);
+        const size_t yStride = xStride * size_t(film.width());
+        // The slices address pixels by absolute (x, y), from pixel (0, 0).
+        const char* word = c == kSppChannel ? reinterpret_cast<const char*>(film.sampleCounts())
+                                            : reinterpret_cast<const char*>(film.lowWords(c / 4)) +
                                                   ExactSum::wordOffset(c % 4);
         // OpenEXR takes a char* for reading and writing alike; writing a file only reads it.
         return Imf::Slice(Imf::UINT, const_cast<char*>(word), xStride, yStride);

@@ -1,4 +1,4 @@
-// A pixel's samples summed in 64-bit integers before they reach the pixel's 128-bit sums.
+// A pixel's samples summed in 64-bit integers before they reach the film's sums.
 //
 // Each addend is rounded to 2^-48 units exactly as ExactSum::add rounds it, and integer addition
 // is associative, so the pixel's sums come out bit for bit as if every sample had been added to
@@ -6,7 +6,9 @@
 // "Speed tricks"). Addends too large to be summed in 64 bits go to the pixel at once.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
+#include <iterator>
 
 #include "film/film.h"
 
@@ -19,7 +21,7 @@ public:
     static constexpr int kMaxSamples = 64;
     static_assert(kMaxSamples * ExactSum::kSmallAddendUnits <= 0x1p62);
 
-    explicit PixelAccumulator(PixelSums& pixel) : pixel_(pixel) {}
+    PixelAccumulator(Film& film, int x, int y) : film_(film), x_(x), y_(y) {}
     PixelAccumulator(const PixelAccumulator&) = delete;
     PixelAccumulator& operator=(const PixelAccumulator&) = delete;
     ~PixelAccumulator() { flush(); }
@@ -32,22 +34,20 @@ public:
             if (ExactSum::smallAddendUnits(addend, units))
                 units_[i] += units;
             else
-                pixel_.sum(i).add(addend);
+                film_.addAddend(x_, y_, i, addend);
         });
     }
 
     // Adds what was summed to the pixel.
     void flush() {
-        for (int i = 0; i < PixelSums::kSumCount; ++i) {
-            pixel_.sum(i).addUnits(units_[i]);
-            units_[i] = 0;
-        }
-        pixel_.sampleCount += samples_;
+        film_.addUnits(x_, y_, units_, samples_);
+        std::fill(std::begin(units_), std::end(units_), 0);
         samples_ = 0;
     }
 
 private:
-    PixelSums& pixel_;
+    Film& film_;
+    int x_, y_;
     int64_t units_[PixelSums::kSumCount] = {};
     uint32_t samples_ = 0;
 };

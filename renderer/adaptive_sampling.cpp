@@ -34,7 +34,7 @@ ActivePixels::ActivePixels(const Film& film, const PixelWindow& window, uint32_t
     size_t i = 0;
     for (int y = window.y0; y < window.y1; ++y)
         for (int x = window.x0; x < window.x1; ++x, ++i) {
-            mask_[i] = film.at(x, y).sampleCount == samples;
+            mask_[i] = film.sampleCount(x, y) == samples;
             count_ += mask_[i];
         }
 }
@@ -45,7 +45,7 @@ namespace {
 std::vector<uint8_t> belowThreshold(const Film& film, const PixelWindow& window,
                                     const AdaptiveSettings& settings) {
     const int width = window.width(), height = window.height();
-    auto pixel = [&](int x, int row) -> const PixelSums& { return film.at(window.x0 + x, window.y0 + row); };
+    auto pixel = [&](int x, int row) { return film.at(window.x0 + x, window.y0 + row); };
     // Rows in parallel: each pixel's result depends on the film alone, not on the order.
     std::vector<uint8_t> below(size_t(width) * size_t(height));
     if (settings.error == AdaptiveError::Relative) {
@@ -74,7 +74,7 @@ std::vector<uint8_t> belowThreshold(const Film& film, const PixelWindow& window,
     tbb::parallel_for(0, height, [&](int row) {
         for (int x = 0; x < width; ++x) {
             const size_t i = size_t(row) * width + x;
-            const uint32_t n = pixel(x, row).sampleCount;
+            const uint32_t n = film.sampleCount(window.x0 + x, window.y0 + row);
             // No estimate below two samples counts as 0, as for the relative criterion.
             const double perSample = n >= 2 ? sigmas[i] / double(n) : 0.0;
             below[i] = perSample < limit;

@@ -59,7 +59,7 @@ TileResult renderTile(const Accel& accel, const Scene& scene, const Camera& came
     for (int y = tile.y0; y < tile.y1; ++y)
         for (int x = tile.x0; x < tile.x1; ++x) {
             if (active && !active->active(x, y)) continue;  // stopped by adaptive sampling
-            PixelAccumulator pixel(film.at(x, y));  // adds the samples to the film when the pixel is done
+            PixelAccumulator pixel(film, x, y);  // adds the samples to the film when the pixel is done
             const uint64_t pixelIndex = uint64_t(y) * uint64_t(scene.film.width) + uint64_t(x);
             const PixelKey pixelKey = PixelKey::of(scene.settings.seed, pixelIndex);
             // A pixel's camera rays are traced in packets of sample indices aligned to multiples of

@@ -501,8 +501,8 @@ void writeConvergenceReport(const ConvergenceReport& report, const std::string& 
                 const int sx = x / scale, sy = y / scale;
                 const size_t i = fullImage ? (size_t(sw.y0 + sy) * report.width + sw.x0 + sx) * 3
                                            : (size_t(sy) * sw.width() + sx) * 3;
-                strip.at(column * (tileW + gap) + x, row * (tileH + gap) + y)
-                    .add(Rgb(rgb[i], rgb[i + 1], rgb[i + 2]), 1.0f);
+                strip.add(column * (tileW + gap) + x, row * (tileH + gap) + y,
+                          Rgb(rgb[i], rgb[i + 1], rgb[i + 2]), 1.0f);
             }
     };
     for (int row = 0; row < int(report.studies.size()); ++row) {

@@ -1,5 +1,6 @@
 // Declared sizes are checked against the memory available now (MemAvailable), not the machine's
-// total: a 9000x9000 film (19.3 GiB of sums) fits in 32 GiB but not in the 16 GiB left free.
+// total: 19.3 GiB (what the sums of a 9000x9000 film once took) fit in 32 GiB but not in the 16
+// GiB left free.
 #include "core/system_memory.h"
 
 #include <gtest/gtest.h>
@@ -12,7 +13,7 @@ namespace {
 using testing::catchInputError;
 
 constexpr double kGiB = 0x1p30;
-const double kFilm9000 = 9000.0 * 9000.0 * 256.0;  // the sums of a 9000x9000 film
+const double kFilm9000 = 9000.0 * 9000.0 * 256.0;  // 256 bytes a pixel
 
 TEST(SystemMemory, RefusesWhatExceedsTheAvailableMemoryThoughNotTheTotal) {
     const SystemMemory memory{uint64_t(16 * kGiB), uint64_t(32 * kGiB)};

@@ -350,7 +350,7 @@ TEST_F(FilmFiles, ExrRoundTripKeepsSumsAovsAndMetadata) {
 TEST_F(FilmFiles, ExrLayoutAsOpenImageIoReadsIt) {
     const PixelWindow crop{1, 7, 2, 5};
     Film film(8, 6);
-    film.at(3, 3).add(Rgb(0.5f, 1.0f, 2.0f), 1.0f);
+    film.add(3, 3, Rgb(0.5f, 1.0f, 2.0f), 1.0f);
     RenderMetadata meta;
     meta.samplesPerPixel = 3;
     meta.seed = 42;
@@ -527,14 +527,14 @@ Film filmOfEveryWordCount() {
     std::mt19937 rng(3);
     std::uniform_real_distribution<float> value(0.0f, 4.0f);
     for (int y = 0; y < 5; ++y)
-        for (int x = 0; x < 7; ++x) film.at(x, y).add(Rgb(value(rng), value(rng), 0.5f), 1.0f);
-    film.at(0, 0).radiance[0].add(0x1p46);  // the most one addition may add,
-    film.at(0, 0).radiance[0].add(0x1p46);  // twice: 2^95 units needs all four words
-    film.at(1, 0).depth.add(-0x1p46);       // -2^94 units: three words
-    film.at(4, 3).depth.add(0x1p40);        // 2^88 units: w0 and w1 are zero in every pixel
-    film.at(2, 1).albedo[0].add(0x1p-17);   // 2^31 units: w0 = 0x80000000, w1 = 0 but needed
-    film.at(3, 2).normal[1].add(-0x1p-40);  // -256 units: one word, sign-extended
-    film.at(5, 4).normal[1].add(-0x1p-44);  // -16 units
+        for (int x = 0; x < 7; ++x) film.add(x, y, Rgb(value(rng), value(rng), 0.5f), 1.0f);
+    film.addAddend(0, 0, PixelSums::kRadiance, 0x1p46);      // the most one addition may add,
+    film.addAddend(0, 0, PixelSums::kRadiance, 0x1p46);      // twice: 2^95 units needs all four words
+    film.addAddend(1, 0, PixelSums::kDepth, -0x1p46);        // -2^94 units: three words
+    film.addAddend(4, 3, PixelSums::kDepth, 0x1p40);         // 2^88 units: w0 and w1 are zero in every pixel
+    film.addAddend(2, 1, PixelSums::kAlbedo, 0x1p-17);       // 2^31 units: w0 = 0x80000000, w1 = 0 but needed
+    film.addAddend(3, 2, PixelSums::kNormal + 1, -0x1p-40);  // -256 units: one word, sign-extended
+    film.addAddend(5, 4, PixelSums::kNormal + 1, -0x1p-44);  // -16 units
     return film;
 }
 

@@ -149,7 +149,7 @@ TEST(Resume, OnlyAFilmOfTheSameRenderCanBeContinued) {
     EXPECT_TRUE(mentions(error(t), "beyond --spp 2")) << error(t);
     // A film whose pixels do not all hold the recorded samples.
     FilmFile uneven = f;
-    uneven.film.at(3, 3).add(Rgb(1.0f), 1.0f);
+    uneven.film.add(3, 3, Rgb(1.0f), 1.0f);
     EXPECT_THROW(checkResumable(uneven, "u.exr", good), InputError);
 }
 

@@ -31,7 +31,7 @@ FilmFile filmOfSamples(uint32_t first, uint32_t end) {
     FilmFile f{Film(4, 2), {}};
     for (int y = 0; y < 2; ++y)
         for (int x = 0; x < 4; ++x)
-            for (uint32_t s = first; s < end; ++s) f.film.at(x, y).add(Rgb(0.5f), 1.0f);
+            for (uint32_t s = first; s < end; ++s) f.film.add(x, y, Rgb(0.5f), 1.0f);
     RenderMetadata& m = f.metadata;
     m.seed = 1;
     m.sampler = "stratified";
@@ -75,7 +75,9 @@ TEST_F(HostileFilm, IntactFilmsCarryAChecksumThatVerifies) {
 TEST_F(HostileFilm, SumsBeyondWhat2To32SamplesCanAddAreRefused) {
     FilmFile f = filmOfSamples(0, 1);
     const uint32_t words[4] = {0, 0, 0, 0x40000000u};  // 2^126 units
-    f.film.at(2, 1).weight = ExactSum::fromWords(words);
+    PixelSums pixel = f.film.at(2, 1);
+    pixel.weight = ExactSum::fromWords(words);
+    f.film.set(2, 1, pixel);
     writeExr(f.film, f.metadata, dir_ / "huge.exr");  // its checksum is right: only the range tells
     const InputError e = catchInputError([&] { readFilmExr(dir_ / "huge.exr"); });
     EXPECT_CONTAINS(e.what(), "huge.exr: pixel (2, 1): sum.weight is beyond what 2^32 samples can add");
@@ -83,8 +85,11 @@ TEST_F(HostileFilm, SumsBeyondWhat2To32SamplesCanAddAreRefused) {
 
 TEST_F(HostileFilm, MergeRefusesSampleCountsThatWouldPass2To32) {
     FilmFile a = filmOfSamples(0, 1), b = filmOfSamples(1, 2);
-    a.film.at(3, 0).sampleCount = 0xfffffff0u;  // crafted: the count disagrees with the metadata
-    b.film.at(3, 0).sampleCount = 0x20u;
+    PixelSums crafted = a.film.at(3, 0);
+    crafted.sampleCount = 0xfffffff0u;  // crafted: the count disagrees with the metadata
+    a.film.set(3, 0, crafted);
+    crafted.sampleCount = 0x20u;
+    b.film.set(3, 0, crafted);
     const InputError e = catchInputError([&] { mergeFilms({a, b}, {"a.exr", "b.exr"}); });
     EXPECT_CONTAINS(e.what(), "cannot merge b.exr: pixel (3, 0) would hold more than 2^32 - 1 samples");
 }
@@ -92,8 +97,11 @@ TEST_F(HostileFilm, MergeRefusesSampleCountsThatWouldPass2To32) {
 TEST_F(HostileFilm, MergeRefusesSumsThatWouldOverflow128Bits) {
     FilmFile a = filmOfSamples(0, 1), b = filmOfSamples(1, 2);
     const uint32_t words[4] = {0, 0, 0, 0x7fffffffu};
-    a.film.at(0, 1).radiance[1] = ExactSum::fromWords(words);
-    b.film.at(0, 1).radiance[1] = ExactSum::fromWords(words);
+    for (Film* film : {&a.film, &b.film}) {
+        PixelSums pixel = film->at(0, 1);
+        pixel.radiance[1] = ExactSum::fromWords(words);
+        film->set(0, 1, pixel);
+    }
     const InputError e = catchInputError([&] { mergeFilms({a, b}, {"a.exr", "b.exr"}); });
     EXPECT_CONTAINS(e.what(), "cannot merge b.exr: pixel (0, 1) would hold");
 }

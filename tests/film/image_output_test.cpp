@@ -72,8 +72,8 @@ Film greyRamp(const std::vector<float>& values) {
     Film film(int(values.size()), 1);
     for (size_t i = 0; i < values.size(); ++i) {
         // (0.5 * 3v + 1.5 * v/3) / (0.5 + 1.5) = v.
-        film.at(int(i), 0).add(Rgb(3.0f * values[i]), 0.5f);
-        film.at(int(i), 0).add(Rgb(values[i] / 3.0f), 1.5f);
+        film.add(int(i), 0, Rgb(3.0f * values[i]), 0.5f);
+        film.add(int(i), 0, Rgb(values[i] / 3.0f), 1.5f);
     }
     return film;
 }
@@ -111,8 +111,8 @@ TEST_F(ImageOutputTest, ExrRoundTripsMeansAndMetadata) {
             // Distinct channels over several orders of magnitude, plus zero-weight (black) pixel.
             if (x == 4 && y == 2) continue;
             const float base = std::pow(10.0f, float(x - 2)) * (1.0f + 0.37f * y);
-            film.at(x, y).add(Rgb(base, 2.0f * base, 0.5f * base), 1.0f);
-            film.at(x, y).add(Rgb(3.0f * base, 0.0f, base), 3.0f);
+            film.add(x, y, Rgb(base, 2.0f * base, 0.5f * base), 1.0f);
+            film.add(x, y, Rgb(3.0f * base, 0.0f, base), 3.0f);
         }
 
     RenderMetadata meta;
@@ -196,7 +196,7 @@ TEST_F(ImageOutputTest, PngIsTheSrgbEncodingOfTheMeans) {
 TEST_F(ImageOutputTest, JpegIsWrittenThroughTheSameTransform) {
     Film film(16, 16);
     for (int y = 0; y < 16; ++y)
-        for (int x = 0; x < 16; ++x) film.at(x, y).add(Rgb(0.18f), 1.0f);
+        for (int x = 0; x < 16; ++x) film.add(x, y, Rgb(0.18f), 1.0f);
     const fs::path path = dir_ / "out.jpg";
     writeDisplayImage(film, path);
     const Image image = readImage(path);

@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <random>
 #include <vector>
@@ -14,8 +13,6 @@
 
 namespace penumbra {
 namespace {
-
-bool sameBits(const PixelSums& a, const PixelSums& b) { return std::memcmp(&a, &b, sizeof(PixelSums)) == 0; }
 
 // Samples of every kind the renderer adds: ordinary radiance, negative and huge AOV values, values
 // on both sides of the 64-bit limit (2^8 = 2^56 units), infinities and NaN (adds nothing), misses.
@@ -48,17 +45,18 @@ std::vector<std::pair<Rgb, FirstHitAovs>> mixedSamples(int count, uint32_t seed)
 TEST(PixelAccumulator, GivesTheSumsOfDirectAddsBitForBit) {
     // 200 samples: several flushes of kMaxSamples, then a partial one by the destructor.
     for (const float weight : {1.0f, 0.37f, 3.0f}) {
-        PixelSums direct, accumulated;
+        PixelSums direct;
+        Film film(1, 1);
         const auto samples = mixedSamples(200, 7);
         {
-            PixelAccumulator accumulator(accumulated);
+            PixelAccumulator accumulator(film, 0, 0);
             for (const auto& [radiance, aovs] : samples) {
                 direct.add(radiance, weight, aovs);
                 accumulator.add(radiance, weight, aovs);
             }
         }
-        EXPECT_EQ(accumulated.sampleCount, 200u);
-        EXPECT_TRUE(sameBits(direct, accumulated)) << "weight " << weight;
+        EXPECT_EQ(film.at(0, 0).sampleCount, 200u);
+        EXPECT_TRUE(film.at(0, 0) == direct) << "weight " << weight;
     }
 }
 
@@ -66,16 +64,18 @@ TEST(PixelAccumulator, FlushesAtMostEveryKMaxSamples) {
     // Addends just below the 64-bit limit, kMaxSamples of them per sum, must not overflow: the
     // radiance sum would wrap if a 65th were summed in 64 bits.
     const float nearLimit = std::nextafter(256.0f, 0.0f);  // 2^56 units less one ulp
-    PixelSums direct, accumulated;
+    PixelSums direct;
+    Film film(1, 1);
     {
-        PixelAccumulator accumulator(accumulated);
+        PixelAccumulator accumulator(film, 0, 0);
         for (int i = 0; i < 3 * PixelAccumulator::kMaxSamples + 1; ++i) {
             const FirstHitAovs miss;
             direct.add(Rgb(nearLimit), 1.0f, miss);
             accumulator.add(Rgb(nearLimit), 1.0f, miss);
         }
     }
-    EXPECT_TRUE(sameBits(direct, accumulated));
+    const PixelSums accumulated = film.at(0, 0);
+    EXPECT_TRUE(accumulated == direct);
     // Exact, so compared exactly: nearLimit is (2^24 - 1) 2^-16, one addend (2^24 - 1) 2^32 units,
     // and 193 of them have fewer than 53 significant bits, as a double and as value() returns them.
     EXPECT_EQ(accumulated.radiance[0].value(), (3.0 * PixelAccumulator::kMaxSamples + 1) * nearLimit);

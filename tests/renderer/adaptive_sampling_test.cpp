@@ -260,7 +260,9 @@ TEST_F(AdaptiveFiles, ResumeRefusesCountsNoAdaptiveRenderLeaves) {
     first.run();
     FilmFile file{Film(scene.film.width, scene.film.height), first.metadataAt(24, 1.0)};
     file.film.merge(first.film());
-    file.film.at(3, 2).sampleCount = 17;  // 17 is no decision point, nor 24
+    PixelSums pixel = file.film.at(3, 2);
+    pixel.sampleCount = 17;  // 17 is no decision point, nor 24
+    file.film.set(3, 2, pixel);
     writeExr(file.film, file.metadata, dir_ / "crafted.exr");
     RenderJob rest(scene, kSource, upTo(32));
     const InputError e = testing::catchInputError([&] { rest.resumeFrom(dir_ / "crafted.exr"); });
@@ -426,7 +428,7 @@ Film twoNoiseLevels(int width, int height) {
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
             const float d = x < width / 2 ? 1.0f : 0.01f;
-            for (int i = 0; i < 16; ++i) film.at(x, y).add(Rgb(i % 2 == 0 ? 2.0f + d : 2.0f - d), 1.0f);
+            for (int i = 0; i < 16; ++i) film.add(x, y, Rgb(i % 2 == 0 ? 2.0f + d : 2.0f - d), 1.0f);
         }
     return film;
 }
@@ -462,7 +464,7 @@ TEST(AdaptiveAbsolute, APixelStopsWhenItsShareOfTheImagesErrorIsMet) {
     Film flat(kWidth, kHeight);
     for (int y = 0; y < kHeight; ++y)
         for (int x = 0; x < kWidth; ++x)
-            for (int i = 0; i < 16; ++i) flat.at(x, y).add(Rgb(0.5f), 1.0f);
+            for (int i = 0; i < 16; ++i) flat.add(x, y, Rgb(0.5f), 1.0f);
     ActivePixels still(flat, window, 16);
     EXPECT_EQ(still.stopConverged(flat, AdaptiveSettings{1e-6f, 16, AdaptiveError::Absolute}), 48u);
 }

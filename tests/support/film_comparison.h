@@ -5,7 +5,6 @@
 #pragma once
 
 #include <cmath>
-#include <cstring>
 
 #include "film/film.h"
 
@@ -23,7 +22,7 @@ inline FilmComparison compareWithinNoise(const Film& a, const Film& b) {
         for (int x = 0; x < a.width(); ++x) {
             const PixelSums& pa = a.at(x, y);
             const PixelSums& pb = b.at(x, y);
-            if (std::memcmp(&pa, &pb, sizeof(PixelSums)) == 0) ++result.identicalPixels;
+            if (pa == pb) ++result.identicalPixels;
             const Rgb ma = pa.mean(), mb = pb.mean(), va = pa.varianceOfMean(), vb = pb.varianceOfMean();
             for (int c = 0; c < 3; ++c) {
                 result.meanA += ma[c];
